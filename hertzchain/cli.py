@@ -1,0 +1,106 @@
+"""The ``hertzchain`` command-line tool.
+
+Each sub-command lives in its own function ``cmd_<name>`` and is registered in
+:func:`build_parser`; ``main`` returns the process exit status.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+
+from . import __version__
+
+__all__ = ["main", "build_parser"]
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from exc
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+    return value
+
+
+def _nonnegative_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from exc
+    if not value >= 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text!r}")
+    return value
+
+
+def cmd_theory(args: argparse.Namespace) -> int:
+    """Print the linear-acoustic interface predictions for (α_ρ, α_kn)."""
+    import theory
+
+    pred = theory.predict(args.alpha_rho, args.alpha_kn)
+    out = pred.to_dict()
+    if args.delta0 is not None and args.delta0 > 0:
+        mat = theory.PAPER_MATERIAL
+        d = args.diameter
+        m = theory.grain_mass(d, mat.density)
+        k = theory.hertz_constant(d, mat)
+        c0l = theory.c0(k, m, d, args.delta0 * d)
+        out["delta0_over_d_left"] = args.delta0
+        out["delta0_over_d_right"] = args.delta0 * pred.delta0_ratio
+        out["c0_left_m_per_s"] = c0l
+        out["c0_right_m_per_s"] = c0l * pred.gamma_c0
+        out["material_left"] = mat.name
+    if args.json:
+        print(json.dumps(out, indent=2))
+        return 0
+    width = max(len(k) for k in out)
+    print("Interface predictions (paper Eqs. 9, 12, 13; linear acoustics)")
+    for key, value in out.items():
+        text = f"{value:.6g}" if isinstance(value, float) else str(value)
+        print(f"  {key:<{width}}  {text}")
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Build the argument parser with every sub-command."""
+    parser = argparse.ArgumentParser(
+        prog="hertzchain",
+        description="Solitary waves in Hertzian granular chains: discrete (DEM), "
+        "continuum (long-wave) and closed-form theory, side by side.",
+    )
+    parser.add_argument("--version", action="version", version=f"hertzchain {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+
+    p = sub.add_parser("theory", help="interface predictions for (alpha_rho, alpha_kn)")
+    p.add_argument("--alpha-rho", type=_positive_float, required=True,
+                   help="density ratio rho_R/rho_L (> 0)")
+    p.add_argument("--alpha-kn", type=_positive_float, required=True,
+                   help="contact-stiffness ratio k_n^R/k_n^L (> 0)")
+    p.add_argument("--delta0", type=_nonnegative_float, default=None,
+                   help="left-section precompression delta0/d (>= 0, dimensionless)")
+    p.add_argument("--diameter", type=_positive_float, default=5e-3,
+                   help="grain diameter in m (default 5e-3, the paper's)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=cmd_theory)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if getattr(args, "func", None) is None:
+        parser.print_help()
+        return 0
+    try:
+        return int(args.func(args) or 0)
+    except ValueError as exc:
+        print(f"hertzchain: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

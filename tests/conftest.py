@@ -1,0 +1,38 @@
+"""Shared pytest configuration, in the manner of py-pde's ``tests/conftest.py``."""
+
+import matplotlib
+import numpy as np
+import pytest
+
+matplotlib.use("agg")
+
+
+@pytest.fixture(autouse=True)
+def _setup_and_teardown():
+    """Raise on floating-point errors (except underflow); close figures afterwards."""
+    import matplotlib.pyplot as plt
+
+    old = np.seterr(all="raise", under="ignore")
+    yield
+    np.seterr(**old)
+    plt.close("all")
+
+
+@pytest.fixture
+def rng():
+    """A seeded random number generator, so tests are reproducible."""
+    return np.random.default_rng(0)
+
+
+def pytest_addoption(parser):
+    parser.addoption("--runslow", action="store_true", default=False,
+                     help="also run tests marked slow")
+
+
+def pytest_collection_modifyitems(config, items):
+    if config.getoption("--runslow"):
+        return
+    skip_slow = pytest.mark.skip(reason="slow: run with --runslow")
+    for item in items:
+        if "slow" in item.keywords:
+            item.add_marker(skip_slow)

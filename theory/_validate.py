@@ -1,0 +1,61 @@
+"""Input validation shared by the public functions of :mod:`theory`.
+
+Every check raises :class:`ValueError` naming the parameter, the offending value
+and the allowed range, so that a user sees at once what to change.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["check_finite", "check_positive", "check_range", "check_nonnegative"]
+
+
+def _describe(value) -> str:
+    arr = np.asarray(value)
+    if arr.ndim == 0:
+        return repr(arr.item())
+    return f"array with min {np.nanmin(arr)!r}, max {np.nanmax(arr)!r}"
+
+
+def check_finite(name: str, value) -> np.ndarray:
+    """Return ``value`` as an array, raising if any element is NaN or infinite."""
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a real number (got {value!r})") from exc
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite (got {_describe(arr)}); allowed: finite reals")
+    return arr
+
+
+def check_positive(name: str, value) -> np.ndarray:
+    """Return ``value`` as an array, raising unless every element is finite and > 0."""
+    arr = check_finite(name, value)
+    if np.any(arr <= 0):
+        raise ValueError(f"{name} must be > 0 (got {_describe(arr)}); allowed range: (0, inf)")
+    return arr
+
+
+def check_nonnegative(name: str, value) -> np.ndarray:
+    """Return ``value`` as an array, raising unless every element is finite and >= 0."""
+    arr = check_finite(name, value)
+    if np.any(arr < 0):
+        raise ValueError(f"{name} must be >= 0 (got {_describe(arr)}); allowed range: [0, inf)")
+    return arr
+
+
+def check_range(
+    name: str, value, low: float, high: float, *, closed: tuple[bool, bool] = (False, False)
+) -> np.ndarray:
+    """Return ``value`` as an array, raising unless ``low < value < high``.
+
+    ``closed`` makes either end inclusive.
+    """
+    arr = check_finite(name, value)
+    lo_ok = arr >= low if closed[0] else arr > low
+    hi_ok = arr <= high if closed[1] else arr < high
+    if not np.all(lo_ok & hi_ok):
+        br = ("[" if closed[0] else "(") + f"{low}, {high}" + ("]" if closed[1] else ")")
+        raise ValueError(f"{name} must lie in {br} (got {_describe(arr)})")
+    return arr

@@ -1,0 +1,73 @@
+r"""Static precompression of a chain of Hertz contacts.
+
+In static equilibrium every contact of a one-dimensional chain between two walls
+carries the same force F0 (no body forces).  With F = k_j δ_j^{3/2} this gives
+
+.. math:: \delta_j = (F_0 / k_j)^{2/3},
+
+i.e. the paper's relation k_n^L (δ0^L)^{3/2} = k_n^R (δ0^R)^{3/2} (below Eq. 9),
+extended to any number of contacts (including the wall contacts).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._validate import check_nonnegative, check_positive
+
+__all__ = ["static_force", "static_overlaps", "static_energy"]
+
+
+def static_force(k, delta0):
+    """Static contact force F0 = k δ0^{3/2} (paper Eq. 1), N.
+
+    Parameters
+    ----------
+    k : float or array
+        Hertz constant, N/m^{3/2} (> 0).
+    delta0 : float or array
+        Static overlap, m (>= 0).
+    """
+    k = check_positive("k", k)
+    delta0 = check_nonnegative("delta0", delta0)
+    out = k * delta0**1.5
+    return out if out.ndim else float(out)
+
+
+def static_overlaps(k_contacts, *, delta0=None, force=None, reference: int = 0):
+    """Static overlap of every contact from force equilibrium, m.
+
+    Exactly one of ``delta0`` (the overlap of contact ``reference``, by default the
+    first, i.e. the left section's δ0^L of the paper) or ``force`` (the wall force F0,
+    N) must be given.  Returns δ_j = (F0/k_j)^{2/3} (paper, below Eq. 9).
+
+    Parameters
+    ----------
+    k_contacts : array
+        Hertz constants of the contacts, N/m^{3/2} (> 0).
+    delta0 : float, optional
+        Static overlap of contact ``reference``, m (>= 0).
+    force : float, optional
+        Static contact force, N (>= 0).
+    reference : int
+        Index of the contact whose overlap is ``delta0``.
+    """
+    k = check_positive("k_contacts", np.atleast_1d(k_contacts))
+    if (delta0 is None) == (force is None):
+        raise ValueError("give exactly one of delta0 (m, >= 0) or force (N, >= 0)")
+    if delta0 is not None:
+        delta0 = float(check_nonnegative("delta0", delta0))
+        if not -k.size <= reference < k.size:
+            raise ValueError(f"reference must lie in [0, {k.size}) (got {reference})")
+        f0 = k[reference] * delta0**1.5
+    else:
+        f0 = float(check_nonnegative("force", force))
+    return (f0 / k) ** (2.0 / 3.0)
+
+
+def static_energy(k, delta):
+    """Elastic energy stored in a Hertz contact, (2/5) k δ^{5/2}, J (integral of Eq. 1)."""
+    k = check_positive("k", k)
+    delta = check_nonnegative("delta", delta)
+    out = 0.4 * k * delta**2.5
+    return out if out.ndim else float(out)
