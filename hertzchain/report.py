@@ -1,0 +1,147 @@
+"""Reports: ``report.md`` and ``report.html`` (figures embedded) from collected sections.
+
+A :class:`Report` collects, item by item, headings, paragraphs, tables and figures; the
+HTML version embeds each PNG as base64 so it is a single self-contained file.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .cache import atomic_path
+
+__all__ = ["Report", "fmt"]
+
+
+def fmt(value, digits: int = 5) -> str:
+    """Format a number for a table: ``digits`` significant figures, '—' for None."""
+    if value is None:
+        return "—"
+    if isinstance(value, str):
+        return value
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, int):
+        return str(value)
+    return f"{value:.{digits}g}"
+
+
+@dataclass
+class _Table:
+    header: list[str]
+    rows: list[list]
+    caption: str = ""
+
+
+@dataclass
+class _Figure:
+    path: Path
+    caption: str
+
+
+@dataclass
+class Report:
+    """Accumulates the content of a reproduction report.
+
+    Parameters
+    ----------
+    title : str
+        Title of the report.
+    """
+
+    title: str
+    blocks: list = field(default_factory=list)
+
+    def heading(self, text: str, level: int = 2) -> None:
+        """Add a heading of the given level (1–4)."""
+        self.blocks.append(("h", level, text))
+
+    def paragraph(self, text: str) -> None:
+        """Add a paragraph (plain text, Markdown emphasis allowed)."""
+        self.blocks.append(("p", text))
+
+    def bullets(self, items: list[str]) -> None:
+        """Add a bullet list."""
+        self.blocks.append(("ul", list(items)))
+
+    def table(self, header: list[str], rows: list[list], caption: str = "") -> None:
+        """Add a table; numbers are formatted with :func:`fmt`."""
+        self.blocks.append(("table", _Table(list(header), [list(r) for r in rows], caption)))
+
+    def figure(self, path: str | os.PathLike, caption: str) -> None:
+        """Add a PNG figure (path relative to the report directory or absolute)."""
+        self.blocks.append(("fig", _Figure(Path(path), caption)))
+
+    # -- rendering ---------------------------------------------------------------
+    def to_markdown(self, base: Path) -> str:
+        """Render as Markdown; figure paths relative to ``base``."""
+        out = [f"# {self.title}", ""]
+        for block in self.blocks:
+            kind = block[0]
+            if kind == "h":
+                out += ["#" * block[1] + " " + block[2], ""]
+            elif kind == "p":
+                out += [block[1], ""]
+            elif kind == "ul":
+                out += [f"- {item}" for item in block[1]] + [""]
+            elif kind == "table":
+                t = block[1]
+                if t.caption:
+                    out += [f"*{t.caption}*", ""]
+                out.append("| " + " | ".join(t.header) + " |")
+                out.append("|" + "---|" * len(t.header))
+                out += ["| " + " | ".join(fmt(c) for c in row) + " |" for row in t.rows]
+                out.append("")
+            elif kind == "fig":
+                f = block[1]
+                rel = os.path.relpath(f.path, base) if f.path.is_absolute() else f.path
+                out += [f"![{f.caption}]({rel})", "", f"*{f.caption}*", ""]
+        return "\n".join(out)
+
+    def to_html(self, base: Path) -> str:
+        """Render as a single HTML page with the figures embedded as base64 PNG."""
+        esc = html.escape
+        out = ["<!DOCTYPE html><html><head><meta charset='utf-8'>",
+               f"<title>{esc(self.title)}</title><style>body{{font-family:sans-serif;"
+               "max-width:70em;margin:auto}table{border-collapse:collapse}"
+               "td,th{border:1px solid #999;padding:2px 6px;text-align:right}"
+               "img{max-width:100%}</style></head><body>", f"<h1>{esc(self.title)}</h1>"]
+        for block in self.blocks:
+            kind = block[0]
+            if kind == "h":
+                out.append(f"<h{block[1]}>{esc(block[2])}</h{block[1]}>")
+            elif kind == "p":
+                out.append(f"<p>{esc(block[1])}</p>")
+            elif kind == "ul":
+                out.append("<ul>" + "".join(f"<li>{esc(i)}</li>" for i in block[1]) + "</ul>")
+            elif kind == "table":
+                t = block[1]
+                cap = f"<caption>{esc(t.caption)}</caption>" if t.caption else ""
+                head = "".join(f"<th>{esc(h)}</th>" for h in t.header)
+                body = "".join(
+                    "<tr>" + "".join(f"<td>{esc(fmt(c))}</td>" for c in row) + "</tr>"
+                    for row in t.rows)
+                out.append(f"<table>{cap}<tr>{head}</tr>{body}</table>")
+            elif kind == "fig":
+                f = block[1]
+                path = f.path if f.path.is_absolute() else base / f.path
+                data = base64.b64encode(path.read_bytes()).decode() if path.exists() else ""
+                out.append(f"<figure><img src='data:image/png;base64,{data}' "
+                           f"alt='{esc(f.caption)}'><figcaption>{esc(f.caption)}"
+                           "</figcaption></figure>")
+        out.append("</body></html>")
+        return "\n".join(out)
+
+    def write(self, directory: str | os.PathLike) -> tuple[Path, Path]:
+        """Write ``report.md`` and ``report.html`` into ``directory`` (atomically)."""
+        base = Path(directory)
+        md, page = base / "report.md", base / "report.html"
+        with atomic_path(md) as tmp:
+            tmp.write_text(self.to_markdown(base), encoding="utf-8")
+        with atomic_path(page) as tmp:
+            tmp.write_text(self.to_html(base), encoding="utf-8")
+        return md, page
