@@ -1,0 +1,144 @@
+"""Plotting functions for the paper's figures; each draws on a given matplotlib ``ax``.
+
+Grain numbers on the axes are the paper's 1-based numbers (array index + 1).  None of
+these functions calls ``show()``; callers save the figure.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+import theory
+
+__all__ = [
+    "plot_grain_profile",
+    "plot_vmax",
+    "plot_displacement_time",
+    "plot_spacetime",
+    "plot_theory_lines",
+    "mark_interface",
+]
+
+
+def mark_interface(ax, interface: int | None, **kwargs) -> None:
+    """Draw a vertical line between grains ``interface`` and ``interface + 1`` (1-based)."""
+    if interface is None:
+        return
+    style = {"color": "0.4", "ls": ":", "lw": 1.0} | kwargs
+    ax.axvline(interface + 0.5, **style)
+
+
+def plot_grain_profile(ax, values, *, interface: int | None = None, label: str | None = None,
+                       ylabel: str = r"$v_i/v_0$", start: int = 0, **kwargs):
+    """Plot a per-grain quantity against the grain number (paper Figs. 3a, 4a, 5).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Target axes.
+    values : array
+        One value per grain (e.g. velocity / v0).
+    interface : int, optional
+        Number of grains left of the interface (paper: 400, 200, 35000).
+    label, ylabel : str
+        Legend label and y-axis label.
+    start : int
+        Array index of ``values[0]`` (to plot a window of a long chain).
+    """
+    values = np.asarray(values)
+    grains = np.arange(start, start + values.size) + 1
+    line = ax.plot(grains, values, label=label, **({"lw": 0.8} | kwargs))
+    mark_interface(ax, interface)
+    ax.set_xlabel("grain number $i$")
+    ax.set_ylabel(ylabel)
+    return line
+
+
+def plot_vmax(ax, vmax_over_v0, *, mean: float | None = None, grain_range=None,
+              label: str | None = None):
+    """Per-grain maximum velocity / v0 with its mean (paper Fig. 2, squares and dashed line)."""
+    vmax_over_v0 = np.asarray(vmax_over_v0)
+    grains = np.arange(vmax_over_v0.size) + 1
+    ax.plot(grains, vmax_over_v0, "s", ms=2, mfc="none", label=label)
+    if mean is not None:
+        lo, hi = grain_range if grain_range is not None else (0, vmax_over_v0.size)
+        ax.hlines(mean, lo + 1, hi, colors="k", linestyles="--",
+                  label=rf"mean $\bar v_{{max}}/v_0$ = {mean:.4f}")
+    ax.set_xlabel("grain number $i$")
+    ax.set_ylabel(r"$v_{max}/v_0$")
+
+
+def plot_displacement_time(ax, t, u, grains, *, u_ref: float = 1.0, free_flight=None,
+                           time_unit: float = 1e-3):
+    """Displacement of chosen grains against time (paper Figs. 3c/d, 4c/d).
+
+    Parameters
+    ----------
+    t : array (n_t,)
+        Times, s.
+    u : array (n_t, n_grains)
+        Displacements, m.
+    grains : sequence of int
+        Array indices of the grains (labelled with 1-based numbers).
+    u_ref : float
+        Normalisation (paper: ū_max).
+    free_flight : array (n_t, n_grains) of bool, optional
+        Where a grain is in free flight (both contacts open); drawn as thick segments.
+    time_unit : float
+        Seconds per unit on the time axis (default ms).
+    """
+    t = np.asarray(t) / time_unit
+    u = np.asarray(u) / u_ref
+    for j, g in enumerate(grains):
+        (line,) = ax.plot(t, u[:, j], lw=0.9, label=f"{g + 1}")
+        if free_flight is not None:
+            mask = np.asarray(free_flight)[:, j]
+            ax.plot(np.where(mask, t, np.nan), np.where(mask, u[:, j], np.nan), lw=3,
+                    color=line.get_color(), alpha=0.4)
+    ax.set_xlabel("time (ms)" if time_unit == 1e-3 else f"time (×{time_unit:g} s)")
+    ax.set_ylabel(r"$u_i/\bar u_{max}$" if u_ref != 1.0 else r"$u_i$ (m)")
+    ax.legend(title="grain", fontsize="x-small", ncol=2)
+
+
+def plot_spacetime(ax, t, values, *, interface: int | None = None, cmap: str = "inferno",
+                   vmin=None, vmax=None, label: str = "", time_unit: float = 1e-3,
+                   start: int = 0):
+    """Space-time map of a per-grain quantity (paper Fig. 8); returns the image.
+
+    ``values`` has shape (n_times, n_grains); x is the grain number, y the time.
+    """
+    values = np.asarray(values)
+    t = np.asarray(t) / time_unit
+    extent = (start + 0.5, start + values.shape[1] + 0.5, t[0], t[-1])
+    im = ax.imshow(values, origin="lower", aspect="auto", extent=extent, cmap=cmap,
+                   vmin=vmin, vmax=vmax, interpolation="nearest")
+    mark_interface(ax, interface, color="w")
+    ax.set_xlabel("grain number $i$")
+    ax.set_ylabel("time (ms)" if time_unit == 1e-3 else "time")
+    if label:
+        ax.figure.colorbar(im, ax=ax, label=label)
+    return im
+
+
+def plot_theory_lines(ax, *, lim=(0.2, 5.0), regions: bool = True):
+    """Draw γ_c0 = 1 (α_kn = α_ρ^{3/2}, Eq. 9) and γ_RG = 1 (α_kn = α_ρ^{-3/2}, Eq. 13).
+
+    Log-log axes in (α_ρ, α_kn) as the paper's Fig. 7, with the region numerals.
+    """
+    a = np.geomspace(lim[0], lim[1], 200)
+    ax.plot(a, a**1.5, "k-", lw=1.2, label=r"$\gamma_{c_0}=1$")
+    ax.plot(a, a**-1.5, "k--", lw=1.2, label=r"$\gamma_{R_G}=1$")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(*lim)
+    ax.set_ylim(*lim)
+    ax.set_xlabel(r"$\alpha_\rho = \rho^R/\rho^L$")
+    ax.set_ylabel(r"$\alpha_{k_n} = k_n^R/k_n^L$")
+    if regions:
+        # a representative point inside each region, classified by theory itself
+        lo, hi = np.log(lim[0]), np.log(lim[1])
+        for x, y in ((0.3, 0.5), (0.5, 0.85), (0.7, 0.5), (0.5, 0.15)):
+            ar, ak = np.exp(lo + x * (hi - lo)), np.exp(lo + y * (hi - lo))
+            name = theory.region(theory.gamma_c0(ar, ak), theory.gamma_rg(ar, ak))
+            ax.text(ar, ak, name, ha="center", va="center", fontsize=12, weight="bold",
+                    color="0.3")
