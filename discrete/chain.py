@@ -1,0 +1,325 @@
+r"""The chain: per-grain masses and per-contact Hertz constants and static overlaps.
+
+A chain of N spheres, grain i = 0 … N-1, has N + 1 contacts: contact j lies between
+grain j-1 and grain j, contact 0 between the left wall and grain 0, contact N between
+grain N-1 and the right wall.  A free end is a wall contact with k = 0.  The contact law
+is the paper's Eq. 1, :math:`F_j = k_j [\delta_j]_+^{3/2}` (N), with the overlap
+
+.. math::
+    \delta_j = \delta_{0,j} + u_{j-1} - u_j ,\qquad
+    \delta_0 = \delta_{0,0} + w_L - u_0 ,\qquad
+    \delta_N = \delta_{0,N} + u_{N-1} - w_R ,
+
+u the displacements from static equilibrium (m) and :math:`w_{L,R}` the wall
+displacements (m).  In static equilibrium every contact carries the same force
+:math:`F_0 = k_j\delta_{0,j}^{3/2}` (paper, below Eq. 9), so
+:math:`\delta_{0,j} = (F_0/k_j)^{2/3}` (:func:`theory.static_overlaps`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+import theory
+from theory import Material
+
+__all__ = ["Chain", "Section", "WallKind"]
+
+WallKind = Literal["paper", "hertz"] | None
+
+
+@dataclass(frozen=True)
+class Section:
+    """A run of ``n`` identical grains of diameter ``diameter`` (m) and ``material``."""
+
+    n: int
+    diameter: float
+    material: Material
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.n, int | np.integer) or self.n < 1:
+            raise ValueError(f"Section.n must be an integer >= 1 (got {self.n!r})")
+        _positive_scalar("Section.diameter", self.diameter)
+        if not isinstance(self.material, Material):
+            raise ValueError(f"Section.material must be a theory.Material (got {self.material!r})")
+
+    @property
+    def mass(self) -> float:
+        """Grain mass (π/6) d³ ρ, kg (paper Section 2)."""
+        return float(theory.grain_mass(self.diameter, self.material.density))
+
+    @property
+    def kn(self) -> float:
+        """Hertz constant of two grains of this section, N/m^{3/2} (Johnson Eq. 4.22)."""
+        return float(theory.hertz_constant(self.diameter, self.material))
+
+
+def _positive_scalar(name: str, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a real number > 0 (got {value!r})") from exc
+    if not math.isfinite(x) or x <= 0:
+        raise ValueError(f"{name} must be finite and > 0 (got {value!r}); allowed: (0, inf)")
+    return x
+
+
+def _array(name: str, value, size: int, *, positive=False, nonneg=False) -> np.ndarray:
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be an array of reals (got {value!r})") from exc
+    if a.ndim == 0:
+        a = np.full(size, float(a))
+    if a.shape != (size,):
+        raise ValueError(f"{name} must have shape ({size},) (got {a.shape})")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite (got NaN or inf)")
+    if positive and np.any(a <= 0):
+        raise ValueError(f"{name} must be > 0 (min {a.min()!r}); allowed range (0, inf)")
+    if nonneg and np.any(a < 0):
+        raise ValueError(f"{name} must be >= 0 (min {a.min()!r}); allowed range [0, inf)")
+    a.setflags(write=False)
+    return a
+
+
+def _wall_k(kind: WallKind, side: str, sec: Section) -> float:
+    if kind is None:
+        return 0.0
+    if kind == "paper":
+        return sec.kn
+    if kind == "hertz":
+        return float(theory.hertz_constant_wall(sec.diameter, sec.material))
+    raise ValueError(f"{side}_wall must be 'paper', 'hertz' or None (got {kind!r})")
+
+
+@dataclass(frozen=True, eq=False)
+class Chain:
+    """A 1-D chain of Hertzian spheres between two walls (or free ends).
+
+    Parameters
+    ----------
+    mass : (N,) array
+        Grain masses, kg (> 0).
+    k : (N+1,) array
+        Contact constants of Eq. 1, N/m^{3/2} (>= 0); contact j couples grains j-1 and
+        j, contact 0 the left wall, contact N the right wall; 0 = no contact (free end).
+    delta0 : (N+1,) array
+        Static overlaps, m (>= 0; 0 where k = 0).
+    diameter : (N,) array
+        Grain diameters, m (> 0); used for positions and strains only.
+    section : (N,) int array
+        Section index of every grain.
+    params : dict
+        JSON-able description of how the chain was built.
+    """
+
+    mass: np.ndarray
+    k: np.ndarray
+    delta0: np.ndarray
+    diameter: np.ndarray
+    section: np.ndarray
+    params: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        m = np.asarray(self.mass)
+        if m.ndim != 1 or m.size < 2:
+            raise ValueError(f"a chain needs N >= 2 grains (got mass of shape {m.shape})")
+        n = m.size
+        object.__setattr__(self, "mass", _array("mass", self.mass, n, positive=True))
+        object.__setattr__(self, "k", _array("k", self.k, n + 1, nonneg=True))
+        object.__setattr__(self, "delta0", _array("delta0", self.delta0, n + 1, nonneg=True))
+        object.__setattr__(self, "diameter", _array("diameter", self.diameter, n, positive=True))
+        sec = np.array(self.section, dtype=np.int64)
+        if sec.ndim == 0:
+            sec = np.full(n, int(sec))
+        if sec.shape != (n,):
+            raise ValueError(f"section must have shape ({n},) (got {sec.shape})")
+        sec.setflags(write=False)
+        object.__setattr__(self, "section", sec)
+        if np.any(self.k[1:-1] <= 0):
+            raise ValueError("k of the grain-grain contacts 1..N-1 must be > 0")
+        if np.any((self.k == 0) & (self.delta0 != 0)):
+            raise ValueError("delta0 must be 0 at an absent contact (k = 0)")
+        if np.any(self.delta0 > 0.5 * np.minimum(
+                np.r_[self.diameter[0], self.diameter], np.r_[self.diameter, self.diameter[-1]])):
+            raise ValueError("delta0 must be below half the grain diameter (Hertz small-strain)")
+        if np.any(self.delta0 > 0) and (self.k[0] == 0 or self.k[-1] == 0):
+            raise ValueError("a precompressed chain (delta0 > 0) needs both walls (k[0], k[N] > 0)")
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def n(self) -> int:
+        """Number of grains N."""
+        return int(self.mass.size)
+
+    @property
+    def f0(self) -> np.ndarray:
+        """Static contact forces k δ0^{3/2}, N (Eq. 1), computed as the kernels do."""
+        return self.k * (self.delta0 * np.sqrt(self.delta0))
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Grain-centre positions in the uncompressed chain, m (grain 0 at d_0/2)."""
+        d = self.diameter
+        return np.cumsum(d) - d / 2
+
+    def section_slices(self) -> list[slice]:
+        """Slices of consecutive grains with the same section index."""
+        edges = np.flatnonzero(np.diff(self.section)) + 1
+        b = np.r_[0, edges, self.n]
+        return [slice(int(b[i]), int(b[i + 1])) for i in range(b.size - 1)]
+
+    # ---------------------------------------------------------------- constructors
+    @classmethod
+    def from_arrays(cls, mass, k, delta0=0.0, *, diameter=theory.PAPER_DIAMETER,
+                    section=0, params: dict | None = None) -> Chain:
+        """Chain from arbitrary per-grain / per-contact arrays (tapered, random, dimer).
+
+        Parameters
+        ----------
+        mass : (N,) array
+            Grain masses, kg.
+        k : (N+1,) array
+            Contact constants, N/m^{3/2} (0 at a free end).
+        delta0 : float or (N+1,) array
+            Static overlaps, m.  A scalar is the overlap of contact 1 (or 0) and the
+            others follow from force equilibrium δ_j = (F0/k_j)^{2/3} (below Eq. 9).
+        diameter : float or (N,) array
+            Grain diameters, m.
+        section : int or (N,) array
+            Section index per grain.
+        params : dict, optional
+            Metadata to store.
+        """
+        mass = np.asarray(mass, dtype=float)
+        if mass.ndim != 1 or mass.size < 2:
+            raise ValueError(f"a chain needs N >= 2 grains (got mass of shape {mass.shape})")
+        k = _array("k", k, mass.size + 1, nonneg=True)
+        if np.ndim(delta0) == 0:
+            d0 = float(delta0)
+            if not math.isfinite(d0) or d0 < 0:
+                raise ValueError(f"delta0 must be finite and >= 0 (got {delta0!r})")
+            delta0 = _equilibrium(k, d0, reference=1)
+        p = {"kind": "arrays"} if params is None else dict(params)
+        return cls(mass, k, delta0, diameter, section, p)
+
+    @classmethod
+    def from_sections(cls, sections: Sequence[Section], *, delta0: float | None = None,
+                      wall_force: float | None = None, left_wall: WallKind = "paper",
+                      right_wall: WallKind = "paper") -> Chain:
+        """Chain built from consecutive sections (paper Section 2, Fig. 1).
+
+        Grain–grain contacts use the physical two-sphere Hertz constant
+        k = (4/3) E* √R* (Johnson 1985, Eq. 4.22; :func:`theory.hertz_constant`), which
+        for equal diameters at an interface is the harmonic mean of the two sections'
+        k_n.  A wall contact is ``"paper"`` (the grain–grain constant of the adjacent
+        grain, as the paper's Section 2 does), ``"hertz"`` (sphere on a rigid flat,
+        :func:`theory.hertz_constant_wall`) or ``None`` (free end).
+
+        Parameters
+        ----------
+        sections : sequence of Section
+            The sections from left to right.
+        delta0 : float, optional
+            Static overlap of the left section's grain–grain contacts δ0^L, m (>= 0).
+        wall_force : float, optional
+            Alternatively the static force F0, N (>= 0).  Default: δ0 = 0.
+        left_wall, right_wall : {"paper", "hertz", None}
+            Kind of wall contact.
+        """
+        sections = list(sections)
+        if not sections or not all(isinstance(s, Section) for s in sections):
+            raise ValueError("sections must be a non-empty sequence of Section")
+        n = sum(int(s.n) for s in sections)
+        if n < 2:
+            raise ValueError(f"a chain needs N >= 2 grains (got {n})")
+        mass = np.concatenate([np.full(s.n, s.mass) for s in sections])
+        diam = np.concatenate([np.full(s.n, float(s.diameter)) for s in sections])
+        sec = np.concatenate([np.full(s.n, i) for i, s in enumerate(sections)])
+        k = np.empty(n + 1)
+        k[0] = _wall_k(left_wall, "left", sections[0])
+        k[-1] = _wall_k(right_wall, "right", sections[-1])
+        i = 0
+        for a, s in enumerate(sections):
+            k[i + 1:i + s.n] = s.kn
+            i += s.n
+            if a + 1 < len(sections):
+                t = sections[a + 1]
+                k[i] = float(theory.hertz_constant(s.diameter, s.material, t.diameter, t.material))
+        if delta0 is not None and wall_force is not None:
+            raise ValueError("give at most one of delta0 (m) or wall_force (N)")
+        ref = 1 if sections[0].n > 1 else 0
+        if wall_force is not None:
+            f = float(theory._validate.check_nonnegative("wall_force", wall_force))
+            d0 = _equilibrium(k, (f / k[ref]) ** (2 / 3), reference=ref)
+        else:
+            dl = 0.0 if delta0 is None else delta0
+            dl = float(theory._validate.check_nonnegative("delta0", dl))
+            d0 = _equilibrium(k, dl, reference=ref)
+        params = {
+            "kind": "sections",
+            "sections": [{"n": int(s.n), "diameter": float(s.diameter),
+                          "material": {"density": s.material.density,
+                                       "youngs_modulus": s.material.youngs_modulus,
+                                       "poisson_ratio": s.material.poisson_ratio,
+                                       "name": s.material.name}} for s in sections],
+            "delta0": float(d0[ref]),
+            "left_wall": left_wall,
+            "right_wall": right_wall,
+        }
+        return cls(mass, k, d0, diam, sec, params)
+
+    @classmethod
+    def two_section(cls, n_left: int, n_right: int, alpha_rho: float = 1.0,
+                    alpha_kn: float = 1.0, delta0_over_d: float = 0.0, *,
+                    material: Material = theory.PAPER_MATERIAL,
+                    diameter: float = theory.PAPER_DIAMETER, left_wall: WallKind = "paper",
+                    right_wall: WallKind = "paper") -> Chain:
+        """The paper's two-section chain (Section 2, Fig. 1).
+
+        The right section is ``material.scaled(alpha_rho, alpha_kn)``: density × α_ρ,
+        k_n × α_kn.  δ0^L = ``delta0_over_d`` × d, and δ0^R = α_kn^{-2/3} δ0^L from force
+        equilibrium.  ``n_right = 0`` gives a monodisperse chain.
+        """
+        if not isinstance(n_left, int | np.integer) or n_left < 1:
+            raise ValueError(f"n_left must be an integer >= 1 (got {n_left!r})")
+        if not isinstance(n_right, int | np.integer) or n_right < 0:
+            raise ValueError(f"n_right must be an integer >= 0 (got {n_right!r})")
+        x = float(theory._validate.check_nonnegative("delta0_over_d", delta0_over_d))
+        d = _positive_scalar("diameter", diameter)
+        secs = [Section(int(n_left), d, material)]
+        if n_right:
+            secs.append(Section(int(n_right), d, material.scaled(alpha_rho, alpha_kn)))
+        ch = cls.from_sections(secs, delta0=x * d, left_wall=left_wall, right_wall=right_wall)
+        ch.params.update({"kind": "two_section", "n_left": int(n_left),
+                          "n_right": int(n_right), "alpha_rho": float(alpha_rho),
+                          "alpha_kn": float(alpha_kn), "delta0_over_d": x})
+        return ch
+
+    def with_params(self, **extra) -> Chain:
+        """Copy with ``params`` updated by ``extra``."""
+        return Chain(self.mass, self.k, self.delta0, self.diameter, self.section,
+                     {**self.params, **extra})
+
+    def __repr__(self) -> str:
+        return (f"Chain(n={self.n}, mass=[{self.mass.min():.4g}, {self.mass.max():.4g}] kg, "
+                f"delta0_max={self.delta0.max():.4g} m, params={self.params.get('kind')})")
+
+
+def _equilibrium(k: np.ndarray, delta0: float, *, reference: int) -> np.ndarray:
+    """Static overlaps (F0/k_j)^{2/3} of the present contacts (below Eq. 9); 0 elsewhere."""
+    out = np.zeros_like(k)
+    if delta0 == 0:
+        return out
+    if k[reference] == 0:
+        raise ValueError("the reference contact of delta0 is absent (k = 0)")
+    present = k > 0
+    out[present] = theory.static_overlaps(k[present], force=float(k[reference]) * delta0**1.5)
+    out[reference] = delta0
+    return out

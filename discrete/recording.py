@@ -1,0 +1,202 @@
+"""What a run records, and the recorded data (paper Figs. 2, 3, 5, 8).
+
+:class:`Recording` says what to record; :class:`Record` holds what was recorded.  Events:
+
+* :class:`AtTime` — time t (s), taken at the first step with t_n >= t;
+* :class:`WaveAt` — the centre of the leading wave reaches grain g: the grain's velocity
+  has reached its running maximum above ``threshold`` (m/s) and has just started to
+  decrease (tested after every step inside the kernel, so the snapshot is taken one step
+  after the velocity peak).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["AtTime", "WaveAt", "Event", "Recording", "Record", "Snapshot"]
+
+
+@dataclass(frozen=True)
+class AtTime:
+    """Event: time ``t`` (s) is reached."""
+
+    t: float
+
+    @property
+    def label(self) -> str:
+        """A short name."""
+        return f"t={self.t:.6g}"
+
+
+@dataclass(frozen=True)
+class WaveAt:
+    """Event: the velocity peak of the leading wave has just passed grain ``grain``.
+
+    ``threshold`` (m/s): the peak must exceed it; default (None) is 1 % of the largest
+    grain speed of the initial state.
+    """
+
+    grain: int
+    threshold: float | None = None
+
+    @property
+    def label(self) -> str:
+        """A short name."""
+        return f"wave_at={self.grain}"
+
+
+Event = AtTime | WaveAt
+
+
+@dataclass
+class Recording:
+    """What a :class:`~discrete.simulation.Simulation` records.
+
+    Parameters
+    ----------
+    snapshots : sequence of AtTime / WaveAt / float / int
+        Events at which all grains (u, v, overlaps) are stored; a float is a time (s),
+        an int a grain index (:class:`WaveAt`).
+    series_grains : sequence of int
+        Grains whose u, v and the overlaps of their two contacts are recorded (Fig. 3c/d).
+    series_every : int
+        Steps between time-series samples.
+    maxima : bool
+        Keep per-grain running maxima of v and u (Fig. 2).
+    energy_every : int or None
+        Steps between rows of the per-grain energy space–time grid (Fig. 8); None: off.
+    energy_coarsen : int
+        Sum the energy grid over blocks of this many grains.
+    monitor_every : int
+        Steps between evaluations of the total energy (drift monitor).
+    """
+
+    snapshots: Sequence[AtTime | WaveAt | float | int] = ()
+    series_grains: Sequence[int] = ()
+    series_every: int = 1
+    maxima: bool = True
+    energy_every: int | None = None
+    energy_coarsen: int = 1
+    monitor_every: int = 2000
+
+    def events(self) -> list[Event]:
+        """The snapshot events as :class:`AtTime` / :class:`WaveAt` objects."""
+        return [as_event(e) for e in self.snapshots]
+
+    def validate(self, n: int) -> None:
+        """Raise ValueError for anything that cannot work on a chain of ``n`` grains."""
+        for e in self.events():
+            check_event(e, n)
+        for g in self.series_grains:
+            if not 0 <= int(g) < n:
+                raise ValueError(f"series grain {g} outside the chain [0, {n})")
+        for name in ("series_every", "monitor_every", "energy_coarsen"):
+            val = getattr(self, name)
+            if int(val) != val or val < 1:
+                raise ValueError(f"{name} must be an integer >= 1 (got {val!r})")
+        if self.energy_every is not None and (int(self.energy_every) != self.energy_every
+                                              or self.energy_every < 1):
+            raise ValueError(f"energy_every must be None or an integer >= 1 "
+                             f"(got {self.energy_every!r})")
+
+
+def as_event(e) -> Event:
+    """Turn a float (time, s) or int (grain) into an event object."""
+    if isinstance(e, AtTime | WaveAt):
+        return e
+    if isinstance(e, bool):
+        raise ValueError(f"not an event: {e!r}")
+    if isinstance(e, int | np.integer):
+        return WaveAt(int(e))
+    if isinstance(e, float | np.floating):
+        return AtTime(float(e))
+    raise ValueError(f"not an event: {e!r} (use AtTime(t), WaveAt(grain), a float or an int)")
+
+
+def check_event(e: Event, n: int) -> None:
+    """Raise ValueError if the event can never happen on a chain of ``n`` grains."""
+    if isinstance(e, WaveAt):
+        if not 0 <= e.grain < n:
+            raise ValueError(f"WaveAt grain {e.grain} outside the chain [0, {n}): "
+                             "the event can never happen")
+        if e.threshold is not None and not (np.isfinite(e.threshold) and e.threshold > 0):
+            raise ValueError(f"WaveAt threshold must be finite and > 0 (got {e.threshold!r})")
+    elif isinstance(e, AtTime):
+        if not np.isfinite(e.t):
+            raise ValueError(f"AtTime t must be finite (got {e.t!r})")
+
+
+@dataclass
+class Snapshot:
+    """All grains at one instant: u (m), v (m/s), overlaps (N+1,) (m)."""
+
+    label: str
+    t: float
+    step: int
+    u: np.ndarray
+    v: np.ndarray
+    overlaps: np.ndarray
+
+
+@dataclass
+class Record:
+    """Data recorded by a run (appended to over successive ``run`` calls).
+
+    Attributes
+    ----------
+    snapshots : list of Snapshot
+    series_grains : (S,) int array
+    series_t : (R,) array, s
+    series : (R, S, 4) array
+        u (m), v (m/s), left- and right-contact overlap (m) of each series grain.
+    vmax, umax : (N,) arrays or None
+        Running maxima of v (m/s) and u (m) since the start.
+    energy_t : (T,) array, s
+    energy_kinetic, energy_potential : (T, Nc) arrays, J
+        Per-grain (or per-block of ``energy_coarsen`` grains) energies (Fig. 8).
+    monitor_t, monitor_energy, monitor_shadow : (M,) arrays
+        Total energy (J) and velocity Verlet's modified energy (J) at monitor times (s).
+    """
+
+    series_grains: np.ndarray
+    snapshots: list[Snapshot] = field(default_factory=list)
+    series_t: list = field(default_factory=list)
+    series: list = field(default_factory=list)
+    vmax: np.ndarray | None = None
+    umax: np.ndarray | None = None
+    energy_t: list = field(default_factory=list)
+    energy_kinetic: list = field(default_factory=list)
+    energy_potential: list = field(default_factory=list)
+    energy_coarsen: int = 1
+    monitor_t: list = field(default_factory=list)
+    monitor_energy: list = field(default_factory=list)
+    monitor_shadow: list = field(default_factory=list)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The list-valued fields as stacked arrays."""
+        s = len(self.series_grains)
+        nc = len(self.energy_kinetic[0]) if self.energy_kinetic else 0
+        return {
+            "series_grains": np.asarray(self.series_grains, dtype=np.int64),
+            "series_t": np.asarray(self.series_t, dtype=float),
+            "series": (np.concatenate(self.series, axis=0) if self.series
+                       else np.zeros((0, s, 4))),
+            "energy_t": np.asarray(self.energy_t, dtype=float),
+            "energy_kinetic": (np.stack(self.energy_kinetic) if self.energy_kinetic
+                               else np.zeros((0, nc))),
+            "energy_potential": (np.stack(self.energy_potential) if self.energy_potential
+                                 else np.zeros((0, nc))),
+            "monitor_t": np.asarray(self.monitor_t, dtype=float),
+            "monitor_energy": np.asarray(self.monitor_energy, dtype=float),
+            "monitor_shadow": np.asarray(self.monitor_shadow, dtype=float),
+        }
+
+    def snapshot(self, label: str) -> Snapshot:
+        """The first snapshot with this label (e.g. ``"wave_at=550"``)."""
+        for s in self.snapshots:
+            if s.label == label:
+                return s
+        raise KeyError(f"no snapshot {label!r}; have {[s.label for s in self.snapshots]}")

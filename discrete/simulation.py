@@ -1,0 +1,478 @@
+r"""The :class:`Simulation` object: a chain, its state, the time step and the recording.
+
+Default time step
+-----------------
+The linearised stiffness of contact j at overlap δ is :math:`K_j = \tfrac32 k_j
+\delta^{1/2}` (N/m, derivative of Eq. 1) and its two-body frequency
+:math:`\omega_j = \sqrt{K_j (1/m_{j-1} + 1/m_j)}` (rad/s; one mass at a wall).  With
+:math:`\delta` the *largest expected overlap* — the present overlap with the largest
+single-grain kinetic energy :math:`E_1 = \max_i \tfrac12 m_i v_i^2` added,
+:math:`\hat\delta_j = ([r_j]_+^{5/2} + \tfrac52 E_1/k_j)^{2/5}` (J, from the contact
+energy (2/5) k δ^{5/2}) — the default is
+
+.. math:: \Delta t = f\, \frac{2\pi}{\max_j \omega_j},\qquad f = 0.002 .
+
+Velocity Verlet is linearly stable for :math:`\Delta t < 2/\omega_{\rm lat}` with
+:math:`\omega_{\rm lat}^2 \le \max_i 2(K_i + K_{i+1})/m_i` (Gershgorin), i.e.
+f < 0.225 for a uniform chain.  The dt study (``tests/discrete/test_dt_study.py``):
+observables converge at second order (fitted slope ≈ 2).  The most dt-sensitive case
+is the impact on a precompressed chain (δ0/d = 1e-3): its settled v̄max/v0 is
+0.08241 / 0.08224 / 0.08220 at f = 0.01 / 0.005 / 0.0025 (relative error
+≈ 2.9e-3 (f/0.01)²); f = 0.002 makes it ~1e-4.  Without precompression (f = 0.01:
+error 7e-5) and for smooth solitary waves (cut or exact waves: energy conserved to
+~1e-11 at f = 0.01) much larger steps would do.  For the paper's steel grains
+(d = 5 mm, v0 = 1 m/s) f = 0.002 gives dt ≈ 4.4e-8 s, ~40× the paper's dt = 1e-9 s.
+
+Energy: velocity Verlet conserves a modified energy :math:`\tilde H = H + O(\Delta t^2)`
+(:func:`discrete.kernels.shadow_correction`); the physical energy H oscillates by
+≈ (ω_lat Δt)²/24 relative when the grid-scale modes are excited (an impact) — 1.6e-5 at
+f = 0.002 — without drifting, while :math:`\tilde H` drifts by < 1e-8.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import kernels as K
+from .chain import Chain
+from .recording import AtTime, Record, Recording, Snapshot, WaveAt, as_event, check_event
+from .reference import overlaps as _overlaps
+
+__all__ = ["Simulation", "State", "RunInfo", "InstabilityError", "default_dt", "stable_dt",
+           "expected_overlaps", "DT_FRACTION"]
+
+DT_FRACTION = 0.002
+"""Default dt as a fraction of the shortest linearised contact period (module docstring)."""
+
+
+class InstabilityError(RuntimeError):
+    """The integration went unstable (NaN or energy drift beyond the tolerance)."""
+
+
+@dataclass
+class State:
+    """Displacements u (m), velocities v (m/s), time t (s), wall displacements (m)."""
+
+    u: np.ndarray
+    v: np.ndarray
+    t: float
+    wall_left: float
+    wall_right: float
+
+
+@dataclass
+class RunInfo:
+    """Summary of one call of :meth:`Simulation.run`."""
+
+    steps: int
+    t: float
+    stopped_by: str
+    energy_drift: float
+    """max |E - E(start of run)| / |E(start of run)| over the run's monitor samples."""
+    shadow_drift: float
+    """The same for velocity Verlet's modified energy (secular drift only)."""
+
+
+def expected_overlaps(chain: Chain, u, v, wall_left=0.0, wall_right=0.0) -> np.ndarray:
+    """Largest expected overlap of each contact, m (module docstring)."""
+    r = np.maximum(_overlaps(np.asarray(u, float), chain.delta0, wall_left, wall_right), 0.0)
+    e1 = float(np.max(0.5 * chain.mass * np.asarray(v, float) ** 2))
+    with np.errstate(divide="ignore"):
+        extra = np.where(chain.k > 0, 2.5 * e1 / np.where(chain.k > 0, chain.k, 1.0), 0.0)
+    return (r**2.5 + extra) ** 0.4
+
+
+def _contact_omega(chain: Chain, delta: np.ndarray) -> np.ndarray:
+    """ω_j = √(K_j (1/m_{j-1} + 1/m_j)), K_j = (3/2) k_j δ_j^{1/2}, rad/s."""
+    inv = np.zeros(chain.n + 1)
+    inv[:-1] += 1.0 / chain.mass
+    inv[1:] += 1.0 / chain.mass
+    return np.sqrt(1.5 * chain.k * np.sqrt(delta) * inv)
+
+
+def default_dt(chain: Chain, u=None, v=None, wall_left=0.0, wall_right=0.0, *,
+               fraction: float = DT_FRACTION) -> float:
+    """Default time step f·2π/max ω_j at the largest expected overlap, s (module docstring)."""
+    u = np.zeros(chain.n) if u is None else u
+    v = np.zeros(chain.n) if v is None else v
+    w = float(np.max(_contact_omega(chain, expected_overlaps(chain, u, v, wall_left, wall_right))))
+    if w == 0:
+        raise ValueError("cannot choose dt: no contact is loaded and nothing moves; give dt")
+    return fraction * 2.0 * math.pi / w
+
+
+def stable_dt(chain: Chain, delta) -> float:
+    """Largest linearly stable Verlet step 2/ω_lat at overlaps ``delta`` (m), s.
+
+    ω_lat² ≤ max_i (K_i + K_{i+1})·2/m_i (Gershgorin bound on M⁻¹K; exact for a
+    uniform chain, where ω_lat = 2√(K/m) is the zone-edge frequency).
+    """
+    kk = 1.5 * chain.k * np.sqrt(np.maximum(delta, 0.0))
+    w2 = np.max(2.0 * (kk[:-1] + kk[1:]) / chain.mass)
+    return 2.0 / math.sqrt(w2) if w2 > 0 else math.inf
+
+
+class Simulation:
+    """Velocity-Verlet integration of a :class:`Chain` (paper Eq. 2), pyro2 style.
+
+    Parameters
+    ----------
+    chain : Chain
+        The chain.
+    u, v : (N,) arrays, optional
+        Initial displacements from static equilibrium (m) and velocities (m/s); zero.
+    dt : float, optional
+        Time step, s (> 0); default :func:`default_dt`.
+    wall_left, wall_right : float
+        Wall displacements, m (fixed during the run).
+    record : Recording, optional
+        What to record; default: running maxima and the energy monitor.
+    t : float
+        Initial time, s.
+    active_window : bool
+        Integrate only the grains not exactly at rest in equilibrium (bitwise identical
+        results; False integrates every grain, for tests).
+    drift_tolerance : float
+        Relative drift of velocity Verlet's modified energy (:func:`kernels.shadow_correction`)
+        that counts as an instability.  The modified energy has no O(dt²) oscillation, so
+        its drift measures only accumulated error (1e-8–1e-5 in sane runs).
+    chunk : int
+        Largest number of steps per kernel call.
+    """
+
+    def __init__(self, chain: Chain, u=None, v=None, *, dt: float | None = None,
+                 wall_left: float = 0.0, wall_right: float = 0.0,
+                 record: Recording | None = None, t: float = 0.0, active_window: bool = True,
+                 drift_tolerance: float = 1e-4, chunk: int = 4096) -> None:
+        if not isinstance(chain, Chain):
+            raise ValueError(f"chain must be a Chain (got {type(chain).__name__})")
+        n = chain.n
+        self.chain = chain
+        self.u = self._vec("u", u, n)
+        self.v = self._vec("v", v, n)
+        for name, w in (("wall_left", wall_left), ("wall_right", wall_right), ("t", t)):
+            if not math.isfinite(float(w)):
+                raise ValueError(f"{name} must be finite (got {w!r})")
+        self.wall_left, self.wall_right = float(wall_left), float(wall_right)
+        if dt is None:
+            dt = default_dt(chain, self.u, self.v, self.wall_left, self.wall_right)
+        dt = float(dt) if isinstance(dt, int | float | np.floating) else dt
+        if not isinstance(dt, float) or not math.isfinite(dt) or dt <= 0:
+            raise ValueError(f"dt must be a finite number > 0 s (got {dt!r})")
+        self.dt = dt
+        if not (drift_tolerance > 0):
+            raise ValueError(f"drift_tolerance must be > 0 (got {drift_tolerance!r})")
+        self.drift_tolerance = float(drift_tolerance)
+        if int(chunk) < 1:
+            raise ValueError(f"chunk must be an integer >= 1 (got {chunk!r})")
+        self.chunk = int(chunk)
+        self.recording = Recording() if record is None else record
+        self.recording.validate(n)
+        self.active_window = bool(active_window)
+        self.t0 = float(t)
+        self.steps = 0
+        self._inv_m = 1.0 / chain.mass
+        self._f0 = chain.f0
+        self._k, self._d0 = chain.k, chain.delta0
+        self.a = np.zeros(n)
+        K.accelerations(self.u, self.a, self._inv_m, self._k, self._d0, self._f0,
+                        self.wall_left, self.wall_right, 0, n - 1)
+        self._lo, self._hi = 0, n - 1
+        self._shrink()
+        rec = self.recording
+        self.record = Record(series_grains=np.asarray(rec.series_grains, dtype=np.int64),
+                             energy_coarsen=int(rec.energy_coarsen))
+        if rec.maxima:
+            self.record.vmax = self.v.copy()
+            self.record.umax = self.u.copy()
+        self._pending = rec.events()
+        vmax0 = float(np.max(np.abs(self.v))) if n else 0.0
+        self._default_threshold = 0.01 * vmax0 if vmax0 > 0 else 1e-12
+        self.energy0 = self.energy()
+        self._monitor()
+        self._energy_row()
+
+    # ------------------------------------------------------------------ helpers
+    @staticmethod
+    def _vec(name: str, x, n: int) -> np.ndarray:
+        if x is None:
+            return np.zeros(n)
+        a = np.array(x, dtype=float)
+        if a.shape != (n,):
+            raise ValueError(f"{name} must have shape ({n},) (got {a.shape})")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{name} must be finite (got NaN or inf)")
+        return a
+
+    def _shrink(self) -> None:
+        if not self.active_window:
+            self._lo, self._hi = 0, self.chain.n - 1
+            return
+        if self._lo < 0:
+            return
+        self._lo, self._hi = K.active_window(self.u, self.v, self._k, self.wall_left,
+                                             self.wall_right, self._lo, self._hi)
+
+    @property
+    def t(self) -> float:
+        """Present time t0 + steps·dt, s."""
+        return self.t0 + self.steps * self.dt
+
+    @property
+    def state(self) -> State:
+        """A copy of the present state."""
+        return State(self.u.copy(), self.v.copy(), self.t, self.wall_left, self.wall_right)
+
+    @property
+    def window(self) -> tuple[int, int]:
+        """The active window (lo, hi); (-1, -1) when every grain is at rest in equilibrium."""
+        return self._lo, self._hi
+
+    def overlaps(self) -> np.ndarray:
+        """Present contact overlaps δ0_j + (u_{j-1} - u_j), m (Eq. 1)."""
+        return _overlaps(self.u, self._d0, self.wall_left, self.wall_right)
+
+    def energy(self) -> float:
+        """Total wave energy Σ ½mv² + Σ (2/5)k([r]_+^{5/2} - δ0^{5/2}), J (PHYSICS.md §6)."""
+        if self._lo < 0:
+            return 0.0
+        ek = np.empty(self.chain.n)
+        ep = np.empty(self.chain.n)
+        tk, tp = K.grain_energies(self.u, self.v, self.chain.mass, self._k, self._d0,
+                                  self.wall_left, self.wall_right, self._lo, self._hi, ek, ep)
+        return tk + tp
+
+    def grain_energy(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per-grain kinetic and potential energy (half of each contact), J (Fig. 8)."""
+        ek = np.zeros(self.chain.n)
+        ep = np.zeros(self.chain.n)
+        if self._lo >= 0:
+            K.grain_energies(self.u, self.v, self.chain.mass, self._k, self._d0,
+                             self.wall_left, self.wall_right, self._lo, self._hi, ek, ep)
+        return ek, ep
+
+    def _monitor(self) -> tuple[float, float]:
+        e = self.energy()
+        sh = 0.0
+        if self._lo >= 0:
+            sh = K.shadow_correction(self.u, self.v, self.a, self.chain.mass, self._k,
+                                     self._d0, self.wall_left, self.wall_right,
+                                     self._lo, self._hi)
+        es = e + self.dt**2 * sh
+        r = self.record
+        r.monitor_t.append(self.t)
+        r.monitor_energy.append(e)
+        r.monitor_shadow.append(es)
+        return e, es
+
+    def _energy_row(self) -> None:
+        every = self.recording.energy_every
+        if every is None or self.steps % every:
+            return
+        ek, ep = self.grain_energy()
+        c = self.record.energy_coarsen
+        if c > 1:
+            starts = np.arange(0, ek.size, c)
+            ek, ep = np.add.reduceat(ek, starts), np.add.reduceat(ep, starts)
+        self.record.energy_t.append(self.t)
+        self.record.energy_kinetic.append(ek)
+        self.record.energy_potential.append(ep)
+
+    def _snapshot(self, label: str) -> None:
+        if self.record.umax is not None:
+            np.maximum(self.record.umax, self.u, out=self.record.umax)
+        self.record.snapshots.append(Snapshot(label, self.t, self.steps, self.u.copy(),
+                                              self.v.copy(), self.overlaps()))
+
+    def _instability(self, cause: str) -> InstabilityError:
+        dmax = expected_overlaps(self.chain, np.zeros(self.chain.n), self.v, self.wall_left,
+                                 self.wall_right)
+        finite = np.isfinite(self.u).all() and np.isfinite(self.v).all()
+        if finite:
+            dmax = np.maximum(dmax, np.maximum(self.overlaps(), 0.0))
+        return InstabilityError(
+            f"{cause} at t = {self.t:.6g} s (step {self.steps}) with dt = {self.dt:.4g} s; "
+            f"likely cause: dt too large for the contact stiffness (or initial overlaps far "
+            f"above the static ones). The largest linearly stable dt at the expected "
+            f"overlaps is about {stable_dt(self.chain, dmax):.4g} s; the default "
+            f"{DT_FRACTION}·2π/ω_max is {default_dt(self.chain):.4g} s"
+            if np.any(self.chain.delta0 > 0) else
+            f"{cause} at t = {self.t:.6g} s (step {self.steps}) with dt = {self.dt:.4g} s; "
+            f"likely cause: dt too large for the contact stiffness. The largest linearly "
+            f"stable dt at the expected overlaps is about {stable_dt(self.chain, dmax):.4g} s")
+
+    # ------------------------------------------------------------------ running
+    def run(self, t_end: float | None = None, *, until=None, max_steps: int | None = None,
+            progress: bool = True) -> RunInfo:
+        """Integrate until ``t_end`` (s), the event ``until``, or ``max_steps`` steps.
+
+        Parameters
+        ----------
+        t_end : float, optional
+            Absolute end time, s (>= present time).
+        until : WaveAt, AtTime, int or float, optional
+            Stop when this event happens (an int is a grain: :class:`WaveAt`); a snapshot
+            labelled with the event is taken there.
+        max_steps : int, optional
+            Upper bound on the steps of this call.
+        progress : bool
+            Show a tqdm progress bar for runs of more than 1e5 steps.
+
+        Returns
+        -------
+        RunInfo
+            Steps, end time, what stopped the run, and the relative energy drift.
+        """
+        n = self.chain.n
+        if t_end is None and until is None and max_steps is None:
+            raise ValueError("give t_end (s), until (event) or max_steps")
+        stop_event = None
+        if until is not None:
+            stop_event = as_event(until)
+            check_event(stop_event, n)
+        limit = math.inf
+        if t_end is not None:
+            if not math.isfinite(float(t_end)) or float(t_end) < self.t - 0.5 * self.dt:
+                raise ValueError(f"t_end must be finite and >= the present time {self.t} s "
+                                 f"(got {t_end!r})")
+            limit = self._step_of(float(t_end))
+        if max_steps is not None:
+            if int(max_steps) != max_steps or max_steps < 0:
+                raise ValueError(f"max_steps must be an integer >= 0 (got {max_steps!r})")
+            limit = min(limit, self.steps + int(max_steps))
+        events = list(self._pending) + ([stop_event] if stop_event is not None else [])
+        e_start, es_start = self._monitor()
+        drift = [0.0, 0.0]
+        rec = self.recording
+        s_idx = self.record.series_grains
+        s_every = int(rec.series_every)
+        ts_buf = np.zeros((self.chunk // s_every + 1, s_idx.size, 4))
+        vmax = self.record.vmax if rec.maxima else np.zeros(n)
+        umax = self.record.umax if rec.maxima else np.zeros(n)
+        waves = [e for e in events if isinstance(e, WaveAt)]
+        watch = np.array([e.grain for e in waves], dtype=np.int64)
+        wthr = np.array([self._default_threshold if e.threshold is None else e.threshold
+                         for e in waves], dtype=float)
+        wmax = np.array([self.v[g] for g in watch], dtype=float)
+        start_steps = self.steps
+        bar = None
+        if progress and limit - self.steps > 100_000 and math.isfinite(limit):
+            from tqdm.auto import tqdm
+            bar = tqdm(total=int(limit - self.steps), unit="step", leave=False)
+        stopped_by = "t_end" if t_end is not None else "max_steps"
+        try:
+            while True:
+                # time events due now
+                for e in [e for e in events if isinstance(e, AtTime)]:
+                    if self.steps >= self._step_of(e.t):
+                        self._fire(e, events)
+                        if e is stop_event:
+                            stopped_by = e.label
+                if stopped_by != "t_end" and stopped_by != "max_steps":
+                    break
+                if self.steps >= limit:
+                    break
+                nsteps = int(min(self.chunk, limit - self.steps))
+                for e in events:
+                    if isinstance(e, AtTime):
+                        nsteps = min(nsteps, max(self._step_of(e.t) - self.steps, 1))
+                nsteps = min(nsteps, self._until_multiple(rec.monitor_every))
+                if rec.energy_every is not None:
+                    nsteps = min(nsteps, self._until_multiple(rec.energy_every))
+                if self._lo < 0:
+                    if waves:
+                        raise RuntimeError("every grain is at rest in equilibrium: the "
+                                           f"events {[e.label for e in waves]} cannot happen")
+                    if s_idx.size:  # nothing moves: still sample the series
+                        nsteps = min(nsteps, self._until_multiple(s_every))
+                    self.steps += nsteps
+                    if s_idx.size and self.steps % s_every == 0:
+                        self._append_series(self._series_row(), self.steps)
+                else:
+                    if self.active_window:
+                        nsteps = min(nsteps, max(32, (self._hi - self._lo + 1) // 8))
+                        lo = max(0, self._lo - nsteps)
+                        hi = min(n - 1, self._hi + nsteps)
+                    else:
+                        lo, hi = 0, n - 1
+                    phase = self.steps % s_every
+                    done, rows, fired = K.run_chunk(
+                        self.u, self.v, self.a, self._inv_m, self._k, self._d0, self._f0,
+                        self.wall_left, self.wall_right, self.dt, nsteps, lo, hi, vmax, umax,
+                        rec.maxima, watch, wmax, wthr, s_idx, s_every, self.steps, ts_buf)
+                    if rows:
+                        first = self.steps + (s_every - phase if phase else s_every)
+                        steps_r = first + s_every * np.arange(rows)
+                        self.record.series_t.extend((self.t0 + steps_r * self.dt).tolist())
+                        self.record.series.append(ts_buf[:rows].copy())
+                    self.steps += done
+                    self._lo, self._hi = lo, hi
+                    self._shrink()
+                    if fired >= 0:
+                        ev = waves[fired]
+                        self._fire(ev, events)
+                        keep = [q for q in range(len(waves)) if q != fired]
+                        waves = [waves[q] for q in keep]
+                        watch, wmax, wthr = watch[keep], wmax[keep], wthr[keep]
+                        if ev is stop_event:
+                            stopped_by = ev.label
+                            break
+                if bar is not None:
+                    bar.update(self.steps - bar.n - start_steps)
+                if self.steps % rec.monitor_every == 0 or self.steps >= limit:
+                    self._check(e_start, es_start, drift)
+                self._energy_row()
+        finally:
+            if bar is not None:
+                bar.close()
+            if rec.maxima:
+                np.maximum(umax, self.u, out=umax)
+        self._check(e_start, es_start, drift)
+        return RunInfo(self.steps - start_steps, self.t, stopped_by, drift[0], drift[1])
+
+    def _series_row(self) -> np.ndarray:
+        g = self.record.series_grains
+        r = self.overlaps()
+        return np.stack([self.u[g], self.v[g], r[g], r[g + 1]], axis=-1)[None]
+
+    def _append_series(self, row: np.ndarray, step: int) -> None:
+        self.record.series_t.append(self.t0 + step * self.dt)
+        self.record.series.append(row)
+
+    def _step_of(self, t: float) -> int:
+        """First step whose time is >= t (to within 1e-9 dt)."""
+        return max(0, math.ceil((t - self.t0) / self.dt - 1e-9))
+
+    def _until_multiple(self, every: int) -> int:
+        return every - self.steps % every
+
+    def _fire(self, e, events: list) -> None:
+        self._snapshot(e.label)
+        events.remove(e)
+        if e in self._pending:
+            self._pending.remove(e)
+
+    def _check(self, e_start: float, es_start: float, drift: list) -> None:
+        if self.steps == 0:
+            return
+        e, es = self._monitor()
+        if not (math.isfinite(e) and math.isfinite(es)):
+            raise self._instability("non-finite state (NaN/inf)")
+        scale = abs(e_start) if e_start != 0 else 1.0
+        scale_s = abs(es_start) if es_start != 0 else 1.0
+        drift[0] = max(drift[0], abs(e - e_start) / scale)
+        drift[1] = max(drift[1], abs(es - es_start) / scale_s)
+        es0 = self.record.monitor_shadow[0]
+        total = abs(es - es0) / (abs(es0) if es0 else 1.0)
+        if total > self.drift_tolerance:
+            raise self._instability(f"relative drift {total:.3g} of the (modified) energy "
+                                    f"beyond the tolerance {self.drift_tolerance:g}")
+
+    @property
+    def energy_drift(self) -> float:
+        """Max |E - E(0)|/|E(0)| over all monitor samples since the start."""
+        e = np.asarray(self.record.monitor_energy)
+        return float(np.max(np.abs(e - self.energy0)) / (abs(self.energy0) or 1.0))
