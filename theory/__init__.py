@@ -34,6 +34,17 @@ from .materials import (
     paper_kn,
 )
 from .precompression import static_energy, static_force, static_overlaps
+from .profiles import (
+    ChainState,
+    DiscreteSolitaryWave,
+    compacton_motion,
+    compacton_strain,
+    discrete_solitary_wave,
+    discrete_speed_constant,
+    kdv_soliton_motion,
+    kdv_soliton_strain,
+    kdv_soliton_width,
+)
 from .speeds import (
     c0,
     c_mat,
@@ -46,6 +57,15 @@ from .speeds import (
 )
 
 __all__ = [
+    "ChainState",
+    "DiscreteSolitaryWave",
+    "compacton_motion",
+    "compacton_strain",
+    "discrete_solitary_wave",
+    "discrete_speed_constant",
+    "kdv_soliton_motion",
+    "kdv_soliton_strain",
+    "kdv_soliton_width",
     "PAPER_POINTS",
     "PAPER_DIAMETER",
     "PAPER_MATERIAL",
