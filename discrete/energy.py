@@ -5,7 +5,8 @@ r"""Energies of the chain as NumPy functions (paper Fig. 8, Table 2; PHYSICS.md 
   \delta_{0,j}^{5/2})` (J), the integral of Eq. 1 minus the static energy of the same
   contact.  The linear term :math:`F_0 (r_j - \delta_{0,j})` is kept (PHYSICS.md §6),
   so the potential energy of an expansive wave is negative;
-* per grain: :math:`e^p_i = \tfrac12(e^c_i + e^c_{i+1})`, :math:`e^t_i = e^k_i + e^p_i`;
+* per grain: :math:`e^p_i = \tfrac12(e^c_i + e^c_{i+1})`, :math:`e^t_i = e^k_i + e^p_i`
+  (a wall contact belongs wholly to its grain: walls store no energy);
 * total :math:`E = \sum_i e^k_i + \sum_j e^c_j`, conserved by Eq. 2 with fixed walls.
 
 The difference :math:`r^{5/2} - \delta_0^{5/2}` is evaluated as
@@ -47,6 +48,8 @@ def grain_energy(chain, u, v, wall_left=0.0, wall_right=0.0):
     ec = contact_energy(overlaps(u, chain.delta0, wall_left, wall_right), chain.k, chain.delta0)
     ek = kinetic_energy(chain, v)
     ep = 0.5 * (ec[:-1] + ec[1:])
+    ep[0] += 0.5 * ec[0]  # a wall contact belongs wholly to its grain
+    ep[-1] += 0.5 * ec[-1]
     return ek, ep, ek + ep
 
 

@@ -240,7 +240,8 @@ def contact_energies(u, k, d0, wl, wr, lo, hi, out):
 def grain_energies(u, v, mass, k, d0, wl, wr, lo, hi, ek, ep):
     """Per-grain kinetic ½mv² and potential (half of each contact's energy), J.
 
-    Fills ek[lo:hi+1], ep[lo:hi+1]; returns (Σ ek, Σ contact energies of lo..hi+1).
+    A wall contact belongs wholly to its grain (the wall stores no energy).  Fills
+    ek[lo:hi+1], ep[lo:hi+1]; returns (Σ ek, Σ contact energies of lo..hi+1).
     """
     n = u.size
     ul = wl if lo == 0 else u[lo - 1]
@@ -252,7 +253,7 @@ def grain_energies(u, v, mass, k, d0, wl, wr, lo, hi, ek, ep):
         e_r = _contact_potential(k[i + 1], d0[i + 1], d0[i + 1] + (u[i] - ur))
         kin = 0.5 * mass[i] * v[i] * v[i]
         ek[i] = kin
-        ep[i] = 0.5 * (e_l + e_r)
+        ep[i] = (e_l if i == 0 else 0.5 * e_l) + (e_r if i == n - 1 else 0.5 * e_r)
         tk += kin
         tp += e_r
         e_l = e_r

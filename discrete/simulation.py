@@ -157,6 +157,8 @@ class Simulation:
             if not math.isfinite(float(w)):
                 raise ValueError(f"{name} must be finite (got {w!r})")
         self.wall_left, self.wall_right = float(wall_left), float(wall_right)
+        self.recording = Recording() if record is None else record
+        self.recording.validate(n)
         if dt is None:
             dt = default_dt(chain, self.u, self.v, self.wall_left, self.wall_right)
         dt = float(dt) if isinstance(dt, int | float | np.floating) else dt
@@ -169,8 +171,6 @@ class Simulation:
         if int(chunk) < 1:
             raise ValueError(f"chunk must be an integer >= 1 (got {chunk!r})")
         self.chunk = int(chunk)
-        self.recording = Recording() if record is None else record
-        self.recording.validate(n)
         self.active_window = bool(active_window)
         self.t0 = float(t)
         self.steps = 0
