@@ -227,7 +227,48 @@ def cut_wave(chain: Chain, centre: int, *, v0: float = 1.0, settle_grains: int |
     return place_wave(chain, w, c)
 
 
-def exact_wave(chain: Chain, centre: int, *, velocity_max: float | None = None,
-               amplitude: float | None = None, **kwargs) -> Initial:
-    """The exact discrete solitary wave (theory.profiles) with its centre at ``centre``."""
-    raise NotImplementedError("waits for theory.profiles")
+def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None,
+               amplitude: float | None = None, tail: float = 1e-13, **kwargs) -> Initial:
+    """The exact discrete solitary wave (:func:`theory.discrete_solitary_wave`), right-going.
+
+    The travelling wave r_j(t) = R(j - centre - s t) of Eq. 2 (PHYSICS.md §7) for the
+    grains and contact at ``centre`` (their mass, k_n, δ0, diameter), with its overlap
+    peak at contact ``centre`` (between grains centre-1 and centre) at t = 0.  Give
+    exactly one of ``velocity_max`` (peak grain velocity, m/s) or ``amplitude`` (peak
+    dynamic overlap r_max - δ0, m).  Grains behind the wave and the left wall carry the
+    net shift D of the wave.  Every grain and contact where the wave's velocity or
+    dynamic overlap exceeds ``tail`` × its peak must have the wave's parameters
+    (ValueError otherwise: the wave does not fit in the chain or section).  Other keyword
+    arguments go to :func:`theory.discrete_solitary_wave`.
+    """
+    from theory import discrete_solitary_wave
+
+    c = float(centre)
+    if not np.isfinite(c) or not 0 <= c <= chain.n:
+        raise ValueError(f"centre {centre!r} outside the chain: contact index in [0, {chain.n}]")
+    j = int(np.clip(round(c), 1, chain.n - 1))
+    w = discrete_solitary_wave(chain.k[j], chain.mass[j], chain.diameter[j], chain.delta0[j],
+                               amplitude=amplitude, velocity_max=velocity_max, **kwargs)
+    st = w.sample(chain.n, c)
+    u, v, r = st.displacement, st.velocity, st.overlap
+    dyn = np.abs(r - w.delta0) > tail * w.amplitude
+    dyn[0] |= abs(st.wall_displacement[0] - u[0]) > tail * max(abs(w.net_shift), 1e-300)
+    mov = np.abs(v) > tail * w.velocity_max
+    if dyn[0] or dyn[-1] or mov[0] or mov[-1]:
+        raise ValueError(f"wave placed outside the chain: at centre {c} its tails (above "
+                         f"{tail:g} of the peak) reach a chain end; move it inwards")
+    grains = np.flatnonzero(mov | dyn[:-1] | dyn[1:])
+    contacts = np.flatnonzero(dyn)
+    for name, arr, val in (("mass", chain.mass[grains], w.mass),
+                           ("k", chain.k[contacts], w.k_n),
+                           ("delta0", chain.delta0[contacts], w.delta0)):
+        if np.any(np.abs(arr - val) > 1e-9 * abs(val)):
+            raise ValueError(f"the chain's {name} under the exact wave (grains "
+                             f"{grains.min()}..{grains.max()}) differs from that at the "
+                             f"centre: the wave does not fit in one section")
+    wl = float(st.wall_displacement[0]) if chain.k[0] > 0 else 0.0
+    return Initial(chain, u.copy(), v.copy(), wall_left=wl,
+                   params={"kind": "exact_wave", "centre": c, "speed": w.speed,
+                           "grain_rate": w.grain_rate, "velocity_max": w.velocity_max,
+                           "amplitude": w.amplitude, "net_shift": w.net_shift,
+                           "residual": w.residual})

@@ -5,12 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from discrete import (AtTime, Chain, InstabilityError, Recording, Simulation, WaveAt,
-                      default_dt)
+from discrete import AtTime, Chain, InstabilityError, Recording, Simulation, WaveAt, default_dt
 from discrete.energy import total_energy
 from discrete.initial import cut_wave, impact
 
-# Grain ranges for v̄max (measured, see the report in the commit message of this file):
+# Grain ranges for v̄max (measured at the default dt):
 # without precompression the leading wave is formed after ~20 grains (v̄max over
 # [20, 100) and [50, 250) agree to 1e-6); at δ0/d = 1e-3 it settles slowly — block
 # means of 500 grains still fall by 6e-4 at grain 3000 and by < 1e-6 beyond 7000.
@@ -49,7 +48,7 @@ def test_fig2_precompressed_converges_towards_paper():
 
 @pytest.mark.slow
 def test_fig2_precompressed_settled():
-    # Paper Fig. 2b: 0.0822 within 2e-4 once settled (measured 0.082199 at the default
+    # Paper Fig. 2b: 0.0822 within 2e-4 once settled (measured 0.082181 at the default
     # dt over grains 7000..9500; 0.08217 is the dt -> 0 limit, PHYSICS.md §1).
     sim, _ = _fig2(1e-3, 10_000, 9_900)
     assert abs(sim.record.vmax[slice(*FIG2_RANGE_1E3)].mean() - 0.0822) < 2e-4
