@@ -17,7 +17,7 @@ def test_impact_and_striker():
     sim = s.simulation()
     sim.run(until=WaveAt(15), progress=False)
     # a striker 3x heavier than a grain launches a stronger leading wave
-    plain = ini.simulation()
+    plain = impact(ch, 1.0).simulation()
     plain.run(until=WaveAt(14), progress=False)
     assert sim.record.vmax[15] > 1.2 * plain.record.vmax[14]
 
