@@ -1,0 +1,1 @@
+"""Long-wave continuum solvers for Hertzian chains, built on py-pde."""

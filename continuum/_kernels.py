@@ -1,0 +1,125 @@
+"""Compiled kernels shared by the continuum solvers (module-level ``@njit(cache=True)``).
+
+py-pde provides finite-difference operators on its grids, but not the pieces the
+staggered chain discretisation needs: face strains with the chain's boundary
+conditions, flux divergences with face coefficients, and a solver for the constant
+symmetric tridiagonal Rosenau mass operator.  These are the smallest such pieces.
+
+Boundary codes: 0 = free (zero dynamic flux), 1 = wall (u = 0), 2 = periodic.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+FREE, WALL, PERIODIC = 0, 1, 2
+
+
+@nb.njit(cache=True)
+def face_strain(u, h, bc, s):
+    """Dynamic overlap change s = -u_X at the faces (m per grain), with ghosts for ``bc``."""
+    n = u.size
+    if bc == PERIODIC:
+        s[0] = -(u[0] - u[n - 1]) / h
+        for q in range(1, n):
+            s[q] = -(u[q] - u[q - 1]) / h
+        return
+    for q in range(1, n):
+        s[q] = -(u[q] - u[q - 1]) / h
+    if bc == WALL:
+        s[0] = -2.0 * u[0] / h
+        s[n] = 2.0 * u[n - 1] / h
+    else:
+        s[0] = 0.0
+        s[n] = 0.0
+
+
+@nb.njit(cache=True)
+def flux_divergence(p, h, bc, out):
+    """Node force density (P_q - P_{q+1})/h, N per grain length, from face forces ``p``."""
+    n = out.size
+    if bc == PERIODIC:
+        for i in range(n - 1):
+            out[i] = (p[i] - p[i + 1]) / h
+        out[n - 1] = (p[n - 1] - p[0]) / h
+    else:
+        for i in range(n):
+            out[i] = (p[i] - p[i + 1]) / h
+
+
+def mass_operator_bands(mass, face_mass, h, ell2, bc):
+    """Bands of the Rosenau mass operator M = m - ∂_X (m_f ℓ²) ∂_X on the nodes.
+
+    Returns ``(diag, off, corner)``: the diagonal, the off-diagonal (between node p and
+    p+1) and, for periodic chains, the wrap-around entry.  Ghost values: wall a_{-1} =
+    -a_0, free a_{-1} = a_0 (see :mod:`continuum.boussinesq`).
+    """
+    c = ell2 / h**2
+    if bc == PERIODIC:
+        mf = face_mass  # face q between node q-1 and q, q = 0..n-1
+        diag = mass + c * (mf + np.roll(mf, -1))
+        off = -c * mf[1:]
+        return diag, off, -c * mf[0]
+    mf = face_mass  # n + 1 faces
+    diag = mass + c * (mf[:-1] + mf[1:])
+    if bc == WALL:
+        diag[0] += c * mf[0]
+        diag[-1] += c * mf[-1]
+    else:
+        diag[0] -= c * mf[0]
+        diag[-1] -= c * mf[-1]
+    off = -c * mf[1:-1]
+    return diag, off, 0.0
+
+
+def tridiag_factor(diag, off, corner):
+    """Factor a symmetric tridiagonal (optionally cyclic) matrix for :func:`tridiag_solve`.
+
+    Thomas algorithm; a cyclic matrix is handled by the Sherman–Morrison formula
+    (Press et al., *Numerical Recipes*, 3rd ed., §2.7.2).  Returns a tuple of arrays.
+    """
+    n = diag.size
+    d = diag.astype(float).copy()
+    gamma = 0.0
+    if corner != 0.0:
+        gamma = -d[0]
+        d[0] -= gamma
+        d[-1] -= corner * corner / gamma
+    den = np.empty(n)
+    cp = np.zeros(n)
+    den[0] = d[0]
+    for i in range(1, n):
+        cp[i - 1] = off[i - 1] / den[i - 1]
+        den[i] = d[i] - off[i - 1] * cp[i - 1]
+    offf = np.r_[off, 0.0].astype(float)
+    z = np.zeros(n)
+    vfac = np.zeros(3)
+    if corner != 0.0:
+        rhs = np.zeros(n)
+        rhs[0], rhs[-1] = gamma, corner
+        _thomas(den, cp, offf, rhs, z)
+        vfac[0] = corner / gamma
+        vfac[1] = 1.0 + z[0] + vfac[0] * z[-1]
+        vfac[2] = 1.0
+    return den, cp, offf, z, vfac
+
+
+@nb.njit(cache=True)
+def _thomas(den, cp, off, r, x):
+    n = r.size
+    x[0] = r[0] / den[0]
+    for i in range(1, n):
+        x[i] = (r[i] - off[i - 1] * x[i - 1]) / den[i]
+    for i in range(n - 2, -1, -1):
+        x[i] -= cp[i] * x[i + 1]
+
+
+@nb.njit(cache=True)
+def tridiag_solve(den, cp, off, z, vfac, r, x):
+    """Solve M x = r with the factors of :func:`tridiag_factor` (O(n), in place in x)."""
+    _thomas(den, cp, off, r, x)
+    if vfac[2] != 0.0:
+        f = (x[0] + vfac[0] * x[-1]) / vfac[1]
+        for i in range(x.size):
+            x[i] -= f * z[i]

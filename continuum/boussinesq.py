@@ -1,0 +1,219 @@
+r"""Weakly nonlinear long-wave equation of a precompressed chain (corrected Eq. 4).
+
+Regularisation
+--------------
+The paper's Eq. 4, corrected (PHYSICS.md §2), reads in grain units X = x/d
+
+.. math:: u_{tt} = \frac{K}{m}\Big(u_{XX} + \frac{1}{12}u_{XXXX}
+          - \frac{1}{2\delta_0}u_X u_{XX}\Big),\qquad K = \tfrac32 k_n\delta_0^{1/2},
+
+i.e. :math:`c_0^2 (u_{xx} + (d^2/12)u_{xxxx} - (d/(2\delta_0))u_x u_{xx})` with
+:math:`c_0^2 = K d^2/m`.  Linearised it has :math:`\omega^2 = c_0^2k^2(1 - k^2d^2/12)`,
+negative for :math:`k > \sqrt{12}/d`: ill-posed (PHYSICS.md §4).  We solve instead the
+Rosenau quasi-continuum / "improved Boussinesq" form, which replaces
+:math:`(c_0^2 d^2/12)u_{xxxx}` by :math:`(d^2/12)u_{xxtt}` (equal to leading order
+because :math:`u_{tt} = c_0^2 u_{xx} + \dots`), written in flux form for a composite
+medium:
+
+.. math:: \Big(m - \partial_X \frac{m}{12} \partial_X\Big) u_{tt} = -\partial_X P(s, X),
+          \qquad s = -u_X,\qquad P = K s + \frac{K}{4\delta_0} s^2 .
+
+Why this form (and not a spectral cut-off at the Brillouin zone):
+
+* it is well-posed — :math:`\omega^2 = c_0^2k^2/(1 + k^2d^2/12) \le 12 c_0^2/d^2` for
+  every k, so explicit time steps do not shrink with the grid spacing;
+* it keeps the long-wave accuracy of Eq. 4 (both agree to O(k⁴)) *and* its solitary
+  wave: the travelling wave is the sech² of Eq. 4 with exactly the same amplitude–speed
+  relation :math:`V^2 = c_0^2(1 + A/(6\delta_0))` (Eq. 5 to first order), only wider
+  by the factor V/c0 (:func:`continuum.initial.solitary_wave`);
+* the mass operator is symmetric positive definite and local, so the equation keeps a
+  flux form (force and particle velocity continuous at an interface, paper Eq. 10) and
+  conserves momentum and the energy
+
+  .. math:: E = \int \tfrac12 m\,u_t^2 + \tfrac{m}{24}u_{Xt}^2
+            + W(s, X)\,dX,\qquad W = \tfrac12 K s^2 + \frac{K}{12\delta_0}s^3;
+
+  the regularisation moves the dispersive energy from the (indefinite) potential into
+  the (positive) kinetic energy.  A spectral cut-off would need periodic, uniform media.
+
+P is the *dynamic* contact force (F - F0); the static F0 is uniform (force equilibrium,
+paper below Eq. 9) and drops out of the flux divergence.  ``nonlinearity="hertz"``
+replaces the quadratic P by the full law :math:`k[\delta_0 + s]_+^{3/2} - F_0` (Eq. 1) —
+the Rosenau quasi-continuum of the Hertz chain — for amplitude studies.
+
+Discretisation: staggered second-order finite volumes (:mod:`continuum.medium`); the
+mass operator is a constant symmetric tridiagonal matrix (m at nodes, m at faces = mean
+of the two nodes), factored once and solved in O(N) per evaluation.  py-pde has no
+operator for this Helmholtz-type inverse, hence :mod:`continuum._kernels`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numba as nb
+import numpy as np
+from scipy.sparse import diags
+from scipy.sparse.linalg import splu
+
+from . import _kernels as kern
+from .base import ChainPDEBase
+from .medium import Medium
+
+__all__ = ["BoussinesqPDE", "DISPERSION_LENGTH2"]
+
+DISPERSION_LENGTH2 = 1.0 / 12.0
+"""Dispersive length² of the lattice, d²/12 (Taylor series of the second difference;
+paper Eq. 4 corrected), in grain diameters²."""
+
+
+class BoussinesqPDE(ChainPDEBase):
+    r"""Regularised (Rosenau) form of the corrected Eq. 4 for a composite chain.
+
+    .. math::
+        \partial_t u &= v \\
+        \Big(m - \partial_X \frac{m}{12}\partial_X\Big)\partial_t v
+            &= -\partial_X \Big(K s + \frac{K}{4\delta_0}s^2\Big),\quad s = -\partial_X u
+
+    with X in grain diameters, u in m, t in s, m(X) the grain mass (kg), K(X) the
+    linearised contact stiffness (N/m) and δ0(X) the static overlap (m).  See the
+    module docstring for the regularisation and its conserved energy.
+
+    Parameters
+    ----------
+    medium : Medium
+        Chain; must be precompressed (δ0 > 0).
+    n : int
+        Nodes per grain (odd).
+    bc : {"free", "wall", "periodic"}
+        Boundary condition at both ends.
+    nonlinearity : {"quadratic", "hertz", "linear"}
+        Flux P(s): Eq. 4's quadratic expansion (default), the full Hertz law (Eq. 1),
+        or its linearisation K s (for dispersion and acoustic tests).
+    """
+
+    def __init__(self, medium: Medium, n: int = 5, *, bc: str = "free",
+                 nonlinearity: str = "quadratic") -> None:
+        super().__init__(medium, n, bc=bc)
+        if not medium.precompressed:
+            raise ValueError("BoussinesqPDE needs a precompressed chain (delta0 > 0); "
+                             "use NesterenkoPDE for the sonic vacuum")
+        if nonlinearity not in ("quadratic", "hertz", "linear"):
+            raise ValueError(f"nonlinearity must be 'quadratic', 'hertz' or 'linear' "
+                             f"(got {nonlinearity!r})")
+        self.nonlinearity = nonlinearity
+        self._nl_code = {"linear": 0, "quadratic": 1, "hertz": 2}[nonlinearity]
+        d = self.disc
+        self._K = d.stiffness
+        self._b = self._K / (4.0 * d.delta0)  # quadratic coefficient, N/m²
+        diag, off, corner = kern.mass_operator_bands(
+            d.mass, d.face_mass, d.h, DISPERSION_LENGTH2, self._bc_code
+        )
+        self._bands = (diag, off, corner)
+        self._factors = kern.tridiag_factor(diag, off, corner)
+        # NumPy path: an independent sparse LU of the same operator
+        n_nodes = diag.size
+        mat = diags([off, diag, off], [-1, 0, 1], shape=(n_nodes, n_nodes)).tolil()
+        if corner != 0.0:
+            mat[0, n_nodes - 1] = mat[n_nodes - 1, 0] = corner
+        self._lu = splu(mat.tocsc())
+
+    # ------------------------------------------------------------------ flux
+    def flux(self, s: np.ndarray) -> np.ndarray:
+        """Dynamic contact force P(s) = F - F0 at the faces, N (NumPy)."""
+        d = self.disc
+        if self._nl_code == 0:
+            return self._K * s
+        if self._nl_code == 1:
+            return self._K * s + self._b * s * s
+        return d.k * np.maximum(d.delta0 + s, 0.0) ** 1.5 - d.k * d.delta0**1.5
+
+    def potential(self, s: np.ndarray) -> np.ndarray:
+        """Dynamic potential energy density W(s) = ∫0^s P ds' per face, J per grain length."""
+        d = self.disc
+        if self._nl_code == 0:
+            return 0.5 * self._K * s * s
+        if self._nl_code == 1:
+            return 0.5 * self._K * s * s + self._b * s**3 / 3.0
+        dl = np.maximum(d.delta0 + s, 0.0)
+        return 0.4 * d.k * (dl**2.5 - d.delta0**2.5) - d.k * d.delta0**1.5 * s
+
+    def _acceleration_numpy(self, u: np.ndarray) -> np.ndarray:
+        rhs = self.divergence(self.flux(self.strain(u)))
+        return self._lu.solve(rhs)
+
+    def _make_acceleration_numba(self) -> Callable:
+        d = self.disc
+        h, bc, nl = float(d.h), int(self._bc_code), int(self._nl_code)
+        kk, bb = self._K.copy(), self._b.copy()
+        kh, d0 = d.k.copy(), d.delta0.copy()
+        f0 = kh * d0**1.5
+        den, cp, off, z, vfac = self._factors
+        n_faces = d.x_faces.size
+        face_strain, flux_div, solve = kern.face_strain, kern.flux_divergence, kern.tridiag_solve
+
+        @nb.njit
+        def accel(u, out):
+            s = np.empty(n_faces)
+            face_strain(u, h, bc, s)
+            for q in range(n_faces):
+                if nl == 0:
+                    s[q] = kk[q] * s[q]
+                elif nl == 1:
+                    s[q] = (kk[q] + bb[q] * s[q]) * s[q]
+                else:
+                    dl = d0[q] + s[q]
+                    s[q] = (kh[q] * dl**1.5 if dl > 0.0 else 0.0) - f0[q]
+            rhs = np.empty(u.size)
+            flux_div(s, h, bc, rhs)
+            solve(den, cp, off, z, vfac, rhs, out)
+
+        return accel
+
+    # ------------------------------------------------------------------ energy
+    def energy_density(self, state) -> tuple[np.ndarray, np.ndarray]:
+        """Kinetic energy per node (incl. the Rosenau term) and potential per face, J."""
+        d = self.disc
+        u, v = (np.asarray(f.data) for f in state)
+        ek = 0.5 * d.h * d.mass * v * v
+        dv = -self.strain(v)  # v_X at faces (ghosts as for u)
+        ek_grad = 0.5 * d.h * self._face_weight * DISPERSION_LENGTH2 * d.face_mass * dv * dv
+        ep = d.h * self._face_weight * self.potential(self.strain(u))
+        # attribute the face part of the kinetic energy to the faces' potential array
+        # would mix kinds; instead split it half to each adjacent node
+        ek = ek + _faces_to_nodes(ek_grad, self.bc)
+        return ek, ep
+
+    def stable_dt(self, state=None, safety: float = 0.5) -> float:
+        """Velocity-Verlet stability: dt < 2/ω_max, ω_max² = max 12 K_eff/m (s).
+
+        The Rosenau operator bounds ω² by 12 K/m for every k (module docstring);
+        K_eff includes the stiffening of the quadratic/Hertz flux at the largest strain
+        of ``state`` (if given).
+        """
+        d = self.disc
+        k_eff = self._K.copy()
+        if state is not None and self._nl_code:
+            s = np.maximum(self.strain(np.asarray(state[0].data)), 0.0)
+            k_eff = k_eff + 2.0 * self._b * s
+        ell2 = DISPERSION_LENGTH2
+        # ω² ≤ (K/m_f) D/(1 + ℓ² D) with D ≤ 4/h²  →  (K/m_f)/ℓ² · 4/(4 + h²/ℓ²)
+        omega2 = np.max(k_eff / d.face_mass) / ell2 * 4.0 / (4.0 + d.h**2 / ell2)
+        return float(safety * 2.0 / np.sqrt(omega2))
+
+    @property
+    def parameters(self) -> dict:
+        """Run parameters for HDF5 attributes."""
+        return {**super().parameters, "nonlinearity": self.nonlinearity,
+                "dispersion_length2_grains2": DISPERSION_LENGTH2,
+                "regularisation": "Rosenau mass operator (m - d/dX m/12 d/dX) u_tt"}
+
+
+def _faces_to_nodes(face_values: np.ndarray, bc: str) -> np.ndarray:
+    """Split face quantities half to each adjacent node (walls: all to the one node)."""
+    if bc == "periodic":
+        return 0.5 * (face_values + np.roll(face_values, -1))
+    out = 0.5 * (face_values[:-1] + face_values[1:])
+    out[0] += 0.5 * face_values[0]
+    out[-1] += 0.5 * face_values[-1]
+    return out
