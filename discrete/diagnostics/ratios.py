@@ -1,0 +1,306 @@
+r"""Table 2 energy ratios, "incident"/"separated" times and the Fig. 8 normalisation.
+
+Paper Section 4 (Fig. 8, Table 2) and PHYSICS.md §6: E_Tr/E_In is the energy in the
+right section once the waves have separated from the interface over the incident energy
+measured in the left section before the wave reaches the interface; E_Re/E_In the
+energy left in the left section over the same; for the kinetic, potential (contact
+energy minus the static precompression energy, see :mod:`.energies`) and total energy.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .energies import (
+    Attribution,
+    ChainEnergies,
+    FloatArray,
+    _f,
+    section_sums,
+    section_weights,
+    snapshot_energies,
+)
+
+__all__ = [
+    "EnergyRatios",
+    "energy_ratios",
+    "table2_ratios",
+    "energy_ratios_from_grid",
+    "interface_activity",
+    "incident_time_index",
+    "separated_time_index",
+    "normalise_to_incident_peak",
+]
+
+
+@dataclass(frozen=True)
+class EnergyRatios:
+    r"""Transmitted and reflected energies relative to the incident wave (paper Table 2).
+
+    E_Tr/E_In = (energy in the right section, late) / (energy in the left section, early),
+    E_Re/E_In = (energy in the left section, late) / (same incident energy), for the
+    kinetic (k), potential (p, relative to static, PHYSICS.md §6) and total (t) energy.
+
+    Attributes
+    ----------
+    Ek_tr, Ek_re, Ep_tr, Ep_re, Et_tr, Et_re : float
+        The six ratios of Table 2.
+    incident_kinetic, incident_potential : float
+        K and P of the incident wave, J.
+    incident_linear, incident_quadratic : float
+        L = Σ F0 (r - δ0) and Q = P - L of the incident wave, J (NaN when computed from
+        per-grain energies only).
+    interface : str
+        Attribution of the interface contact used.
+    """
+
+    Ek_tr: float
+    Ek_re: float
+    Ep_tr: float
+    Ep_re: float
+    Et_tr: float
+    Et_re: float
+    incident_kinetic: float
+    incident_potential: float
+    incident_linear: float
+    incident_quadratic: float
+    interface: str
+
+    KEYS = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
+
+    def as_dict(self) -> dict[str, float]:
+        """The six ratios with the keys of :func:`theory.table2_prediction`."""
+        return {key: getattr(self, key) for key in self.KEYS}
+
+    @property
+    def balance(self) -> dict[str, float]:
+        """Tr + Re for each kind; the total is 1 up to the energy drift of the run."""
+        return {"kinetic": self.Ek_tr + self.Ek_re, "potential": self.Ep_tr + self.Ep_re,
+                "total": self.Et_tr + self.Et_re}
+
+    def theory(self, gamma_rg: float) -> dict[str, float]:
+        """Linear-acoustic prediction :func:`theory.table2_prediction` for this incident wave."""
+        from theory import table2_prediction
+
+        if not np.isfinite(self.incident_linear):
+            raise ValueError("the linear/quadratic split needs contact energies "
+                             "(use energy_ratios with ChainEnergies)")
+        return table2_prediction(gamma_rg, self.incident_kinetic, self.incident_linear,
+                                 self.incident_quadratic)
+
+
+def _ratios(inc: dict, fin: dict, left: int, right: int, interface: str) -> EnergyRatios:
+    def g(d: dict, key: str, s: int) -> float:
+        # states stacked along leading axes are averaged (see energy_ratios)
+        return float(np.mean(d[key][..., s])) if key in d else float("nan")
+
+    out = {}
+    for short, key in (("k", "kinetic"), ("p", "potential"), ("t", "total")):
+        e_in = g(inc, key, left)
+        if e_in == 0.0:
+            raise ValueError(f"incident {key} energy is zero: is the wave in section {left}?")
+        out[f"E{short}_tr"] = g(fin, key, right) / e_in
+        out[f"E{short}_re"] = g(fin, key, left) / e_in
+    return EnergyRatios(**out, incident_kinetic=g(inc, "kinetic", left),
+                        incident_potential=g(inc, "potential", left),
+                        incident_linear=g(inc, "linear", left),
+                        incident_quadratic=g(inc, "quadratic", left), interface=interface)
+
+
+def energy_ratios(
+    incident: ChainEnergies,
+    final: ChainEnergies,
+    section: ArrayLike,
+    *,
+    left: int = 0,
+    right: int = 1,
+    interface: Attribution = "half",
+) -> EnergyRatios:
+    """Table 2 energy ratios from two chain states (paper Section 4, PHYSICS.md §6).
+
+    Parameters
+    ----------
+    incident : ChainEnergies
+        A state with the incident wave entirely in section ``left``, before it reaches
+        the interface (see :func:`incident_time_index`); or several such states stacked
+        along a leading axis, whose section sums are averaged.
+    final : ChainEnergies
+        A state (or stacked states, averaged) with the transmitted and reflected waves
+        separated from the interface (see :func:`separated_time_index`).
+    section : array_like of int, shape (N,)
+        Section index per grain.
+    left, right : int
+        Section of the incident (and reflected) wave and of the transmitted wave.
+    interface : {"half", "left", "right"}
+        Attribution of the interface contact; once the waves have separated it does not
+        matter (PHYSICS.md §6).
+
+    Returns
+    -------
+    EnergyRatios
+
+    Notes
+    -----
+    The kinetic/potential split of a lattice solitary wave oscillates as it moves by one
+    grain (the sum over grains of a sampled profile depends on its phase): by ~1e-12
+    relative at δ0/d = 1e-3 (smooth, ~20-grain wave) but by a few per cent at δ0 = 0
+    (~5-grain wave).  Averaging stacked states over one grain passage removes it; the
+    total energy is unaffected.
+    """
+    return _ratios(section_sums(incident, section, interface),
+                   section_sums(final, section, interface), left, right, interface)
+
+
+def table2_ratios(chain: Any, incident: Any, final: Any, *, left: int = 0, right: int = 1,
+                  interface: Attribution = "half") -> EnergyRatios:
+    """:func:`energy_ratios` of two snapshots (``v``, ``overlaps``) of a ``Chain``-like object.
+
+    ``chain`` supplies ``mass``, ``k``, ``delta0`` and ``section``.
+    """
+    return energy_ratios(snapshot_energies(chain, incident), snapshot_energies(chain, final),
+                         chain.section, left=left, right=right, interface=interface)
+
+
+def energy_ratios_from_grid(
+    kinetic: ArrayLike,
+    potential: ArrayLike,
+    section: ArrayLike,
+    i_incident: int | ArrayLike,
+    i_final: int | ArrayLike,
+    *,
+    left: int = 0,
+    right: int = 1,
+) -> EnergyRatios:
+    """Table 2 ratios from per-grain energies on a (n_times, N) space-time grid.
+
+    Per-grain potential energies already split each contact half to each grain, so the
+    interface contact is attributed half to each side; L and Q are not available (NaN).
+
+    Parameters
+    ----------
+    kinetic, potential : array_like, shape (n_times, N)
+        Per-grain kinetic and potential (relative to static) energies, J.
+    section : array_like of int, shape (N,)
+        Section index per grain.
+    i_incident, i_final : int or array_like of int
+        Time index (or indices, averaged — see :func:`energy_ratios`) of the incident and
+        of the separated state.
+    left, right : int
+        Sections of the incident and transmitted waves.
+    """
+    ek = _f(kinetic, "kinetic")
+    ep = _f(potential, "potential")
+    if ek.shape != ep.shape or ek.ndim != 2:
+        raise ValueError("kinetic and potential must be (n_times, N) arrays of equal shape")
+    gw, _ = section_weights(section)
+
+    def sums(i: int | ArrayLike) -> dict:
+        k, p = ek[np.atleast_1d(i)] @ gw, ep[np.atleast_1d(i)] @ gw
+        return {"kinetic": k, "potential": p, "total": k + p}
+
+    return _ratios(sums(i_incident), sums(i_final), left, right, "half")
+
+
+def interface_activity(energy: ArrayLike, interface: int, halfwidth: int = 5) -> FloatArray:
+    """Fraction of the wave energy within ``halfwidth`` grains of an interface, per time.
+
+    Σ_{|i - interface + ½| < halfwidth} |e_i| / Σ_i |e_i|, with ``interface`` the index
+    of the first grain right of the interface (so grains interface - halfwidth ...
+    interface + halfwidth - 1 are counted).  Absolute values, because the potential
+    energy relative to static may be negative (PHYSICS.md §6).
+
+    Parameters
+    ----------
+    energy : array_like, shape (n_times, N)
+        Per-grain energy, J (e.g. total, or kinetic + |potential|).
+    interface : int
+        First grain of the right section (e.g. ``n_left``).
+    halfwidth : int
+        Grains on each side.
+    """
+    e = np.abs(_f(energy, "energy"))
+    if e.ndim != 2:
+        raise ValueError("energy must be a (n_times, N) array")
+    n = e.shape[1]
+    if not 0 < interface < n or halfwidth < 1:
+        raise ValueError("need 0 < interface < N and halfwidth >= 1")
+    lo, hi = max(0, interface - halfwidth), min(n, interface + halfwidth)
+    tot = e.sum(axis=1)
+    loc = e[:, lo:hi].sum(axis=1)
+    return np.divide(loc, tot, out=np.zeros_like(tot), where=tot > 0)
+
+
+def incident_time_index(energy: ArrayLike, interface: int, *, halfwidth: int = 5,
+                        fraction: float = 1e-6) -> int:
+    """Last time index before the wave's energy near the interface exceeds ``fraction``.
+
+    Where to measure the incident energy (PHYSICS.md §6: "on the left section before the
+    wave arrives").  See :func:`interface_activity`.  Raises ``ValueError`` if the wave is
+    already at the interface in the first row.
+    """
+    act = interface_activity(energy, interface, halfwidth)
+    above = np.nonzero(act > fraction)[0]
+    if above.size == 0:
+        return act.size - 1
+    if above[0] == 0:
+        raise ValueError("energy near the interface exceeds the fraction already at index 0")
+    return int(above[0] - 1)
+
+
+def separated_time_index(energy: ArrayLike, interface: int, *, halfwidth: int = 5,
+                         fraction: float = 1e-6) -> int | None:
+    """First time index from which the energy near the interface stays below ``fraction``.
+
+    "The waves have separated from the interface": after the wave has reached the
+    interface, Σ|e| within ``halfwidth`` grains of it is below ``fraction`` of the chain's
+    Σ|e| at this and every later time.  ``None`` if that never happens on the grid (or
+    the wave never reached the interface).
+    """
+    act = interface_activity(energy, interface, halfwidth)
+    above = np.nonzero(act > fraction)[0]
+    if above.size == 0 or above[-1] == act.size - 1:
+        return None
+    return int(above[-1] + 1)
+
+
+def normalise_to_incident_peak(
+    kinetic: ArrayLike,
+    potential: ArrayLike,
+    *,
+    incident_rows: ArrayLike | int = 0,
+    grains: slice | None = None,
+) -> tuple[FloatArray, FloatArray, FloatArray, tuple[float, float, float]]:
+    """Fig. 8 normalisation: e_k/e_k0, e_p/e_p0, e_t/e_t0.
+
+    e_k0, e_p0, e_t0 are "the single grain kinetic energy, potential energy, and total
+    energy at the peak of the ISW" (paper Section 4; Fig. 8 caption: "to corresponding
+    maximum ones in the ISW"): the maxima over grains (``grains``, default all) of the
+    incident rows (default the first row) of each kind separately.
+
+    Parameters
+    ----------
+    kinetic, potential : array_like, shape (n_times, N)
+        Per-grain energies, J.
+    incident_rows : int or array_like of int
+        Row(s) in which the incident wave is free (before the interface).
+    grains : slice, optional
+        Grains searched for the peak (e.g. the left section).
+
+    Returns
+    -------
+    ek_n, ep_n, et_n : ndarray, shape (n_times, N)
+    (e_k0, e_p0, e_t0) : tuple of float, J
+    """
+    ek = _f(kinetic, "kinetic")
+    ep = _f(potential, "potential")
+    et = ek + ep
+    rows = np.atleast_1d(np.asarray(incident_rows))
+    sl = slice(None) if grains is None else grains
+    refs = tuple(float(np.max(a[..., sl][rows] if a.ndim == 2 else a[sl])) for a in (ek, ep, et))
+    if min(refs) <= 0:
+        raise ValueError(f"incident peak energies must be > 0 (got {refs})")
+    return ek / refs[0], ep / refs[1], et / refs[2], refs
