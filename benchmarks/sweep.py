@@ -1,0 +1,111 @@
+"""Sweep throughput: points per second with 1 and 2 Dask workers, and the scaling ratio.
+
+    python benchmarks/sweep.py                 # synthetic CPU-bound points (numba kernel)
+    python benchmarks/sweep.py --real          # the real runner on the tiny.toml chain
+
+Each worker count gets its own LocalCluster (processes, 1 thread each), warmed up
+first, so the timing is the steady-state throughput of ``run_sweep`` (submission,
+execution, per-point record appends and the final table) without cluster start-up.
+On a machine shared with other jobs, the ratio is only as good as the free cores.
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import functools
+import logging
+import os
+import sys
+import tempfile
+import time
+from importlib.resources import files
+from pathlib import Path
+
+from hertzchain.sweep import (
+    DEFAULT_POINT_FUNCTION,
+    load_sweep_spec,
+    parse_sweep_spec,
+    resolve_point_function,
+    run_sweep,
+    tiny_scenario,
+)
+from hertzchain.sweep.engine import _warm
+
+
+def synthetic_spec(n_points: int, offset: int):
+    """n_points distinct interfaces (offset makes each run's ids new)."""
+    base = {"chain": {"delta0_over_d": 1e-3, "sections": [{"n": 60}, {"n": 60}]},
+            "initial": {"kind": "exact_wave", "center": 20, "velocity_max": 0.05},
+            "run": {"t_end": 1e-4}}
+    return parse_sweep_spec({"name": f"bench{offset}", "base": base, "sweep": {"axes": [
+        {"path": "chain.sections.1.alpha_rho", "logspace": [0.2 + 1e-3 * offset, 5.0, n_points]},
+    ]}})
+
+
+def real_spec(n_points: int, offset: int):
+    spec = load_sweep_spec(files("hertzchain") / "sweeps" / "tiny.toml")
+    d = {"name": f"real{offset}", "base": copy.deepcopy(spec.base), "sweep": {"axes": [
+        {"path": "chain.sections.1.alpha_rho",
+         "logspace": [0.5 + 1e-3 * offset, 2.0, n_points]}]}}
+    return parse_sweep_spec(d)
+
+
+def measure(workers: int, spec, fn) -> tuple[float, float]:
+    """(points per second, mean point wall time) on a warmed-up cluster of ``workers``."""
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
+            Client(cluster) as client, tempfile.TemporaryDirectory() as tmp:
+        tiny = tiny_scenario(spec.point_table(spec.points()[0].values))
+        if tiny is not None:
+            client.run(functools.partial(_warm, fn, tiny))
+        t0 = time.perf_counter()
+        outcome = run_sweep(spec, out=Path(tmp), point_function=fn, client=client,
+                            progress=False, warmup=None)
+        elapsed = time.perf_counter() - t0
+        from hertzchain.sweep import read_results
+
+        res = read_results(outcome.table)
+        if outcome.n_failed:
+            print(f"  warning: {outcome.n_failed} points failed: {res['error'][~res.ok][0]}")
+        return outcome.n_run / elapsed, float(res["point_wall_time"].mean())
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--points", type=int, default=None,
+                        help="points per measurement (default 16 synthetic, 4 real)")
+    parser.add_argument("--work", type=int, default=40_000_000,
+                        help="grain-steps per synthetic point (default 4e7, ~0.25 s)")
+    parser.add_argument("--workers", default="1,2", help="worker counts (default 1,2)")
+    parser.add_argument("--real", action="store_true",
+                        help=f"use the real runner ({DEFAULT_POINT_FUNCTION}) on tiny.toml")
+    args = parser.parse_args(argv)
+    if args.real:
+        fn = resolve_point_function(None)
+        make, n, what = real_spec, args.points or 4, "real runner, tiny.toml chain"
+    else:
+        from hertzchain.sweep.synthetic import synthetic_point
+
+        fn = functools.partial(synthetic_point, work=args.work)
+        make, n, what = synthetic_spec, args.points or 16, f"synthetic, {args.work:.0e} grain-steps"
+    counts = [int(w) for w in args.workers.split(",")]
+    print(f"sweep benchmark ({what}); {n} points per run; {os.cpu_count()} cores; "
+          f"load average {os.getloadavg()[0]:.2f}")
+    rates = {}
+    for k, w in enumerate(counts):
+        rate, per_point = measure(w, make(n, k), fn)
+        rates[w] = rate
+        print(f"  {w} worker(s): {rate:7.3f} points/s  (mean point wall time {per_point:.3f} s)")
+    if 1 in rates and len(rates) > 1:
+        for w in counts:
+            if w != 1:
+                print(f"  scaling {w} vs 1 worker(s): {rates[w] / rates[1]:.2f}x "
+                      f"(ideal {w}x)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

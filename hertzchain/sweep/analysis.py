@@ -1,0 +1,156 @@
+r"""Agreement of the measured classification with the theory regions of the paper's Fig. 7.
+
+The linear-acoustic theory (:mod:`theory.interface`) predicts a fractured transmitted
+wave for γ_c0 > 1 and a squeezed one for γ_c0 < 1 (Eq. 9), a compressive reflected
+wave for γ_RG > 1 and an expansive one for γ_RG < 1 (Eq. 13), and neither effect on the
+lines themselves ("none").  For every classified point of a sweep this module compares
+the measured ``transmitted`` / ``reflected`` labels with those predictions.
+
+The *disagreement band* around a line is measured in |ln γ|: its half-width is the
+largest |ln γ_c0| (resp. |ln γ_RG|) of a point whose transmitted (resp. reflected)
+label disagrees with the theory, so every point farther from the line agrees.  Close to
+a line the effects are weak (a second transmitted pulse or a reflected wave of relative
+amplitude ~|γ - 1|/2), so a detection threshold and the solitary wave's nonlinear speed
+(V_s > c0, Eq. 5) blur the linear prediction there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import theory
+
+from .store import SweepResults
+
+__all__ = ["Agreement", "predicted_labels", "classification_agreement"]
+
+
+def predicted_labels(alpha_rho, alpha_kn, *, tol: float = 1e-9
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Theory's transmitted and reflected labels for arrays of (α_ρ, α_kn).
+
+    Returns two object arrays: ``"fracture"``/``"squeeze"``/``"none"`` and
+    ``"compressive"``/``"expansive"``/``"none"`` (``"none"`` within ``tol`` of a line,
+    in |ln γ|).
+    """
+    lc = np.log(np.atleast_1d(theory.gamma_c0(alpha_rho, alpha_kn)))
+    lr = np.log(np.atleast_1d(theory.gamma_rg(alpha_rho, alpha_kn)))
+    trans = np.where(lc > tol, "fracture", np.where(lc < -tol, "squeeze", "none"))
+    refl = np.where(lr > tol, "compressive", np.where(lr < -tol, "expansive", "none"))
+    return trans.astype(object), refl.astype(object)
+
+
+@dataclass
+class Agreement:
+    """Result of :func:`classification_agreement`.
+
+    Attributes
+    ----------
+    n_classified : int
+        Points with status "ok" and finite (α_ρ, α_kn).
+    fraction_agree, fraction_agree_transmitted, fraction_agree_reflected : float
+        Fractions of those points whose both / transmitted / reflected labels agree.
+    band_gamma_c0, band_gamma_rg : float
+        Half-widths in |ln γ| of the disagreement bands around γ_c0 = 1 and γ_RG = 1
+        (0 if every point agrees).
+    grid_step_gamma_c0, grid_step_gamma_rg : float
+        Smallest nonzero spacing of the sampled |ln γ| values (the band cannot be
+        resolved finer than this).
+    n_in_band_c0, n_in_band_rg : int
+        Points inside each band (agreeing or not).
+    disagreeing : list of dict
+        ``id``, ``alpha_rho``, ``alpha_kn``, measured and predicted labels per
+        disagreeing point.
+    """
+
+    n_classified: int
+    fraction_agree: float
+    fraction_agree_transmitted: float
+    fraction_agree_reflected: float
+    band_gamma_c0: float
+    band_gamma_rg: float
+    grid_step_gamma_c0: float
+    grid_step_gamma_rg: float
+    n_in_band_c0: int
+    n_in_band_rg: int
+    disagreeing: list[dict] = field(default_factory=list)
+
+    def to_dict(self) -> dict:
+        """JSON-able dict."""
+        return dict(self.__dict__)
+
+    def summary(self) -> str:
+        """A few lines of text."""
+        return (
+            f"classified points: {self.n_classified}; agree with theory: "
+            f"{self.fraction_agree:.1%} (transmitted {self.fraction_agree_transmitted:.1%}, "
+            f"reflected {self.fraction_agree_reflected:.1%})\n"
+            f"disagreement band around gamma_c0 = 1: |ln gamma_c0| <= "
+            f"{self.band_gamma_c0:.3g} (gamma_c0 in [{np.exp(-self.band_gamma_c0):.3g}, "
+            f"{np.exp(self.band_gamma_c0):.3g}]; {self.n_in_band_c0} points; grid step "
+            f"{self.grid_step_gamma_c0:.3g})\n"
+            f"disagreement band around gamma_RG = 1: |ln gamma_RG| <= "
+            f"{self.band_gamma_rg:.3g} (gamma_RG in [{np.exp(-self.band_gamma_rg):.3g}, "
+            f"{np.exp(self.band_gamma_rg):.3g}]; {self.n_in_band_rg} points; grid step "
+            f"{self.grid_step_gamma_rg:.3g})")
+
+
+def _grid_step(x: np.ndarray) -> float:
+    u = np.unique(np.round(np.abs(x), 12))
+    steps = np.diff(u)
+    steps = steps[steps > 1e-12]
+    return float(steps.min()) if steps.size else float("nan")
+
+
+def classification_agreement(results: SweepResults, *, tol: float = 1e-9) -> Agreement:
+    """Compare measured labels with the theory regions and measure the disagreement bands.
+
+    Parameters
+    ----------
+    results : SweepResults
+        A table with columns ``alpha_rho``, ``alpha_kn``, ``status``, ``transmitted``
+        and ``reflected``.
+    tol : float
+        Distance in |ln γ| within which theory predicts "none" (a point on a line).
+
+    Returns
+    -------
+    Agreement
+    """
+    ar = np.asarray(results["alpha_rho"], dtype=float)
+    ak = np.asarray(results["alpha_kn"], dtype=float)
+    mask = results.ok & np.isfinite(ar) & np.isfinite(ak) & (ar > 0) & (ak > 0)
+    n = int(mask.sum())
+    if n == 0 or "transmitted" not in results:
+        return Agreement(0, float("nan"), float("nan"), float("nan"), 0.0, 0.0,
+                         float("nan"), float("nan"), 0, 0)
+    ar, ak = ar[mask], ak[mask]
+    ids = results["id"][mask]
+    meas_t = results["transmitted"][mask]
+    meas_r = results["reflected"][mask]
+    pred_t, pred_r = predicted_labels(ar, ak, tol=tol)
+    ok_t, ok_r = meas_t == pred_t, meas_r == pred_r
+    lc = np.abs(np.log(np.atleast_1d(theory.gamma_c0(ar, ak))))
+    lr = np.abs(np.log(np.atleast_1d(theory.gamma_rg(ar, ak))))
+    band_c = float(lc[~ok_t].max()) if (~ok_t).any() else 0.0
+    band_r = float(lr[~ok_r].max()) if (~ok_r).any() else 0.0
+    bad = np.flatnonzero(~(ok_t & ok_r))
+    disagreeing = [{"id": str(ids[i]), "alpha_rho": float(ar[i]), "alpha_kn": float(ak[i]),
+                    "transmitted": str(meas_t[i]), "predicted_transmitted": str(pred_t[i]),
+                    "reflected": str(meas_r[i]), "predicted_reflected": str(pred_r[i])}
+                   for i in bad]
+    return Agreement(
+        n_classified=n,
+        fraction_agree=float(np.mean(ok_t & ok_r)),
+        fraction_agree_transmitted=float(np.mean(ok_t)),
+        fraction_agree_reflected=float(np.mean(ok_r)),
+        band_gamma_c0=band_c,
+        band_gamma_rg=band_r,
+        grid_step_gamma_c0=_grid_step(lc),
+        grid_step_gamma_rg=_grid_step(lr),
+        n_in_band_c0=int(np.count_nonzero(lc <= band_c)) if band_c > 0 else 0,
+        n_in_band_rg=int(np.count_nonzero(lr <= band_r)) if band_r > 0 else 0,
+        disagreeing=disagreeing,
+    )

@@ -1,0 +1,169 @@
+"""Command-line front end: ``hertzchain sweep`` and ``hertzchain plot-sweep``.
+
+:func:`add_sweep_parsers` registers both sub-commands on the ``hertzchain`` parser;
+``python -m hertzchain.sweep`` runs them stand-alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+__all__ = ["add_sweep_parsers", "cmd_sweep", "cmd_plot_sweep", "main"]
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from exc
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
+    return value
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from exc
+    if not value > 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
+    return value
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """Run (or resume) a sweep; exit 0 when every point has a record, 1 if some are pending."""
+    from .engine import DEFAULT_POINT_FUNCTION, default_workers, run_sweep
+    from .spec import load_sweep_spec
+    from .store import RecordStore
+
+    spec = load_sweep_spec(args.spec)
+    points = spec.points()
+    out = args.out if args.out is not None else Path.cwd() / f"{spec.name}-sweep"
+    records = RecordStore(out / "records.jsonl").load()
+    done = sum(1 for p in points if p.id in records
+               and (records[p.id]["status"] == "ok" or not args.retry_failed))
+    where = (f"scheduler {args.scheduler}" if args.scheduler else
+             f"a local cluster of {args.workers or default_workers()} worker process(es)")
+    shape = " x ".join(str(n) for n in spec.shape)
+    msg = (f"sweep {spec.name!r}: {len(points)} points ({shape}, {spec.mode}); "
+           f"{done} done before, {len(points) - done} to run on {where}; output {out}")
+    if args.dry_run:
+        if args.json:
+            print(json.dumps({"name": spec.name, "n_points": len(points), "done": done,
+                              "to_run": len(points) - done, "out": str(out),
+                              "axes": [a.name for a in spec.axes]}))
+        else:
+            print(msg)
+        return 0
+    if not args.json:
+        print(msg, file=sys.stderr)
+    try:
+        outcome = run_sweep(spec, out=out, point_function=args.point_function or
+                            DEFAULT_POINT_FUNCTION, workers=args.workers,
+                            scheduler=args.scheduler, full_output=args.full_output,
+                            retry_failed=args.retry_failed, max_points=args.max_points,
+                            progress=not args.no_progress,
+                            consolidate_every=args.consolidate_every)
+    except KeyboardInterrupt:
+        print(f"\ninterrupted; finished points are kept in {out}. Run the same command "
+              "again to compute only the rest.", file=sys.stderr)
+        return 130
+    if args.json:
+        print(json.dumps(outcome.to_dict()))
+    else:
+        print(f"{outcome.n_run} points run in {outcome.elapsed:.1f} s: table {outcome.table} "
+              f"has {outcome.n_ok} ok, {outcome.n_failed} failed, {outcome.n_pending} pending")
+    if outcome.n_failed:
+        print(f"{outcome.n_failed} point(s) failed (see the 'error' column); rerun with "
+              "--retry-failed to retry them", file=sys.stderr)
+    return 1 if outcome.n_pending else 0
+
+
+def cmd_plot_sweep(args: argparse.Namespace) -> int:
+    """Draw the phase-diagram map and cuts of a results table; print the agreement."""
+    import numpy as np
+
+    from ..sweep_plot import save_sweep_figures
+    from .analysis import classification_agreement
+    from .store import read_results
+
+    results = read_results(args.results)
+    written = save_sweep_figures(results, args.out, x=args.x, y=args.y, energy=args.energy)
+    agreement = None
+    if "alpha_rho" in results and np.isfinite(results["alpha_rho"]).any():
+        agreement = classification_agreement(results)
+    if args.json:
+        print(json.dumps({"figures": [str(p) for p in written],
+                          "agreement": agreement.to_dict() if agreement else None}))
+        return 0
+    for path in written:
+        print(f"wrote {path}")
+    if agreement is not None and agreement.n_classified:
+        print(agreement.summary())
+    return 0
+
+
+def add_sweep_parsers(subparsers) -> None:
+    """Register ``sweep`` and ``plot-sweep`` on an ``add_subparsers()`` object."""
+    p = subparsers.add_parser(
+        "sweep", help="run a parameter sweep on Dask (resumable)",
+        description="Run every point of a sweep file (a [base] scenario and [sweep] axes) "
+        "on a Dask cluster and collect the run summaries in DIR/results.h5. Rerunning the "
+        "same command computes only the points without a record.")
+    p.add_argument("spec", metavar="SWEEP.toml", type=Path, help="sweep specification")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=_positive_int, default=None, metavar="N",
+                       help="worker processes of the local cluster (default: all cores)")
+    where.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                       help="address of an existing dask.distributed scheduler, e.g. "
+                       "tcp://host:8786 (instead of a local cluster)")
+    p.add_argument("--out", type=Path, default=None, metavar="DIR",
+                   help="output directory (default ./<sweep name>-sweep)")
+    p.add_argument("--full-output", action="store_true",
+                   help="also write the full HDF5 file of every run (DIR/runs/<id>.h5)")
+    p.add_argument("--retry-failed", action="store_true",
+                   help="rerun points recorded as failed")
+    p.add_argument("--max-points", type=_positive_int, default=None, metavar="K",
+                   help="stop after K points (resumable), e.g. to fit a batch time limit")
+    p.add_argument("--point-function", default=None, metavar="MODULE:FUNC",
+                   help="function run per point (default hertzchain.runner:run_scenario)")
+    p.add_argument("--consolidate-every", type=_positive_float, default=30.0, metavar="S",
+                   help="seconds between rewrites of results.h5 while running (default 30)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--dry-run", action="store_true",
+                   help="validate every point and report what would run")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=cmd_sweep)
+
+    q = subparsers.add_parser(
+        "plot-sweep", help="phase-diagram map and 1-D cuts of a sweep's results",
+        description="Draw the classification map with the theory lines gamma_c0 = 1 and "
+        "gamma_RG = 1 and reflected-energy contours, plus 1-D cuts; print how well the "
+        "classification agrees with theory.")
+    q.add_argument("results", metavar="RESULTS", type=Path,
+                   help="results.h5 or the sweep's output directory")
+    q.add_argument("--out", type=Path, default=None, metavar="PNG",
+                   help="map PNG (default RESULTS_DIR/phase_map.png; cuts go to *-cuts.png)")
+    q.add_argument("--x", default=None, help="column on the x axis (default alpha_rho)")
+    q.add_argument("--y", default=None, help="column on the y axis (default alpha_kn)")
+    q.add_argument("--energy", default="Ek_re", choices=["Ek_re", "Ep_re", "Et_re"],
+                   help="reflected-energy ratio to contour (default Ek_re)")
+    q.add_argument("--json", action="store_true", help="print one JSON object")
+    q.set_defaults(func=cmd_plot_sweep)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """``python -m hertzchain.sweep {sweep,plot-sweep} ...``; returns the exit status."""
+    parser = argparse.ArgumentParser(prog="python -m hertzchain.sweep")
+    add_sweep_parsers(parser.add_subparsers(dest="command", metavar="COMMAND", required=True))
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except (ValueError, FileNotFoundError) as exc:
+        print(f"hertzchain: error: {exc}", file=sys.stderr)
+        return 2

@@ -1,0 +1,415 @@
+"""Run a sweep on Dask: one task per missing point, results recorded as they arrive.
+
+The client submits every point whose id has no record yet (and, with
+``retry_failed``, those whose record is a failure) with ``client.submit`` and consumes
+them with ``as_completed``; each finished point is appended to the record log at once
+(:class:`~hertzchain.sweep.store.RecordStore`), so killing the sweep loses at most the
+points in flight.  The consolidated ``results.h5`` is rewritten atomically every
+``consolidate_every`` seconds and at the end (also after an interruption).
+
+By default the sweep starts a :class:`distributed.LocalCluster` of worker processes
+with one thread each (numba kernels release nothing to share, and one thread per
+process keeps each kernel on its own core); with ``scheduler`` it connects to an
+existing ``dask.distributed`` scheduler instead, whose workers must have hertzchain
+installed and, for ``full_output``, share the output directory's file system.
+Each worker is warmed up once with ``client.run`` (a tiny call of the point function)
+so numba kernels (``cache=True``) compile or load once per worker, not once per point.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import importlib
+import logging
+import os
+import socket
+import sys
+import time
+import traceback
+import uuid
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..cache import atomic_path
+from ..scenario import Scenario, ScenarioError, parse_scenario
+from .spec import Point, SweepError, SweepSpec, load_sweep_spec, parse_sweep_spec
+from .store import SUMMARY_FIELDS, RecordStore, write_table
+
+__all__ = [
+    "DEFAULT_POINT_FUNCTION",
+    "SweepOutcome",
+    "run_sweep",
+    "resolve_point_function",
+    "tiny_scenario",
+    "default_workers",
+]
+
+DEFAULT_POINT_FUNCTION = "hertzchain.runner:run_scenario"
+"""``module:function`` run for each point unless another is given."""
+
+PointFunction = Callable[..., Mapping[str, Any]]
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class SweepOutcome:
+    """What a call of :func:`run_sweep` did.
+
+    Attributes
+    ----------
+    directory, table : pathlib.Path
+        Output directory and its ``results.h5``.
+    n_points : int
+        Points in the sweep.
+    n_skipped : int
+        Points not run because a record existed already.
+    n_run : int
+        Points finished (ok or failed) by this call.
+    n_ok, n_failed, n_pending : int
+        Status counts of the whole table after this call.
+    elapsed : float
+        Wall time of this call, s.
+    interrupted : bool
+        True if the call stopped before every point had a record.
+    """
+
+    directory: Path
+    table: Path
+    n_points: int
+    n_skipped: int
+    n_run: int
+    n_ok: int
+    n_failed: int
+    n_pending: int
+    elapsed: float
+    interrupted: bool = False
+
+    def to_dict(self) -> dict:
+        """JSON-able dict (paths as strings)."""
+        d = asdict(self)
+        d["directory"], d["table"] = str(self.directory), str(self.table)
+        return d
+
+
+def default_workers() -> int:
+    """Number of cores this process may use (all of them by default)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # pragma: no cover - not Linux
+        return os.cpu_count() or 1
+
+
+def resolve_point_function(fn: PointFunction | str | None) -> PointFunction:
+    """Return the callable for ``fn`` (a callable, ``"module:function"`` or None = default).
+
+    Raises
+    ------
+    SweepError
+        If the module or attribute cannot be imported.
+    """
+    if callable(fn):
+        return fn
+    text = DEFAULT_POINT_FUNCTION if fn is None else fn
+    module, sep, attr = text.partition(":")
+    if not sep or not module or not attr:
+        raise SweepError(f"point function {text!r} must be given as 'module:function'")
+    try:
+        obj = getattr(importlib.import_module(module), attr)
+    except (ImportError, AttributeError) as exc:
+        hint = (" (the runner is not available yet; pass another point function)"
+                if fn is None else "")
+        raise SweepError(f"cannot import point function {text!r}: "
+                         f"{type(exc).__name__}: {exc}{hint}") from exc
+    if not callable(obj):
+        raise SweepError(f"point function {text!r} is not callable")
+    return obj
+
+
+# -- worker side ----------------------------------------------------------------------
+def _plain(value: Any) -> Any:
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    return value
+
+
+def _check_summary(summary: Any) -> dict[str, Any]:
+    if not isinstance(summary, Mapping):
+        raise TypeError(f"the point function returned {type(summary).__name__}, not a dict")
+    missing = [k for k in SUMMARY_FIELDS if k not in summary]
+    if missing:
+        raise KeyError(f"the run summary lacks the keys {missing}")
+    return {str(k): _plain(v) for k, v in summary.items()}
+
+
+def run_point(point_function: PointFunction, scenario: Scenario, point_id: str,
+              values: Mapping[str, Any], out: str | None = None) -> dict[str, Any]:
+    """Run one point and return its record; any ``Exception`` becomes a failed record.
+
+    This is the Dask task.  The record has ``id``, ``values``, ``status`` ("ok" or
+    "failed"), ``error`` (``"Type: message"``), ``traceback``, ``summary``,
+    ``point_wall_time`` (s), ``worker`` ("host:pid") and ``full_output``.
+    """
+    t0 = time.perf_counter()
+    rec: dict[str, Any] = {"id": point_id, "values": dict(values),
+                           "worker": f"{socket.gethostname()}:{os.getpid()}",
+                           "full_output": ""}
+    try:
+        summary = point_function(scenario, out=None if out is None else Path(out),
+                                 progress=False)
+        rec.update(status="ok", error="", summary=_check_summary(summary))
+        if out is not None and Path(out).exists():
+            rec["full_output"] = str(out)
+    except Exception as exc:  # noqa: BLE001 - a failed point must not stop the sweep
+        rec.update(status="failed", error=f"{type(exc).__name__}: {exc}", summary={},
+                   traceback="".join(traceback.format_exc(limit=-6)))
+    rec["point_wall_time"] = time.perf_counter() - t0
+    return rec
+
+
+def tiny_scenario(table: Mapping[str, Any]) -> Scenario | None:
+    """A very short run of the same chain type: for warming up (compiling) a worker.
+
+    Sections are cut to at most 40 grains, the initial condition becomes an impact and
+    the run lasts 2 µs; returns None if that is not a valid scenario.
+    """
+    chain = dict(table.get("chain", {}))
+    chain["sections"] = [dict(s, n=min(int(s.get("n", 1)), 40))
+                         for s in chain.get("sections", [])]
+    tiny = {"name": "warm-up", "chain": chain, "initial": {"kind": "impact", "v0": 1.0},
+            "run": {"t_end": 2e-6, "max_steps": 10_000}}
+    try:
+        return parse_scenario(tiny)
+    except ScenarioError:
+        return None
+
+
+def _warm(point_function: PointFunction, scenario: Scenario) -> dict[str, Any]:
+    t0 = time.perf_counter()
+    try:
+        point_function(scenario, out=None, progress=False)
+        error = ""
+    except Exception as exc:  # noqa: BLE001 - the tiny run only has to compile
+        error = f"{type(exc).__name__}: {exc}"
+    return {"seconds": time.perf_counter() - t0, "error": error}
+
+
+# -- client side ------------------------------------------------------------------------
+@contextlib.contextmanager
+def _dask_client(client, scheduler: str | None, workers: int | None,
+                 processes: bool) -> Iterator[Any]:
+    if client is not None:
+        yield client
+        return
+    from distributed import Client, LocalCluster
+
+    if scheduler is not None:
+        with Client(scheduler, timeout="30s") as c:
+            c.wait_for_workers(1, timeout=120)
+            yield c
+        return
+    n = workers or default_workers()
+    with LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
+                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
+            Client(cluster) as c:
+        yield c
+
+
+@contextlib.contextmanager
+def _exclusive(directory: Path) -> Iterator[None]:
+    """Hold an advisory lock so two sweeps never write the same directory."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        yield
+        return
+    with (directory / ".lock").open("w") as fh:
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            raise SweepError(f"another sweep is writing to {directory}") from None
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def _coerce_spec(spec: SweepSpec | str | os.PathLike | Mapping) -> SweepSpec:
+    if isinstance(spec, SweepSpec):
+        return spec
+    if isinstance(spec, Mapping):
+        return parse_sweep_spec(dict(spec))
+    return load_sweep_spec(spec)
+
+
+def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
+              out: str | os.PathLike | None = None,
+              point_function: PointFunction | str | None = None,
+              workers: int | None = None, scheduler: str | None = None, client=None,
+              processes: bool = True, full_output: bool = False,
+              retry_failed: bool = False, max_points: int | None = None,
+              progress: bool = True, warmup: Callable[[], Any] | str | None = "auto",
+              consolidate_every: float = 30.0,
+              on_result: Callable[[dict], None] | None = None) -> SweepOutcome:
+    """Run the missing points of a sweep on Dask and write the results table.
+
+    Parameters
+    ----------
+    spec : SweepSpec, path or dict
+        The sweep (a TOML file is read with :func:`load_sweep_spec`).
+    out : path-like, optional
+        Output directory (default ``./<spec name>-sweep``); see
+        :mod:`hertzchain.sweep.store` for its layout.
+    point_function : callable or str, optional
+        ``f(scenario, *, out, progress) -> dict`` run for each point, or
+        ``"module:function"``; default :data:`DEFAULT_POINT_FUNCTION`.  Must be importable
+        (picklable by reference) on the workers when they are processes.
+    workers : int, optional
+        Worker processes of the local cluster (default: all cores).
+    scheduler : str, optional
+        Address of an existing ``dask.distributed`` scheduler (instead of a local cluster).
+    client : distributed.Client, optional
+        An existing client to use (neither closed nor warmed-up twice by this call).
+    processes : bool
+        Local cluster of processes (default) or of threads in this process.
+    full_output : bool
+        Pass ``out=DIR/runs/<id>.h5`` to the point function for a full per-run file.
+    retry_failed : bool
+        Also rerun points whose record is a failure.
+    max_points : int, optional
+        Stop (cleanly, resumable) after this many points finished in this call.
+    progress : bool
+        Show a tqdm progress bar (points done, failures, ETA) on stderr.
+    warmup : callable, "auto" or None
+        Run once on every worker with ``client.run`` before the points; "auto" calls the
+        point function on :func:`tiny_scenario` of the first point (errors ignored).
+    consolidate_every : float
+        Seconds between atomic rewrites of ``results.h5`` while running.
+    on_result : callable, optional
+        Called in the client with each record after it is stored (a test hook; an
+        exception from it, e.g. ``KeyboardInterrupt``, interrupts the sweep cleanly).
+
+    Returns
+    -------
+    SweepOutcome
+
+    Raises
+    ------
+    SweepError
+        Invalid specification, unknown point function, or directory in use.
+    """
+    t_start = time.perf_counter()
+    spec = _coerce_spec(spec)
+    points = spec.points()
+    directory = Path(out) if out is not None else Path.cwd() / f"{spec.name}-sweep"
+    directory.mkdir(parents=True, exist_ok=True)
+    table_path = directory / "results.h5"
+    with _exclusive(directory):
+        store = RecordStore(directory / "records.jsonl")
+        records = store.load()
+        todo = [p for p in points if p.id not in records
+                or (retry_failed and records[p.id].get("status") != "ok")]
+        n_skipped = len(points) - len(todo)
+        with atomic_path(directory / "spec.json") as tmp:
+            tmp.write_text(spec.to_json() + "\n", encoding="utf-8")
+        write_table(table_path, spec, points, records)
+        n_run, interrupted = 0, False
+        if todo:
+            fn = resolve_point_function(point_function)
+            if warmup == "auto":
+                tiny = tiny_scenario(spec.point_table(todo[0].values))
+                warmup = None if tiny is None else functools.partial(_warm, fn, tiny)
+            n_run, interrupted = _execute(
+                spec, points, todo, records, store, fn, directory, table_path,
+                client=client, scheduler=scheduler, workers=workers, processes=processes,
+                full_output=full_output, max_points=max_points, progress=progress,
+                warmup=warmup if callable(warmup) else None,
+                consolidate_every=consolidate_every, on_result=on_result,
+                n_skipped=n_skipped)
+    statuses = [records[p.id]["status"] if p.id in records else "pending" for p in points]
+    return SweepOutcome(
+        directory=directory, table=table_path, n_points=len(points), n_skipped=n_skipped,
+        n_run=n_run, n_ok=statuses.count("ok"), n_failed=statuses.count("failed"),
+        n_pending=statuses.count("pending"), elapsed=time.perf_counter() - t_start,
+        interrupted=interrupted or statuses.count("pending") > 0)
+
+
+def _failed_record(point: Point, exc: BaseException) -> dict[str, Any]:
+    return {"id": point.id, "values": point.values, "status": "failed",
+            "error": f"dask: {type(exc).__name__}: {exc}", "summary": {},
+            "point_wall_time": None, "worker": "", "full_output": ""}
+
+
+def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
+             records: dict[str, dict], store: RecordStore, fn: PointFunction,
+             directory: Path, table_path: Path, *, client, scheduler, workers, processes,
+             full_output, max_points, progress, warmup, consolidate_every, on_result,
+             n_skipped) -> tuple[int, bool]:
+    from concurrent.futures import CancelledError
+
+    from distributed import as_completed
+    from tqdm.auto import tqdm
+
+    runs = directory / "runs"
+    if full_output:
+        runs.mkdir(exist_ok=True)
+    token = uuid.uuid4().hex[:8]
+    n_run, n_failed, stopped = 0, 0, False
+    pending: dict[str, tuple[Any, Point]] = {}
+    with _dask_client(client, scheduler, workers, processes) as c, \
+            tqdm(total=len(points), initial=n_skipped, desc=spec.name, unit="pt",
+                 disable=not progress, dynamic_ncols=True, mininterval=0.5) as bar:
+        try:
+            if progress and client is None:
+                bar.write(f"Dask dashboard: {c.dashboard_link}", file=sys.stderr)
+            if warmup is not None:
+                bar.set_postfix_str("warming up workers")
+                report = c.run(warmup)
+                log.info("warm-up: %s", report)
+            for p in todo:
+                target = str(runs / f"{p.id}.h5") if full_output else None
+                fut = c.submit(run_point, fn, p.scenario, p.id, p.values, target,
+                               key=f"hertzchain-point-{p.id}-{token}", pure=False)
+                pending[fut.key] = (fut, p)
+            bar.set_postfix(failed=0, refresh=False)
+            last_write = time.monotonic()
+            for fut in as_completed([f for f, _ in pending.values()]):
+                _, p = pending.pop(fut.key)
+                try:
+                    rec = fut.result()
+                except CancelledError:
+                    continue
+                except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker
+                    rec = _failed_record(p, exc)
+                del fut
+                rec = store.append(rec)
+                records[p.id] = rec
+                n_run += 1
+                n_failed += rec["status"] != "ok"
+                bar.update(1)
+                bar.set_postfix(failed=n_failed, refresh=False)
+                if on_result is not None:
+                    on_result(rec)
+                if max_points is not None and n_run >= max_points:
+                    stopped = True
+                    break
+                if time.monotonic() - last_write >= consolidate_every:
+                    write_table(table_path, spec, points, records)
+                    last_write = time.monotonic()
+        except BaseException:
+            stopped = True
+            raise
+        finally:
+            if pending:
+                c.cancel([f for f, _ in pending.values()])
+                pending.clear()
+            write_table(table_path, spec, points, records)
+    return n_run, stopped

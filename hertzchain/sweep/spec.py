@@ -1,0 +1,423 @@
+"""Sweep specifications: a base scenario and the axes along which it varies.
+
+A sweep file is TOML with a ``[base]`` scenario (the schema of
+:mod:`hertzchain.scenario`) and a ``[sweep]`` table::
+
+    name = "fig7"                          # optional label (default: the file stem)
+    description = "free text"              # optional
+
+    [base]                                 # a complete scenario
+    [base.chain]
+    delta0_over_d = 1e-3
+    [[base.chain.sections]]
+    n = 200
+    [[base.chain.sections]]
+    n = 550
+    # ... [base.initial], [base.run], [base.record]
+
+    [sweep]
+    mode = "product"                       # "product" (default): Cartesian product of
+                                           # the axes; "zip": point i takes value i of
+                                           # every axis (an explicit list of points)
+    [[sweep.axes]]
+    path = "chain.sections.1.alpha_rho"    # dotted path into the scenario; list
+                                           # entries by 0-based index
+    name = "alpha_rho"                     # optional column name (default: the path)
+    logspace = [0.2, 5.0, 21]              # n values geometrically spaced from lo to hi
+                                           # (the values themselves, not exponents);
+                                           # or linspace = [lo, hi, n]; or values = [...]
+    integer = false                        # round the values to integers (e.g. for
+                                           # chain.sections.0.n)
+
+Every point of the sweep is a scenario: the base with the axis values substituted at
+their paths, validated by :func:`~hertzchain.scenario.parse_scenario` before anything
+runs.  A point's id is :func:`~hertzchain.cache.param_hash` of its validated scenario,
+so two sweeps that share points share their results.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..cache import canonical_json, param_hash
+from ..scenario import Scenario, ScenarioError, parse_scenario
+
+__all__ = [
+    "SweepError",
+    "Axis",
+    "Point",
+    "SweepSpec",
+    "RESERVED_COLUMNS",
+    "load_sweep_spec",
+    "parse_sweep_spec",
+    "set_path",
+]
+
+RESERVED_COLUMNS = frozenset({
+    "id", "index", "status", "error", "point_wall_time", "worker", "full_output",
+    "alpha_rho", "alpha_kn", "delta0_over_d", "gamma_c0", "gamma_RG", "theory_region",
+})
+"""Column names of the results table that an axis ``name`` may not take."""
+
+_MAX_REPORTED = 5
+
+
+class SweepError(ScenarioError):
+    """A sweep specification (or one of its points) is invalid; the message names the key."""
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One swept parameter.
+
+    Parameters
+    ----------
+    path : str
+        Dotted path into the scenario table, e.g. ``"chain.sections.1.alpha_rho"``.
+    name : str
+        Column name in the results table.
+    values : tuple
+        The values, in order (numbers, strings or booleans).
+    """
+
+    path: str
+    name: str
+    values: tuple
+
+
+@dataclass(frozen=True)
+class Point:
+    """One point of a sweep: its position, its axis values and its validated scenario."""
+
+    index: int
+    values: dict[str, Any]
+    scenario: Scenario
+    id: str
+
+    def label(self) -> str:
+        """Short human-readable ``name=value`` list."""
+        return ", ".join(f"{k}={v!r}" for k, v in self.values.items())
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """A validated sweep: base scenario table, mode and axes.
+
+    Use :func:`load_sweep_spec` or :func:`parse_sweep_spec` to build one; ``points()``
+    expands and validates every point (and is cached).
+    """
+
+    name: str
+    base: dict
+    axes: tuple[Axis, ...]
+    mode: str = "product"
+    description: str = ""
+    _points: list = field(default_factory=list, repr=False, compare=False)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Number of values per axis (product mode) or ``(n_points,)`` (zip mode)."""
+        if self.mode == "zip":
+            return (len(self.axes[0].values),)
+        return tuple(len(a.values) for a in self.axes)
+
+    @property
+    def n_points(self) -> int:
+        """Total number of points."""
+        return math.prod(self.shape)
+
+    def to_dict(self) -> dict:
+        """Plain JSON-able description (stored with the results)."""
+        return {
+            "name": self.name,
+            "description": self.description,
+            "mode": self.mode,
+            "base": self.base,
+            "axes": [{"path": a.path, "name": a.name, "values": list(a.values)}
+                     for a in self.axes],
+        }
+
+    def to_json(self) -> str:
+        """Canonical JSON text of :meth:`to_dict`."""
+        return canonical_json(self.to_dict())
+
+    def point_table(self, values: dict[str, Any]) -> dict:
+        """The raw scenario table of a point: the base with ``values`` (by axis name) set."""
+        table = copy.deepcopy(self.base)
+        for axis in self.axes:
+            set_path(table, axis.path, values[axis.name])
+        return table
+
+    def points(self) -> list[Point]:
+        """All points in order, each validated through ``parse_scenario``.
+
+        Raises
+        ------
+        SweepError
+            If any point is not a valid scenario (the first few are named) or two
+            points are the same scenario.
+        """
+        if self._points:
+            return self._points
+        combos = (zip(*(a.values for a in self.axes), strict=True) if self.mode == "zip"
+                  else _product([a.values for a in self.axes]))
+        points, bad, seen = [], [], {}
+        for i, combo in enumerate(combos):
+            values = {a.name: v for a, v in zip(self.axes, combo, strict=True)}
+            try:
+                scenario = parse_scenario(self.point_table(values))
+            except ScenarioError as exc:
+                bad.append(f"point {i} ({_label(values)}): {exc}")
+                continue
+            pid = param_hash(scenario.to_dict())
+            if pid in seen:
+                raise SweepError(f"[sweep] points {seen[pid]} and {i} are the same scenario "
+                                 f"({_label(values)}); remove the duplicate axis values")
+            seen[pid] = i
+            points.append(Point(index=i, values=values, scenario=scenario, id=pid))
+        if bad:
+            more = f" (and {len(bad) - _MAX_REPORTED} more)" if len(bad) > _MAX_REPORTED else ""
+            raise SweepError(f"{len(bad)} of {self.n_points} sweep points are invalid "
+                             f"scenarios{more}:\n  " + "\n  ".join(bad[:_MAX_REPORTED]))
+        self._points.extend(points)
+        return self._points
+
+
+def _product(lists: list[tuple]) -> list[tuple]:
+    out: list[tuple] = [()]
+    for values in lists:
+        out = [prev + (v,) for prev in out for v in values]
+    return out
+
+
+def _label(values: dict) -> str:
+    return ", ".join(f"{k}={v!r}" for k, v in values.items())
+
+
+def set_path(table: dict, path: str, value: Any) -> None:
+    """Set ``value`` at the dotted ``path`` of a nested scenario table, in place.
+
+    Dict levels that are missing are created (``parse_scenario`` then rejects unknown
+    keys); list levels are addressed by a 0-based index that must exist.
+
+    Raises
+    ------
+    SweepError
+        If the path is malformed or runs through a missing list entry or a scalar.
+    """
+    keys = path.split(".")
+    if not path or any(not k for k in keys):
+        raise SweepError(f"[sweep.axes] path {path!r} is malformed (empty component)")
+    node: Any = table
+    for depth, key in enumerate(keys):
+        where = ".".join(keys[:depth]) or "the scenario"
+        last = depth == len(keys) - 1
+        if isinstance(node, list):
+            if not key.isdigit():
+                raise SweepError(f"[sweep.axes] path {path!r}: {where} is a list; "
+                                 f"expected a 0-based index, got {key!r}")
+            idx = int(key)
+            if idx >= len(node):
+                raise SweepError(f"[sweep.axes] path {path!r}: index {idx} out of range, "
+                                 f"{where} has {len(node)} entries in [base]")
+            if last:
+                node[idx] = value
+            else:
+                node = node[idx]
+        elif isinstance(node, dict):
+            if last:
+                node[key] = value
+            elif key in node:
+                node = node[key]
+            elif keys[depth + 1].isdigit():
+                raise SweepError(f"[sweep.axes] path {path!r}: {where}.{key} does not "
+                                 "exist in [base], so it cannot be indexed")
+            else:
+                node[key] = {}
+                node = node[key]
+        else:
+            raise SweepError(f"[sweep.axes] path {path!r}: {where} is a value "
+                             f"({node!r}), not a table or list")
+
+
+# -- parsing ----------------------------------------------------------------------
+_TOP_KEYS = {"name", "description", "base", "sweep"}
+_SWEEP_KEYS = {"mode", "axes"}
+_AXIS_KEYS = {"path", "name", "values", "linspace", "logspace", "integer"}
+
+
+def _check_keys(table: dict, allowed: set[str], where: str) -> None:
+    unknown = set(table) - allowed
+    if unknown:
+        raise SweepError(f"unknown key(s) {sorted(unknown)} in [{where}]; "
+                         f"allowed: {sorted(allowed)}")
+
+
+def _range(raw: Any, kind: str, where: str) -> list[float]:
+    if (not isinstance(raw, list) or len(raw) != 3
+            or any(isinstance(x, bool) or not isinstance(x, int | float) for x in raw)):
+        raise SweepError(f"[{where}] {kind} must be [lo, hi, n] (numbers), got {raw!r}")
+    lo, hi, n = raw
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise SweepError(f"[{where}] {kind} bounds must be finite, got {raw!r}")
+    if not isinstance(n, int) or n < 1:
+        raise SweepError(f"[{where}] {kind} count n must be an integer >= 1, got {n!r}")
+    if n == 1 and lo != hi:
+        raise SweepError(f"[{where}] {kind} with n = 1 needs lo == hi, got {raw!r}")
+    if kind == "logspace":
+        if lo <= 0 or hi <= 0:
+            raise SweepError(f"[{where}] logspace bounds must be > 0 (they are values, "
+                             f"not exponents), got {raw!r}")
+        vals = np.geomspace(lo, hi, n)
+    else:
+        vals = np.linspace(lo, hi, n)
+    vals[0], vals[-1] = lo, hi  # exact end points
+    return [float(v) for v in vals]
+
+
+def _parse_axis(raw: Any, i: int) -> Axis:
+    where = f"sweep.axes[{i}]"
+    if not isinstance(raw, dict):
+        raise SweepError(f"[{where}] must be a table ([[sweep.axes]]), got {raw!r}")
+    _check_keys(raw, _AXIS_KEYS, where)
+    path = raw.get("path")
+    if not isinstance(path, str) or not path:
+        raise SweepError(f"[{where}] path is required: a dotted path such as "
+                         "'chain.sections.1.alpha_rho'")
+    where = f"sweep.axes[{i}] ({path})"
+    sources = [k for k in ("values", "linspace", "logspace") if k in raw]
+    if len(sources) != 1:
+        raise SweepError(f"[{where}] give exactly one of values, linspace, logspace "
+                         f"(got {sources or 'none'})")
+    src = sources[0]
+    if src == "values":
+        values = raw["values"]
+        if not isinstance(values, list):
+            raise SweepError(f"[{where}] values must be a list, got {values!r}")
+        for v in values:
+            if isinstance(v, list | dict) or (isinstance(v, float) and not math.isfinite(v)):
+                raise SweepError(f"[{where}] values must be finite numbers, strings or "
+                                 f"booleans, got {v!r}")
+    else:
+        values = _range(raw[src], src, where)
+    integer = raw.get("integer", False)
+    if not isinstance(integer, bool):
+        raise SweepError(f"[{where}] integer must be true or false, got {integer!r}")
+    if integer:
+        if any(isinstance(v, bool) or not isinstance(v, int | float) for v in values):
+            raise SweepError(f"[{where}] integer = true needs numeric values")
+        values = [int(round(v)) for v in values]
+    if not values:
+        raise SweepError(f"[{where}] the axis is empty: give at least one value")
+    name = raw.get("name", path)
+    if not isinstance(name, str) or not name or "/" in name:
+        raise SweepError(f"[{where}] name must be a non-empty string without '/', "
+                         f"got {name!r}")
+    if name in RESERVED_COLUMNS:
+        raise SweepError(f"[{where}] name {name!r} is a reserved column of the results "
+                         f"table; reserved: {sorted(RESERVED_COLUMNS)}")
+    return Axis(path=path, name=name, values=tuple(values))
+
+
+def parse_sweep_spec(data: dict, *, default_name: str = "sweep",
+                     validate_points: bool = True) -> SweepSpec:
+    """Validate a sweep specification given as nested dicts (the parsed TOML).
+
+    Parameters
+    ----------
+    data : dict
+        Tables ``base`` and ``sweep`` (and optional ``name``, ``description``).
+    default_name : str
+        Name used when ``data`` has none (a file's stem).
+    validate_points : bool
+        Also expand and validate every point (default); see :meth:`SweepSpec.points`.
+
+    Returns
+    -------
+    SweepSpec
+
+    Raises
+    ------
+    SweepError
+        On unknown keys, bad paths, empty axes or any invalid point.
+    """
+    if not isinstance(data, dict):
+        raise SweepError("a sweep specification must be a table")
+    _check_keys(data, _TOP_KEYS, "top level")
+    name = data.get("name", default_name)
+    description = data.get("description", "")
+    if not isinstance(name, str) or not name:
+        raise SweepError(f"name must be a non-empty string, got {name!r}")
+    if not isinstance(description, str):
+        raise SweepError(f"description must be a string, got {description!r}")
+    base = data.get("base")
+    if not isinstance(base, dict):
+        raise SweepError("[base] is required: a scenario table (the schema of scenario "
+                         "files) that the sweep varies")
+    try:
+        parse_scenario(base)
+    except ScenarioError as exc:
+        raise SweepError(f"[base] is not a valid scenario: {exc}") from None
+    sweep = data.get("sweep")
+    if not isinstance(sweep, dict):
+        raise SweepError("[sweep] is required, with one or more [[sweep.axes]]")
+    _check_keys(sweep, _SWEEP_KEYS, "sweep")
+    mode = sweep.get("mode", "product")
+    if mode not in ("product", "zip"):
+        raise SweepError(f"[sweep] mode = {mode!r}; allowed: ['product', 'zip']")
+    raw_axes = sweep.get("axes")
+    if not isinstance(raw_axes, list) or not raw_axes:
+        raise SweepError("[sweep] axes is required: one or more [[sweep.axes]] tables")
+    axes = tuple(_parse_axis(a, i) for i, a in enumerate(raw_axes))
+    _check_axes(axes, mode)
+    for axis in axes:  # a bad path is reported once, not once per point
+        set_path(copy.deepcopy(base), axis.path, axis.values[0])
+    spec = SweepSpec(name=name, base=base, axes=axes, mode=mode, description=description)
+    if validate_points:
+        spec.points()
+    return spec
+
+
+def _check_axes(axes: tuple[Axis, ...], mode: str) -> None:
+    paths = [a.path for a in axes]
+    names = [a.name for a in axes]
+    for i, p in enumerate(paths):
+        for q in paths[i + 1:]:
+            if p == q or q.startswith(p + ".") or p.startswith(q + "."):
+                raise SweepError(f"[sweep.axes] paths {p!r} and {q!r} overlap")
+    if len(set(names)) != len(names):
+        raise SweepError(f"[sweep.axes] column names must be unique, got {names}")
+    for axis in axes if mode == "product" else ():
+        reprs = [canonical_json(v) for v in axis.values]
+        if len(set(reprs)) != len(reprs):
+            dup = sorted({r for r in reprs if reprs.count(r) > 1})
+            raise SweepError(f"[sweep.axes] ({axis.path}) duplicate values {dup} "
+                             "(after rounding, for integer axes)")
+    if mode == "zip":
+        lengths = {a.path: len(a.values) for a in axes}
+        if len(set(lengths.values())) != 1:
+            raise SweepError(f"[sweep] mode = 'zip' needs axes of equal length, got {lengths}")
+
+
+def load_sweep_spec(path: str | Path, *, validate_points: bool = True) -> SweepSpec:
+    """Read and validate a sweep TOML file (see the module docstring for the format)."""
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError as exc:
+        raise SweepError(f"sweep file not found: {path}") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise SweepError(f"{path}: not valid TOML: {exc}") from exc
+    try:
+        return parse_sweep_spec(data, default_name=path.stem,
+                                validate_points=validate_points)
+    except ScenarioError as exc:
+        raise SweepError(f"{path}: {exc}") from None

@@ -1,0 +1,345 @@
+"""Storage of sweep results: an append-only record log and the consolidated HDF5 table.
+
+Layout of a sweep's output directory::
+
+    DIR/records.jsonl   one JSON line per finished point, appended and fsync'ed as each
+                        result arrives (the crash-safe source of truth; a torn last line
+                        from a crash is skipped; the latest record of an id wins)
+    DIR/results.h5      the consolidated table, rebuilt from the records and renamed
+                        into place atomically (periodically and at the end)
+    DIR/spec.json       the sweep specification of the last run
+    DIR/runs/<id>.h5    full per-run output (only with ``full_output``)
+
+Why not append to the HDF5 file directly: an HDF5 file open for writing is not
+crash-safe (a killed writer can leave it unreadable), whereas a line-oriented log loses
+at most the line being written, and an atomic rename never exposes a partial table.
+
+``results.h5`` holds one group ``/table`` with one 1-D dataset per column, one row per
+point of the sweep in the sweep's order (see :func:`write_table` for the columns); the
+file attributes carry the format name and version, the sweep specification
+(``spec_json``) and the counts of ok, failed and pending points.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+import h5py
+import numpy as np
+
+from .. import __version__
+from ..cache import atomic_path
+from .spec import Point, SweepSpec
+
+__all__ = [
+    "FORMAT",
+    "FORMAT_VERSION",
+    "SUMMARY_FIELDS",
+    "RecordStore",
+    "SweepResults",
+    "derived_columns",
+    "write_table",
+    "read_results",
+]
+
+FORMAT = "hertzchain-sweep-results"
+FORMAT_VERSION = 1
+
+SUMMARY_FIELDS = (
+    "Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re",
+    "front_speed_tr", "front_speed_re", "front_speed_tr_over_c0L",
+    "transmitted", "reflected", "n_transmitted_pulses", "energy_drift",
+    "steps", "dt", "wall_time",
+)
+"""Keys every run summary must have (the runner's contract); extra scalar keys are kept."""
+
+UNITS = {
+    "front_speed_tr": "m/s", "front_speed_re": "m/s", "dt": "s", "wall_time": "s",
+    "point_wall_time": "s",
+}
+INT_FILL = -1
+"""Fill value of integer (and boolean, stored as int8) columns for points without it."""
+
+
+class RecordStore:
+    """Append-only JSON-lines log of finished points (crash-safe).
+
+    Parameters
+    ----------
+    path : path-like
+        The ``records.jsonl`` file (created on the first append).
+    """
+
+    def __init__(self, path: str | os.PathLike):
+        self.path = Path(path)
+
+    def load(self) -> dict[str, dict]:
+        """All records by point id; later lines supersede earlier ones, torn lines skipped."""
+        records: dict[str, dict] = {}
+        if not self.path.exists():
+            return records
+        with self.path.open("r", encoding="utf-8") as fh:
+            for line in fh:
+                try:
+                    rec = json.loads(line)
+                except json.JSONDecodeError:
+                    continue  # a line torn by a crash
+                if isinstance(rec, dict) and isinstance(rec.get("id"), str):
+                    records[rec["id"]] = rec
+        return records
+
+    def append(self, record: Mapping) -> dict:
+        """Append one record, flush and fsync; return it as it reads back from disk."""
+        line = json.dumps(record, sort_keys=True, default=_json_default)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        with self.path.open("a+b") as fh:
+            if fh.tell() > 0:  # terminate a line torn by an earlier crash
+                fh.seek(-1, os.SEEK_END)
+                if fh.read(1) != b"\n":
+                    fh.write(b"\n")
+            fh.write(line.encode("utf-8") + b"\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+        return json.loads(line)
+
+
+def _json_default(obj: Any) -> Any:
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    return str(obj)
+
+
+# -- columns ------------------------------------------------------------------------
+def derived_columns(point: Point) -> dict[str, Any]:
+    """Interface ratios of the first interface and their theory predictions.
+
+    ``alpha_rho``, ``alpha_kn`` are section 1 relative to section 0 (NaN if the chain has
+    one section or its first two sections are given by materials), ``gamma_c0``,
+    ``gamma_RG`` (Eqs. 9, 13) and ``theory_region`` (Fig. 7 region, "" if undefined).
+    """
+    import theory
+
+    chain = point.scenario.chain
+    out: dict[str, Any] = {"alpha_rho": math.nan, "alpha_kn": math.nan,
+                           "delta0_over_d": chain.delta0_over_d, "gamma_c0": math.nan,
+                           "gamma_RG": math.nan, "theory_region": ""}
+    s = chain.sections
+    if len(s) >= 2 and s[0].material is None and s[1].material is None:
+        ar, ak = s[1].alpha_rho / s[0].alpha_rho, s[1].alpha_kn / s[0].alpha_kn
+        gc, gr = float(theory.gamma_c0(ar, ak)), float(theory.gamma_rg(ar, ak))
+        out.update(alpha_rho=ar, alpha_kn=ak, gamma_c0=gc, gamma_RG=gr,
+                   theory_region=theory.region(gc, gr))
+    return out
+
+
+def _column(values: Sequence[Any]) -> tuple[np.ndarray, dict]:
+    """Typed array for one column; ``None`` marks a missing entry."""
+    present = [v for v in values if v is not None]
+    if present and all(isinstance(v, bool) for v in present):
+        arr = np.array([INT_FILL if v is None else int(v) for v in values], dtype=np.int8)
+        return arr, {"fill_value": INT_FILL, "boolean": True}
+    if present and all(isinstance(v, int) and not isinstance(v, bool) for v in present):
+        return np.array([INT_FILL if v is None else v for v in values], dtype=np.int64), \
+            {"fill_value": INT_FILL}
+    if present and all(isinstance(v, int | float) and not isinstance(v, bool)
+                       for v in present):
+        return np.array([math.nan if v is None else float(v) for v in values]), {}
+    text = [("" if v is None else v if isinstance(v, str)
+             else json.dumps(v, sort_keys=True, default=_json_default)) for v in values]
+    return np.array(text, dtype=object), {}
+
+
+def _summary_keys(records: Iterable[dict]) -> list[str]:
+    extra: set[str] = set()
+    for rec in records:
+        extra.update(rec.get("summary") or {})
+    return list(SUMMARY_FIELDS) + sorted(extra - set(SUMMARY_FIELDS))
+
+
+def build_columns(points: Sequence[Point], records: Mapping[str, dict]
+                  ) -> tuple[dict[str, np.ndarray], dict[str, dict]]:
+    """Columns (name -> array) and their attributes for the given points and records."""
+    recs = [records.get(p.id) for p in points]
+    cols: dict[str, list] = {"id": [p.id for p in points], "index": [p.index for p in points]}
+    kinds = {"id": "meta", "index": "meta"}
+    for name in (points[0].values if points else {}):
+        cols[name] = [p.values[name] for p in points]
+        kinds[name] = "parameter"
+    derived = [derived_columns(p) for p in points]
+    for name in (derived[0] if derived else {}):
+        cols[name] = [d[name] for d in derived]
+        kinds[name] = "derived"
+    cols["status"] = [r["status"] if r else "pending" for r in recs]
+    cols["error"] = [r.get("error", "") if r else "" for r in recs]
+    cols["point_wall_time"] = [r.get("point_wall_time") if r else None for r in recs]
+    cols["worker"] = [r.get("worker", "") if r else "" for r in recs]
+    cols["full_output"] = [r.get("full_output", "") if r else "" for r in recs]
+    for name in ("status", "error", "point_wall_time", "worker", "full_output"):
+        kinds[name] = "meta"
+    for key in _summary_keys(r for r in recs if r):
+        col = key if key not in cols else f"summary.{key}"
+        cols[col] = [(r.get("summary") or {}).get(key) if r else None for r in recs]
+        kinds[col] = "summary"
+    arrays, attrs = {}, {}
+    for name, values in cols.items():
+        arr, extra = _column(values)
+        if name in ("status", "error", "worker", "full_output", "id", "theory_region"):
+            arr = np.array(["" if v is None else str(v) for v in values], dtype=object)
+            extra = {}
+        arrays[name] = arr
+        attrs[name] = {"kind": kinds[name], **extra}
+        if name in UNITS:
+            attrs[name]["unit"] = UNITS[name]
+    return arrays, attrs
+
+
+def write_table(path: str | os.PathLike, spec: SweepSpec, points: Sequence[Point],
+                records: Mapping[str, dict], *, complete: bool | None = None) -> Path:
+    """Atomically (re)write the consolidated results table.
+
+    Parameters
+    ----------
+    path : path-like
+        Target ``results.h5``.
+    spec : SweepSpec
+        The sweep (stored as the ``spec_json`` attribute; axis paths on the columns).
+    points : sequence of Point
+        Rows, in order.
+    records : mapping
+        Finished records by point id (points without one are ``"pending"``).
+    complete : bool, optional
+        Stored as an attribute; default: no point is pending.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Notes
+    -----
+    Columns of ``/table``: ``id`` (12-hex param_hash of the point's scenario), ``index``
+    (position in the sweep), one column per axis (its ``name``; attribute ``path``), the
+    derived interface columns of :func:`derived_columns`, ``status`` ("ok", "failed" or
+    "pending"), ``error``, ``point_wall_time`` (s, measured around the point function),
+    ``worker``, ``full_output`` (path of the per-run file or ""), then the run summary's
+    keys (:data:`SUMMARY_FIELDS` first, extra keys sorted).  Missing numbers are NaN,
+    missing integers -1 (attribute ``fill_value``), missing strings "".
+    """
+    path = Path(path)
+    arrays, attrs = build_columns(points, records)
+    status = arrays["status"]
+    counts = {s: int(np.count_nonzero(status == s)) for s in ("ok", "failed", "pending")}
+    axis_paths = {a.name: a.path for a in spec.axes}
+    with atomic_path(path) as tmp, h5py.File(tmp, "w") as fh:
+        fh.attrs["format"] = FORMAT
+        fh.attrs["format_version"] = FORMAT_VERSION
+        fh.attrs["hertzchain_version"] = __version__
+        fh.attrs["spec_json"] = spec.to_json()
+        fh.attrs["name"] = spec.name
+        fh.attrs["n_points"] = len(points)
+        for key, n in counts.items():
+            fh.attrs[f"n_{key}"] = n
+        fh.attrs["complete"] = bool(counts["pending"] == 0 if complete is None else complete)
+        fh.attrs["updated"] = datetime.now(UTC).isoformat(timespec="seconds")
+        grp = fh.create_group("table")
+        grp.attrs["columns"] = list(arrays)
+        grp.attrs["axes"] = [a.name for a in spec.axes]
+        for name, arr in arrays.items():
+            if arr.dtype == object:
+                ds = grp.create_dataset(name, data=arr.astype(str).tolist() if arr.size else [],
+                                        dtype=h5py.string_dtype("utf-8"))
+            else:
+                ds = grp.create_dataset(name, data=arr)
+            for key, val in attrs[name].items():
+                ds.attrs[key] = val
+            if name in axis_paths:
+                ds.attrs["path"] = axis_paths[name]
+    return path
+
+
+@dataclass
+class SweepResults:
+    """A results table read back from ``results.h5``.
+
+    Attributes
+    ----------
+    columns : dict of str to numpy.ndarray
+        Column arrays in table order; string columns are object arrays of ``str``.
+    kinds : dict of str to str
+        ``"meta"``, ``"parameter"``, ``"derived"`` or ``"summary"`` per column.
+    attrs : dict
+        File attributes (format, counts, ``spec_json``...).
+    axes : list of str
+        Names of the swept columns.
+    """
+
+    columns: dict[str, np.ndarray]
+    kinds: dict[str, str] = field(default_factory=dict)
+    attrs: dict = field(default_factory=dict)
+    axes: list[str] = field(default_factory=list)
+    path: Path | None = None
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        return self.columns[name]
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.columns
+
+    def __len__(self) -> int:
+        return len(self.columns["id"])
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Boolean mask of points whose status is ``"ok"``."""
+        return self.columns["status"] == "ok"
+
+    @property
+    def spec(self) -> dict:
+        """The sweep specification as a dict."""
+        return json.loads(self.attrs.get("spec_json", "{}"))
+
+    def row(self, i: int) -> dict[str, Any]:
+        """One row as a dict of Python scalars."""
+        return {k: (v[i].item() if isinstance(v[i], np.generic) else v[i])
+                for k, v in self.columns.items()}
+
+    def to_pandas(self):
+        """The table as a :class:`pandas.DataFrame` (needs pandas)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.columns)
+
+
+def read_results(path: str | os.PathLike) -> SweepResults:
+    """Read ``results.h5`` (or the sweep directory that contains it)."""
+    path = Path(path)
+    if path.is_dir():
+        path = path / "results.h5"
+    if not path.exists():
+        raise FileNotFoundError(f"no sweep results table at {path}")
+    with h5py.File(path, "r") as fh:
+        if fh.attrs.get("format") != FORMAT:
+            raise ValueError(f"{path} is not a hertzchain sweep results table "
+                             f"(format attribute {fh.attrs.get('format')!r})")
+        attrs = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in fh.attrs.items()}
+        grp = fh["table"]
+        names = [str(n) for n in grp.attrs["columns"]]
+        columns, kinds = {}, {}
+        for name in names:
+            ds = grp[name]
+            if h5py.check_string_dtype(ds.dtype) is not None:
+                columns[name] = np.array(ds.asstr()[()], dtype=object).reshape(-1)
+            else:
+                columns[name] = ds[()]
+            kinds[name] = str(ds.attrs.get("kind", ""))
+        axes = [str(n) for n in grp.attrs.get("axes", [])]
+    return SweepResults(columns=columns, kinds=kinds, attrs=attrs, axes=axes, path=path)

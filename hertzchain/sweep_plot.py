@@ -1,0 +1,348 @@
+"""Figures of a sweep: the phase-diagram map (paper Fig. 7) and 1-D cuts.
+
+The drawing functions take a matplotlib ``ax`` and never call ``show()``;
+:func:`save_sweep_figures` builds the figures (without pyplot) and saves PNGs.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+
+import theory
+
+from .sweep.store import SweepResults, read_results
+
+__all__ = [
+    "CLASSES",
+    "classification_codes",
+    "plot_phase_map",
+    "plot_cut",
+    "phase_map_figure",
+    "cuts_figure",
+    "save_sweep_figures",
+]
+
+CLASSES: tuple[tuple[str, str], ...] = (
+    ("I: fracture + expansive", "#E69F00"),
+    ("II: fracture + compressive", "#D55E00"),
+    ("III: squeeze + compressive", "#0072B2"),
+    ("IV: squeeze + expansive", "#56B4E9"),
+    ("no fracture/squeeze or no reflection", "#F0E442"),
+    ("failed", "#8C8C8C"),
+    ("pending", "#FFFFFF"),
+)
+"""Label and colour of each class code 0..6 (Okabe–Ito colours; regions as in Fig. 7)."""
+
+_CODES = {("fracture", "expansive"): 0, ("fracture", "compressive"): 1,
+          ("squeeze", "compressive"): 2, ("squeeze", "expansive"): 3}
+_LABELS = {
+    "alpha_rho": r"$\alpha_\rho = \rho^R/\rho^L$",
+    "alpha_kn": r"$\alpha_{k_n} = k_n^R/k_n^L$",
+    "gamma_c0": r"$\gamma_{c_0}$",
+    "gamma_RG": r"$\gamma_{R_G}$",
+    "delta0_over_d": r"$\delta_0^L/d$",
+}
+
+
+def classification_codes(results: SweepResults) -> np.ndarray:
+    """Class code (index into :data:`CLASSES`) of every row."""
+    status = results["status"]
+    trans = results["transmitted"] if "transmitted" in results else np.full(len(status), "")
+    refl = results["reflected"] if "reflected" in results else np.full(len(status), "")
+    codes = np.array([_CODES.get((t, r), 4) for t, r in zip(trans, refl, strict=True)])
+    codes[status == "failed"] = 5
+    codes[status == "pending"] = 6
+    return codes
+
+
+def _is_log(values: np.ndarray, name: str) -> bool:
+    v = values[np.isfinite(values)]
+    if v.size == 0 or v.min() <= 0:
+        return False
+    return name in _LABELS or v.max() / v.min() >= 5
+
+
+def _edges(centres: np.ndarray, log: bool) -> np.ndarray:
+    c = np.log(centres) if log else centres
+    if c.size == 1:
+        e = np.array([c[0] - 0.5, c[0] + 0.5]) if not log else c[0] + np.array([-0.1, 0.1])
+    else:
+        mid = 0.5 * (c[1:] + c[:-1])
+        e = np.concatenate([[2 * c[0] - mid[0]], mid, [2 * c[-1] - mid[-1]]])
+    return np.exp(e) if log else e
+
+
+def _log_ticks(axis) -> None:
+    """Plain-number ticks (0.2, 0.5, 1, 2, 5) on a log axis instead of 2×10⁻¹ labels."""
+    axis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(NullFormatter())
+
+
+def _grid(x: np.ndarray, y: np.ndarray):
+    """Unique values and row -> (j, i) indices if (x, y) fill a full grid, else None."""
+    ux, ix = np.unique(x, return_inverse=True)
+    uy, iy = np.unique(y, return_inverse=True)
+    if ux.size * uy.size != x.size:
+        return None
+    if np.unique(iy * ux.size + ix).size != x.size:
+        return None
+    return ux, uy, ix, iy
+
+
+def plot_phase_map(ax, results: SweepResults, *, x: str = "alpha_rho", y: str = "alpha_kn",
+                   energy: str | None = "Ek_re", levels=(0.01, 0.03, 0.1, 0.2, 0.3),
+                   theory_lines: bool = True, paper_points: bool = True,
+                   legend: bool = True) -> None:
+    """Draw the classification map with theory lines and reflected-energy contours.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Target axes.
+    results : SweepResults
+        The sweep table.
+    x, y : str
+        Columns on the axes (default the interface ratios α_ρ, α_kn; log axes when the
+        values are positive and span a wide range).
+    energy : str or None
+        Measured reflected-energy column to contour (solid), next to the linear-acoustic
+        ``theory.energy_reflection(γ_RG)`` (dotted); None for no contours.
+    levels : sequence of float
+        Contour levels (fractions of the incident energy).
+    theory_lines : bool
+        Draw γ_c0 = 1 (Eq. 9, α_kn = α_ρ^{3/2}) and γ_RG = 1 (Eq. 13, α_kn = α_ρ^{-3/2})
+        when the axes are (α_ρ, α_kn).
+    paper_points : bool
+        Mark the paper's points a–d, M, N, P, Q inside the map.
+    legend : bool
+        Add a legend right of the axes.
+    """
+    xs = np.asarray(results[x], dtype=float)
+    ys = np.asarray(results[y], dtype=float)
+    codes = classification_codes(results)
+    cmap = ListedColormap([c for _, c in CLASSES])
+    norm = BoundaryNorm(np.arange(len(CLASSES) + 1) - 0.5, len(CLASSES))
+    logx, logy = _is_log(xs, x), _is_log(ys, y)
+    grid = _grid(xs, ys)
+    if grid is not None:
+        ux, uy, ix, iy = grid
+        c = np.full((uy.size, ux.size), 6)
+        c[iy, ix] = codes
+        ax.pcolormesh(_edges(ux, logx), _edges(uy, logy), c, cmap=cmap, norm=norm,
+                      edgecolors="0.85", linewidth=0.2)
+    else:
+        ax.scatter(xs, ys, c=codes, cmap=cmap, norm=norm, marker="s", s=36,
+                   edgecolors="0.4", linewidths=0.4)
+    ax.set_xscale("log" if logx else "linear")
+    ax.set_yscale("log" if logy else "linear")
+    if logx:
+        _log_ticks(ax.xaxis)
+    if logy:
+        _log_ticks(ax.yaxis)
+    if grid is not None:
+        ex, ey = _edges(grid[0], logx), _edges(grid[1], logy)
+        ax.set_xlim(ex[0], ex[-1])
+        ax.set_ylim(ey[0], ey[-1])
+    ax.set_xlabel(_LABELS.get(x, x))
+    ax.set_ylabel(_LABELS.get(y, y))
+    handles = [Patch(facecolor=col, edgecolor="0.4", label=lab)
+               for k, (lab, col) in enumerate(CLASSES) if k < 4 or np.any(codes == k)]
+    alphas = (x, y) == ("alpha_rho", "alpha_kn")
+    xlo, xhi = ax.get_xlim()
+    ylo, yhi = ax.get_ylim()
+    if alphas and theory_lines and logx and logy:
+        a = np.geomspace(xlo, xhi, 200)
+        ax.plot(a, a**1.5, "k-", lw=1.4)
+        ax.plot(a, a**-1.5, "k--", lw=1.4)
+        handles += [Line2D([], [], color="k", ls="-", label=r"$\gamma_{c_0}=1$ (Eq. 9)"),
+                    Line2D([], [], color="k", ls="--", label=r"$\gamma_{R_G}=1$ (Eq. 13)")]
+    if energy is not None and energy in results:
+        z = np.where(results.ok, np.asarray(results[energy], dtype=float), np.nan)
+        drawn = _contour(ax, xs, ys, z, grid, levels, colors="#5B2C83", linestyles="-")
+        if drawn:
+            handles.append(Line2D([], [], color="#5B2C83", ls="-",
+                                  label=f"measured {energy}"))
+        if alphas and logx and logy:
+            gx, gy = np.meshgrid(np.geomspace(xlo, xhi, 120), np.geomspace(ylo, yhi, 120))
+            zt = theory.energy_reflection(theory.gamma_rg(gx, gy))
+            cs = ax.contour(gx, gy, zt, levels=list(levels), colors="#5B2C83",
+                            linestyles=":", linewidths=1.0)
+            ax.clabel(cs, fontsize=6, fmt="%g")
+            label = r"linear acoustics $((\gamma_{R_G}-1)/(\gamma_{R_G}+1))^2$"
+            handles.append(Line2D([], [], color="#5B2C83", ls=":", label=label))
+    if alphas and paper_points:
+        for name, (pr, pk) in theory.PAPER_POINTS.items():
+            if xlo <= pr <= xhi and ylo <= pk <= yhi:
+                ax.plot(pr, pk, "o", mfc="none", mec="k", ms=5, mew=0.9)
+                ax.annotate(name, (pr, pk), xytext=(3, 3), textcoords="offset points",
+                            fontsize=8, weight="bold")
+    ax.set_xlim(xlo, xhi)
+    ax.set_ylim(ylo, yhi)
+    if legend:
+        ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                  fontsize="x-small", frameon=False)
+
+
+def _contour(ax, xs, ys, z, grid, levels, **style) -> bool:
+    ok = np.isfinite(z)
+    if ok.sum() < 4 or np.nanmin(z) == np.nanmax(z):
+        return False
+    try:
+        if grid is not None:
+            ux, uy, ix, iy = grid
+            zz = np.full((uy.size, ux.size), np.nan)
+            zz[iy, ix] = z
+            cs = ax.contour(ux, uy, np.ma.masked_invalid(zz), levels=list(levels),
+                            linewidths=1.1, **style)
+        else:
+            cs = ax.tricontour(xs[ok], ys[ok], z[ok], levels=list(levels), linewidths=1.1,
+                               **style)
+    except (ValueError, RuntimeError):  # degenerate triangulation or levels out of range
+        return False
+    ax.clabel(cs, fontsize=6, fmt="%g")
+    return True
+
+
+def plot_cut(ax, results: SweepResults, *, along: str = "alpha_rho", at: float = 1.0,
+             quantities: tuple[str, ...] = ("Ek_re", "Et_re")) -> bool:
+    """Plot measured quantities along one axis of an (α_ρ, α_kn) map, with theory.
+
+    The other ratio is fixed at the sampled value nearest (in log) to ``at``.  Energy
+    columns (``E*_re``, ``E*_tr``) get the linear-acoustic reflection/transmission
+    ``((γ_RG-1)/(γ_RG+1))²`` / ``4γ_RG/(1+γ_RG)²``; ``front_speed_tr_over_c0L`` gets
+    γ_c0 (Eq. 9), the long-wave limit of the transmitted front speed.
+
+    Returns
+    -------
+    bool
+        False (and a note in the axes) if the table has no such cut.
+    """
+    other = "alpha_kn" if along == "alpha_rho" else "alpha_rho"
+    xa = np.asarray(results[along], dtype=float)
+    xo = np.asarray(results[other], dtype=float)
+    sel = np.isfinite(xa) & np.isfinite(xo) & (xo > 0)
+    if sel.any():
+        uo = np.unique(xo[sel])
+        fixed = uo[np.argmin(np.abs(np.log(uo / at)))]
+        sel &= np.isclose(xo, fixed, rtol=1e-9)
+    if np.unique(xa[sel]).size < 2:
+        ax.text(0.5, 0.5, f"no cut along {along}", transform=ax.transAxes, ha="center")
+        return False
+    order = np.flatnonzero(sel)[np.argsort(xa[sel])]
+    ok = results.ok[order]
+    a = np.geomspace(xa[order].min(), xa[order].max(), 200)
+    pair = (a, fixed) if along == "alpha_rho" else (fixed, a)
+    g = theory.gamma_rg(*pair)
+    references = {
+        "_re": (theory.energy_reflection(g),
+                r"linear acoustics $((\gamma_{R_G}-1)/(\gamma_{R_G}+1))^2$"),
+        "_tr": (theory.energy_transmission(g),
+                r"linear acoustics $4\gamma_{R_G}/(1+\gamma_{R_G})^2$"),
+        "speed": (theory.gamma_c0(*pair), r"$\gamma_{c_0}$ (Eq. 9, long-wave limit)"),
+    }
+    drawn = set()
+    for q, marker in zip(quantities, "osD^v", strict=False):
+        if q not in results:
+            continue
+        ax.plot(xa[order][ok], np.asarray(results[q], dtype=float)[order][ok], marker,
+                ms=4, mfc="none" if marker != "o" else None, label=f"{q} (simulation)")
+        ref = ("speed" if q == "front_speed_tr_over_c0L" else
+               q[-3:] if q.startswith("E") and q.endswith(("_re", "_tr")) else None)
+        if ref is not None and ref not in drawn:
+            drawn.add(ref)
+            ax.plot(a, references[ref][0], "k-", lw=1, label=references[ref][1])
+    bad = order[~ok]
+    for k, xb in enumerate(xa[bad]):
+        ax.axvline(xb, color=CLASSES[5][1], lw=0.8, ls=":",
+                   label="failed point" if k == 0 else None)
+    ax.set_xscale("log")
+    _log_ticks(ax.xaxis)
+    ax.set_xlabel(_LABELS[along])
+    ax.set_title(f"{_LABELS[other]} = {fixed:.3g}", fontsize="small")
+    ax.legend(fontsize="x-small")
+    return True
+
+
+def _title(results: SweepResults) -> str:
+    name = str(results.attrs.get("name", "sweep"))
+    d0 = results["delta0_over_d"] if "delta0_over_d" in results else np.array([])
+    d0 = np.unique(d0[np.isfinite(d0)])
+    extra = rf", $\delta_0^L/d$ = {d0[0]:g}" if d0.size == 1 else ""
+    return f"{name}: {results.attrs.get('n_ok', '?')} ok, {results.attrs.get('n_failed', '?')} " \
+           f"failed of {len(results)} points{extra}"
+
+
+def phase_map_figure(results: SweepResults, **kwargs) -> Figure:
+    """A figure with :func:`plot_phase_map` (keyword arguments are passed on)."""
+    fig = Figure(figsize=(8.2, 5.6), layout="constrained")
+    ax = fig.subplots()
+    plot_phase_map(ax, results, **kwargs)
+    ax.set_title(_title(results), fontsize="small")
+    return fig
+
+
+def cuts_figure(results: SweepResults, *, energy: tuple[str, ...] = ("Ek_re", "Et_re")
+                ) -> Figure:
+    """Four 1-D cuts through α = 1: reflected energies and transmitted front speed."""
+    fig = Figure(figsize=(9.5, 7.0), layout="constrained")
+    axes = fig.subplots(2, 2)
+    for col, along in enumerate(("alpha_rho", "alpha_kn")):
+        plot_cut(axes[0, col], results, along=along, quantities=energy)
+        axes[0, col].set_ylabel("reflected / incident energy")
+        plot_cut(axes[1, col], results, along=along, quantities=("front_speed_tr_over_c0L",))
+        axes[1, col].set_ylabel(r"transmitted front speed / $c_0^L$")
+    fig.suptitle(_title(results), fontsize="small")
+    return fig
+
+
+def save_sweep_figures(results: SweepResults | str | Path, out: str | Path | None = None,
+                       *, x: str | None = None, y: str | None = None,
+                       energy: str = "Ek_re", dpi: int = 130) -> list[Path]:
+    """Save the map (``out``, default ``DIR/phase_map.png``) and the cuts (``*-cuts.png``).
+
+    Parameters
+    ----------
+    results : SweepResults or path
+        The table or its file/directory.
+    out : path-like, optional
+        PNG path of the map.
+    x, y : str, optional
+        Map axes; default (α_ρ, α_kn) when they vary, else the first two swept columns.
+    energy : str
+        Reflected-energy column for the contours.
+    dpi : int
+        Resolution.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The PNG files written (the cuts only when α_ρ/α_kn vary).
+    """
+    if not isinstance(results, SweepResults):
+        results = read_results(results)
+    base = results.path.parent if results.path is not None else Path.cwd()
+    out = Path(out) if out is not None else base / "phase_map.png"
+    varies = [c for c in ("alpha_rho", "alpha_kn")
+              if c in results and np.unique(results[c][np.isfinite(results[c])]).size > 1]
+    if x is None or y is None:
+        numeric = [a for a in results.axes if results[a].dtype.kind in "if"]
+        dx, dy = ("alpha_rho", "alpha_kn") if len(varies) == 2 else \
+            ((numeric + ["index", "index"])[:2] if len(numeric) != 1 else (numeric[0], "index"))
+        x, y = x or dx, y or dy
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig = phase_map_figure(results, x=x, y=y, energy=energy)
+    fig.savefig(out, dpi=dpi)
+    written = [out]
+    if varies:
+        cuts = out.with_name(out.stem + "-cuts.png")
+        cuts_figure(results, energy=tuple(dict.fromkeys((energy, "Et_re")))).savefig(cuts, dpi=dpi)
+        written.append(cuts)
+    return written
