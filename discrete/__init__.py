@@ -8,6 +8,8 @@ energies (:mod:`discrete.energy`), recording (:class:`Recording`, :class:`WaveAt
 """
 
 from .chain import Chain, Section
+from .initial import Initial, cut_wave, exact_wave, impact, place_wave, settled_wave
+from .io import load, save
 from .recording import AtTime, Record, Recording, Snapshot, WaveAt
 from .simulation import (
     DT_FRACTION,
@@ -23,6 +25,7 @@ __all__ = [
     "DT_FRACTION",
     "AtTime",
     "Chain",
+    "Initial",
     "InstabilityError",
     "Record",
     "Recording",
@@ -32,6 +35,13 @@ __all__ = [
     "Snapshot",
     "State",
     "WaveAt",
+    "cut_wave",
     "default_dt",
+    "exact_wave",
+    "impact",
+    "load",
+    "place_wave",
+    "save",
+    "settled_wave",
     "stable_dt",
 ]

@@ -321,5 +321,5 @@ def _equilibrium(k: np.ndarray, delta0: float, *, reference: int) -> np.ndarray:
         raise ValueError("the reference contact of delta0 is absent (k = 0)")
     present = k > 0
     out[present] = theory.static_overlaps(k[present], force=float(k[reference]) * delta0**1.5)
-    out[reference] = delta0
+    out[k == k[reference]] = delta0  # exactly δ0 (not δ0 ± 1 ulp) where k is the same
     return out

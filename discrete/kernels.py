@@ -124,16 +124,21 @@ def run_chunk(u, v, a, inv_m, k, d0, f0, wl, wr, dt, nsteps, lo, hi,
     ur_w = u[lo + 1:]
     kw, d0w, f0w = k[lo + 1:], d0[lo + 1:], f0[lo + 1:]
     for s in range(1, nsteps + 1):
-        # pass 1: half kick + drift (Verlet)
-        for i in range(m):
-            vi = vw[i] + hdt * aw[i]
-            vw[i] = vi
-            uw[i] = uw[i] + dt * vi
-        # running max of u every UMAX_EVERY (global) steps: u is smooth at its maximum
-        # (v = 0 there), so the sampling error is <= |a| (UMAX_EVERY dt)²/8
+        # pass 1: half kick + drift (Verlet).  Every UMAX_EVERY (global) steps the same
+        # pass also updates the running max of u: u is smooth at its maximum (v = 0
+        # there), so the sampling error is <= |a| (UMAX_EVERY dt)²/8.
         if track and (step0 + s) % UMAX_EVERY == 0:
             for i in range(m):
-                umw[i] = max(umw[i], uw[i])
+                vi = vw[i] + hdt * aw[i]
+                vw[i] = vi
+                ui = uw[i] + dt * vi
+                uw[i] = ui
+                umw[i] = max(umw[i], ui)
+        else:
+            for i in range(m):
+                vi = vw[i] + hdt * aw[i]
+                vw[i] = vi
+                uw[i] = uw[i] + dt * vi
         # pass 2: forces relative to static (Eq. 1, 2) + half kick, fused running max of v
         ul = wl if lo == 0 else u[lo - 1]
         r = max(d0[lo] + (ul - u[lo]), 0.0)

@@ -80,7 +80,7 @@ class Recording:
     maxima: bool = True
     energy_every: int | None = None
     energy_coarsen: int = 1
-    monitor_every: int = 2000
+    monitor_every: int = 10_000
 
     def events(self) -> list[Event]:
         """The snapshot events as :class:`AtTime` / :class:`WaveAt` objects."""
