@@ -16,7 +16,10 @@ Energies (J), PHYSICS.md §6 and paper Section 4 (Fig. 8, Table 2):
   the Taylor expansion about δ0; it dominates under precompression, PHYSICS.md §6) and
   the remainder e_Q,j = e_p,j - e_L,j (≥ 0, quadratic to leading order), the split that
   :func:`theory.table2_prediction` needs;
-* per grain: e_i = e_k,i + ½ e_p,i + ½ e_p,i+1 (half of each adjacent contact).
+* per grain: e_i = e_k,i + ½ e_p,i + ½ e_p,i+1 (half of each adjacent grain–grain
+  contact; a wall contact belongs wholly to its grain, since walls store no energy — the
+  convention of :func:`discrete.energy.grain_energy`, so per-grain energies sum to the
+  chain total).
 
 All functions accept arrays with leading dimensions (e.g. a (n_times, N) space-time grid
 of displacements): the grain/contact axis is the last one.
@@ -162,9 +165,12 @@ class ChainEnergies:
 
     @property
     def potential(self) -> FloatArray:
-        """Potential energy per grain, half of each adjacent contact, J."""
+        """Potential energy per grain, J: half of each adjacent contact, wall contacts whole."""
         c = self.contact
-        return 0.5 * (c[..., :-1] + c[..., 1:])
+        p = 0.5 * (c[..., :-1] + c[..., 1:])
+        p[..., 0] += 0.5 * c[..., 0]
+        p[..., -1] += 0.5 * c[..., -1]
+        return p
 
     @property
     def total(self) -> FloatArray:
@@ -242,7 +248,7 @@ def snapshot_energies(chain: Any, snapshot: Any) -> ChainEnergies:
 
 
 def section_weights(section: ArrayLike, interface: Attribution = "half"
-                    ) -> tuple[FloatArray, FloatArray]:
+                    ) -> tuple[FloatArray, FloatArray, NDArray[np.int64]]:
     """Weight matrices that sum grain and contact quantities into sections.
 
     A grain belongs to its section.  A contact between two grains of the same section,
@@ -254,7 +260,7 @@ def section_weights(section: ArrayLike, interface: Attribution = "half"
     Parameters
     ----------
     section : array_like of int, shape (N,)
-        Section index of each grain, 0 ... S-1.
+        Section index of each grain (any integers, e.g. -1 for a striker).
     interface : {"half", "left", "right"}
         Attribution of interface contacts.
 
@@ -262,13 +268,16 @@ def section_weights(section: ArrayLike, interface: Attribution = "half"
     -------
     grain_w : ndarray, shape (N, S)
     contact_w : ndarray, shape (N + 1, S)
+    ids : ndarray of int, shape (S,)
+        The section index of each column (sorted unique values of ``section``).
     """
-    sec = np.asarray(section)
-    if sec.ndim != 1 or sec.size < 1 or not np.issubdtype(sec.dtype, np.integer) or sec.min() < 0:
-        raise ValueError("section must be a 1-D array of non-negative integers")
+    raw = np.asarray(section)
+    if raw.ndim != 1 or raw.size < 1 or not np.issubdtype(raw.dtype, np.integer):
+        raise ValueError("section must be a non-empty 1-D array of integers")
     if interface not in ("half", "left", "right"):
         raise ValueError(f"interface must be 'half', 'left' or 'right' (got {interface!r})")
-    n, s = sec.size, int(sec.max()) + 1
+    ids, sec = np.unique(raw, return_inverse=True)
+    n, s = sec.size, ids.size
     gw = np.zeros((n, s))
     gw[np.arange(n), sec] = 1.0
     cw = np.zeros((n + 1, s))
@@ -284,20 +293,22 @@ def section_weights(section: ArrayLike, interface: Attribution = "half"
         cw[j, left] = 1.0
     else:
         cw[j, right] = 1.0
-    return gw, cw
+    return gw, cw, ids.astype(np.int64)
 
 
 def section_sums(energies: ChainEnergies, section: ArrayLike, interface: Attribution = "half"
                  ) -> dict[str, FloatArray]:
     """Kinetic, potential, linear, quadratic and total energy of each section, J.
 
-    Returns a dict of arrays of shape (..., S) (see :func:`section_weights` for the
-    attribution of wall and interface contacts).
+    Returns a dict of arrays of shape (..., S), and under ``"sections"`` the section index
+    of each column (see :func:`section_weights` for the attribution of wall and interface
+    contacts).
     """
-    gw, cw = section_weights(section, interface)
+    gw, cw, ids = section_weights(section, interface)
     if energies.kinetic.shape[-1] != gw.shape[0]:
         raise ValueError("section must have one entry per grain")
     k = energies.kinetic @ gw
     p = energies.contact @ cw
     lin = energies.linear @ cw
-    return {"kinetic": k, "potential": p, "linear": lin, "quadratic": p - lin, "total": k + p}
+    return {"kinetic": k, "potential": p, "linear": lin, "quadratic": p - lin, "total": k + p,
+            "sections": ids}

@@ -94,9 +94,14 @@ class EnergyRatios:
 
 
 def _ratios(inc: dict, fin: dict, left: int, right: int, interface: str) -> EnergyRatios:
+    ids = list(inc["sections"])
+    for s in (left, right):
+        if s not in ids:
+            raise ValueError(f"no grain in section {s} (sections: {ids})")
+
     def g(d: dict, key: str, s: int) -> float:
         # states stacked along leading axes are averaged (see energy_ratios)
-        return float(np.mean(d[key][..., s])) if key in d else float("nan")
+        return float(np.mean(d[key][..., ids.index(s)])) if key in d else float("nan")
 
     out = {}
     for short, key in (("k", "kinetic"), ("p", "potential"), ("t", "total")):
@@ -177,8 +182,11 @@ def energy_ratios_from_grid(
 ) -> EnergyRatios:
     """Table 2 ratios from per-grain energies on a (n_times, N) space-time grid.
 
-    Per-grain potential energies already split each contact half to each grain, so the
-    interface contact is attributed half to each side; L and Q are not available (NaN).
+    Per-grain potential energies already split each grain–grain contact half to each
+    grain (the recorded grid of :class:`discrete.Simulation`, and
+    :attr:`ChainEnergies.potential`), so the interface contact is attributed half to
+    each side; L and Q are not available (NaN).  For a grid coarsened over blocks of
+    grains, pass the section of each block.
 
     Parameters
     ----------
@@ -196,11 +204,13 @@ def energy_ratios_from_grid(
     ep = _f(potential, "potential")
     if ek.shape != ep.shape or ek.ndim != 2:
         raise ValueError("kinetic and potential must be (n_times, N) arrays of equal shape")
-    gw, _ = section_weights(section)
+    gw, _, ids = section_weights(section)
+    if gw.shape[0] != ek.shape[1]:
+        raise ValueError("section must have one entry per grain (column) of the grid")
 
     def sums(i: int | ArrayLike) -> dict:
         k, p = ek[np.atleast_1d(i)] @ gw, ep[np.atleast_1d(i)] @ gw
-        return {"kinetic": k, "potential": p, "total": k + p}
+        return {"kinetic": k, "potential": p, "total": k + p, "sections": ids}
 
     return _ratios(sums(i_incident), sums(i_final), left, right, "half")
 
