@@ -6,7 +6,9 @@
 Each worker count gets its own LocalCluster (processes, 1 thread each), warmed up
 first, so the timing is the steady-state throughput of ``run_sweep`` (submission,
 execution, per-point record appends and the final table) without cluster start-up.
-On a machine shared with other jobs, the ratio is only as good as the free cores.
+On a machine shared with other jobs, the ratio is only as good as the free cores: the
+best of ``--repeat`` runs is reported, next to the same calls in bare processes
+without Dask (the machine's own scaling at that moment).
 """
 
 from __future__ import annotations
@@ -73,6 +75,26 @@ def measure(workers: int, spec, fn) -> tuple[float, float]:
         return outcome.n_run / elapsed, float(res["point_wall_time"].mean())
 
 
+def _call(fn, scenario):
+    fn(scenario, out=None, progress=False)
+
+
+def bare(workers: int, spec, fn) -> float:
+    """Points per second of the same calls in bare processes (no Dask): the machine's
+    own scaling, to tell CPU contention from scheduling overhead."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    scenarios = [p.scenario for p in spec.points()]
+    ctx = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
+        tiny = tiny_scenario(spec.point_table(spec.points()[0].values))
+        list(pool.map(functools.partial(_warm, fn), [tiny] * workers))
+        t0 = time.perf_counter()
+        list(pool.map(functools.partial(_call, fn), scenarios))
+        return len(scenarios) / (time.perf_counter() - t0)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=None,
@@ -82,6 +104,10 @@ def main(argv=None) -> int:
     parser.add_argument("--workers", default="1,2", help="worker counts (default 1,2)")
     parser.add_argument("--real", action="store_true",
                         help=f"use the real runner ({DEFAULT_POINT_FUNCTION}) on tiny.toml")
+    parser.add_argument("--repeat", type=int, default=2,
+                        help="repetitions; the best rate is reported (default 2)")
+    parser.add_argument("--no-baseline", dest="baseline", action="store_false",
+                        help="skip the same calls in bare processes (machine baseline)")
     args = parser.parse_args(argv)
     if args.real:
         fn = resolve_point_function(None)
@@ -94,16 +120,23 @@ def main(argv=None) -> int:
     counts = [int(w) for w in args.workers.split(",")]
     print(f"sweep benchmark ({what}); {n} points per run; {os.cpu_count()} cores; "
           f"load average {os.getloadavg()[0]:.2f}")
-    rates = {}
+    rates, base = {}, {}
     for k, w in enumerate(counts):
-        rate, per_point = measure(w, make(n, k), fn)
+        runs = [measure(w, make(n, 10 * k + r), fn) for r in range(args.repeat)]
+        rate, per_point = max(runs)
         rates[w] = rate
-        print(f"  {w} worker(s): {rate:7.3f} points/s  (mean point wall time {per_point:.3f} s)")
+        line = f"  {w} worker(s): {rate:7.3f} points/s  (mean point wall time {per_point:.3f} s)"
+        if args.baseline:
+            base[w] = max(bare(w, make(n, k), fn) for _ in range(args.repeat))
+            line += f"; bare processes without Dask {base[w]:7.3f} points/s"
+        print(line)
     if 1 in rates and len(rates) > 1:
         for w in counts:
             if w != 1:
-                print(f"  scaling {w} vs 1 worker(s): {rates[w] / rates[1]:.2f}x "
-                      f"(ideal {w}x)")
+                text = f"  scaling {w} vs 1 worker(s): {rates[w] / rates[1]:.2f}x (ideal {w}x"
+                if base:
+                    text += f"; bare processes on this machine now: {base[w] / base[1]:.2f}x"
+                print(text + ")")
     return 0
 
 
