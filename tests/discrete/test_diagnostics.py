@@ -625,7 +625,7 @@ def test_heavy_light_gaps_and_modes_at_interface():
     nl = 40
     dt = 4e-8
     ch, ini, rec = _run("a", 0.0, nl=nl, nr=100, center=20, travel=80, dt=dt, snapshots=3,
-                        series=[nl - 6, nl - 2, nl + 1])
+                        series=[nl - 6, nl - 2, nl + 1, nl + 5])
     a = rec.arrays()
     t = a["series_t"]
     u, v, rl, rr = (a["series"][:, :, q] for q in range(4))
@@ -642,6 +642,15 @@ def test_heavy_light_gaps_and_modes_at_interface():
     # the 2nd contact-move of grain N_L-2 starts when this gap closes again (one sample)
     assert near.segments[3].start == pytest.approx(gaps.closings[1], abs=dt)
     assert near.segments[2].start == pytest.approx(gaps.openings[0], abs=dt)
+    # 1st/2nd parts by collisions: pulses passing grain N_L+5, each assigned to the last
+    # closing of contact N_L-1 before it (delay: ~6 grains at the incident speed)
+    pulses = D.find_pulses(v[:, 3], threshold=0.01)
+    t_pulse = np.interp([p.position for p in pulses], np.arange(t.size), t)
+    parts = D.assign_parts_by_collisions(t_pulse, gaps.closings,
+                                         delay=6 / ini.params["grain_rate"])
+    assert parts[0] == 1 and np.all(np.diff(parts) >= 0) and 2 in parts
+    amps = np.array([p.amplitude for p in pulses])
+    assert amps[parts == 1].max() > 5 * amps[parts == 2].max()  # the 1st part dominates
     # transmitted wave: a fractured train (γ_c0 > 1), pulses separating
     c = D.classify_transmitted(rec.snapshots[1].v, lo=nl, later_signal=rec.snapshots[2].v)
     assert c.label == "fracture" and c.n_pulses >= 3 and c.second_ratio > 0.4
