@@ -16,6 +16,7 @@ amplitude ~|γ - 1|/2), so a detection threshold and the solitary wave's nonline
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -51,7 +52,8 @@ class Agreement:
     n_classified : int
         Points with status "ok" and finite (α_ρ, α_kn).
     fraction_agree, fraction_agree_transmitted, fraction_agree_reflected : float
-        Fractions of those points whose both / transmitted / reflected labels agree.
+        Fractions of those points (off the lines, unless ``strict_lines``) whose both /
+        transmitted / reflected labels agree.
     band_gamma_c0, band_gamma_rg : float
         Half-widths in |ln γ| of the disagreement bands around γ_c0 = 1 and γ_RG = 1
         (0 if every point agrees).
@@ -63,6 +65,10 @@ class Agreement:
     disagreeing : list of dict
         ``id``, ``alpha_rho``, ``alpha_kn``, measured and predicted labels per
         disagreeing point.
+    n_on_line_c0, n_on_line_rg : int
+        Points on γ_c0 = 1 / γ_RG = 1 (within ``tol``).
+    on_line_labels : dict
+        Measured labels of those points, counted, per line.
     """
 
     n_classified: int
@@ -76,6 +82,9 @@ class Agreement:
     n_in_band_c0: int
     n_in_band_rg: int
     disagreeing: list[dict] = field(default_factory=list)
+    n_on_line_c0: int = 0
+    n_on_line_rg: int = 0
+    on_line_labels: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """JSON-able dict."""
@@ -94,7 +103,10 @@ class Agreement:
             f"disagreement band around gamma_RG = 1: |ln gamma_RG| <= "
             f"{self.band_gamma_rg:.3g} (gamma_RG in [{np.exp(-self.band_gamma_rg):.3g}, "
             f"{np.exp(self.band_gamma_rg):.3g}]; {self.n_in_band_rg} points; grid step "
-            f"{self.grid_step_gamma_rg:.3g})")
+            f"{self.grid_step_gamma_rg:.3g})\n"
+            f"on the lines: gamma_c0 = 1: {self.n_on_line_c0} points "
+            f"{self.on_line_labels.get('gamma_c0=1', {})}; gamma_RG = 1: "
+            f"{self.n_on_line_rg} points {self.on_line_labels.get('gamma_RG=1', {})}")
 
 
 def _grid_step(x: np.ndarray) -> float:
@@ -104,7 +116,12 @@ def _grid_step(x: np.ndarray) -> float:
     return float(steps.min()) if steps.size else float("nan")
 
 
-def classification_agreement(results: SweepResults, *, tol: float = 1e-9) -> Agreement:
+def _mean(x: np.ndarray) -> float:
+    return float(np.mean(x)) if x.size else float("nan")
+
+
+def classification_agreement(results: SweepResults, *, tol: float = 1e-9,
+                             strict_lines: bool = False) -> Agreement:
     """Compare measured labels with the theory regions and measure the disagreement bands.
 
     Parameters
@@ -113,7 +130,12 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9) -> Agr
         A table with columns ``alpha_rho``, ``alpha_kn``, ``status``, ``transmitted``
         and ``reflected``.
     tol : float
-        Distance in |ln γ| within which theory predicts "none" (a point on a line).
+        Distance in |ln γ| within which a point lies on a line, where theory predicts
+        "none".
+    strict_lines : bool
+        Require "none" on the lines.  By default points on a line are not compared for
+        that label (a classifier must often pick a side there, e.g. fracture vs squeeze
+        at γ_c0 = 1); their measured labels are counted in ``on_line_labels``.
 
     Returns
     -------
@@ -124,14 +146,17 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9) -> Agr
     mask = results.ok & np.isfinite(ar) & np.isfinite(ak) & (ar > 0) & (ak > 0)
     n = int(mask.sum())
     if n == 0 or "transmitted" not in results:
-        return Agreement(0, float("nan"), float("nan"), float("nan"), 0.0, 0.0,
-                         float("nan"), float("nan"), 0, 0)
+        nan = float("nan")
+        return Agreement(0, nan, nan, nan, 0.0, 0.0, nan, nan, 0, 0)
     ar, ak = ar[mask], ak[mask]
     ids = results["id"][mask]
     meas_t = results["transmitted"][mask]
     meas_r = results["reflected"][mask]
     pred_t, pred_r = predicted_labels(ar, ak, tol=tol)
+    on_t, on_r = pred_t == "none", pred_r == "none"
     ok_t, ok_r = meas_t == pred_t, meas_r == pred_r
+    if not strict_lines:
+        ok_t, ok_r = ok_t | on_t, ok_r | on_r
     lc = np.abs(np.log(np.atleast_1d(theory.gamma_c0(ar, ak))))
     lr = np.abs(np.log(np.atleast_1d(theory.gamma_rg(ar, ak))))
     band_c = float(lc[~ok_t].max()) if (~ok_t).any() else 0.0
@@ -141,11 +166,18 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9) -> Agr
                     "transmitted": str(meas_t[i]), "predicted_transmitted": str(pred_t[i]),
                     "reflected": str(meas_r[i]), "predicted_reflected": str(pred_r[i])}
                    for i in bad]
+    counted_t = np.ones(n, bool) if strict_lines else ~on_t
+    counted_r = np.ones(n, bool) if strict_lines else ~on_r
+    both = counted_t & counted_r
+    on_line = {
+        "gamma_c0=1": dict(Counter(str(x) for x in meas_t[on_t])),
+        "gamma_RG=1": dict(Counter(str(x) for x in meas_r[on_r])),
+    }
     return Agreement(
         n_classified=n,
-        fraction_agree=float(np.mean(ok_t & ok_r)),
-        fraction_agree_transmitted=float(np.mean(ok_t)),
-        fraction_agree_reflected=float(np.mean(ok_r)),
+        fraction_agree=_mean((ok_t & ok_r)[both]),
+        fraction_agree_transmitted=_mean(ok_t[counted_t]),
+        fraction_agree_reflected=_mean(ok_r[counted_r]),
         band_gamma_c0=band_c,
         band_gamma_rg=band_r,
         grid_step_gamma_c0=_grid_step(lc),
@@ -153,4 +185,7 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9) -> Agr
         n_in_band_c0=int(np.count_nonzero(lc <= band_c)) if band_c > 0 else 0,
         n_in_band_rg=int(np.count_nonzero(lr <= band_r)) if band_r > 0 else 0,
         disagreeing=disagreeing,
+        n_on_line_c0=int(on_t.sum()),
+        n_on_line_rg=int(on_r.sum()),
+        on_line_labels=on_line,
     )

@@ -6,6 +6,7 @@ import json
 import numpy as np
 import pytest
 
+import theory
 from hertzchain.sweep import (
     classification_agreement,
     parse_sweep_spec,
@@ -58,6 +59,23 @@ def test_agreement_is_total_without_a_band(tmp_path):
     assert agr.n_classified == 121
     assert agr.fraction_agree == 1.0 and agr.band_gamma_c0 == 0 and agr.band_gamma_rg == 0
     assert agr.disagreeing == []
+    # 11 log-spaced values with 1 in the middle: points on γ_c0 = 1 need α_kn = α_ρ^1.5
+    # 11 values spaced ln(25)/10 with 1 in the middle: γ_c0 = 1 needs α_kn = α_ρ^1.5, i.e.
+    # steps (i, 1.5 i) for i = -2, 0, 2
+    assert agr.n_on_line_c0 == 3 and agr.on_line_labels["gamma_c0=1"] == {"none": 3}
+    assert agr.n_on_line_rg == 3
+
+
+def test_points_on_the_lines(tmp_path):
+    """A classifier that picks a side on γ_c0 = 1 agrees unless the lines are strict."""
+    res = read_results(synthetic_table(tmp_path, grid_spec()))
+    on = np.abs(np.log(res["gamma_c0"])) < 1e-9
+    res.columns["transmitted"] = np.where(on, "squeeze", res["transmitted"]).astype(object)
+    agr = classification_agreement(res)
+    assert agr.fraction_agree == 1.0 and agr.on_line_labels["gamma_c0=1"] == {"squeeze": 3}
+    strict = classification_agreement(res, strict_lines=True)
+    assert strict.fraction_agree == pytest.approx(118 / 121)
+    assert strict.band_gamma_c0 < 1e-9 and len(strict.disagreeing) == 3
 
 
 def test_agreement_measures_the_band(tmp_path):
@@ -73,7 +91,10 @@ def test_agreement_measures_the_band(tmp_path):
     lc = np.abs(np.log(res["gamma_c0"][res.ok]))
     outside = lc > agr.band_gamma_c0
     assert np.all(res["transmitted"][res.ok][outside] != "none")
-    assert len(agr.disagreeing) == round((1 - agr.fraction_agree) * agr.n_classified)
+    for d in agr.disagreeing:
+        lc = abs(np.log(float(theory.gamma_c0(d["alpha_rho"], d["alpha_kn"]))))
+        lr = abs(np.log(float(theory.gamma_rg(d["alpha_rho"], d["alpha_kn"]))))
+        assert lc <= agr.band_gamma_c0 or lr <= agr.band_gamma_rg
     assert "disagreement band around gamma_c0 = 1" in agr.summary()
     json.dumps(agr.to_dict())
 
