@@ -1,0 +1,124 @@
+r"""Continuum solutions sampled grain by grain, for comparison with the discrete solver.
+
+Because the number of nodes per grain is odd, a node sits on every grain centre, so
+grain displacements and velocities are read off without interpolation.  Everything
+else is then computed with the *discrete* chain's formulas (paper Eq. 1, 2), so that a
+continuum run and a DEM run are compared with identical definitions:
+
+* overlap of contact j: δ_j = δ0_j + u_{j-1} - u_j (walls at rest; a free end keeps
+  δ0; periodic chains wrap), m;
+* kinetic energy of grain i: ½ m_i v_i², J;
+* potential energy of contact j: the contact energy minus the static energy of the same
+  contact, (2/5) k_j ([δ_j]_+^{5/2} - δ0_j^{5/2}), J (paper Table 2, PHYSICS.md §6 —
+  it keeps the linear term F0 (δ_j - δ0_j), so an expansive wave has negative
+  potential energy);
+* energy of grain i: kinetic plus half of each of its two contacts.
+
+The continuum equations conserve their own functionals
+(:meth:`~continuum.base.ChainPDEBase.energy`); the grain-sampled energies agree with
+them to the accuracy of the long-wave approximation, O(d²/L²).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["GrainSample", "sample_grains", "section_energies"]
+
+
+@dataclass(frozen=True)
+class GrainSample:
+    """A continuum state sampled at the grains (arrays per grain or per contact).
+
+    Attributes
+    ----------
+    u, v : numpy.ndarray, shape (N,)
+        Grain displacement (m) and velocity (m/s).
+    overlap : numpy.ndarray, shape (N+1,)
+        Contact overlaps δ_j, m.
+    kinetic : numpy.ndarray, shape (N,)
+        ½ m v², J.
+    potential : numpy.ndarray, shape (N+1,)
+        (2/5) k ([δ]_+^{5/2} - δ0^{5/2}) per contact, J.
+    force : numpy.ndarray, shape (N+1,)
+        Contact force k [δ]_+^{3/2}, N.
+    delta0 : numpy.ndarray, shape (N+1,)
+        Static overlaps, m.
+    force0 : float
+        Static contact force F0, N.
+    """
+
+    u: np.ndarray
+    v: np.ndarray
+    overlap: np.ndarray
+    kinetic: np.ndarray
+    potential: np.ndarray
+    force: np.ndarray
+    delta0: np.ndarray
+    force0: float
+
+    @property
+    def grain_energy(self) -> np.ndarray:
+        """Kinetic energy plus half of each adjacent contact's potential energy, J."""
+        return self.kinetic + 0.5 * (self.potential[:-1] + self.potential[1:])
+
+    @property
+    def strain(self) -> np.ndarray:
+        """Dynamic overlap change δ_j - δ0_j, m."""
+        return self.overlap - self.delta0
+
+
+def sample_grains(pde, state) -> GrainSample:
+    """Sample a chain-PDE state (u, v) at the grains (see module docstring).
+
+    Parameters
+    ----------
+    pde : ChainPDEBase
+        The equation whose state it is (gives medium, nodes and boundary condition).
+    state : FieldCollection
+        The state (u, v).
+    """
+    med, disc = pde.medium, pde.disc
+    u = np.asarray(state[0].data)[disc.grain_nodes].copy()
+    v = np.asarray(state[1].data)[disc.grain_nodes].copy()
+    du = np.empty(med.n_grains + 1)
+    du[1:-1] = u[:-1] - u[1:]
+    if pde.bc == "wall":
+        du[0], du[-1] = -u[0], u[-1]
+    elif pde.bc == "free":
+        du[0] = du[-1] = 0.0
+    else:
+        du[0] = du[-1] = u[-1] - u[0]
+    overlap = med.delta0 + du
+    dp = np.maximum(overlap, 0.0)
+    return GrainSample(
+        u=u, v=v, overlap=overlap,
+        kinetic=0.5 * med.mass * v * v,
+        potential=0.4 * med.k * (dp**2.5 - med.delta0**2.5),
+        force=med.k * dp**1.5,
+        delta0=med.delta0.copy(),
+        force0=med.force0,
+    )
+
+
+def section_energies(sample: GrainSample, n_left: int) -> dict[str, dict[str, float]]:
+    """Kinetic, potential and total energy left and right of contact ``n_left``, J.
+
+    The interface contact (between grains ``n_left - 1`` and ``n_left``) is split half
+    to each side (PHYSICS.md §6: once the waves have separated its share is negligible).
+    ``potential_linear`` is the linear part of the potential energy,
+    F0 Σ(δ_j - δ0_j), used by :func:`theory.table2_prediction`.
+    """
+    pot, lin = sample.potential, sample.force0 * sample.strain
+    out = {}
+    for side, grains, contacts, half in (
+        ("left", slice(0, n_left), slice(0, n_left), n_left),
+        ("right", slice(n_left, None), slice(n_left + 1, None), n_left),
+    ):
+        ek = float(sample.kinetic[grains].sum())
+        ep = float(pot[contacts].sum() + 0.5 * pot[half])
+        out[side] = {"kinetic": ek, "potential": ep, "total": ek + ep,
+                     "potential_linear": float(lin[contacts].sum() + 0.5 * lin[half])}
+    return out

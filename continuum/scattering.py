@@ -1,0 +1,169 @@
+r"""Energy scattering of a solitary wave at a composite-chain interface (paper Table 2).
+
+:func:`energy_ratios` launches the paper's incident solitary wave in the left section of
+a two-section chain (:meth:`Medium.two_section`), lets it cross the interface with a
+continuum solver, and returns the transmitted and reflected fractions of the incident
+kinetic, potential and total energy, defined exactly as in the paper's Table 2 and
+PHYSICS.md §6: energies are computed per grain with the discrete formulas
+(:mod:`continuum.sampling`), the potential energy being the contact energy minus the
+static energy of the same contacts; incident energies are those of the initial wave
+(entirely in the left section); transmitted/reflected energies are the right/left
+section totals once the transmitted peak is ``distance`` grains past the interface.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+import theory
+
+from .boussinesq import BoussinesqPDE
+from .initial import from_grains, solitary_wave, solitary_wave_parameters
+from .medium import Medium
+from .nesterenko import NesterenkoPDE
+from .sampling import sample_grains, section_energies
+from .solver import run
+
+__all__ = ["energy_ratios", "PAPER_VELOCITY_MAX"]
+
+PAPER_VELOCITY_MAX = 0.0822
+"""Peak grain velocity of the paper's incident wave at δ0/d = 1e-3, v0 = 1 m/s, m/s
+(v̄max/v0 = 0.0822, paper Section 2, Fig. 2b)."""
+
+
+def energy_ratios(
+    alpha_rho: float,
+    alpha_kn: float,
+    *,
+    delta0_over_d: float = 1e-3,
+    velocity_max: float = PAPER_VELOCITY_MAX,
+    lead: int = 100,
+    distance: int = 100,
+    n: int = 5,
+    model: str = "boussinesq",
+    nonlinearity: str = "quadratic",
+    order: int = 4,
+    initial: tuple[np.ndarray, np.ndarray] | None = None,
+    material: theory.Material = theory.PAPER_MATERIAL,
+    diameter: float = theory.PAPER_DIAMETER,
+) -> dict[str, Any]:
+    """Continuum transmitted/reflected energy ratios for one interface (Table 2).
+
+    Parameters
+    ----------
+    alpha_rho, alpha_kn : float
+        ρ^R/ρ^L and k_n^R/k_n^L (e.g. ``theory.PAPER_POINTS["M"]``).
+    delta0_over_d : float
+        Static overlap of the left section, δ0^L/d (paper: 1e-3).
+    velocity_max : float
+        Peak grain velocity of the incident wave, m/s (paper: 0.0822 for v0 = 1 m/s).
+    lead : int
+        Initial distance of the incident peak from the interface, grains.  The left
+        section is made long enough (``lead`` + the reflected wave's path + 100) that
+        nothing reaches its free end before the measurement: the end carries the static
+        force F0, and any motion of it would add work F0 Δu to the Table-2 energies.
+    distance : int
+        The ratios are measured when the transmitted peak is this many grains past the
+        interface (PHYSICS.md §6: for point P Ek_tr drifts slowly with distance).
+    n : int
+        Nodes per grain (odd).
+    model : {"boussinesq", "nesterenko"}
+        Regularised Eq. 4 (:class:`BoussinesqPDE`) or Eq. 7 (:class:`NesterenkoPDE`).
+    nonlinearity : {"quadratic", "hertz"}
+        Flux of the Boussinesq model (Eq. 4's quadratic expansion or the Hertz law).
+    order : {2, 4}
+        Order of the symplectic time stepper.
+    initial : (u, v), optional
+        Incident wave as per-grain arrays over the whole chain (e.g. the exact discrete
+        solitary wave); default: the sech² solitary wave of the regularised Eq. 4.
+    material, diameter :
+        Left-section material and grain diameter (m).
+
+    Returns
+    -------
+    dict
+        ``Ek_tr, Ek_re, Ep_tr, Ep_re, Et_tr, Et_re`` (Table 2 columns), ``prediction``
+        (:func:`theory.table2_prediction` for the same incident energies),
+        ``incident`` energies (J), ``measured_past_interface`` (grains, the actual
+        transmitted peak position), ``energy_drift`` (relative, of the conserved
+        functional), ``gamma_c0``, ``gamma_rg`` and the run parameters.
+    """
+    d = diameter
+    g_c0 = float(theory.gamma_c0(alpha_rho, alpha_kn))
+    n_left = lead + int(np.ceil(distance / min(g_c0, 1.0))) + 100
+    n_right = int(np.ceil(distance * max(g_c0, 1.0))) + 150
+    med = Medium.two_section(n_left, n_right, delta0_over_d * d, alpha_rho, alpha_kn,
+                             material=material, diameter=d)
+    if model == "boussinesq":
+        pde = BoussinesqPDE(med, n, bc="free", nonlinearity=nonlinearity)
+    elif model == "nesterenko":
+        amp = solitary_wave_parameters(BoussinesqPDE(med, 1), 0.0,
+                                       velocity_max=velocity_max)["amplitude"]
+        pde = NesterenkoPDE(med, n, bc="free", delta_floor=1e-2 * amp)
+    else:
+        raise ValueError(f"model must be 'boussinesq' or 'nesterenko' (got {model!r})")
+    center = float(n_left - lead)
+    if initial is None:
+        state = solitary_wave(pde if model == "boussinesq" else BoussinesqPDE(med, n),
+                              center, velocity_max=velocity_max)
+        state = pde.get_initial_condition(state[0].data, state[1].data)
+    else:
+        state = from_grains(pde, *initial)
+    par = solitary_wave_parameters(BoussinesqPDE(med, 1), center, velocity_max=velocity_max)
+    c_r = med.sound_speed()[-2]
+    t_end = lead / par["speed"] + distance / c_r
+    res = run(pde, state, t_end, order=order, interval=t_end / 4)
+
+    inc = section_energies(sample_grains(pde, state), n_left)["left"]
+    final = sample_grains(pde, res["state"])
+    sec = section_energies(final, n_left)
+    inc_f = _functional_sections(pde, state, n_left)["left"]
+    out: dict[str, Any] = _ratios(_functional_sections(pde, res["state"], n_left), inc_f)
+    out["grains"] = _ratios(sec, inc)
+    g_rg = float(theory.gamma_rg(alpha_rho, alpha_kn))
+    lin = inc["potential_linear"]
+    # linear acoustics for the same incident energies
+    out["prediction"] = theory.table2_prediction(g_rg, inc["kinetic"], lin,
+                                                 inc["potential"] - lin)
+    out["incident"] = inc
+    out["measured_past_interface"] = float(np.argmax(final.v[n_left:]) + 0.5)
+    out["energy_drift"] = res.energy_drift
+    out["gamma_c0"] = g_c0
+    out["gamma_rg"] = g_rg
+    out["parameters"] = {"alpha_rho": alpha_rho, "alpha_kn": alpha_kn,
+                         "delta0_over_d": delta0_over_d, "velocity_max_m_s": velocity_max,
+                         "n_left": n_left, "n_right": n_right, "lead": lead,
+                         "distance": distance, "n": n,
+                         "model": model, "nonlinearity": nonlinearity, "order": order}
+    return out
+
+
+def _ratios(sec: dict, inc: dict) -> dict[str, float]:
+    out = {}
+    for kind, key in (("k", "kinetic"), ("p", "potential"), ("t", "total")):
+        out[f"E{kind}_tr"] = sec["right"][key] / inc[key]
+        out[f"E{kind}_re"] = sec["left"][key] / inc[key]
+    return out
+
+
+def _functional_sections(pde, state, n_left: int) -> dict[str, dict[str, float]]:
+    """Section energies from the equation's own conserved densities, J.
+
+    Kinetic: the functional's kinetic energy (for the Rosenau form it includes
+    (m/24) u_Xt²); potential: the dynamic density W plus F0 s (so that it is the
+    contact energy minus the static energy, as in Table 2).  Faces at the interface
+    contact are split half to each side.
+    """
+    ek, ep = pde.energy_density(state)
+    disc = pde.disc
+    ep = ep + disc.h * pde._face_weight * disc.force0 * pde.strain(np.asarray(state[0].data))
+    x_i = n_left - 0.5
+    wf = np.where(np.isclose(disc.x_faces, x_i), 0.5, (disc.x_faces < x_i).astype(float))
+    wn = (disc.x_nodes < x_i).astype(float)
+    out = {}
+    for side, a, b in (("left", wn, wf), ("right", 1 - wn, 1 - wf)):
+        k, p = float(np.sum(a * ek)), float(np.sum(b * ep))
+        out[side] = {"kinetic": k, "potential": p, "total": k + p}
+    return out
