@@ -228,7 +228,7 @@ def cut_wave(chain: Chain, centre: int, *, v0: float = 1.0, settle_grains: int |
 
 
 def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None,
-               amplitude: float | None = None, tail: float = 1e-13, **kwargs) -> Initial:
+               amplitude: float | None = None, tail: float = 1e-12, **kwargs) -> Initial:
     """The exact discrete solitary wave (:func:`theory.discrete_solitary_wave`), right-going.
 
     The travelling wave r_j(t) = R(j - centre - s t) of Eq. 2 (PHYSICS.md §7) for the
@@ -238,8 +238,10 @@ def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None
     dynamic overlap r_max - δ0, m).  Grains behind the wave and the left wall carry the
     net shift D of the wave.  Every grain and contact where the wave's velocity or
     dynamic overlap exceeds ``tail`` × its peak must have the wave's parameters
-    (ValueError otherwise: the wave does not fit in the chain or section).  Other keyword
-    arguments go to :func:`theory.discrete_solitary_wave`.
+    (ValueError otherwise: the wave does not fit in the chain or section).  Velocities
+    below ``tail`` × peak are set to exactly 0 (the spectral sampling leaves a uniform
+    ~1e-13 × peak velocity behind the wave), so the grains behind it are inert.  Other
+    keyword arguments go to :func:`theory.discrete_solitary_wave`.
     """
     from theory import discrete_solitary_wave
 
@@ -267,7 +269,8 @@ def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None
                              f"{grains.min()}..{grains.max()}) differs from that at the "
                              f"centre: the wave does not fit in one section")
     wl = float(st.wall_displacement[0]) if chain.k[0] > 0 else 0.0
-    return Initial(chain, u.copy(), v.copy(), wall_left=wl,
+    v = np.where(mov, v, 0.0)
+    return Initial(chain, u.copy(), v, wall_left=wl,
                    params={"kind": "exact_wave", "centre": c, "speed": w.speed,
                            "grain_rate": w.grain_rate, "velocity_max": w.velocity_max,
                            "amplitude": w.amplitude, "net_shift": w.net_shift,

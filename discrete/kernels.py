@@ -12,10 +12,12 @@ static force :math:`f_{0,j} = k_j\delta_{0,j}^{3/2}`:
 static force is the same F0 (force equilibrium), subtracting f0 per contact changes
 Eq. 2 by at most one rounding error of F0; it makes a grain at rest with unstrained
 contacts (:math:`u_{j-1} = u_j`, evaluated as a difference first so that
-:math:`r_j = \delta_{0,j}` *exactly*) have exactly zero acceleration.  Hence grains
-outside the region reached by the disturbance never change, and integrating only the
-active window ``[lo, hi]`` (grown by one grain per step) is bitwise identical to
-integrating the whole chain.
+:math:`r_j = \delta_{0,j}` *exactly*) have exactly zero acceleration: it is *inert*
+and stays so until a neighbour moves.  In one step a disturbance moves at most one
+grain (the force pass reads the drifted neighbours), so integrating only the window
+``[lo, hi]`` outside which every grain is inert, grown by one grain on a side before
+each step at which its edge grain is not inert, is bitwise identical to integrating
+the whole chain.
 
 Time stepping is velocity Verlet (kick–drift–kick; the paper's Section 2; Swope et al.,
 J. Chem. Phys. 76 (1982) 637, Eq. 7):
@@ -68,6 +70,15 @@ def accelerations(u, a, inv_m, k, d0, f0, wl, wr, lo, hi):
 
 
 @numba.njit(**_JIT)
+def _active(u, v, k, wl, wr, i):
+    """Grain i is not inert: it moves, or one of its (present) contacts is strained."""
+    n = u.size
+    ul = wl if i == 0 else u[i - 1]
+    ur = wr if i == n - 1 else u[i + 1]
+    return v[i] != 0.0 or (k[i] != 0.0 and ul != u[i]) or (k[i + 1] != 0.0 and ur != u[i])
+
+
+@numba.njit(**_JIT)
 def run_chunk(u, v, a, inv_m, k, d0, f0, wl, wr, dt, nsteps, lo, hi,
               vmax, umax, track, watch, wmax, wthr, ts_idx, ts_every, step0, ts_out):
     """Advance ``nsteps`` velocity-Verlet steps on grains ``lo..hi`` in place.
@@ -83,8 +94,9 @@ def run_chunk(u, v, a, inv_m, k, d0, f0, wl, wr, dt, nsteps, lo, hi,
     dt : float
         Time step, s.
     nsteps, lo, hi : int
-        Steps to take and the window; ``lo - nsteps .. hi + nsteps`` must cover every
-        grain the disturbance can reach (the caller grows the window).
+        Steps to take and the window: every grain outside ``lo..hi`` must be inert
+        (:func:`active_window`).  The window grows by one grain on a side before each
+        step at which its edge grain is not inert.
     vmax, umax : (N,) float arrays
         Running maxima of v (every step) and u (every ``UMAX_EVERY`` global steps and
         when an event fires), updated in place when ``track``.
@@ -108,22 +120,28 @@ def run_chunk(u, v, a, inv_m, k, d0, f0, wl, wr, dt, nsteps, lo, hi,
 
     Returns
     -------
-    steps, rows, fired : int
-        Steps taken (< nsteps if an event fired), time-series rows written, and the
-        index q of the watched grain whose event fired (-1: none).
+    steps, rows, fired, lo, hi : int
+        Steps taken (< nsteps if an event fired), time-series rows written, the index
+        q of the watched grain whose event fired (-1: none), and the final window.
     """
     n = u.size
     hdt = 0.5 * dt
     rows = 0
-    # Views starting at the window so that loop indices start at 0 (numba then proves
-    # them non-negative, drops the wrap-around test and vectorises the loops).
-    m = hi - lo + 1  # window grains
-    mi = min(hi, n - 2) - lo + 1  # of which have a right neighbour (hi == n-1: wall)
-    uw, vw, aw, imw = u[lo:hi + 1], v[lo:hi + 1], a[lo:hi + 1], inv_m[lo:hi + 1]
-    vmw, umw = vmax[lo:hi + 1], umax[lo:hi + 1]
-    ur_w = u[lo + 1:]
-    kw, d0w, f0w = k[lo + 1:], d0[lo + 1:], f0[lo + 1:]
     for s in range(1, nsteps + 1):
+        # Grow the window by one grain on a side whose edge grain is not inert: only
+        # its neighbour can start moving during this step (see the module docstring).
+        if lo > 0 and _active(u, v, k, wl, wr, lo):
+            lo -= 1
+        if hi < n - 1 and _active(u, v, k, wl, wr, hi):
+            hi += 1
+        # Views starting at the window so that loop indices start at 0 (numba then
+        # proves them non-negative, drops the wrap-around test and vectorises).
+        m = hi - lo + 1  # window grains
+        mi = min(hi, n - 2) - lo + 1  # of which have a right neighbour (else: wall)
+        uw, vw, aw, imw = u[lo:hi + 1], v[lo:hi + 1], a[lo:hi + 1], inv_m[lo:hi + 1]
+        vmw, umw = vmax[lo:hi + 1], umax[lo:hi + 1]
+        ur_w = u[lo + 1:]
+        kw, d0w, f0w = k[lo + 1:], d0[lo + 1:], f0[lo + 1:]
         # pass 1: half kick + drift (Verlet).  Every UMAX_EVERY (global) steps the same
         # pass also updates the running max of u: u is smooth at its maximum (v = 0
         # there), so the sampling error is <= |a| (UMAX_EVERY dt)²/8.
@@ -188,8 +206,8 @@ def run_chunk(u, v, a, inv_m, k, d0, f0, wl, wr, dt, nsteps, lo, hi,
             if track:
                 for i in range(m):
                     umw[i] = max(umw[i], uw[i])
-            return s, rows, fired
-    return nsteps, rows, -1
+            return s, rows, fired, lo, hi
+    return nsteps, rows, -1, lo, hi
 
 
 @numba.njit(**_JIT)
@@ -200,21 +218,16 @@ def active_window(u, v, k, wl, wr, lo, hi):
     walls included; an absent contact, k = 0, never strains).  Grains outside
     ``[lo, hi]`` must already be inert.
     """
-    n = u.size
     first = -1
     for i in range(lo, hi + 1):
-        ul = wl if i == 0 else u[i - 1]
-        ur = wr if i == n - 1 else u[i + 1]
-        if v[i] != 0.0 or (k[i] != 0.0 and ul != u[i]) or (k[i + 1] != 0.0 and ur != u[i]):
+        if _active(u, v, k, wl, wr, i):
             first = i
             break
     if first < 0:
         return -1, -1
     last = first
     for i in range(hi, first - 1, -1):
-        ul = wl if i == 0 else u[i - 1]
-        ur = wr if i == n - 1 else u[i + 1]
-        if v[i] != 0.0 or (k[i] != 0.0 and ul != u[i]) or (k[i + 1] != 0.0 and ur != u[i]):
+        if _active(u, v, k, wl, wr, i):
             last = i
             break
     return first, last

@@ -392,17 +392,12 @@ class Simulation:
                     if s_idx.size and self.steps % s_every == 0:
                         self._append_series(self._series_row(), self.steps)
                 else:
-                    if self.active_window:
-                        nsteps = min(nsteps, max(32, (self._hi - self._lo + 1) // 8))
-                        lo = max(0, self._lo - nsteps)
-                        hi = min(n - 1, self._hi + nsteps)
-                    else:
-                        lo, hi = 0, n - 1
-                    phase = self.steps % s_every
-                    done, rows, fired = K.run_chunk(
+                    lo, hi = self._lo, self._hi
+                    done, rows, fired, lo, hi = K.run_chunk(
                         self.u, self.v, self.a, self._inv_m, self._k, self._d0, self._f0,
                         self.wall_left, self.wall_right, self.dt, nsteps, lo, hi, vmax, umax,
                         rec.maxima, watch, wmax, wthr, s_idx, s_every, self.steps, ts_buf)
+                    phase = self.steps % s_every
                     if rows:
                         first = self.steps + (s_every - phase if phase else s_every)
                         steps_r = first + s_every * np.arange(rows)
