@@ -37,16 +37,28 @@ def _positive_float(text: str) -> float:
 
 def cmd_sweep(args: argparse.Namespace) -> int:
     """Run (or resume) a sweep; exit 0 when every point has a record, 1 if some are pending."""
-    from .engine import DEFAULT_POINT_FUNCTION, default_workers, run_sweep
-    from .spec import load_sweep_spec
+    from .engine import (
+        DEFAULT_POINT_FUNCTION,
+        default_workers,
+        function_name,
+        points_to_run,
+        resolve_point_function,
+        run_sweep,
+    )
+    from .spec import SweepError, load_sweep_spec
     from .store import RecordStore
 
     spec = load_sweep_spec(args.spec)
     points = spec.points()
     out = args.out if args.out is not None else Path.cwd() / f"{spec.name}-sweep"
     records = RecordStore(out / "records.jsonl").load()
-    done = sum(1 for p in points if p.id in records
-               and (records[p.id]["status"] == "ok" or not args.retry_failed))
+    try:
+        fname = function_name(resolve_point_function(args.point_function))
+    except SweepError:
+        if not args.dry_run:
+            raise
+        fname = None  # a dry run may go without the point function
+    done = len(points) - len(points_to_run(points, records, fname, args.retry_failed))
     where = (f"scheduler {args.scheduler}" if args.scheduler else
              f"a local cluster of {args.workers or default_workers()} worker process(es)")
     shape = " x ".join(str(n) for n in spec.shape)

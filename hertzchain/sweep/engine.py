@@ -45,6 +45,8 @@ __all__ = [
     "SweepOutcome",
     "run_sweep",
     "resolve_point_function",
+    "function_name",
+    "points_to_run",
     "tiny_scenario",
     "default_workers",
 ]
@@ -128,6 +130,35 @@ def resolve_point_function(fn: PointFunction | str | None) -> PointFunction:
     if not callable(obj):
         raise SweepError(f"point function {text!r} is not callable")
     return obj
+
+
+def function_name(fn: PointFunction) -> str:
+    """Stable name of a point function, ``module:qualname`` (with a partial's arguments).
+
+    Stored with every record: a record made by another function counts as missing.
+    """
+    if isinstance(fn, functools.partial):
+        args = [repr(a) for a in fn.args] + [f"{k}={v!r}" for k, v in sorted(fn.keywords.items())]
+        return f"{function_name(fn.func)}({', '.join(args)})"
+    module = getattr(fn, "__module__", None) or type(fn).__module__
+    qualname = getattr(fn, "__qualname__", None) or type(fn).__qualname__
+    return f"{module}:{qualname}"
+
+
+def points_to_run(points: list[Point], records: Mapping[str, dict], fname: str | None,
+                  retry_failed: bool = False) -> list[Point]:
+    """The points a run has to compute.
+
+    Those without a record, with a record made by another function (unless ``fname``
+    is None) or, with ``retry_failed``, with a failed record.
+    """
+    todo = []
+    for p in points:
+        rec = records.get(p.id)
+        if (rec is None or (fname is not None and rec.get("point_function", fname) != fname)
+                or (retry_failed and rec.get("status") != "ok")):
+            todo.append(p)
+    return todo
 
 
 # -- worker side ----------------------------------------------------------------------
@@ -315,20 +346,20 @@ def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
     with _exclusive(directory):
         store = RecordStore(directory / "records.jsonl")
         records = store.load()
-        todo = [p for p in points if p.id not in records
-                or (retry_failed and records[p.id].get("status") != "ok")]
+        fn = resolve_point_function(point_function)
+        fname = function_name(fn)
+        todo = points_to_run(points, records, fname, retry_failed)
         n_skipped = len(points) - len(todo)
         with atomic_path(directory / "spec.json") as tmp:
             tmp.write_text(spec.to_json() + "\n", encoding="utf-8")
         write_table(table_path, spec, points, records)
         n_run, interrupted = 0, False
         if todo:
-            fn = resolve_point_function(point_function)
             if warmup == "auto":
                 tiny = tiny_scenario(spec.point_table(todo[0].values))
                 warmup = None if tiny is None else functools.partial(_warm, fn, tiny)
             n_run, interrupted = _execute(
-                spec, points, todo, records, store, fn, directory, table_path,
+                spec, points, todo, records, store, fn, fname, directory, table_path,
                 client=client, scheduler=scheduler, workers=workers, processes=processes,
                 full_output=full_output, max_points=max_points, progress=progress,
                 warmup=warmup if callable(warmup) else None,
@@ -349,7 +380,7 @@ def _failed_record(point: Point, exc: BaseException) -> dict[str, Any]:
 
 
 def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
-             records: dict[str, dict], store: RecordStore, fn: PointFunction,
+             records: dict[str, dict], store: RecordStore, fn: PointFunction, fname: str,
              directory: Path, table_path: Path, *, client, scheduler, workers, processes,
              full_output, max_points, progress, warmup, consolidate_every, on_result,
              n_skipped) -> tuple[int, bool]:
@@ -390,6 +421,7 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
                 except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker
                     rec = _failed_record(p, exc)
                 del fut
+                rec["point_function"] = fname
                 rec = store.append(rec)
                 records[p.id] = rec
                 n_run += 1

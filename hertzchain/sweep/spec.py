@@ -62,6 +62,7 @@ __all__ = [
 
 RESERVED_COLUMNS = frozenset({
     "id", "index", "status", "error", "point_wall_time", "worker", "full_output",
+    "point_function",
     "alpha_rho", "alpha_kn", "delta0_over_d", "gamma_c0", "gamma_RG", "theory_region",
 })
 """Column names of the results table that an axis ``name`` may not take."""

@@ -183,7 +183,9 @@ def build_columns(points: Sequence[Point], records: Mapping[str, dict]
     cols["point_wall_time"] = [r.get("point_wall_time") if r else None for r in recs]
     cols["worker"] = [r.get("worker", "") if r else "" for r in recs]
     cols["full_output"] = [r.get("full_output", "") if r else "" for r in recs]
-    for name in ("status", "error", "point_wall_time", "worker", "full_output"):
+    cols["point_function"] = [r.get("point_function", "") if r else "" for r in recs]
+    for name in ("status", "error", "point_wall_time", "worker", "full_output",
+                 "point_function"):
         kinds[name] = "meta"
     for key in _summary_keys(r for r in recs if r):
         col = key if key not in cols else f"summary.{key}"
@@ -192,7 +194,8 @@ def build_columns(points: Sequence[Point], records: Mapping[str, dict]
     arrays, attrs = {}, {}
     for name, values in cols.items():
         arr, extra = _column(values)
-        if name in ("status", "error", "worker", "full_output", "id", "theory_region"):
+        if name in ("status", "error", "worker", "full_output", "point_function", "id",
+                    "theory_region"):
             arr = np.array(["" if v is None else str(v) for v in values], dtype=object)
             extra = {}
         arrays[name] = arr
@@ -230,7 +233,8 @@ def write_table(path: str | os.PathLike, spec: SweepSpec, points: Sequence[Point
     (position in the sweep), one column per axis (its ``name``; attribute ``path``), the
     derived interface columns of :func:`derived_columns`, ``status`` ("ok", "failed" or
     "pending"), ``error``, ``point_wall_time`` (s, measured around the point function),
-    ``worker``, ``full_output`` (path of the per-run file or ""), then the run summary's
+    ``worker``, ``full_output`` (path of the per-run file or ""), ``point_function``
+    (``module:name`` of the function that made the record), then the run summary's
     keys (:data:`SUMMARY_FIELDS` first, extra keys sorted).  Missing numbers are NaN,
     missing integers -1 (attribute ``fill_value``), missing strings "".
     """
