@@ -159,6 +159,10 @@ class Simulation:
         self.wall_left, self.wall_right = float(wall_left), float(wall_right)
         self.recording = Recording() if record is None else record
         self.recording.validate(n)
+        self._delta_expected = expected_overlaps(chain, self.u, self.v, self.wall_left,
+                                                 self.wall_right)
+        w = float(np.max(_contact_omega(chain, self._delta_expected)))
+        self.default_dt = DT_FRACTION * 2.0 * math.pi / w if w > 0 else math.inf
         if dt is None:
             dt = default_dt(chain, self.u, self.v, self.wall_left, self.wall_right)
         dt = float(dt) if isinstance(dt, int | float | np.floating) else dt
@@ -288,21 +292,15 @@ class Simulation:
                                               self.v.copy(), self.overlaps()))
 
     def _instability(self, cause: str) -> InstabilityError:
-        dmax = expected_overlaps(self.chain, np.zeros(self.chain.n), self.v, self.wall_left,
-                                 self.wall_right)
-        finite = np.isfinite(self.u).all() and np.isfinite(self.v).all()
-        if finite:
+        dmax = self._delta_expected
+        if np.isfinite(self.u).all():
             dmax = np.maximum(dmax, np.maximum(self.overlaps(), 0.0))
         return InstabilityError(
             f"{cause} at t = {self.t:.6g} s (step {self.steps}) with dt = {self.dt:.4g} s; "
-            f"likely cause: dt too large for the contact stiffness (or initial overlaps far "
-            f"above the static ones). The largest linearly stable dt at the expected "
-            f"overlaps is about {stable_dt(self.chain, dmax):.4g} s; the default "
-            f"{DT_FRACTION}·2π/ω_max is {default_dt(self.chain):.4g} s"
-            if np.any(self.chain.delta0 > 0) else
-            f"{cause} at t = {self.t:.6g} s (step {self.steps}) with dt = {self.dt:.4g} s; "
             f"likely cause: dt too large for the contact stiffness. The largest linearly "
-            f"stable dt at the expected overlaps is about {stable_dt(self.chain, dmax):.4g} s")
+            f"stable dt at the expected overlaps is about {stable_dt(self.chain, dmax):.4g} s "
+            f"(Gershgorin bound 2/ω_lat); the default {DT_FRACTION}·2π/ω_max is "
+            f"{self.default_dt:.4g} s")
 
     # ------------------------------------------------------------------ running
     def run(self, t_end: float | None = None, *, until=None, max_steps: int | None = None,
@@ -404,6 +402,8 @@ class Simulation:
                         self.record.series_t.extend((self.t0 + steps_r * self.dt).tolist())
                         self.record.series.append(ts_buf[:rows].copy())
                     self.steps += done
+                    if not math.isfinite(float(np.sum(self.v[lo:hi + 1]))):
+                        raise self._instability("non-finite state (NaN/inf)")
                     self._lo, self._hi = lo, hi
                     self._shrink()
                     if fired >= 0:

@@ -173,10 +173,14 @@ def test_run_continues_and_t_end():
     assert sim.t == pytest.approx(2e-4, abs=sim.dt)
 
 
-def test_instability_error_names_stable_dt():
-    sim = impact(Chain.two_section(50, 0, delta0_over_d=1e-3)).simulation(dt=3e-5)
-    with pytest.raises(InstabilityError, match="largest linearly stable dt"):
-        sim.run(max_steps=5000, progress=False)
+@pytest.mark.parametrize("dt, cause", [(1e-4, "non-finite"), (3e-6, "drift")])
+def test_instability_error_names_stable_dt(dt, cause):
+    # linear stability limit here: 4.9e-6 s; default dt 4.4e-8 s
+    sim = impact(Chain.two_section(50, 0, delta0_over_d=1e-3)).simulation(dt=dt)
+    with pytest.raises(InstabilityError, match=cause) as err:
+        sim.run(max_steps=20_000, progress=False)
+    assert "largest linearly stable dt at the expected overlaps is about 4.9" in str(err.value)
+    assert isinstance(err.value, RuntimeError)
 
 
 @pytest.mark.parametrize("kwargs, match", [
