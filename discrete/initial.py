@@ -228,20 +228,23 @@ def cut_wave(chain: Chain, centre: int, *, v0: float = 1.0, settle_grains: int |
 
 
 def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None,
-               amplitude: float | None = None, tail: float = 1e-12, **kwargs) -> Initial:
+               amplitude: float | None = None, strain_max: float | None = None,
+               tail: float = 1e-12, **kwargs) -> Initial:
     """The exact discrete solitary wave (:func:`theory.discrete_solitary_wave`), right-going.
 
     The travelling wave r_j(t) = R(j - centre - s t) of Eq. 2 (PHYSICS.md §7) for the
     grains and contact at ``centre`` (their mass, k_n, δ0, diameter), with its overlap
     peak at contact ``centre`` (between grains centre-1 and centre) at t = 0.  Give
-    exactly one of ``velocity_max`` (peak grain velocity, m/s) or ``amplitude`` (peak
-    dynamic overlap r_max - δ0, m).  Grains behind the wave and the left wall carry the
-    net shift D of the wave.  Every grain and contact where the wave's velocity or
-    dynamic overlap exceeds ``tail`` × its peak must have the wave's parameters
-    (ValueError otherwise: the wave does not fit in the chain or section).  Velocities
-    below ``tail`` × peak are set to exactly 0 (the spectral sampling leaves a uniform
-    ~1e-13 × peak velocity behind the wave), so the grains behind it are inert.  Other
-    keyword arguments go to :func:`theory.discrete_solitary_wave`.
+    exactly one of ``velocity_max`` (peak grain velocity, m/s), ``amplitude`` (peak
+    dynamic overlap r_max - δ0, m) or ``strain_max`` (amplitude/d).
+
+    Grains behind the wave and the left wall carry the net shift D of the wave.  Every
+    grain and contact where the wave's velocity or dynamic overlap exceeds ``tail`` ×
+    its peak must have the wave's parameters (ValueError otherwise: the wave does not
+    fit in the chain or section).  Velocities below ``tail`` × peak are set to exactly 0
+    (the spectral sampling leaves a uniform ~1e-13 × peak velocity behind the wave), so
+    the grains behind it are inert.  Other keyword arguments go to
+    :func:`theory.discrete_solitary_wave`.
     """
     from theory import discrete_solitary_wave
 
@@ -249,6 +252,10 @@ def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None
     if not np.isfinite(c) or not 0 <= c <= chain.n:
         raise ValueError(f"centre {centre!r} outside the chain: contact index in [0, {chain.n}]")
     j = int(np.clip(round(c), 1, chain.n - 1))
+    if strain_max is not None:
+        if amplitude is not None or velocity_max is not None:
+            raise ValueError("give exactly one of velocity_max, amplitude or strain_max")
+        amplitude = float(strain_max) * float(chain.diameter[j])
     w = discrete_solitary_wave(chain.k[j], chain.mass[j], chain.diameter[j], chain.delta0[j],
                                amplitude=amplitude, velocity_max=velocity_max, **kwargs)
     st = w.sample(chain.n, c)

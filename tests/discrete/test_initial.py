@@ -69,6 +69,17 @@ def test_place_wave_validation():
         exact_wave(ch, 197, velocity_max=0.5)
     with pytest.raises(ValueError, match="outside the chain"):
         exact_wave(ch, 1000, velocity_max=0.5)
+    with pytest.raises(ValueError, match="exactly one"):
+        exact_wave(ch, 100, velocity_max=0.5, strain_max=1e-4)
+
+
+def test_exact_wave_strain_amplitude():
+    ch = Chain.two_section(300, 0, delta0_over_d=1e-3)
+    ini = exact_wave(ch, 150, strain_max=2e-4)
+    r = ch.delta0[1:-1] + (ini.u[:-1] - ini.u[1:])
+    # sampled on the lattice the peak overlap is within the wave's sub-grain maximum
+    assert 0.97 * 2e-4 < (r.max() - ch.delta0[1]) / 5e-3 <= 2e-4 * (1 + 1e-9)
+    assert ini.params["amplitude"] == pytest.approx(2e-4 * 5e-3, rel=1e-9)
 
 
 @pytest.mark.parametrize("delta0_over_d, v_peak", [(0.0, 0.6816), (1e-3, 0.0822)])
