@@ -64,6 +64,51 @@ def cmd_theory(args: argparse.Namespace) -> int:
     return 0
 
 
+def _json_default(obj):
+    import numpy as np
+
+    if isinstance(obj, np.generic):
+        return obj.item()
+    raise TypeError(type(obj).__name__)
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    """Run a scenario TOML file with the discrete solver and print its summary."""
+    from .runner import run_scenario
+    from .scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    out = args.out
+    summary = run_scenario(scenario, out=out, progress=not args.json)
+    if args.json:
+        print(json.dumps(summary, default=_json_default, allow_nan=True))
+        return 0
+    print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains")
+    for key, value in summary.items():
+        text = f"{value:.6g}" if isinstance(value, float) else str(value)
+        print(f"  {key:<26} {text}")
+    if out:
+        print(f"written: {out}")
+    return 0
+
+
+def cmd_info(args: argparse.Namespace) -> int:
+    """Describe an HDF5 file written by either solver."""
+    from .files import describe
+
+    print(describe(args.file))
+    return 0
+
+
+def cmd_plot(args: argparse.Namespace) -> int:
+    """Plot an HDF5 result file to PNG."""
+    from .files import plot_file
+
+    out = plot_file(args.file, args.out)
+    print(f"written: {out}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Build the argument parser with every sub-command."""
     parser = argparse.ArgumentParser(
@@ -85,6 +130,21 @@ def build_parser() -> argparse.ArgumentParser:
                    help="grain diameter in m (default 5e-3, the paper's)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_theory)
+
+    p = sub.add_parser("run", help="run a scenario TOML file (discrete solver)")
+    p.add_argument("scenario", help="scenario file (see hertzchain/scenarios/*.toml)")
+    p.add_argument("--out", default=None, help="write the full run to this HDF5 file")
+    p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("info", help="describe an HDF5 result file")
+    p.add_argument("file")
+    p.set_defaults(func=cmd_info)
+
+    p = sub.add_parser("plot", help="plot an HDF5 result file to PNG")
+    p.add_argument("file")
+    p.add_argument("--out", default=None, help="PNG path (default: beside the file)")
+    p.set_defaults(func=cmd_plot)
     return parser
 
 
@@ -97,7 +157,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     try:
         return int(args.func(args) or 0)
-    except ValueError as exc:
+    except BrokenPipeError:  # output piped into e.g. `head`
+        return 0
+    except (ValueError, OSError) as exc:
         print(f"hertzchain: error: {exc}", file=sys.stderr)
         return 2
 

@@ -1,0 +1,95 @@
+"""Reading result files for ``hertzchain info`` and ``hertzchain plot``.
+
+Discrete runs are written by :func:`discrete.io.save` (attribute ``format``); the runner
+adds the scenario and the summary as JSON attributes.  A file that is missing, not
+HDF5, or truncated gets a clear :class:`ValueError` rather than an h5py traceback.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import h5py
+import numpy as np
+
+__all__ = ["open_result", "describe", "plot_file"]
+
+
+def open_result(path: str | Path) -> h5py.File:
+    """Open an HDF5 result read-only, with a clear error for bad files."""
+    path = Path(path)
+    if not path.exists():
+        raise ValueError(f"{path}: no such file")
+    try:
+        return h5py.File(path, "r")
+    except OSError as exc:
+        raise ValueError(f"{path}: not a readable HDF5 file (truncated or corrupted?): "
+                         f"{exc}") from None
+
+
+def _attr(value):
+    if isinstance(value, bytes):
+        value = value.decode()
+    if isinstance(value, str) and value[:1] in "{[":
+        try:
+            return json.loads(value)
+        except json.JSONDecodeError:
+            return value
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def describe(path: str | Path) -> str:
+    """A readable description: attributes (parameters, summary) and datasets."""
+    lines = [f"{path}"]
+    with open_result(path) as f:
+        for key in sorted(f.attrs):
+            val = _attr(f.attrs[key])
+            if isinstance(val, dict):
+                lines.append(f"  {key}:")
+                lines += [f"    {k}: {v}" for k, v in val.items()]
+            else:
+                lines.append(f"  {key}: {val}")
+        lines.append("  datasets:")
+
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset):
+                lines.append(f"    {name} {obj.shape} {obj.dtype}")
+
+        f.visititems(visit)
+    return "\n".join(lines)
+
+
+def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
+    """Plot a discrete run: final velocity profile and, if recorded, the energy map."""
+    import matplotlib
+
+    matplotlib.use("agg")
+    import matplotlib.pyplot as plt
+
+    from discrete.io import load
+
+    from .plotting import plot_grain_profile, plot_spacetime
+
+    path = Path(path)
+    open_result(path).close()
+    sim = load(path)
+    arr = sim.record.arrays()
+    has_grid = arr["energy_kinetic"].shape[0] > 1
+    fig, axes = plt.subplots(1, 2 if has_grid else 1, figsize=(11 if has_grid else 6, 4),
+                             squeeze=False)
+    n_left = int(np.count_nonzero(sim.chain.section == sim.chain.section[0]))
+    iface = n_left if n_left < sim.chain.n else None
+    plot_grain_profile(axes[0, 0], sim.v, interface=iface, ylabel="grain velocity (m/s)")
+    axes[0, 0].set_title(f"t = {sim.t * 1e3:.4g} ms")
+    if has_grid:
+        e = arr["energy_kinetic"] + arr["energy_potential"]
+        plot_spacetime(axes[0, 1], arr["energy_t"], e, interface=iface,
+                       label="grain energy (J)", cmap="viridis")
+    fig.tight_layout()
+    out = Path(out) if out is not None else path.with_suffix(".png")
+    fig.savefig(out, dpi=120)
+    plt.close(fig)
+    return out

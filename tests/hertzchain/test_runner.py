@@ -1,0 +1,113 @@
+"""The scenario runner and the run/info/plot commands on short real runs."""
+
+import json
+
+import numpy as np
+import pytest
+
+import theory
+from hertzchain.cli import main
+from hertzchain.runner import build_chain, run_scenario
+from hertzchain.scenario import parse_scenario
+
+
+def scenario(point="N", n_left=150, n_right=200, t_end=7.5e-4):
+    ar, ak = theory.PAPER_POINTS[point]
+    return {
+        "name": f"test-{point}",
+        "chain": {"delta0_over_d": 1e-3,
+                  "sections": [{"n": n_left}, {"n": n_right, "alpha_rho": ar, "alpha_kn": ak}]},
+        "initial": {"kind": "exact_wave", "center": 75, "velocity_max": 0.0822},
+        "run": {"t_end": t_end},
+    }
+
+
+def test_build_chain_matches_scenario():
+    sc = parse_scenario(scenario("M"))
+    chain = build_chain(sc.chain)
+    ar, ak = theory.PAPER_POINTS["M"]
+    assert chain.n == 350
+    assert chain.mass[200] / chain.mass[0] == pytest.approx(ar, rel=1e-12)
+    assert chain.k[200] / chain.k[50] == pytest.approx(ak, rel=1e-12)
+    # interface contact: harmonic mean (equal diameters), force equilibrium everywhere
+    assert chain.k[150] == pytest.approx(2 * chain.k[50] * chain.k[200]
+                                         / (chain.k[50] + chain.k[200]), rel=1e-12)
+    np.testing.assert_allclose(chain.f0, chain.f0[0], rtol=1e-12)
+
+
+def test_run_scenario_point_N_against_linear_theory(tmp_path):
+    # Point N (gamma_c0 = 1, gamma_RG = 2): the exact wave of the paper's amplitude.
+    # The measured ratios must agree with the paper's Table 2 to 5e-4 (the issue's
+    # tolerance) and with the linear-acoustic kinetic-energy coefficients to 2e-3
+    # (nonlinear correction at xi/xi0 ~ 0.09 measured ~8e-4).
+    s = run_scenario(parse_scenario(scenario("N")), out=tmp_path / "n.h5")
+    assert s["separated"]
+    paper = {"Ek_tr": 0.88971, "Ek_re": 0.11089, "Ep_tr": 0.67482, "Ep_re": 0.32516,
+             "Et_tr": 0.68388, "Et_re": 0.31612}
+    for key, val in paper.items():
+        assert s[key] == pytest.approx(val, abs=5e-4), key
+    assert s["Ek_tr"] == pytest.approx(theory.energy_transmission(2.0), abs=2e-3)
+    assert s["Et_tr"] + s["Et_re"] == pytest.approx(1.0, abs=1e-6)
+    assert s["reflected"] == "compressive"
+    assert s["energy_drift"] < 1e-8
+    # gamma_c0 = 1, but the transmitted strain relative to the (halved) precompression is
+    # 2 gamma/(1 + gamma) = 4/3 times the incident one, so by Eq. 5 the transmitted front is
+    # faster than the incident wave (V/c0 = 1.00743) and slower than a fully formed soliton
+    # could make it within a few per cent; measured 1.0132 over 50 grains (still reshaping).
+    assert 1.0074 < s["front_speed_tr_over_c0L"] < 1.03
+    with __import__("h5py").File(tmp_path / "n.h5") as f:
+        assert json.loads(f.attrs["summary"])["Ek_tr"] == s["Ek_tr"]
+        assert json.loads(f.attrs["scenario"])["name"] == "test-N"
+
+
+def test_cli_run_info_plot(tmp_path, capsys):
+    import tomllib  # noqa: F401  (scenario written by hand below)
+
+    toml = tmp_path / "m.toml"
+    toml.write_text("""name = "cli-M"
+[chain]
+delta0_over_d = 1e-3
+[[chain.sections]]
+n = 150
+[[chain.sections]]
+n = 200
+alpha_rho = 0.5
+alpha_kn = 0.35355339059327373
+[initial]
+kind = "exact_wave"
+center = 75
+velocity_max = 0.0822
+[run]
+t_end = 7.5e-4
+""")
+    out = tmp_path / "m.h5"
+    assert main(["run", str(toml), "--out", str(out), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["reflected"] == "expansive"          # point M: gamma_RG = 0.5
+    assert summary["Ep_re"] < 0                          # PHYSICS.md §6
+    assert main(["info", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert "cli-M" in text and "energy_drift" in text
+    assert main(["plot", str(out), "--out", str(tmp_path / "m.png")]) == 0
+    assert (tmp_path / "m.png").stat().st_size > 1000
+    bad = tmp_path / "bad.h5"
+    bad.write_bytes(b"not hdf5")
+    assert main(["info", str(bad)]) == 2
+    assert "not a readable HDF5" in capsys.readouterr().err
+    toml.write_text(toml.read_text().replace("center = 75", "center = 345"))
+    assert main(["run", str(toml)]) == 2
+    assert "outside the chain" in capsys.readouterr().err
+
+
+def test_front_speed_estimator_on_exact_wave():
+    # In a monodisperse chain the exact discrete solitary wave's speed is known (theory);
+    # the arrival-time estimator must recover it to 1e-5 (measured 4e-7).
+    sc = parse_scenario({"chain": {"delta0_over_d": 1e-3, "sections": [{"n": 300}]},
+                         "initial": {"kind": "exact_wave", "center": 75,
+                                     "velocity_max": 0.0822},
+                         "run": {"t_end": 8e-4}})
+    s = run_scenario(sc)
+    m = theory.grain_mass(5e-3, theory.PAPER_MATERIAL.density)
+    k = theory.hertz_constant(5e-3, theory.PAPER_MATERIAL)
+    w = theory.discrete_solitary_wave(k, m, 5e-3, 5e-6, velocity_max=0.0822)
+    assert s["front_speed_tr"] == pytest.approx(w.speed, rel=1e-5)
