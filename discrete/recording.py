@@ -5,8 +5,9 @@
 * :class:`AtTime` — time t (s), taken at the first step with t_n >= t;
 * :class:`WaveAt` — the centre of the leading wave reaches grain g: the grain's velocity
   has reached its running maximum above ``threshold`` (m/s) and has just started to
-  decrease (tested after every step inside the kernel, so the snapshot is taken one step
-  after the velocity peak).
+  decrease (tested after every step inside the kernel; the snapshot is taken one step
+  later, which closes the velocity-Verlet step sequence, i.e. two steps after the
+  sampled velocity peak).
 """
 
 from __future__ import annotations
