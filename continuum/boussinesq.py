@@ -189,7 +189,9 @@ class BoussinesqPDE(ChainPDEBase):
 
         The Rosenau operator bounds ω² by 12 K/m for every k (module docstring);
         K_eff includes the stiffening of the quadratic/Hertz flux at the largest strain
-        of ``state`` (if given).
+        of ``state`` (if given).  At ``safety`` = 0.5, Verlet's (bounded, oscillating)
+        energy error is ~1e-6 for solitary waves but ~15 % for pure grid-scale content
+        (ω Δt ≈ 1); it scales as Δt².
         """
         d = self.disc
         k_eff = self._K.copy()
