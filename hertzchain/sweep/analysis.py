@@ -69,6 +69,11 @@ class Agreement:
         Points on γ_c0 = 1 / γ_RG = 1 (within ``tol``).
     on_line_labels : dict
         Measured labels of those points, counted, per line.
+    band_gamma_c0_by_side, band_gamma_rg_by_side : dict
+        The band around one line measured separately on each side of the other line
+        (keys ``"gamma_RG<1"``, ``"gamma_RG>1"`` resp. ``"gamma_c0<1"``, ``"gamma_c0>1"``):
+        e.g. a fracture that is harder to detect when the transmitted wave is weak
+        (γ_RG < 1) widens the γ_c0 band on that side only.
     """
 
     n_classified: int
@@ -85,6 +90,8 @@ class Agreement:
     n_on_line_c0: int = 0
     n_on_line_rg: int = 0
     on_line_labels: dict = field(default_factory=dict)
+    band_gamma_c0_by_side: dict = field(default_factory=dict)
+    band_gamma_rg_by_side: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """JSON-able dict."""
@@ -99,14 +106,20 @@ class Agreement:
             f"disagreement band around gamma_c0 = 1: |ln gamma_c0| <= "
             f"{self.band_gamma_c0:.3g} (gamma_c0 in [{np.exp(-self.band_gamma_c0):.3g}, "
             f"{np.exp(self.band_gamma_c0):.3g}]; {self.n_in_band_c0} points; grid step "
-            f"{self.grid_step_gamma_c0:.3g})\n"
+            f"{self.grid_step_gamma_c0:.3g}); by side: "
+            f"{_fmt_sides(self.band_gamma_c0_by_side)}\n"
             f"disagreement band around gamma_RG = 1: |ln gamma_RG| <= "
             f"{self.band_gamma_rg:.3g} (gamma_RG in [{np.exp(-self.band_gamma_rg):.3g}, "
             f"{np.exp(self.band_gamma_rg):.3g}]; {self.n_in_band_rg} points; grid step "
-            f"{self.grid_step_gamma_rg:.3g})\n"
+            f"{self.grid_step_gamma_rg:.3g}); by side: "
+            f"{_fmt_sides(self.band_gamma_rg_by_side)}\n"
             f"on the lines: gamma_c0 = 1: {self.n_on_line_c0} points "
             f"{self.on_line_labels.get('gamma_c0=1', {})}; gamma_RG = 1: "
             f"{self.n_on_line_rg} points {self.on_line_labels.get('gamma_RG=1', {})}")
+
+
+def _fmt_sides(bands: dict) -> str:
+    return ", ".join(f"{k}: {v:.3g}" for k, v in bands.items()) or "-"
 
 
 def _grid_step(x: np.ndarray) -> float:
@@ -114,6 +127,10 @@ def _grid_step(x: np.ndarray) -> float:
     steps = np.diff(u)
     steps = steps[steps > 1e-12]
     return float(steps.min()) if steps.size else float("nan")
+
+
+def _band(dist: np.ndarray, bad: np.ndarray) -> float:
+    return float(dist[bad].max()) if bad.any() else 0.0
 
 
 def _mean(x: np.ndarray) -> float:
@@ -159,8 +176,7 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9,
         ok_t, ok_r = ok_t | on_t, ok_r | on_r
     lc = np.abs(np.log(np.atleast_1d(theory.gamma_c0(ar, ak))))
     lr = np.abs(np.log(np.atleast_1d(theory.gamma_rg(ar, ak))))
-    band_c = float(lc[~ok_t].max()) if (~ok_t).any() else 0.0
-    band_r = float(lr[~ok_r].max()) if (~ok_r).any() else 0.0
+    band_c, band_r = _band(lc, ~ok_t), _band(lr, ~ok_r)
     bad = np.flatnonzero(~(ok_t & ok_r))
     disagreeing = [{"id": str(ids[i]), "alpha_rho": float(ar[i]), "alpha_kn": float(ak[i]),
                     "transmitted": str(meas_t[i]), "predicted_transmitted": str(pred_t[i]),
@@ -173,6 +189,12 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9,
         "gamma_c0=1": dict(Counter(str(x) for x in meas_t[on_t])),
         "gamma_RG=1": dict(Counter(str(x) for x in meas_r[on_r])),
     }
+    sc, sr = np.log(np.atleast_1d(theory.gamma_c0(ar, ak))), \
+        np.log(np.atleast_1d(theory.gamma_rg(ar, ak)))
+    by_c = {f"gamma_RG{op}1": _band(lc, ~ok_t & side)
+            for op, side in (("<", sr < -tol), (">", sr > tol))}
+    by_r = {f"gamma_c0{op}1": _band(lr, ~ok_r & side)
+            for op, side in (("<", sc < -tol), (">", sc > tol))}
     return Agreement(
         n_classified=n,
         fraction_agree=_mean((ok_t & ok_r)[both]),
@@ -188,4 +210,6 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9,
         n_on_line_c0=int(on_t.sum()),
         n_on_line_rg=int(on_r.sum()),
         on_line_labels=on_line,
+        band_gamma_c0_by_side=by_c,
+        band_gamma_rg_by_side=by_r,
     )

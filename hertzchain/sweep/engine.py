@@ -209,18 +209,29 @@ def run_point(point_function: PointFunction, scenario: Scenario, point_id: str,
 def tiny_scenario(table: Mapping[str, Any]) -> Scenario | None:
     """A very short run of the same chain type: for warming up (compiling) a worker.
 
-    Sections are cut to at most 40 grains, the initial condition becomes an impact and
-    the run lasts 2 µs; returns None if that is not a valid scenario.
+    The first section and the initial condition are kept (so caches such as a settled
+    wave to cut are filled too), later sections are cut to at most 40 grains and the
+    run lasts 2 µs.  If that is not a valid scenario, the initial condition becomes an
+    impact and every section at most 40 grains; returns None if that fails too.
     """
     chain = dict(table.get("chain", {}))
-    chain["sections"] = [dict(s, n=min(int(s.get("n", 1)), 40))
-                         for s in chain.get("sections", [])]
-    tiny = {"name": "warm-up", "chain": chain, "initial": {"kind": "impact", "v0": 1.0},
-            "run": {"t_end": 2e-6, "max_steps": 10_000}}
-    try:
-        return parse_scenario(tiny)
-    except ScenarioError:
-        return None
+    sections = [dict(s) for s in chain.get("sections", [])]
+    run = {"t_end": 2e-6, "max_steps": 10_000}
+    tries = []
+    if sections:
+        tries.append(({**chain, "sections": sections[:1] + [
+            dict(s, n=min(int(s.get("n", 1)), 40)) for s in sections[1:]]},
+            dict(table.get("initial", {}))))
+    tries.append(({**chain, "sections": [dict(s, n=min(int(s.get("n", 1)), 40))
+                                         for s in sections]},
+                  {"kind": "impact", "v0": 1.0}))
+    for tiny_chain, initial in tries:
+        try:
+            return parse_scenario({"name": "warm-up", "chain": tiny_chain,
+                                   "initial": initial, "run": run})
+        except ScenarioError:
+            continue
+    return None
 
 
 def _warm(point_function: PointFunction, scenario: Scenario) -> dict[str, Any]:

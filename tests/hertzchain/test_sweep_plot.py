@@ -95,6 +95,10 @@ def test_agreement_measures_the_band(tmp_path):
         lc = abs(np.log(float(theory.gamma_c0(d["alpha_rho"], d["alpha_kn"]))))
         lr = abs(np.log(float(theory.gamma_rg(d["alpha_rho"], d["alpha_kn"]))))
         assert lc <= agr.band_gamma_c0 or lr <= agr.band_gamma_rg
+    assert set(agr.band_gamma_c0_by_side) == {"gamma_RG<1", "gamma_RG>1"}
+    assert set(agr.band_gamma_rg_by_side) == {"gamma_c0<1", "gamma_c0>1"}
+    assert max(agr.band_gamma_c0_by_side.values()) <= agr.band_gamma_c0
+    assert min(agr.band_gamma_c0_by_side.values()) > 0.3 - 2 * agr.grid_step_gamma_c0
     assert "disagreement band around gamma_c0 = 1" in agr.summary()
     json.dumps(agr.to_dict())
 
