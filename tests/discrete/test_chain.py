@@ -78,3 +78,12 @@ def test_bad_sections():
         Chain.two_section(5, 5, delta0_over_d=-1e-3)
     with pytest.raises(ValueError, match="alpha_rho"):
         Chain.two_section(5, 5, alpha_rho=0.0)
+
+
+def test_different_diameters_use_two_sphere_hertz_rule():
+    steel, soft = theory.PAPER_MATERIAL, theory.PAPER_MATERIAL.scaled(0.3, 0.1)
+    ch = Chain.from_sections([Section(5, 5e-3, steel), Section(5, 3e-3, soft)], delta0=1e-6)
+    assert ch.k[5] == pytest.approx(theory.hertz_constant(5e-3, steel, 3e-3, soft), rel=1e-14)
+    np.testing.assert_allclose(ch.f0, ch.f0[1], rtol=1e-13)
+    assert ch.mass[5] == pytest.approx(theory.grain_mass(3e-3, steel.density * 0.3))
+    np.testing.assert_allclose(ch.positions[4:6], [22.5e-3, 26.5e-3])
