@@ -320,7 +320,9 @@ class Simulation:
             Stop when this event happens (an int is a grain: :class:`WaveAt`); a snapshot
             labelled with the event is taken there.
         max_steps : int, optional
-            Upper bound on the steps of this call.
+            Upper bound on the steps of this call.  With only ``until`` the run is
+            unbounded (it stops with RuntimeError only if every grain comes to rest):
+            give ``t_end`` or ``max_steps`` as a safety bound.
         progress : bool
             Show a tqdm progress bar for runs of more than 1e5 steps.
 
