@@ -1,7 +1,7 @@
 """Sweep throughput: points per second with 1 and 2 Dask workers, and the scaling ratio.
 
     python benchmarks/sweep.py                 # synthetic CPU-bound points (numba kernel)
-    python benchmarks/sweep.py --real          # the real runner on the tiny.toml chain
+    python benchmarks/sweep.py --real          # the real runner on the fig7_map.toml chain
 
 Each worker count gets its own LocalCluster (processes, 1 thread each), warmed up
 first, so the timing is the steady-state throughput of ``run_sweep`` (submission,
@@ -46,10 +46,11 @@ def synthetic_spec(n_points: int, offset: int):
 
 
 def real_spec(n_points: int, offset: int):
-    spec = load_sweep_spec(files("hertzchain") / "sweeps" / "tiny.toml")
+    """Points of the Fig. 7 acceptance map (its base chain), along alpha_rho at alpha_kn = 1."""
+    spec = load_sweep_spec(files("hertzchain") / "sweeps" / "fig7_map.toml")
     d = {"name": f"real{offset}", "base": copy.deepcopy(spec.base), "sweep": {"axes": [
         {"path": "chain.sections.1.alpha_rho",
-         "logspace": [0.5 + 1e-3 * offset, 2.0, n_points]}]}}
+         "logspace": [0.2 + 1e-3 * offset, 5.0, n_points]}]}}
     return parse_sweep_spec(d)
 
 
@@ -98,12 +99,13 @@ def bare(workers: int, spec, fn) -> float:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--points", type=int, default=None,
-                        help="points per measurement (default 16 synthetic, 4 real)")
+                        help="points per measurement (default 16)")
     parser.add_argument("--work", type=int, default=40_000_000,
                         help="grain-steps per synthetic point (default 4e7, ~0.25 s)")
     parser.add_argument("--workers", default="1,2", help="worker counts (default 1,2)")
     parser.add_argument("--real", action="store_true",
-                        help=f"use the real runner ({DEFAULT_POINT_FUNCTION}) on tiny.toml")
+                        help=f"use the real runner ({DEFAULT_POINT_FUNCTION}) on the Fig. 7 "
+                        "map's chain")
     parser.add_argument("--repeat", type=int, default=2,
                         help="repetitions; the best rate is reported (default 2)")
     parser.add_argument("--no-baseline", dest="baseline", action="store_false",
@@ -111,7 +113,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     if args.real:
         fn = resolve_point_function(None)
-        make, n, what = real_spec, args.points or 4, "real runner, tiny.toml chain"
+        make, n, what = real_spec, args.points or 16, "real runner, fig7_map.toml chain"
     else:
         from hertzchain.sweep.synthetic import synthetic_point
 
