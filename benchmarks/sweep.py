@@ -124,12 +124,16 @@ def main(argv=None) -> int:
           f"load average {os.getloadavg()[0]:.2f}")
     rates, base = {}, {}
     for k, w in enumerate(counts):
-        runs = [measure(w, make(n, 10 * k + r), fn) for r in range(args.repeat)]
+        runs, bares = [], []
+        for r in range(args.repeat):  # interleaved, so both see the same machine load
+            runs.append(measure(w, make(n, 10 * k + r), fn))
+            if args.baseline:
+                bares.append(bare(w, make(n, k), fn))
         rate, per_point = max(runs)
         rates[w] = rate
         line = f"  {w} worker(s): {rate:7.3f} points/s  (mean point wall time {per_point:.3f} s)"
         if args.baseline:
-            base[w] = max(bare(w, make(n, k), fn) for _ in range(args.repeat))
+            base[w] = max(bares)
             line += f"; bare processes without Dask {base[w]:7.3f} points/s"
         print(line)
     if 1 in rates and len(rates) > 1:
