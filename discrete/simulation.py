@@ -424,7 +424,7 @@ class Simulation:
                             break
                 if bar is not None:
                     bar.update(self.steps - bar.n - start_steps)
-                if self.steps % rec.monitor_every == 0 or self.steps >= limit:
+                if self.steps % rec.monitor_every == 0 and self.steps < limit:
                     self._check(e_start, es_start, drift)
                 self._energy_row()
         finally:
