@@ -45,7 +45,7 @@ def energy_ratios(
     model: str = "boussinesq",
     nonlinearity: str = "quadratic",
     order: int = 4,
-    initial: tuple[np.ndarray, np.ndarray] | None = None,
+    initial: str | tuple[np.ndarray, np.ndarray] = "regularised",
     material: theory.Material = theory.PAPER_MATERIAL,
     diameter: float = theory.PAPER_DIAMETER,
 ) -> dict[str, Any]:
@@ -75,9 +75,11 @@ def energy_ratios(
         Flux of the Boussinesq model (Eq. 4's quadratic expansion or the Hertz law).
     order : {2, 4}
         Order of the symplectic time stepper.
-    initial : (u, v), optional
-        Incident wave as per-grain arrays over the whole chain (e.g. the exact discrete
-        solitary wave); default: the sech² solitary wave of the regularised Eq. 4.
+    initial : {"regularised", "discrete"} or (u, v)
+        Incident wave: the sech² solitary wave of the regularised Eq. 4 (default), the
+        exact discrete solitary wave (:func:`theory.discrete_solitary_wave`, PHYSICS.md
+        §7) sampled per grain and interpolated (:func:`from_grains`), or any per-grain
+        arrays (u, v) over the whole chain.
     material, diameter :
         Left-section material and grain diameter (m).
 
@@ -105,10 +107,17 @@ def energy_ratios(
     else:
         raise ValueError(f"model must be 'boussinesq' or 'nesterenko' (got {model!r})")
     center = float(n_left - lead)
-    if initial is None:
+    if isinstance(initial, str) and initial == "regularised":
         state = solitary_wave(pde if model == "boussinesq" else BoussinesqPDE(med, n),
                               center, velocity_max=velocity_max)
         state = pde.get_initial_condition(state[0].data, state[1].data)
+    elif isinstance(initial, str) and initial == "discrete":
+        wave = theory.discrete_solitary_wave(med.k[1], med.mass[0], d, med.delta0[1],
+                                             velocity_max=velocity_max)
+        smp = wave.sample(med.n_grains, center)
+        state = from_grains(pde, smp.displacement, smp.velocity)
+    elif isinstance(initial, str):
+        raise ValueError(f"initial must be 'regularised', 'discrete' or (u, v) (got {initial!r})")
     else:
         state = from_grains(pde, *initial)
     par = solitary_wave_parameters(BoussinesqPDE(med, 1), center, velocity_max=velocity_max)
@@ -136,7 +145,8 @@ def energy_ratios(
                          "delta0_over_d": delta0_over_d, "velocity_max_m_s": velocity_max,
                          "n_left": n_left, "n_right": n_right, "lead": lead,
                          "distance": distance, "n": n,
-                         "model": model, "nonlinearity": nonlinearity, "order": order}
+                         "model": model, "nonlinearity": nonlinearity, "order": order,
+                         "initial": initial if isinstance(initial, str) else "arrays"}
     return out
 
 

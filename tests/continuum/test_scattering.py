@@ -25,8 +25,10 @@ def _check(point, res):
     assert res["energy_drift"] < 1e-5
 
 
-def test_point_m():
-    _check("M", energy_ratios(*theory.PAPER_POINTS["M"]))
+@pytest.mark.parametrize("initial", ["regularised", "discrete"])
+def test_point_m(initial):
+    """Incident wave: the regularised equation's sech² or the exact discrete wave."""
+    _check("M", energy_ratios(*theory.PAPER_POINTS["M"], initial=initial))
 
 
 @pytest.mark.parametrize("point", ["N", "P", "Q"])
