@@ -423,24 +423,30 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
                 pending[fut.key] = (fut, p)
             bar.set_postfix(failed=0, refresh=False)
             last_write = time.monotonic()
-            for fut in as_completed([f for f, _ in pending.values()]):
-                _, p = pending.pop(fut.key)
-                try:
-                    rec = fut.result()
-                except CancelledError:
-                    continue
-                except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker
-                    rec = _failed_record(p, exc)
-                del fut
-                rec["point_function"] = fname
-                rec = store.append(rec)
-                records[p.id] = rec
-                n_run += 1
-                n_failed += rec["status"] != "ok"
-                bar.update(1)
-                bar.set_postfix(failed=n_failed, refresh=False)
-                if on_result is not None:
-                    on_result(rec)
+            completed = as_completed([f for f, _ in pending.values()])
+            for batch in completed.batches():  # one fsync per batch of finished points
+                done = []
+                for fut in batch:
+                    _, p = pending.pop(fut.key)
+                    try:
+                        rec = fut.result()
+                    except CancelledError:
+                        continue
+                    except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker
+                        rec = _failed_record(p, exc)
+                    rec["point_function"] = fname
+                    done.append(rec)
+                del batch
+                if max_points is not None:
+                    done = done[:max_points - n_run]
+                for rec in store.append_many(done):
+                    records[rec["id"]] = rec
+                    n_run += 1
+                    n_failed += rec["status"] != "ok"
+                    bar.update(1)
+                    bar.set_postfix(failed=n_failed, refresh=False)
+                    if on_result is not None:
+                        on_result(rec)
                 if max_points is not None and n_run >= max_points:
                     stopped = True
                     break

@@ -16,8 +16,8 @@ at most the line being written, and an atomic rename never exposes a partial tab
 
 ``results.h5`` holds one group ``/table`` with one 1-D dataset per column, one row per
 point of the sweep in the sweep's order (see :func:`write_table` for the columns); the
-file attributes carry the format name and version, the sweep specification
-(``spec_json``) and the counts of ok, failed and pending points.
+file attributes carry the format name and version and the counts of ok, failed and
+pending points, and the scalar string dataset ``/spec_json`` the sweep specification.
 """
 
 from __future__ import annotations
@@ -97,17 +97,23 @@ class RecordStore:
 
     def append(self, record: Mapping) -> dict:
         """Append one record, flush and fsync; return it as it reads back from disk."""
-        line = json.dumps(record, sort_keys=True, default=_json_default)
+        return self.append_many([record])[0]
+
+    def append_many(self, records: Sequence[Mapping]) -> list[dict]:
+        """Append records with one write and one fsync; return them as read back."""
+        lines = [json.dumps(r, sort_keys=True, default=_json_default) for r in records]
+        if not lines:
+            return []
         self.path.parent.mkdir(parents=True, exist_ok=True)
         with self.path.open("a+b") as fh:
             if fh.tell() > 0:  # terminate a line torn by an earlier crash
                 fh.seek(-1, os.SEEK_END)
                 if fh.read(1) != b"\n":
                     fh.write(b"\n")
-            fh.write(line.encode("utf-8") + b"\n")
+            fh.write("".join(line + "\n" for line in lines).encode("utf-8"))
             fh.flush()
             os.fsync(fh.fileno())
-        return json.loads(line)
+        return [json.loads(line) for line in lines]
 
 
 def _json_default(obj: Any) -> Any:
@@ -214,7 +220,7 @@ def write_table(path: str | os.PathLike, spec: SweepSpec, points: Sequence[Point
     path : path-like
         Target ``results.h5``.
     spec : SweepSpec
-        The sweep (stored as the ``spec_json`` attribute; axis paths on the columns).
+        The sweep (stored as the ``/spec_json`` dataset; axis paths on the columns).
     points : sequence of Point
         Rows, in order.
     records : mapping
@@ -247,7 +253,9 @@ def write_table(path: str | os.PathLike, spec: SweepSpec, points: Sequence[Point
         fh.attrs["format"] = FORMAT
         fh.attrs["format_version"] = FORMAT_VERSION
         fh.attrs["hertzchain_version"] = __version__
-        fh.attrs["spec_json"] = spec.to_json()
+        # a dataset, not an attribute: a long list of zipped values can exceed the
+        # 64 kB limit of an HDF5 attribute
+        fh.create_dataset("spec_json", data=spec.to_json(), dtype=h5py.string_dtype("utf-8"))
         fh.attrs["name"] = spec.name
         fh.attrs["n_points"] = len(points)
         for key, n in counts.items():
@@ -281,7 +289,7 @@ class SweepResults:
     kinds : dict of str to str
         ``"meta"``, ``"parameter"``, ``"derived"`` or ``"summary"`` per column.
     attrs : dict
-        File attributes (format, counts, ``spec_json``...).
+        File attributes (format, counts...) and ``spec_json`` (the sweep, JSON text).
     axes : list of str
         Names of the swept columns.
     """
@@ -335,6 +343,8 @@ def read_results(path: str | os.PathLike) -> SweepResults:
             raise ValueError(f"{path} is not a hertzchain sweep results table "
                              f"(format attribute {fh.attrs.get('format')!r})")
         attrs = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in fh.attrs.items()}
+        if "spec_json" in fh:
+            attrs["spec_json"] = fh["spec_json"].asstr()[()]
         grp = fh["table"]
         names = [str(n) for n in grp.attrs["columns"]]
         columns, kinds = {}, {}
