@@ -9,7 +9,7 @@ regions of the paper's Fig. 7; :mod:`hertzchain.sweep_plot` draws the map.
 Examples
 --------
 >>> from hertzchain.sweep import load_sweep_spec, run_sweep, read_results
->>> spec = load_sweep_spec("fig7_map.toml")                     # doctest: +SKIP
+>>> spec = load_sweep_spec("fig7_map")        # a shipped sweep, or a path  # doctest: +SKIP
 >>> outcome = run_sweep(spec, out="fig7-sweep", workers=2)       # doctest: +SKIP
 >>> table = read_results(outcome.table)                          # doctest: +SKIP
 """
@@ -25,7 +25,15 @@ from .engine import (
     run_sweep,
     tiny_scenario,
 )
-from .spec import Axis, Point, SweepError, SweepSpec, load_sweep_spec, parse_sweep_spec
+from .spec import (
+    Axis,
+    Point,
+    SweepError,
+    SweepSpec,
+    load_sweep_spec,
+    parse_sweep_spec,
+    shipped_sweeps,
+)
 from .store import SUMMARY_FIELDS, RecordStore, SweepResults, read_results, write_table
 
 __all__ = [
@@ -49,6 +57,7 @@ __all__ = [
     "resolve_point_function",
     "run_point",
     "run_sweep",
+    "shipped_sweeps",
     "tiny_scenario",
     "write_table",
 ]

@@ -127,7 +127,9 @@ def add_sweep_parsers(subparsers) -> None:
         description="Run every point of a sweep file (a [base] scenario and [sweep] axes) "
         "on a Dask cluster and collect the run summaries in DIR/results.h5. Rerunning the "
         "same command computes only the points without a record.")
-    p.add_argument("spec", metavar="SWEEP.toml", type=Path, help="sweep specification")
+    p.add_argument("spec", metavar="SWEEP.toml", type=Path,
+                   help="sweep specification, or the name of a shipped one (fig7_map, "
+                   "tiny, gamma_lines, amplitude_precompression)")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=_positive_int, default=None, metavar="N",
                        help="worker processes of the local cluster (default: all cores)")

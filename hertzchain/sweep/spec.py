@@ -58,6 +58,7 @@ __all__ = [
     "load_sweep_spec",
     "parse_sweep_spec",
     "set_path",
+    "shipped_sweeps",
 ]
 
 RESERVED_COLUMNS = frozenset({
@@ -407,9 +408,30 @@ def _check_axes(axes: tuple[Axis, ...], mode: str) -> None:
             raise SweepError(f"[sweep] mode = 'zip' needs axes of equal length, got {lengths}")
 
 
+def shipped_sweeps() -> dict[str, Path]:
+    """The example sweeps shipped in ``hertzchain/sweeps`` by name (file stem)."""
+    from importlib.resources import files
+
+    folder = files("hertzchain") / "sweeps"
+    return {Path(f.name).stem: Path(str(f)) for f in folder.iterdir()
+            if f.name.endswith(".toml")}
+
+
 def load_sweep_spec(path: str | Path, *, validate_points: bool = True) -> SweepSpec:
-    """Read and validate a sweep TOML file (see the module docstring for the format)."""
+    """Read and validate a sweep TOML file (see the module docstring for the format).
+
+    A path that does not exist but names a shipped sweep (``"fig7_map"`` or
+    ``"fig7_map.toml"``, see :func:`shipped_sweeps`) loads that one.
+    """
     path = Path(path)
+    if not path.exists() and path.parent == Path("."):
+        shipped = shipped_sweeps()
+        name = path.stem if path.suffix == ".toml" else path.name
+        if name in shipped:
+            path = shipped[name]
+        elif not path.suffix:
+            raise SweepError(f"sweep file not found: {path} (shipped sweeps: "
+                             f"{sorted(shipped)})")
     try:
         with path.open("rb") as fh:
             data = tomllib.load(fh)

@@ -69,6 +69,21 @@ def test_shipped_sweeps_are_valid(name):
     assert spec.n_points == len(spec.points()) >= 4
 
 
+def test_shipped_sweeps_by_name(monkeypatch, tmp_path):
+    from hertzchain.sweep import shipped_sweeps
+
+    assert {"fig7_map", "tiny", "gamma_lines", "amplitude_precompression"} <= set(
+        shipped_sweeps())
+    monkeypatch.chdir(tmp_path)
+    assert load_sweep_spec("tiny").name == "tiny"
+    assert load_sweep_spec("tiny.toml").n_points == 4
+    with pytest.raises(SweepError, match=r"shipped sweeps: \['amplitude_precompression'"):
+        load_sweep_spec("nope")
+    (tmp_path / "tiny.toml").write_text("[sweep\n")  # a local file wins
+    with pytest.raises(SweepError, match="not valid TOML"):
+        load_sweep_spec("tiny.toml")
+
+
 def test_fig7_map_is_the_acceptance_grid():
     spec = load_sweep_spec(files("hertzchain") / "sweeps" / "fig7_map.toml")
     assert spec.shape == (21, 21)
