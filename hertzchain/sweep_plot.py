@@ -17,6 +17,7 @@ from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 import theory
 
+from .sweep.analysis import fission_parameter
 from .sweep.store import SweepResults, read_results
 
 __all__ = [
@@ -99,8 +100,8 @@ def _grid(x: np.ndarray, y: np.ndarray):
 
 def plot_phase_map(ax, results: SweepResults, *, x: str = "alpha_rho", y: str = "alpha_kn",
                    energy: str | None = "Ek_re", levels=(0.01, 0.03, 0.1, 0.2, 0.3),
-                   theory_lines: bool = True, paper_points: bool = True,
-                   legend: bool = True) -> None:
+                   theory_lines: bool = True, fission_line: bool = True,
+                   paper_points: bool = True, legend: bool = True) -> None:
     """Draw the classification map with theory lines and reflected-energy contours.
 
     Parameters
@@ -120,6 +121,9 @@ def plot_phase_map(ax, results: SweepResults, *, x: str = "alpha_rho", y: str = 
     theory_lines : bool
         Draw γ_c0 = 1 (Eq. 9, α_kn = α_ρ^{3/2}) and γ_RG = 1 (Eq. 13, α_kn = α_ρ^{-3/2})
         when the axes are (α_ρ, α_kn).
+    fission_line : bool
+        Also draw the weakly nonlinear fracture boundary q = 1
+        (:func:`hertzchain.sweep.analysis.fission_parameter`).
     paper_points : bool
         Mark the paper's points a–d, M, N, P, Q inside the map.
     legend : bool
@@ -164,6 +168,12 @@ def plot_phase_map(ax, results: SweepResults, *, x: str = "alpha_rho", y: str = 
         ax.plot(a, a**-1.5, "k--", lw=1.4)
         handles += [Line2D([], [], color="k", ls="-", label=r"$\gamma_{c_0}=1$ (Eq. 9)"),
                     Line2D([], [], color="k", ls="--", label=r"$\gamma_{R_G}=1$ (Eq. 13)")]
+        if fission_line:
+            gx, gy = np.meshgrid(np.geomspace(xlo, xhi, 200), np.geomspace(ylo, yhi, 200))
+            ax.contour(gx, gy, fission_parameter(gx, gy), levels=[1.0], colors="0.15",
+                       linestyles="-.", linewidths=1.1)
+            handles.append(Line2D([], [], color="0.15", ls="-.", label=(
+                r"fission $\gamma_{c_0}\sqrt{2\gamma_{R_G}/(1+\gamma_{R_G})}=1$")))
     if energy is not None and energy in results:
         z = np.where(results.ok, np.asarray(results[energy], dtype=float), np.nan)
         drawn = _contour(ax, xs, ys, z, grid, levels, colors="#5B2C83", linestyles="-")

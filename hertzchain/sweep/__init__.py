@@ -14,7 +14,7 @@ Examples
 >>> table = read_results(outcome.table)                          # doctest: +SKIP
 """
 
-from .analysis import Agreement, classification_agreement, predicted_labels
+from .analysis import Agreement, classification_agreement, fission_parameter, predicted_labels
 from .cli import add_sweep_parsers
 from .engine import (
     DEFAULT_POINT_FUNCTION,
@@ -50,6 +50,7 @@ __all__ = [
     "add_sweep_parsers",
     "classification_agreement",
     "default_workers",
+    "fission_parameter",
     "load_sweep_spec",
     "parse_sweep_spec",
     "predicted_labels",

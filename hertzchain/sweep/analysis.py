@@ -9,9 +9,24 @@ the measured ``transmitted`` / ``reflected`` labels with those predictions.
 The *disagreement band* around a line is measured in |ln γ|: its half-width is the
 largest |ln γ_c0| (resp. |ln γ_RG|) of a point whose transmitted (resp. reflected)
 label disagrees with the theory, so every point farther from the line agrees.  Close to
-a line the effects are weak (a second transmitted pulse or a reflected wave of relative
-amplitude ~|γ - 1|/2), so a detection threshold and the solitary wave's nonlinear speed
-(V_s > c0, Eq. 5) blur the linear prediction there.
+a line the effects are weak (a reflected wave of relative amplitude |γ_RG - 1|/(γ_RG + 1)
+falls below a detection threshold), and the fracture/squeeze boundary is not γ_c0 = 1
+but the weakly nonlinear one of :func:`fission_parameter`.
+
+Fracture as soliton fission
+---------------------------
+In grain units the KdV solitary wave of a precompressed chain has a width that depends
+only on its relative amplitude A = ξ/ξ0, as W ∝ A^{-1/2} (Eq. 5).  Crossing the
+interface, the pulse keeps its duration, so its length in grains is multiplied by
+γ_c0, while its relative amplitude is multiplied by the force transmission
+T = 2γ_RG/(1 + γ_RG) (Eq. 12; the static force F0, hence δ/δ0 ∝ F/F0, is the same on both
+sides).  A sech² pulse of the KdV equation that is q times wider than the soliton of its
+amplitude, q = γ_c0 √T, breaks into s solitons with s(s + 1) = 2q² (the classical
+inverse-scattering count): one soliton plus a dispersive tail for q < 1 (squeeze), two
+or more for q > 1 (fracture).  Only at γ_RG = 1 does q = 1 coincide with γ_c0 = 1: for
+γ_RG < 1 the transmitted wave is weaker and fractures only above γ_c0 = √((1+γ_RG)/(2γ_RG)),
+for γ_RG > 1 it fractures below γ_c0 = 1 already.  The second soliton's amplitude grows
+from zero at q = 1, so a classifier sees it a little above q = 1.
 """
 
 from __future__ import annotations
@@ -25,7 +40,18 @@ import theory
 
 from .store import SweepResults
 
-__all__ = ["Agreement", "predicted_labels", "classification_agreement"]
+__all__ = ["Agreement", "fission_parameter", "predicted_labels", "classification_agreement"]
+
+
+def fission_parameter(alpha_rho, alpha_kn):
+    r"""Over-width q = γ_c0 √(2γ_RG/(1+γ_RG)) of the transmitted pulse (module docstring).
+
+    q > 1: the transmitted pulse fissions into a train (fracture); q < 1: squeeze.
+    """
+    gc = np.asarray(theory.gamma_c0(alpha_rho, alpha_kn))
+    gr = np.asarray(theory.gamma_rg(alpha_rho, alpha_kn))
+    q = gc * np.sqrt(2.0 * gr / (1.0 + gr))
+    return q if q.ndim else float(q)
 
 
 def predicted_labels(alpha_rho, alpha_kn, *, tol: float = 1e-9
@@ -74,6 +100,11 @@ class Agreement:
         (keys ``"gamma_RG<1"``, ``"gamma_RG>1"`` resp. ``"gamma_c0<1"``, ``"gamma_c0>1"``):
         e.g. a fracture that is harder to detect when the transmitted wave is weak
         (γ_RG < 1) widens the γ_c0 band on that side only.
+    fraction_agree_fission : float
+        Fraction of the transmitted labels that agree with the fission criterion
+        (fracture for q > 1, squeeze for q < 1; :func:`fission_parameter`).
+    band_fission : dict
+        Largest ln q of a disagreement on each side (``"q>1"``, ``"q<1"``, as |ln q|).
     """
 
     n_classified: int
@@ -92,6 +123,8 @@ class Agreement:
     on_line_labels: dict = field(default_factory=dict)
     band_gamma_c0_by_side: dict = field(default_factory=dict)
     band_gamma_rg_by_side: dict = field(default_factory=dict)
+    fraction_agree_fission: float = float("nan")
+    band_fission: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         """JSON-able dict."""
@@ -113,6 +146,9 @@ class Agreement:
             f"{np.exp(self.band_gamma_rg):.3g}]; {self.n_in_band_rg} points; grid step "
             f"{self.grid_step_gamma_rg:.3g}); by side: "
             f"{_fmt_sides(self.band_gamma_rg_by_side)}\n"
+            f"transmitted vs the fission criterion q = gamma_c0 sqrt(2 gamma_RG/(1 + "
+            f"gamma_RG)) > 1: {self.fraction_agree_fission:.1%} agree; band |ln q| "
+            f"{_fmt_sides(self.band_fission)}\n"
             f"on the lines: gamma_c0 = 1: {self.n_on_line_c0} points "
             f"{self.on_line_labels.get('gamma_c0=1', {})}; gamma_RG = 1: "
             f"{self.n_on_line_rg} points {self.on_line_labels.get('gamma_RG=1', {})}")
@@ -195,6 +231,10 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9,
             for op, side in (("<", sr < -tol), (">", sr > tol))}
     by_r = {f"gamma_c0{op}1": _band(lr, ~ok_r & side)
             for op, side in (("<", sc < -tol), (">", sc > tol))}
+    lq = np.log(np.atleast_1d(fission_parameter(ar, ak)))
+    ok_q = meas_t == np.where(lq > 0, "fracture", "squeeze")
+    band_q = {"q>1": _band(np.abs(lq), ~ok_q & (lq > 0)),
+              "q<1": _band(np.abs(lq), ~ok_q & (lq < 0))}
     return Agreement(
         n_classified=n,
         fraction_agree=_mean((ok_t & ok_r)[both]),
@@ -212,4 +252,6 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9,
         on_line_labels=on_line,
         band_gamma_c0_by_side=by_c,
         band_gamma_rg_by_side=by_r,
+        fraction_agree_fission=_mean(ok_q),
+        band_fission=band_q,
     )

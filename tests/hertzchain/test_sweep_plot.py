@@ -53,6 +53,17 @@ def test_predicted_labels_follow_eqs_9_and_13():
     assert list(r) == ["expansive", "compressive", "none", "expansive"]
 
 
+def test_fission_parameter():
+    from hertzchain.sweep import fission_parameter
+
+    assert fission_parameter(1.0, 1.0) == pytest.approx(1.0)
+    a_r, a_k = theory.alphas_from_gammas(1.3, 1.0)  # on gamma_RG = 1: q = gamma_c0
+    assert fission_parameter(a_r, a_k) == pytest.approx(1.3)
+    a_r, a_k = theory.alphas_from_gammas(np.sqrt(1.5), 0.5)  # q = 1 off gamma_c0 = 1
+    assert fission_parameter(a_r, a_k) == pytest.approx(1.0)
+    assert fission_parameter(np.array([0.5, 2.0]), np.array([1.0, 1.0])).shape == (2,)
+
+
 def test_agreement_is_total_without_a_band(tmp_path):
     res = read_results(synthetic_table(tmp_path, grid_spec()))
     agr = classification_agreement(res)
@@ -100,6 +111,7 @@ def test_agreement_measures_the_band(tmp_path):
     assert max(agr.band_gamma_c0_by_side.values()) <= agr.band_gamma_c0
     assert min(agr.band_gamma_c0_by_side.values()) > 0.3 - 2 * agr.grid_step_gamma_c0
     assert "disagreement band around gamma_c0 = 1" in agr.summary()
+    assert set(agr.band_fission) == {"q>1", "q<1"} and 0 < agr.fraction_agree_fission < 1
     json.dumps(agr.to_dict())
 
 
@@ -127,6 +139,7 @@ def test_plot_phase_map_draws_on_given_axes(tmp_path):
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert any("gamma_{c_0}=1" in lab for lab in labels)
     assert any("measured Ek_re" in lab for lab in labels)
+    assert any("fission" in lab for lab in labels)
     fig2 = Figure()
     assert plot_cut(fig2.subplots(), res, along="alpha_kn", quantities=("Ek_re", "Et_re"))
 
