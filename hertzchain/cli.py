@@ -145,6 +145,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("file")
     p.add_argument("--out", default=None, help="PNG path (default: beside the file)")
     p.set_defaults(func=cmd_plot)
+
+    from .sweep import add_sweep_parsers
+
+    add_sweep_parsers(sub)
     return parser
 
 

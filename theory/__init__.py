@@ -12,6 +12,7 @@ from .interface import (
     alphas_from_gammas,
     energy_reflection,
     energy_transmission,
+    fission_parameter,
     gamma_c0,
     gamma_rg,
     predict,
@@ -19,6 +20,7 @@ from .interface import (
     pressure_transmission,
     region,
     table2_prediction,
+    transmitted_soliton_count,
     velocity_reflection,
     velocity_transmission,
 )
@@ -78,6 +80,7 @@ __all__ = [
     "effective_modulus",
     "energy_reflection",
     "energy_transmission",
+    "fission_parameter",
     "gamma_c0",
     "gamma_rg",
     "grain_mass",
@@ -98,6 +101,7 @@ __all__ = [
     "static_force",
     "static_overlaps",
     "table2_prediction",
+    "transmitted_soliton_count",
     "velocity_reflection",
     "velocity_transmission",
 ]

@@ -45,6 +45,8 @@ __all__ = [
     "energy_transmission",
     "energy_reflection",
     "table2_prediction",
+    "fission_parameter",
+    "transmitted_soliton_count",
     "region",
     "InterfacePrediction",
     "predict",
@@ -166,6 +168,40 @@ def table2_prediction(gamma_rg_, ek_in, ep_linear_in, ep_quadratic_in) -> dict[s
     }
 
 
+def fission_parameter(alpha_rho, alpha_kn):
+    r"""Weakly nonlinear fission parameter q = γ_c0 √(2γ_RG/(1+γ_RG)) of the transmitted pulse.
+
+    A KdV solitary wave of corrected Eq. 4 has width ℓ with ℓ² (ξ_max/ξ0) = 2 d²
+    (``theory.kdv_soliton_width``: ℓ² = 2δ0 d/ξ_max), the same in both sections.  The
+    transmitted pulse keeps the incident duration, so its width in grains grows by γ_c0
+    (Eq. 9), and its amplitude relative to the local precompression grows by the force
+    transmission 2γ_RG/(1+γ_RG) (Eq. 12; F0 is the same on both sides).  Hence
+    ℓ'²A'/(ℓ²A) = q².  A sech² initial pulse of KdV with that ratio is a Pöschl–Teller
+    potential −λ(λ+1) sech² with λ(λ+1) = 2q², which binds ⌈λ⌉ solitons (Drazin &
+    Johnson, *Solitons: an Introduction*, CUP 1989, §3.5): q > 1 → a train (the paper's
+    "fracture"), q < 1 → one soliton and a dispersive tail ("squeeze").
+
+    The paper (Section 3.2, Fig. 7) uses γ_c0 = 1 as the boundary; it ignores the
+    amplitude change at the interface, which moves the boundary to q = 1 for γ_RG ≠ 1.
+    """
+    gc = np.asarray(gamma_c0(alpha_rho, alpha_kn))
+    gr = np.asarray(gamma_rg(alpha_rho, alpha_kn))
+    return _ret(gc * np.sqrt(2.0 * gr / (1.0 + gr)))
+
+
+def transmitted_soliton_count(alpha_rho, alpha_kn):
+    """Number of solitons the transmitted pulse fissions into, ⌈λ⌉ with λ(λ+1) = 2q².
+
+    From the KdV scattering problem of a sech² pulse (see :func:`fission_parameter`);
+    q = 1 gives exactly one (λ = 1).  Weakly nonlinear, long-wave estimate.
+    """
+    q = np.asarray(fission_parameter(alpha_rho, alpha_kn))
+    lam = 0.5 * (-1.0 + np.sqrt(1.0 + 8.0 * q**2))
+    # a bound state exists for every n < λ; round off λ = 1 + 1e-15 at q = 1 exactly
+    out = np.ceil(lam - 1e-9).astype(int)
+    return out if out.ndim else int(out)
+
+
 def _side(x: float, tol: float) -> int:
     if abs(np.log(x)) <= tol:
         return 0
@@ -206,6 +242,8 @@ class InterfacePrediction:
     energy_transmission: float
     energy_reflection: float
     region: str
+    fission_parameter: float
+    transmitted_solitons: int
     transmitted_effect: str
     reflected_effect: str
     delta0_ratio: float
@@ -248,6 +286,8 @@ def predict(alpha_rho: float, alpha_kn: float, *, tol: float = 1e-9) -> Interfac
         energy_transmission=float(energy_transmission(gr)),
         energy_reflection=float(energy_reflection(gr)),
         region=region(gc, gr, tol=tol),
+        fission_parameter=float(fission_parameter(alpha_rho, alpha_kn)),
+        transmitted_solitons=int(transmitted_soliton_count(alpha_rho, alpha_kn)),
         transmitted_effect=trans,
         reflected_effect=refl,
         delta0_ratio=float(alpha_kn) ** (-2.0 / 3.0),

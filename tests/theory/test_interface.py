@@ -107,3 +107,24 @@ def test_cli_theory_table_and_errors(capsys):
     with pytest.raises(SystemExit):
         main(["theory", "--alpha-rho", "-1", "--alpha-kn", "1"])
     assert "alpha-rho" in capsys.readouterr().err
+
+
+def test_fission_parameter_soliton_count():
+    # On gamma_RG = 1 the amplitude is unchanged and q = gamma_c0 (Eq. 9).
+    for gc in (0.5, 1.0, 2.0):
+        a_r, a_k = theory.alphas_from_gammas(gc, 1.0)
+        assert theory.fission_parameter(a_r, a_k) == pytest.approx(gc, rel=1e-12)
+    # exactly one soliton at q = 1; lambda(lambda+1) = 2 q^2 binds ceil(lambda)
+    a_r, a_k = theory.alphas_from_gammas(1.0, 1.0)
+    assert theory.transmitted_soliton_count(a_r, a_k) == 1
+    a_r, a_k = theory.alphas_from_gammas(2.0, 1.0)   # q = 2: lambda = 2.37 -> 3
+    assert theory.transmitted_soliton_count(a_r, a_k) == 3
+    # point N (gamma_c0 = 1, gamma_RG = 2): q = sqrt(4/3) > 1, a second soliton
+    assert theory.fission_parameter(*theory.PAPER_POINTS["N"]) == pytest.approx(
+        (4 / 3) ** 0.5, rel=1e-12)
+    assert theory.predict(*theory.PAPER_POINTS["N"]).transmitted_solitons == 2
+    # the KdV invariant behind q: l^2 * (A/xi0) is amplitude independent
+    d, delta0 = 5e-3, 5e-6
+    for amp in (1e-6, 1e-5):
+        width = theory.kdv_soliton_width(amp, d, delta0)
+        assert width**2 * amp / (delta0 / d) == pytest.approx(2 * d**2, rel=1e-12)
