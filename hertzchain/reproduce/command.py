@@ -1,0 +1,84 @@
+"""Arguments and output of ``hertzchain reproduce`` (registered in :mod:`hertzchain.cli`).
+
+Kept free of heavy imports: the solvers are imported only when the command runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+
+from . import ITEMS, check_items
+
+__all__ = ["add_arguments", "run_command", "jsonable"]
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    """The options of ``hertzchain reproduce``."""
+    p.add_argument("items", nargs="*", metavar="ITEM",
+                   help=f"what to reproduce, among {', '.join(ITEMS)} (default: all)")
+    size = p.add_mutually_exclusive_group()
+    size.add_argument("--quick", dest="mode", action="store_const", const="quick",
+                      help="reduced sizes, all items in a few minutes (default)")
+    size.add_argument("--full", dest="mode", action="store_const", const="full",
+                      help="the paper's sizes (Fig. 5: 50,000 grains; denser Figs. 6, 7)")
+    p.set_defaults(mode="quick")
+    p.add_argument("--out", default="hertzchain-reproduce",
+                   help="output directory (runs/*.h5, figures/*.png, report.md, report.html)")
+    p.add_argument("--json", action="store_true",
+                   help="print the items' numbers as one JSON object (keyed by item if "
+                        "several)")
+    p.add_argument("--force", action="store_true",
+                   help="recompute every simulation even if its HDF5 file exists")
+
+
+def jsonable(obj):
+    """Plain JSON types (NaN/inf → None, numpy scalars → Python, tuples → lists)."""
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [jsonable(v) for v in obj]
+    if hasattr(obj, "item") and not isinstance(obj, str | bytes):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def _text(result: dict) -> str:
+    from .report import summary_rows
+
+    lines = [f"{row[0]}: ours {row[1]}, paper {row[2]}, difference {row[3]}"
+             + (f" ({row[4]})" if row[4] else "") for row in summary_rows(result["runs"])]
+    if "table2" in result["items"]:
+        from ..paper import TABLE2, TABLE2_KEYS
+
+        lines.append("Table 2 (discrete; paper in brackets):")
+        lines.append("       " + "".join(f"{k:>20}" for k in TABLE2_KEYS))
+        for point, row in result["items"]["table2"].items():
+            lines.append(f"  {point}    " + "".join(
+                f"{row[k]:>10.5f} ({TABLE2[point][k]:>7.5f})" for k in TABLE2_KEYS))
+    ctx = result["context"]
+    lines.append(f"{len(ctx.computed)} simulations computed, {len(ctx.reused)} reused; "
+                 f"wall time {result['wall_time']:.0f} s")
+    for p in result["report"]:
+        lines.append(f"written: {p}")
+    return "\n".join(lines)
+
+
+def run_command(args: argparse.Namespace) -> int:
+    """Run ``hertzchain reproduce``; print JSON or a short summary; return the exit status."""
+    from . import reproduce
+
+    items = check_items(args.items)  # ValueError → "hertzchain: error: ..." (exit 2)
+    result = reproduce(items, mode=args.mode, out=args.out, force=args.force,
+                       progress=not args.json or sys.stderr.isatty())
+    if args.json:
+        nums = result["items"]
+        out = nums[items[0]] if len(items) == 1 else nums
+        print(json.dumps(jsonable(out), allow_nan=False))
+    else:
+        print(_text(result))
+    return 0

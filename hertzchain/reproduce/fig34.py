@@ -1,0 +1,274 @@
+r"""Figs. 3 and 4: mass- and stiffness-mismatched chains without precompression.
+
+Paper Section 4.  δ0 = 0; the incident wave is the settled δ0 = 0 impact wave
+(v0 = 1 m/s, cut and placed 100 grains left of the interface, as the paper's
+"translated" wave).  Fig. 3: α_ρ = 0.2 and 5, interface between grains 400 and 401,
+snapshot when the centre of the transmitted front reaches grain 550, displacement–time
+curves of grains 395–402.  Fig. 4: α_kn = 0.2 and 5, interface 200|201, grains 195–202;
+the paper gives no snapshot grain for Fig. 4, we take 350 (150 grains past the
+interface, as Fig. 3's 550 is past 400).
+
+Panels a, b: grain velocity against grain number; c, d: u_i/ū_max against time, with
+free-flight stretches (both contacts open, :func:`discrete.diagnostics.grain_modes`)
+drawn thick and the gap openings of the contact between the paper's grains 399|400
+(199|200), :func:`discrete.diagnostics.gap_events`.  ū_max is the mean maximum
+displacement of left-section grains that the incident wave has fully passed before it
+reaches the interface (the paper's ū_max, Section 2).  Grain numbers are the paper's
+(1-based) throughout.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import discrete
+import theory
+from discrete import diagnostics as D
+
+from ..plotting import mark_interface, plot_displacement_time, plot_grain_profile
+from .common import V0, Context, incident_wave, new_figure, run_cached, save_figure, two_section
+
+__all__ = ["SETUPS", "QUICK", "FULL", "CaseResult", "run", "plot_velocity",
+           "plot_displacements", "figures", "report", "to_json"]
+
+SETUPS = {
+    "fig3": {"what": "alpha_rho", "alphas": (0.2, 5.0), "interface": 400, "snapshot": 550,
+             "grains": tuple(range(395, 403))},
+    "fig4": {"what": "alpha_kn", "alphas": (0.2, 5.0), "interface": 200, "snapshot": 350,
+             "grains": tuple(range(195, 203))},
+}
+"""Paper set-ups (1-based grain numbers; Section 4)."""
+QUICK = {"n_right_extra": 100, "lead": 100, "series_every": 10}
+FULL = {"n_right_extra": 100, "lead": 100, "series_every": 2}
+PULSE_MIN = 0.05
+"""Pulses below this fraction of the incident peak velocity are not counted."""
+
+
+@dataclass
+class CaseResult:
+    """One panel pair (a/c or b/d) of Fig. 3 or 4."""
+
+    item: str
+    alpha_rho: float
+    alpha_kn: float
+    interface: int
+    snapshot_grain: int
+    grains: tuple
+    v: np.ndarray
+    t_snapshot: float
+    series_t: np.ndarray
+    series: np.ndarray
+    u_bar_max: float
+    incident_peak: float
+    modes: list
+    gaps: D.GapEvents
+    numbers: dict = field(default_factory=dict)
+    path: object = None
+
+
+def _params(item: str, alpha: float, s: dict) -> dict:
+    setup = SETUPS[item]
+    ar, ak = (alpha, 1.0) if setup["what"] == "alpha_rho" else (1.0, alpha)
+    n_left = setup["interface"]
+    return {"item": item, "alpha_rho": ar, "alpha_kn": ak, "n_left": n_left,
+            "n_right": setup["snapshot"] - n_left + s["n_right_extra"],
+            "centre": n_left - s["lead"], "snapshot_index": setup["snapshot"] - 1,
+            "series_grains": [g - 1 for g in setup["grains"]],
+            "series_every": s["series_every"], "delta0_over_d": 0.0, "incident": "cut_wave"}
+
+
+def _simulate(ctx: Context, p: dict):
+    def make():
+        chain = two_section(p["n_left"], p["n_right"], p["alpha_rho"], p["alpha_kn"], 0.0)
+        init = incident_wave(ctx, chain, p["centre"])
+        rec = discrete.Recording(series_grains=p["series_grains"],
+                                 series_every=p["series_every"], maxima=True)
+        sim = init.simulation(record=rec)
+        sim.run(until=discrete.WaveAt(p["snapshot_index"]), progress=ctx.progress)
+        return sim
+
+    return run_cached(ctx, p["item"], p, make)
+
+
+def _case(ctx: Context, item: str, alpha: float, s: dict) -> CaseResult:
+    p = _params(item, alpha, s)
+    sim, path = _simulate(ctx, p)
+    n_left = p["n_left"]
+    arr = sim.record.arrays()
+    t, ser = arr["series_t"], arr["series"]
+    umax = np.asarray(sim.record.umax)
+    # grains fully passed by the incident wave before the interface (module docstring)
+    u_bar = float(np.mean(umax[p["centre"] + 45:n_left - 30]))
+    inc = float(np.max(sim.record.vmax[p["centre"] + 45:n_left - 30]))
+    modes = [D.grain_modes(t, ser[:, j, 0], ser[:, j, 2], ser[:, j, 3], v=ser[:, j, 1],
+                           min_samples=3) for j in range(ser.shape[1])]
+    # contact between the paper's grains N_L - 1 and N_L (1-based): the grain with paper
+    # number N_L is index N_L - 1; its left contact is column 2
+    j_iface = p["series_grains"].index(n_left - 1)
+    gaps = D.gap_events(t, ser[:, j_iface, 2])
+    v = np.asarray(sim.v)
+    left, right = v[:n_left], v[n_left:]
+    pulses_tr = D.find_pulses(v, threshold=PULSE_MIN, reference=inc, lo=n_left, hi=v.size)
+    pulses_re = D.find_pulses(v, threshold=PULSE_MIN, reference=inc, lo=0, hi=n_left)
+    ct = D.classify_transmitted(v, lo=n_left, hi=v.size - 1, direction=1)
+    cr = D.classify_reflected(velocity=v, lo=0, hi=n_left, reference=inc)
+    u_n = ser[:, :, 0] / u_bar
+    pred = theory.predict(p["alpha_rho"], p["alpha_kn"])
+    numbers = {
+        "alpha_rho": p["alpha_rho"], "alpha_kn": p["alpha_kn"],
+        "gamma_c0": pred.gamma_c0, "gamma_RG": pred.gamma_RG, "region": pred.region,
+        "t_snapshot_ms": sim.t * 1e3, "u_bar_max_m": u_bar, "incident_peak_v": inc,
+        "n_transmitted_pulses": len(pulses_tr),
+        "leading_transmitted_peak_over_incident": (pulses_tr[-1].amplitude / inc
+                                                   if pulses_tr else 0.0),
+        "n_reflected_pulses": len(pulses_re),
+        "max_abs_left_v_over_incident": float(np.max(np.abs(left)) / inc),
+        "min_left_v_over_incident": float(left.min() / inc),
+        "max_right_v_over_incident": float(right.max() / inc),
+        "transmitted_class": ct.label, "transmitted_reason": ct.reason,
+        "reflected_class": cr.label,
+        "interface_gap_openings": int(gaps.openings.size),
+        "max_u_over_ubar": {int(g): float(u_n[:, j].max())
+                            for j, g in enumerate(SETUPS[item]["grains"])},
+        "free_flight_segments": {int(g): sum(seg.mode == "free-flight" for seg in m.segments)
+                                 for g, m in zip(SETUPS[item]["grains"], modes, strict=True)},
+    }
+    return CaseResult(item, p["alpha_rho"], p["alpha_kn"], n_left, SETUPS[item]["snapshot"],
+                      SETUPS[item]["grains"], v, sim.t, t, ser, u_bar, inc, modes, gaps,
+                      numbers, path)
+
+
+def run(ctx: Context, item: str = "fig3", **overrides) -> list[CaseResult]:
+    """Run both cases of Fig. 3 (``item="fig3"``) or Fig. 4 (``"fig4"``)."""
+    if item not in SETUPS:
+        raise ValueError(f"item must be one of {sorted(SETUPS)} (got {item!r})")
+    s = ctx.pick(QUICK, FULL) | overrides
+    out = []
+    for alpha in SETUPS[item]["alphas"]:
+        ctx.log(f"{item}: {SETUPS[item]['what']} = {alpha:g}, δ0 = 0")
+        out.append(_case(ctx, item, alpha, s))
+    return out
+
+
+def _alpha_text(c: CaseResult) -> str:
+    if c.alpha_kn == 1.0:
+        return rf"$\alpha_\rho = {c.alpha_rho:g}$"
+    return rf"$\alpha_{{k_n}} = {c.alpha_kn:g}$"
+
+
+def plot_velocity(ax, case: CaseResult, *, label: str = "") -> None:
+    """Panel a/b: grain velocity at the snapshot, transmitted pulses marked."""
+    n = case.v.size
+    plot_grain_profile(ax, case.v / V0, interface=case.interface, ylabel=r"$v_i$ (m/s)",
+                       color="C0")
+    ax.axhline(0, color="0.7", lw=0.5)
+    pulses = D.find_pulses(case.v, threshold=PULSE_MIN, reference=case.incident_peak,
+                           lo=case.interface, hi=n)
+    first, second = D.split_parts_at_gap(pulses, direction=1)
+    for part, name in ((first, "1st"), (second, "2nd")):
+        if part:
+            p = max(part, key=lambda q: abs(q.amplitude))
+            ax.annotate(name, (p.position + 1, p.amplitude), xytext=(0, 6),
+                        textcoords="offset points", ha="center", fontsize="small")
+    ax.set_xlim(0, n + 1)
+    ax.set_title(f"({label}) {_alpha_text(case)}, front at grain {case.snapshot_grain}, "
+                 f"t = {case.t_snapshot * 1e3:.3g} ms", fontsize="medium")
+
+
+def plot_displacements(ax, case: CaseResult, *, label: str = "") -> None:
+    """Panel c/d: u_i/ū_max against time, free flight thick, interface-gap openings."""
+    t, ser = case.series_t, case.series
+    free = np.stack([m.codes == D.FREE_FLIGHT for m in case.modes], axis=1)
+    u = ser[:, :, 0]
+    moving = np.nonzero(np.any(np.abs(ser[:, :, 1]) > 1e-3 * case.incident_peak, axis=1))[0]
+    i0 = max(0, moving[0] - 20) if moving.size else 0
+    plot_displacement_time(ax, t[i0:], u[i0:], [g - 1 for g in case.grains],
+                           u_ref=case.u_bar_max, free_flight=free[i0:])
+    g = case.grains[case.grains.index(case.interface) - 1]
+    for k, a in enumerate(case.gaps.openings[:4]):
+        ax.axvline(a * 1e3, color="0.5", lw=0.6, ls=":")
+        ax.text(a * 1e3, 0.02, f" gap {g}|{g + 1} opens ({k + 1})", fontsize="x-small",
+                color="0.4", rotation=90, va="bottom", transform=ax.get_xaxis_transform())
+    ax.axhline(1.0, color="0.7", lw=0.5, ls="--")
+    ax.set_title(f"({label}) {_alpha_text(case)}: grains {case.grains[0]}–{case.grains[-1]} "
+                 f"(thick: free flight)", fontsize="medium")
+
+
+def figures(ctx: Context, cases: list[CaseResult]) -> list:
+    """Save ``fig3.png`` or ``fig4.png`` (2 × 2 panels as the paper)."""
+    item = cases[0].item
+    fig, axes = new_figure(2, 2, figsize=(11, 7.5))
+    for col, (case, lab) in enumerate(zip(cases, "ab", strict=True)):
+        plot_velocity(axes[0, col], case, label=lab)
+        plot_displacements(axes[1, col], case, label="cd"[col])
+    mark_interface(axes[0, 0], None)
+    path = save_figure(ctx, fig, item)
+    what = "mass" if item == "fig3" else "elastic-coefficient"
+    return [(path, f"{item[:3].capitalize()}. {item[3]}: {what}-mismatched chain, δ0 = 0. "
+             "(a, b) grain velocity when the transmitted front reaches the paper's grain; "
+             "(c, d) displacement/ū_max of the grains around the interface; thick: "
+             "free flight (both contacts open); dotted: openings of the gap left of the "
+             "interface grain.")]
+
+
+def report(rep, cases: list[CaseResult], figs: list) -> None:
+    """Add the Fig. 3 or Fig. 4 section."""
+    item = cases[0].item
+    num = item[3]
+    rep.heading(f"Fig. {num} — {'mass' if num == '3' else 'stiffness'} mismatch at δ0 = 0")
+    header = ["α_ρ", "α_kn", "γ_c0", "γ_RG", "t (ms)", "transmitted pulses",
+              "lead TSW / ISW", "reflected pulses", "min v_left / ISW", "TSW class",
+              "gap openings at interface"]
+    rows = [[c.alpha_rho, c.alpha_kn, c.numbers["gamma_c0"], c.numbers["gamma_RG"],
+             c.numbers["t_snapshot_ms"], c.numbers["n_transmitted_pulses"],
+             c.numbers["leading_transmitted_peak_over_incident"],
+             c.numbers["n_reflected_pulses"], c.numbers["min_left_v_over_incident"],
+             c.numbers["transmitted_class"], c.numbers["interface_gap_openings"]]
+            for c in cases]
+    rep.table(header, rows, caption=f"Fig. {num}: pulses ≥ {PULSE_MIN:g} × the incident "
+              "peak velocity at the snapshot; ISW = incident solitary wave")
+    bullets = []
+    for c in cases:
+        mx = c.numbers["max_u_over_ubar"]
+        ff = c.numbers["free_flight_segments"]
+        bullets.append(
+            f"{_plain(c)}: max u_i/ū_max over grains {c.grains[0]}–{c.grains[-1]}: "
+            + ", ".join(f"{g}: {v:.3f}" for g, v in mx.items())
+            + "; free-flight stretches: " + ", ".join(f"{g}: {n}" for g, n in ff.items()))
+    rep.bullets(bullets)
+    rep.paragraph(_claims(cases))
+    for path, caption in figs:
+        rep.figure(path, caption)
+
+
+def _plain(c: CaseResult) -> str:
+    return f"α_ρ = {c.alpha_rho:g}" if c.alpha_kn == 1.0 else f"α_kn = {c.alpha_kn:g}"
+
+
+def _claims(cases: list[CaseResult]) -> str:
+    """The paper's statements about these panels, checked against the run."""
+    lo, hi = cases
+    out = []
+    mlo = max(lo.numbers["max_u_over_ubar"].values())
+    mhi = max(hi.numbers["max_u_over_ubar"].values())
+    if lo.item == "fig3":
+        left = lo.numbers["max_abs_left_v_over_incident"]
+        out.append(f"Paper: for α_ρ = 0.2 the left section stays static (no reflection): "
+                   f"max |v| left of the interface = {left:.2e}"
+                   f" × the incident peak.  Paper: for α_ρ = 5 the reflected waves have "
+                   f"negative velocities (compressive): min v left = "
+                   f"{hi.numbers['min_left_v_over_incident']:.3f} × incident.  Paper: "
+                   f"u_i/ū_max < 1 for the light–heavy chain: max = {mhi:.3f}.")
+    else:
+        out.append(f"Paper: for α_kn = 0.2 the overshoot gives u_i/ū_max > 1 for grains "
+                   f"199–202: max = {mlo:.3f}.  Paper: for α_kn = 5 all displacements "
+                   f"are below 1: max = {mhi:.3f}.")
+    return " ".join(out)
+
+
+def to_json(cases: list[CaseResult]) -> dict:
+    """Numbers of both cases keyed by ``alpha_rho=..``/``alpha_kn=..``."""
+    return {_plain(c).replace(" ", "").replace("α_ρ", "alpha_rho").replace("α_kn", "alpha_kn"):
+            c.numbers for c in cases}

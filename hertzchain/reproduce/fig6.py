@@ -1,0 +1,241 @@
+r"""Fig. 6: transmitted-front speed / c0^L against α_ρ and α_kn, simulation vs Eq. 5.
+
+Paper Section 4, Fig. 6 (δ0^L/d = 1e-3): the speed of the leading transmitted
+solitary wave (FTSW) over the left section's sound speed c0^L, for α_ρ with α_kn = 1
+and for α_kn with α_ρ = 1, against the theory of Eq. 5,
+V = c0^R (1 + d ξ_max/(12 δ0^R)) with c0^R = γ_c0 c0^L (Eq. 9) and δ0^R = α_kn^{-2/3}
+δ0^L, evaluated with the transmitted wave's measured maximum dynamic strain ξ_max; and
+against c0^R/c0^L = γ_c0 alone.
+
+Measurement: the time at which the velocity peak of the leading wave passes grain g
+(a :class:`discrete.WaveAt` snapshot, exact to one time step) for every ``every``-th
+grain past the interface; straight-line fits of g against t over windows of distance
+(``WINDOWS``) give the local front speed.  The transmitted pulse keeps reshaping for a
+long distance when α is far from 1 (the fractured train separating, the squeezed
+wave shedding its oscillatory tail), so the local speed converges slowly; the figure
+uses the farthest window and the report tabulates every window.  ξ_max is the largest
+(r - δ0^R)/d within 15 contacts of the peak, averaged over the same window.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import discrete
+import theory
+from discrete import diagnostics as D
+
+from .common import (
+    Context,
+    incident_wave,
+    log_ticks,
+    new_figure,
+    run_cached,
+    save_figure,
+    two_section,
+)
+
+__all__ = ["QUICK", "FULL", "SpeedResult", "run", "plot_speeds", "plot_convergence",
+           "figures", "report", "to_json"]
+
+_ALPHAS = tuple(float(a) for a in np.round(np.geomspace(0.2, 5.0, 7), 4))
+QUICK = {"alphas": _ALPHAS, "n_left": 300, "lead": 100, "length": 700, "every": 10,
+         "windows": (10, 50, 100, 200, 400, 670)}
+FULL = {"alphas": tuple(float(a) for a in np.round(np.geomspace(0.2, 5.0, 13), 4)),
+        "n_left": 300, "lead": 100, "length": 4000, "every": 25,
+        "windows": (10, 50, 100, 200, 400, 1000, 2000, 3960)}
+DELTA0_OVER_D = 1e-3
+HALF = 15
+"""Contacts on each side of the passing peak searched for ξ_max."""
+
+
+@dataclass
+class SpeedResult:
+    """Front speed of one (α_ρ, α_kn)."""
+
+    alpha_rho: float
+    alpha_kn: float
+    distance: np.ndarray       # grains past the interface (1 = first right grain)
+    times: np.ndarray          # s
+    xi: np.ndarray             # max dynamic strain near the peak at each passage
+    c0_left: float
+    c0_right: float
+    delta0_right: float
+    windows: list = field(default_factory=list)  # (lo, hi, V/c0L, xi_mean, Eq. 5 / c0L)
+
+    @property
+    def gamma_c0(self) -> float:
+        """c0^R/c0^L (Eq. 9)."""
+        return self.c0_right / self.c0_left
+
+    @property
+    def far(self) -> tuple:
+        """The farthest window: (lo, hi, V/c0L, ξ_max, Eq. 5/c0L, Nesterenko/c0L)."""
+        return self.windows[-1]
+
+
+def _run(ctx: Context, ar: float, ak: float, s: dict) -> SpeedResult:
+    n_left, length, every = s["n_left"], s["length"], s["every"]
+    watch = list(range(n_left + 9, n_left + length, every))
+    p = {"item": "fig6", "alpha_rho": ar, "alpha_kn": ak, "n_left": n_left,
+         "n_right": length + 40, "centre": n_left - s["lead"], "watch": watch,
+         "delta0_over_d": DELTA0_OVER_D, "incident": "cut_wave"}
+
+    def make():
+        chain = two_section(n_left, p["n_right"], ar, ak, DELTA0_OVER_D)
+        init = incident_wave(ctx, chain, p["centre"])
+        rec = discrete.Recording(snapshots=[discrete.WaveAt(g) for g in watch[:-1]],
+                                 maxima=False)
+        sim = init.simulation(record=rec)
+        sim.run(until=discrete.WaveAt(watch[-1]), progress=ctx.progress)
+        return sim
+
+    sim, _ = run_cached(ctx, "fig6", p, make)
+    ch = sim.chain
+    d = float(ch.diameter[0])
+    snaps = [sn for sn in sim.record.snapshots if sn.label.startswith("wave_at=")]
+    grains = np.array([int(sn.label.split("=")[1]) for sn in snaps])
+    times = np.array([sn.t for sn in snaps])
+    xi = np.array([np.max(sn.overlaps[g - HALF:g + HALF + 1] - ch.delta0[g - HALF:g + HALF + 1])
+                   for g, sn in zip(grains, snaps, strict=True)]) / d
+    c0l = float(theory.c0(ch.k[1], ch.mass[0], d, ch.delta0[1]))
+    c0r = float(theory.c0(ch.k[-2], ch.mass[-1], d, ch.delta0[-2]))
+    res = SpeedResult(ar, ak, grains - n_left + 1, times, xi, c0l, c0r, float(ch.delta0[-2]))
+    edges = s["windows"]
+    cm = float(theory.c_mat(ch.k[-2], ch.mass[-1], d))
+    for lo, hi in zip(edges[:-1], edges[1:], strict=True):
+        m = (res.distance >= lo) & (res.distance <= hi)
+        if m.sum() < 2:
+            continue
+        v = D.fit_speed(grains[m], times[m]).speed * d / c0l
+        x = float(np.mean(xi[m]))
+        eq5 = float(theory.kdv_speed(c0r, d, res.delta0_right, x)) / c0l
+        nes = float(theory.nesterenko_speed(cm, res.delta0_right / d, x)) / c0l
+        res.windows.append((lo, hi, v, x, eq5, nes))
+    return res
+
+
+def run(ctx: Context, **overrides) -> dict[str, list[SpeedResult]]:
+    """Front speeds for the α_ρ series (α_kn = 1) and the α_kn series (α_ρ = 1)."""
+    s = ctx.pick(QUICK, FULL) | overrides
+    out: dict[str, list[SpeedResult]] = {"alpha_rho": [], "alpha_kn": []}
+    for which in out:
+        for a in s["alphas"]:
+            ar, ak = (a, 1.0) if which == "alpha_rho" else (1.0, a)
+            ctx.log(f"fig6: α_ρ = {ar:g}, α_kn = {ak:g}")
+            out[which].append(_run(ctx, ar, ak, s))
+    return out
+
+
+def _alpha(r: SpeedResult, which: str) -> float:
+    return r.alpha_rho if which == "alpha_rho" else r.alpha_kn
+
+
+def plot_speeds(ax, results: dict[str, list[SpeedResult]]) -> None:
+    """The paper's Fig. 6: V_FTSW/c0^L vs α (semilog); open: simulation, solid: Eq. 5."""
+    styles = {"alpha_rho": ("^", "C0", r"$\alpha_\rho$ ($\alpha_{k_n}=1$)"),
+              "alpha_kn": ("v", "C3", r"$\alpha_{k_n}$ ($\alpha_\rho=1$)")}
+    for which, rs in results.items():
+        mk, col, lab = styles[which]
+        a = np.array([_alpha(r, which) for r in rs])
+        sim = np.array([r.far[2] for r in rs])
+        eq5 = np.array([r.far[4] for r in rs])
+        gc = np.array([r.gamma_c0 for r in rs])
+        ax.plot(a, sim, mk, mfc="none", color=col, ms=8, label=f"simulation, {lab}")
+        ax.plot(a, eq5, mk, color=col, ms=4, label=f"Eq. 5 with measured ξ_max, {lab}")
+        ax.plot(a, gc, "--", color=col, lw=0.8, label=r"$c_0^R/c_0^L=\gamma_{c_0}$ (Eq. 9)")
+    ax.set_xscale("log")
+    log_ticks(ax, "x", (0.2, 0.5, 1, 2, 5))
+    ax.set_xlabel(r"$\alpha_\rho$ or $\alpha_{k_n}$")
+    ax.set_ylabel(r"$V_{FTSW}/c_0^L$")
+    ax.legend(fontsize="x-small")
+    ax.set_title("(a) transmitted front speed (farthest window)", fontsize="medium")
+
+
+def plot_convergence(ax, results: dict[str, list[SpeedResult]]) -> None:
+    """Local front speed / Eq. 5 against distance past the interface (window centres)."""
+    import matplotlib as mpl
+
+    for which, rs in results.items():
+        cmap = mpl.colormaps["Blues" if which == "alpha_rho" else "Reds"]
+        for q, r in enumerate(rs):
+            a = _alpha(r, which)
+            if a == 1.0 and which == "alpha_kn":
+                continue
+            x = [np.sqrt(max(lo, 1) * hi) for lo, hi, *_ in r.windows]
+            y = [w[2] / w[4] - 1 for w in r.windows]
+            name = r"$\alpha_\rho$" if which == "alpha_rho" else r"$\alpha_{k_n}$"
+            col = "k" if a == 1.0 else cmap(0.35 + 0.6 * q / max(1, len(rs) - 1))
+            ax.plot(x, y, "-o" if which == "alpha_rho" else "--s", ms=3, lw=0.9, color=col,
+                    label=f"{name} = {a:g}")
+    ax.axhline(0, color="0.6", lw=0.5)
+    ax.set_xscale("log")
+    hi = max(w[1] for rs in results.values() for r in rs for w in r.windows)
+    log_ticks(ax, "x", [t for t in (10, 20, 50, 100, 200, 500, 1000, 2000, 5000) if t <= hi])
+    ax.set_xlabel("distance past the interface (grains, window centre)")
+    ax.set_ylabel(r"$V_{sim}/V_{Eq.5} - 1$")
+    ax.legend(fontsize="xx-small", ncol=2)
+    ax.set_title("(b) convergence of the local speed", fontsize="medium")
+
+
+def figures(ctx: Context, results) -> list:
+    """Save ``fig6.png``: (a) the paper's panel, (b) convergence with distance."""
+    fig, axes = new_figure(1, 2, figsize=(12, 4.6))
+    plot_speeds(axes[0, 0], results)
+    plot_convergence(axes[0, 1], results)
+    path = save_figure(ctx, fig, "fig6")
+    return [(path, "Fig. 6: δ0^L/d = 1e-3. (a) Leading transmitted wave speed over c0^L "
+             "(open) vs Eq. 5 with the measured ξ_max (solid) and c0^R/c0^L (dashed); "
+             "(b) relative difference simulation − Eq. 5 of the local speed against "
+             "distance past the interface.")]
+
+
+def report(rep, results, figs: list) -> None:
+    """Add the Fig. 6 section."""
+    rep.heading("Fig. 6 — transmitted-front speed vs α")
+    rows = []
+    for which, rs in results.items():
+        for r in rs:
+            if which == "alpha_kn" and r.alpha_kn == 1.0:
+                continue
+            lo, hi, v, x, eq5, nes = r.far
+            first = r.windows[0]
+            rows.append([r.alpha_rho, r.alpha_kn, r.gamma_c0, f"{lo}–{hi}", v, eq5,
+                         f"{v - eq5:+.4f}", nes, f"{x * 1e3 / DELTA0_OVER_D:.4g}",
+                         f"{first[2]:.4f} ({first[0]}–{first[1]})"])
+    rep.table(["α_ρ", "α_kn", "γ_c0", "window (grains past)", "V/c0^L sim", "Eq. 5",
+               "sim − Eq. 5", "Nesterenko (exact long-wave)", "ξ_max/ξ0^L (×1e-3)",
+               "V/c0^L nearest window"], rows,
+              caption="Front speed over the farthest window; ξ0^L = δ0^L/d")
+    rel = {(r.alpha_rho, r.alpha_kn): (r.windows[0][2] / r.windows[0][4] - 1,
+                                       r.far[2] / r.far[4] - 1)
+           for rs in results.values() for r in rs}
+    near = max(abs(a) for a, _ in rel.values())
+    far = max(abs(b) for _, b in rel.values())
+    mono = rel.get((1.0, 1.0), (float("nan"),) * 2)[1]
+    lo, hi = next(iter(results.values()))[0].far[:2]
+    rep.paragraph(
+        f"Where: the speed is fitted to the passage times of the leading velocity peak "
+        f"over windows of distance past the interface; the figure uses the farthest window "
+        f"({lo}–{hi} grains past), panel (b) and the last column show the approach.  "
+        f"|V_sim/V_Eq.5 − 1| is at most {near:.2%} in the nearest window and {far:.2%} in "
+        f"the farthest; for the monodisperse chain (settled incident wave) it is "
+        f"{mono:+.1e}, so Eq. 5 with the measured ξ_max holds for a settled wave and the "
+        f"remaining difference is the transmitted pulse still reshaping (fracture: the "
+        f"train separating, V above Eq. 5; squeeze: the tail being shed, V below).  "
+        f"Eq. 5 and Nesterenko's exact long-wave speed differ by ~1e-4 c0^L here.  The "
+        f"paper's qualitative statement (V decreases with α_ρ, increases with α_kn, "
+        f"following c0^R = γ_c0 c0^L) holds.")
+    for path, caption in figs:
+        rep.figure(path, caption)
+
+
+def to_json(results) -> dict:
+    """Per α: windows (lo, hi, V/c0L, ξ_max, Eq. 5/c0L, Nesterenko/c0L)."""
+    return {which: [{"alpha_rho": r.alpha_rho, "alpha_kn": r.alpha_kn, "gamma_c0": r.gamma_c0,
+                     "windows": [dict(zip(("lo", "hi", "V_over_c0L", "xi_max",
+                                           "eq5_over_c0L", "nesterenko_over_c0L"),
+                                          w, strict=True)) for w in r.windows]}
+                    for r in rs] for which, rs in results.items()}
