@@ -12,28 +12,9 @@ import sys
 from collections.abc import Sequence
 
 from . import __version__
+from ._argtypes import nonnegative_float, positive_float
 
 __all__ = ["main", "build_parser"]
-
-
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from exc
-    if not value > 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
-    return value
-
-
-def _nonnegative_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from exc
-    if not value >= 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text!r}")
-    return value
 
 
 def cmd_theory(args: argparse.Namespace) -> int:
@@ -127,13 +108,13 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser("theory", help="interface predictions for (alpha_rho, alpha_kn)")
-    p.add_argument("--alpha-rho", type=_positive_float, required=True,
+    p.add_argument("--alpha-rho", type=positive_float, required=True,
                    help="density ratio rho_R/rho_L (> 0)")
-    p.add_argument("--alpha-kn", type=_positive_float, required=True,
+    p.add_argument("--alpha-kn", type=positive_float, required=True,
                    help="contact-stiffness ratio k_n^R/k_n^L (> 0)")
-    p.add_argument("--delta0", type=_nonnegative_float, default=None,
+    p.add_argument("--delta0", type=nonnegative_float, default=None,
                    help="left-section precompression delta0/d (>= 0, dimensionless)")
-    p.add_argument("--diameter", type=_positive_float, default=5e-3,
+    p.add_argument("--diameter", type=positive_float, default=5e-3,
                    help="grain diameter in m (default 5e-3, the paper's)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_theory)
@@ -176,7 +157,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return int(args.func(args) or 0)
     except BrokenPipeError:  # output piped into e.g. `head`
         return 0
-    except (ValueError, OSError) as exc:
+    except (ValueError, OSError) as exc:  # incl. FileNotFoundError
         print(f"hertzchain: error: {exc}", file=sys.stderr)
         return 2
 

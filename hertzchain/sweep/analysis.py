@@ -44,14 +44,11 @@ __all__ = ["Agreement", "fission_parameter", "predicted_labels", "classification
 
 
 def fission_parameter(alpha_rho, alpha_kn):
-    r"""Over-width q = γ_c0 √(2γ_RG/(1+γ_RG)) of the transmitted pulse (module docstring).
+    """Fission parameter q of the transmitted pulse (:func:`theory.fission_parameter`).
 
     q > 1: the transmitted pulse fissions into a train (fracture); q < 1: squeeze.
     """
-    gc = np.asarray(theory.gamma_c0(alpha_rho, alpha_kn))
-    gr = np.asarray(theory.gamma_rg(alpha_rho, alpha_kn))
-    q = gc * np.sqrt(2.0 * gr / (1.0 + gr))
-    return q if q.ndim else float(q)
+    return theory.fission_parameter(alpha_rho, alpha_kn)
 
 
 def predicted_labels(alpha_rho, alpha_kn, *, tol: float = 1e-9

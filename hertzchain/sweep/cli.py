@@ -12,27 +12,9 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from .._argtypes import positive_float, positive_int
+
 __all__ = ["add_sweep_parsers", "cmd_sweep", "cmd_plot_sweep", "main"]
-
-
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from exc
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
-    return value
-
-
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError as exc:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from exc
-    if not value > 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text!r}")
-    return value
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -131,7 +113,7 @@ def add_sweep_parsers(subparsers) -> None:
                    help="sweep specification, or the name of a shipped one (fig7_map, "
                    "tiny, gamma_lines, amplitude_precompression)")
     where = p.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=_positive_int, default=None, metavar="N",
+    where.add_argument("--workers", type=positive_int, default=None, metavar="N",
                        help="worker processes of the local cluster (default: all cores)")
     where.add_argument("--scheduler", metavar="ADDRESS", default=None,
                        help="address of an existing dask.distributed scheduler, e.g. "
@@ -142,11 +124,11 @@ def add_sweep_parsers(subparsers) -> None:
                    help="also write the full HDF5 file of every run (DIR/runs/<id>.h5)")
     p.add_argument("--retry-failed", action="store_true",
                    help="rerun points recorded as failed")
-    p.add_argument("--max-points", type=_positive_int, default=None, metavar="K",
+    p.add_argument("--max-points", type=positive_int, default=None, metavar="K",
                    help="stop after K points (resumable), e.g. to fit a batch time limit")
     p.add_argument("--point-function", default=None, metavar="MODULE:FUNC",
                    help="function run per point (default hertzchain.runner:run_scenario)")
-    p.add_argument("--consolidate-every", type=_positive_float, default=30.0, metavar="S",
+    p.add_argument("--consolidate-every", type=positive_float, default=30.0, metavar="S",
                    help="seconds between rewrites of results.h5 while running (default 30)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--dry-run", action="store_true",

@@ -197,16 +197,20 @@ def test_interrupted_sweep_resumes_with_identical_results(tmp_path, client):
     out = tmp_path / "int"
     with pytest.raises(KeyboardInterrupt):
         run(spec, out, counting_fn, client, on_result=stop_after_three)
+    # Finished points arrive in batches and a batch is fsync'ed before the hook sees it,
+    # so the interrupt after the 3rd may leave 3 or a few more records on disk.
     done = RecordStore(out / "records.jsonl").load()
-    assert len(done) == 3
+    n_done = len(done)
+    assert 3 <= n_done < 8
     partial = read_results(out)  # written on the way out, with the rest pending
-    assert list(partial["status"]).count("ok") == 3
-    assert list(partial["status"]).count("pending") == 5 and not partial.attrs["complete"]
+    assert list(partial["status"]).count("ok") == n_done
+    assert list(partial["status"]).count("pending") == 8 - n_done
+    assert not partial.attrs["complete"]
 
     CALLS.clear()
     resumed = run(spec, out, counting_fn, client)
-    assert (resumed.n_skipped, resumed.n_run, resumed.n_ok) == (3, 5, 8)
-    assert len(CALLS) == 5
+    assert (resumed.n_skipped, resumed.n_run, resumed.n_ok) == (n_done, 8 - n_done, 8)
+    assert len(CALLS) == 8 - n_done
     by_id = {p.id: _alphas(p.scenario) for p in spec.points()}
     assert sorted(CALLS) == sorted(v for k, v in by_id.items() if k not in done)
     assert_same_table(read_results(reference.table), read_results(out))
