@@ -100,7 +100,8 @@ def _case(ctx: Context, case: str, s: dict) -> CaseResult:
     chain = sim.chain
     v = np.asarray(sim.v)
     # incident peak velocity: the running maximum on left grains passed before the interface
-    inc = float(np.median(sim.record.vmax[n_left - p["lead"] + 50:n_left - 50]))
+    # (grains the peak passed freely: from just right of the start to 25 before the interface)
+    inc = float(np.median(sim.record.vmax[n_left - p["lead"] + 5:n_left - 25]))
     ct = D.classify_transmitted(v, lo=n_left, hi=chain.n - 1, direction=1)
     cr = D.classify_reflected(overlaps=sim.overlaps(), delta0=chain.delta0, lo=1, hi=n_left - 1,
                               reference=None)
