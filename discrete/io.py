@@ -6,9 +6,17 @@ Layout: root attributes ``format``, ``package_version``, ``solver``, ``dt`` (s),
 the unit of every dataset); groups ``chain`` (mass, k, delta0, diameter, section),
 ``state`` (u, v, a), ``record`` (series, energy grid, monitor, maxima) and
 ``snapshots/<i>`` (u, v, overlaps with attributes label, t, step).  Datasets are
-chunked and gzip-compressed.  The file is written to a temporary file in the target
-directory and renamed when complete (``os.replace``), so a reader never sees a partial
-file.
+chunked and gzip-compressed.  Optional root attributes: ``integrator`` (the time
+stepper's name, :mod:`discrete.integrators`; absent means ``"verlet"``) and whatever the
+caller passes as ``attrs`` (the runner adds the scenario and the summary, a checkpoint
+its scenario hash).
+
+Robustness: the file is written to a hidden temporary file in the target directory,
+flushed to disk (``fsync``) and renamed when complete (``os.replace``), so a reader never
+sees a partial file and a crash leaves the old file or the new one.  :func:`load`
+turns every way a file can be unreadable — missing, not HDF5, truncated, a dataset or
+attribute removed, corrupted data, inconsistent shapes — into one :class:`ValueError`
+that names the file and what is wrong, instead of an h5py traceback.
 """
 
 from __future__ import annotations
@@ -27,7 +35,7 @@ from .chain import Chain
 from .recording import AtTime, Record, Recording, Snapshot, WaveAt
 from .simulation import Simulation
 
-__all__ = ["save", "load", "UNITS"]
+__all__ = ["save", "load", "UNITS", "FORMAT"]
 
 FORMAT = "hertzchain.discrete/1"
 UNITS = {
@@ -64,18 +72,34 @@ def _events_json(rec: Recording) -> list:
     return out
 
 
-def save(path: str | os.PathLike, sim: Simulation) -> Path:
-    """Write ``sim`` (chain, state, recording, record) to the HDF5 file ``path``."""
+def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None) -> Path:
+    """Write ``sim`` (chain, state, recording, record) to the HDF5 file ``path``, atomically.
+
+    Parameters
+    ----------
+    path : path
+        Target file; replaced only once the new file is complete and flushed.
+    sim : Simulation
+        The simulation (finished or not: a loaded one can continue, bit for bit).
+    attrs : dict, optional
+        Extra root attributes (str, numbers or bool) written in the same atomic step.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     if not isinstance(sim, Simulation):
         raise ValueError(f"save() takes a Simulation (got {type(sim).__name__})")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".", suffix=".tmp")
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     os.close(fd)
     try:
         with h5py.File(tmp, "w") as f:
             a = f.attrs
             a["format"] = FORMAT
+            a["integrator"] = str(getattr(sim, "integrator", "verlet"))
             a["package_version"] = _version()
             a["solver"] = "velocity Verlet (discrete.kernels.run_chunk)"
             for key in ("dt", "steps", "t", "t0", "energy0", "wall_left", "wall_right",
@@ -115,6 +139,10 @@ def save(path: str | os.PathLike, sim: Simulation) -> Path:
                 h.attrs["label"], h.attrs["t"], h.attrs["step"] = s.label, s.t, s.step
                 for name in ("u", "v", "overlaps"):
                     _ds(h, name, getattr(s, name))
+            for key, value in (attrs or {}).items():
+                a[key] = value
+        _fsync(tmp)
+        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; a result is shared
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
@@ -123,55 +151,163 @@ def save(path: str | os.PathLike, sim: Simulation) -> Path:
     return path
 
 
+def _umask() -> int:
+    """The process umask, read without changing it where possible (threads)."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def _fsync(path) -> None:
+    """Flush a written file to disk (before the rename that publishes it)."""
+    fd = os.open(path, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
 def _event(d: dict):
     d = dict(d)
     kind = d.pop("type")
+    if kind not in ("AtTime", "WaveAt"):
+        raise ValueError(f"unknown event type {kind!r}")
     return AtTime(**d) if kind == "AtTime" else WaveAt(**d)
 
 
+class _Reader:
+    """Reads one file, naming the object being read when something is missing or bad."""
+
+    def __init__(self, f: h5py.File) -> None:
+        self.f = f
+        self.where = "the file"
+
+    def attr(self, key: str, obj=None):
+        obj = self.f if obj is None else obj
+        self.where = f"attribute {key!r} of {obj.name}"
+        if key not in obj.attrs:
+            raise KeyError(f"missing {self.where}")
+        return obj.attrs[key]
+
+    def json(self, key: str):
+        return json.loads(self.attr(key))
+
+    def data(self, name: str, group: h5py.Group | None = None) -> np.ndarray:
+        g = self.f if group is None else group
+        full = f"{g.name.rstrip('/')}/{name}"
+        self.where = f"dataset {full}"
+        if name not in g or not isinstance(g[name], h5py.Dataset):
+            raise KeyError(f"missing {self.where}")
+        return g[name][()]
+
+    def group(self, name: str) -> h5py.Group:
+        self.where = f"group /{name}"
+        if name not in self.f or not isinstance(self.f[name], h5py.Group):
+            raise KeyError(f"missing {self.where}")
+        return self.f[name]
+
+
 def load(path: str | os.PathLike) -> Simulation:
-    """Read a file written by :func:`save`; returns a Simulation that can continue."""
-    with h5py.File(path, "r") as f:
-        a = f.attrs
-        if a.get("format") != FORMAT:
-            raise ValueError(f"{path} is not a {FORMAT} file (format {a.get('format')!r})")
-        c = f["chain"]
-        chain = Chain(c["mass"][()], c["k"][()], c["delta0"][()], c["diameter"][()],
-                      c["section"][()], json.loads(a["chain_params"]))
-        r = json.loads(a["recording"])
-        recording = Recording(snapshots=[_event(e) for e in r["snapshots"]],
-                              series_grains=r["series_grains"], series_every=r["series_every"],
-                              maxima=r["maxima"], energy_every=r["energy_every"],
-                              energy_coarsen=r["energy_coarsen"],
-                              monitor_every=r["monitor_every"])
-        s = f["state"]
-        sim = Simulation(chain, s["u"][()], s["v"][()], dt=float(a["dt"]),
-                         wall_left=float(a["wall_left"]), wall_right=float(a["wall_right"]),
-                         record=recording, t=float(a["t0"]),
-                         active_window=bool(a["active_window"]),
-                         drift_tolerance=float(a["drift_tolerance"]), chunk=int(a["chunk"]))
-        sim.steps = int(a["steps"])
-        sim.a[:] = s["a"][()]
-        sim.energy0 = float(a["energy0"])
-        sim._default_threshold = float(a["default_threshold"])
-        sim._pending = [_event(e) for e in json.loads(a["pending_events"])]
-        g = f["record"]
-        rec = Record(series_grains=g["series_grains"][()],
-                     energy_coarsen=int(g.attrs["energy_coarsen"]))
-        rec.series_t = list(g["series_t"][()])
-        rec.series = [g["series"][()]] if len(g["series"]) else []
-        rec.energy_t = list(g["energy_t"][()])
-        rec.energy_kinetic = list(g["energy_kinetic"][()])
-        rec.energy_potential = list(g["energy_potential"][()])
-        rec.monitor_t = list(g["monitor_t"][()])
-        rec.monitor_energy = list(g["monitor_energy"][()])
-        rec.monitor_shadow = list(g["monitor_shadow"][()])
-        if "vmax" in g:
-            rec.vmax, rec.umax = g["vmax"][()], g["umax"][()]
-        for key in sorted(f["snapshots"]):
-            h = f["snapshots"][key]
-            rec.snapshots.append(Snapshot(str(h.attrs["label"]), float(h.attrs["t"]),
-                                          int(h.attrs["step"]), h["u"][()], h["v"][()],
-                                          h["overlaps"][()]))
-        sim.record = rec
+    """Read a file written by :func:`save`; returns a Simulation that can continue.
+
+    Continuing the loaded simulation gives bit for bit what continuing the saved one
+    would have given (``tests/test_reliability_checkpoint.py``).
+
+    Raises
+    ------
+    ValueError
+        Naming ``path`` and the cause, if the file is missing, not HDF5, truncated, not
+        a :data:`FORMAT` file, or has a missing, corrupted or inconsistent part.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path}: no such file")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as exc:
+        raise ValueError(f"{path}: not a readable HDF5 file (truncated or corrupted?): "
+                         f"{exc}") from None
+    with f:
+        fmt = f.attrs.get("format")
+        if isinstance(fmt, bytes):
+            fmt = fmt.decode()
+        if fmt != FORMAT:
+            raise ValueError(f"{path} is not a {FORMAT} file (format {fmt!r})")
+        r = _Reader(f)
+        try:
+            return _read(r)
+        except (OSError, KeyError, ValueError, TypeError, IndexError, RuntimeError,
+                json.JSONDecodeError) as exc:
+            raise ValueError(f"{path}: damaged or incomplete {FORMAT} file ({r.where}): "
+                             f"{exc}") from None
+
+
+def _read(r: _Reader) -> Simulation:
+    c = r.group("chain")
+    chain = Chain(r.data("mass", c), r.data("k", c), r.data("delta0", c),
+                  r.data("diameter", c), r.data("section", c), r.json("chain_params"))
+    rj = r.json("recording")
+    recording = Recording(snapshots=[_event(e) for e in rj["snapshots"]],
+                          series_grains=rj["series_grains"], series_every=rj["series_every"],
+                          maxima=rj["maxima"], energy_every=rj["energy_every"],
+                          energy_coarsen=rj["energy_coarsen"],
+                          monitor_every=rj["monitor_every"])
+    s = r.group("state")
+    u, v, acc = r.data("u", s), r.data("v", s), r.data("a", s)
+    kwargs = {}
+    integrator = str(r.f.attrs.get("integrator", "verlet"))
+    if integrator != "verlet":  # keyword only in versions that have other integrators
+        kwargs["integrator"] = integrator
+    r.where = "the state (root attributes dt, t0, walls, drift_tolerance, chunk)"
+    sim = Simulation(chain, u, v, dt=float(r.attr("dt")), wall_left=float(r.attr("wall_left")),
+                     wall_right=float(r.attr("wall_right")), record=recording,
+                     t=float(r.attr("t0")), active_window=bool(r.attr("active_window")),
+                     drift_tolerance=float(r.attr("drift_tolerance")),
+                     chunk=int(r.attr("chunk")), **kwargs)
+    steps = int(r.attr("steps"))
+    if steps < 0:
+        raise ValueError(f"steps = {steps} must be >= 0")
+    sim.steps = steps
+    if acc.shape != sim.a.shape or not np.all(np.isfinite(acc)):
+        raise ValueError(f"state/a must be finite with shape {sim.a.shape} (got {acc.shape})")
+    sim.a[:] = acc
+    sim.energy0 = float(r.attr("energy0"))
+    sim._default_threshold = float(r.attr("default_threshold"))
+    sim._pending = [_event(e) for e in r.json("pending_events")]
+    g = r.group("record")
+    rec = Record(series_grains=r.data("series_grains", g),
+                 energy_coarsen=int(r.attr("energy_coarsen", g)))
+    series = r.data("series", g)
+    rec.series_t = list(r.data("series_t", g))
+    rec.series = [series] if len(series) else []
+    rec.energy_t = list(r.data("energy_t", g))
+    rec.energy_kinetic = list(r.data("energy_kinetic", g))
+    rec.energy_potential = list(r.data("energy_potential", g))
+    rec.monitor_t = list(r.data("monitor_t", g))
+    rec.monitor_energy = list(r.data("monitor_energy", g))
+    rec.monitor_shadow = list(r.data("monitor_shadow", g))
+    n = chain.n
+    if len(rec.series_t) != series.shape[0] or len(rec.energy_t) != len(rec.energy_kinetic) \
+            or len(rec.energy_kinetic) != len(rec.energy_potential) \
+            or not len(rec.monitor_t) == len(rec.monitor_energy) == len(rec.monitor_shadow):
+        raise ValueError("record arrays of inconsistent lengths")
+    if recording.maxima or "vmax" in g:
+        rec.vmax, rec.umax = r.data("vmax", g), r.data("umax", g)
+        if rec.vmax.shape != (n,) or rec.umax.shape != (n,):
+            raise ValueError(f"record/vmax and record/umax must have shape ({n},)")
+    snaps = r.group("snapshots")
+    for key in sorted(snaps):
+        h = snaps[key]
+        r.where = f"snapshot {h.name}"
+        rec.snapshots.append(Snapshot(str(r.attr("label", h)), float(r.attr("t", h)),
+                                      int(r.attr("step", h)), r.data("u", h), r.data("v", h),
+                                      r.data("overlaps", h)))
+    sim.record = rec
     return sim

@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from . import __version__
-from ._argtypes import nonnegative_float, positive_float
+from ._argtypes import nonnegative_float, positive_float, positive_int
 
 __all__ = ["main", "build_parser"]
 
@@ -54,13 +54,24 @@ def _json_default(obj):
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    """Run a scenario TOML file with the discrete solver and print its summary."""
+    """Run a scenario TOML file with the discrete solver and print its summary.
+
+    With ``--out`` the run is checkpointed to ``OUT.ckpt`` every
+    ``--checkpoint-interval`` seconds of wall time; rerunning the same command resumes
+    from it (bit for bit the same result), ``--restart`` discards it.
+    """
     from .runner import run_scenario
     from .scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
     out = args.out
-    summary = run_scenario(scenario, out=out, progress=not args.json)
+
+    def log(message: str) -> None:
+        print(f"hertzchain: {message}", file=sys.stderr, flush=True)
+
+    summary = run_scenario(scenario, out=out, progress=not args.json,
+                           checkpoint_interval=args.checkpoint_interval,
+                           resume=not args.restart, threads=args.threads, log=log)
     if args.json:
         print(json.dumps(summary, default=_json_default, allow_nan=True))
         return 0
@@ -121,8 +132,17 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("run", help="run a scenario TOML file (discrete solver)")
     p.add_argument("scenario", help="scenario file (see hertzchain/scenarios/*.toml)")
-    p.add_argument("--out", default=None, help="write the full run to this HDF5 file")
+    p.add_argument("--out", default=None, help="write the full run to this HDF5 file "
+                   "(atomically; checkpoints go to OUT.ckpt)")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
+    p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
+                   metavar="SECONDS", help="wall time between checkpoints with --out, s "
+                   "(>= 0; default 300). Rerunning the same command resumes from the last "
+                   "checkpoint, bit for bit; Ctrl-C stops with a checkpoint")
+    p.add_argument("--restart", action="store_true",
+                   help="discard an existing checkpoint of --out and start over")
+    p.add_argument("--threads", type=positive_int, default=None, metavar="N",
+                   help="kernel threads (>= 1; default: numba's; results are identical)")
     p.set_defaults(func=cmd_run)
 
     from .reproduce.command import add_arguments as reproduce_arguments
@@ -153,13 +173,23 @@ def main(argv: Sequence[str] | None = None) -> int:
     if getattr(args, "func", None) is None:
         parser.print_help()
         return 0
+    from discrete import InstabilityError
+
+    from .checkpoint import Interrupted
+
     try:
         return int(args.func(args) or 0)
     except BrokenPipeError:  # output piped into e.g. `head`
         return 0
-    except (ValueError, OSError) as exc:  # incl. FileNotFoundError
+    except (ValueError, OSError, InstabilityError) as exc:  # incl. FileNotFoundError
         print(f"hertzchain: error: {exc}", file=sys.stderr)
         return 2
+    except Interrupted as exc:  # SIGINT/SIGTERM during a checkpointed run
+        print(f"hertzchain: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("hertzchain: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -5,6 +5,20 @@
 summary: the Table 2 energy ratios (transmitted/reflected over incident, PHYSICS.md §6),
 front speeds of the transmitted and reflected waves (Fig. 6), the classification of
 Fig. 7, the energy drift and the cost.  The same summary is a row of a sweep.
+
+Reliability (issue 8): :func:`build_simulation` validates what needs the built chain
+(dt against the stability bound, the wave fits the chain and the Hertz range, the stop
+event can happen) and names the scenario key in a :class:`ScenarioError`;
+:func:`run_scenario` can integrate in checkpointed segments with a bit-for-bit identical
+result (:mod:`hertzchain.checkpoint`), and on an instability writes the partial results
+beside the output before re-raising.
+
+Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, ``dt``,
+``energy_drift``, ``n_grains`` and ``wall_time`` are always finite; the six energy
+ratios are finite exactly when ``separated`` is True (False: the waves did not leave
+the interface region on the recorded grid, the incident wave was already at the
+interface at t = 0, or the chain has one section); the front speeds are NaN when fewer
+than 5 grains gave an arrival time, ``front_speed_tr_over_c0L`` also at δ0 = 0.
 """
 
 from __future__ import annotations
@@ -14,7 +28,6 @@ import math
 import time
 from pathlib import Path
 
-import h5py
 import numpy as np
 
 import discrete
@@ -22,11 +35,12 @@ import theory
 from discrete import diagnostics as D
 from discrete.initial import cut_wave, exact_wave, impact
 
-from .cache import atomic_path, canonical_json
-from .scenario import ChainSpec, Scenario
+from .cache import canonical_json
+from .scenario import ChainSpec, Scenario, ScenarioError
 
-__all__ = ["build_chain", "build_initial", "build_simulation", "run_scenario",
-           "summarise", "incident_amplitude", "GRID_ROWS_PER_GRAIN", "SEPARATION_FRACTIONS"]
+__all__ = ["build_chain", "build_initial", "build_initial_checked", "build_simulation",
+           "check_run", "run_scenario", "summarise", "incident_amplitude", "partial_path",
+           "GRID_ROWS_PER_GRAIN", "SEPARATION_FRACTIONS", "MAX_OVERLAP_OVER_D"]
 
 GRID_ROWS_PER_GRAIN = 0.5
 """Energy space-time grid: one row per this many grain transits of the incident wave."""
@@ -84,16 +98,117 @@ def _wave_speed_estimate(chain: discrete.Chain, v: np.ndarray) -> float:
     return float(theory.nesterenko_speed(cm, chain.delta0[jc] / d, xi))
 
 
-def build_simulation(scenario: Scenario, *, energy_grid: bool = True):
+MAX_OVERLAP_OVER_D = 0.1
+"""Largest expected contact overlap / d an initial state may reach (Hertz small strain;
+the same bound as ``[chain] delta0_over_d``)."""
+
+
+def _stable_and_auto_dt(init) -> tuple[float, float]:
+    """(largest linearly stable dt, default dt) of an initial state, s."""
+    delta = discrete.simulation.expected_overlaps(init.chain, init.u, init.v, init.wall_left,
+                                                  init.wall_right)
+    stable = discrete.stable_dt(init.chain, delta)
+    auto = discrete.default_dt(init.chain, init.u, init.v, init.wall_left, init.wall_right)
+    return stable, auto
+
+
+def _check_amplitude(chain: discrete.Chain, init, key: str, value: float) -> None:
+    """ScenarioError if the initial state's largest expected overlap exceeds the Hertz range."""
+    delta = discrete.simulation.expected_overlaps(chain, init.u, init.v, init.wall_left,
+                                                  init.wall_right)
+    d = np.r_[chain.diameter[0], chain.diameter]  # contact j: grain j-1's diameter (wall: 0)
+    worst = float(np.max(delta / d))
+    if not worst < MAX_OVERLAP_OVER_D:
+        raise ScenarioError(
+            f"[initial] {key} = {value!r} m/s is non-physical: the contacts would overlap by "
+            f"{worst:.3g} grain diameters (allowed < {MAX_OVERLAP_OVER_D:g}, the Hertz "
+            f"small-strain range); lower {key}")
+
+
+def build_initial_checked(scenario: Scenario, chain: discrete.Chain):
+    """:func:`build_initial` with every failure named by its scenario key (ScenarioError).
+
+    Also rejects a non-physical amplitude (:data:`MAX_OVERLAP_OVER_D`), checked on the
+    cheap impact state before a cut wave is settled.
+    """
+    ini = scenario.initial
+    if ini.kind in ("impact", "cut_wave"):
+        _check_amplitude(chain, impact(chain, ini.v0), "v0", ini.v0)
+    try:
+        init = build_initial(scenario, chain)
+    except ValueError as exc:
+        if ini.kind == "impact":
+            raise ScenarioError(f"[initial] kind = 'impact': {exc}") from None
+        raise ScenarioError(
+            f"[initial] center = {ini.center} (kind = {ini.kind!r}): the requested wave does "
+            f"not fit in the chain or in one section: {exc}") from None
+    if ini.kind == "exact_wave":
+        _check_amplitude(init.chain, init, "velocity_max", ini.velocity_max)
+    return init
+
+
+def check_run(scenario: Scenario, init) -> None:
+    """ScenarioError for a ``[run]`` table that cannot work with this initial state.
+
+    * ``dt`` above the largest linearly stable step (:func:`discrete.stable_dt` at the
+      largest expected overlaps: the Gershgorin bound 2/ω_lat, exact for a uniform
+      chain) — the run would blow up within a few steps;
+    * ``until_front_at`` behind or at the start of a right-going cut or exact wave —
+      the event could never happen and the run would go on to ``max_steps``.
+    """
+    run, ini = scenario.run, scenario.initial
+    if run.dt is not None:
+        stable, auto = _stable_and_auto_dt(init)
+        if run.dt > stable:
+            raise ScenarioError(
+                f"[run] dt = {run.dt!r} s is above the largest linearly stable time step "
+                f"{stable:.4g} s of this chain and initial state (Gershgorin bound 2/ω_lat "
+                f"at the largest expected overlaps); allowed range (0, {stable:.4g}] s. "
+                f"dt = 'auto' gives {auto:.4g} s")
+    if run.until_front_at is not None and ini.kind in ("cut_wave", "exact_wave") \
+            and run.until_front_at <= ini.center:
+        raise ScenarioError(
+            f"[run] until_front_at = {run.until_front_at} can never be reached: the "
+            f"{ini.kind} starts with its peak at grain {ini.center} and travels to the "
+            f"right; allowed range [{ini.center + 1}, {init.chain.n - 1}]")
+
+
+def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
+                     threads: int | None = None, check: bool = True):
     """Chain, initial state and a ready :class:`discrete.Simulation` for ``scenario``.
 
     The energy space-time grid (needed for the energy ratios and front speeds) gets a
     row every :data:`GRID_ROWS_PER_GRAIN` transit times of the incident wave unless the
     scenario sets ``record.energy_every``; long chains are coarsened so that the grid
     stays below ~2e7 entries.
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A validated scenario.
+    energy_grid : bool
+        Record the energy grid (automatic row interval) if the scenario does not set one.
+    threads : int, optional
+        Kernel threads (``Simulation(threads=...)``; results are bitwise identical for
+        every value).  None: the Simulation's default.
+    check : bool
+        Run the checks that need the built chain (:func:`build_initial_checked`,
+        :func:`check_run`): False only to provoke an instability on purpose.
+
+    Raises
+    ------
+    ScenarioError
+        If the chain, the initial wave or the time step cannot work (names the key).
     """
-    chain = build_chain(scenario.chain)
-    init = build_initial(scenario, chain)
+    try:
+        chain = build_chain(scenario.chain)
+    except ValueError as exc:
+        raise ScenarioError(
+            f"[chain] non-physical chain: {exc} (each section's static overlap is "
+            "delta0_over_d·d·alpha_kn^(-2/3), from force equilibrium)") from None
+    init = build_initial_checked(scenario, chain) if check else build_initial(scenario, chain)
+    if check:
+        check_run(scenario, init)
     rec = scenario.record
     dt = scenario.run.dt if scenario.run.dt is not None else discrete.default_dt(
         init.chain, init.u, init.v, init.wall_left, init.wall_right)
@@ -111,7 +226,8 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True):
     recording = discrete.Recording(
         snapshots=list(rec.snapshot_times), series_grains=list(rec.time_series_grains),
         maxima=rec.running_max, energy_every=every, energy_coarsen=coarsen)
-    sim = init.simulation(dt=dt, record=recording)
+    kwargs = {} if threads is None else {"threads": threads}
+    sim = init.simulation(dt=dt, record=recording, **kwargs)
     return init.chain, init, sim
 
 
@@ -200,10 +316,12 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
         if i_out is not None:
             out["separation_fraction"] = fraction
             break
-    out["separated"] = i_out is not None
     if i_in is not None and i_out is not None:
         r = D.energy_ratios_from_grid(ek, ep, block_section, i_in, i_out)
-        out.update({k: float(v) for k, v in r.as_dict().items()})
+        ratios = {k: float(v) for k, v in r.as_dict().items() if k in keys}
+        if all(math.isfinite(v) for v in ratios.values()):
+            out.update(ratios)
+            out["separated"] = True
     # arrival times after the incident peak has reached the interface
     i_hit = int(np.argmax(ek[:, max(iface - 1, 0)]))
     vtr = _front_speed(t, ek, np.arange(iface, ek.shape[1]), i_hit, d * coarsen)
@@ -224,8 +342,29 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     return out
 
 
+def partial_path(out: str | Path) -> Path:
+    """Where a failed run's partial results go: ``run.h5`` -> ``run.partial.h5``."""
+    out = Path(out)
+    return out.with_name(f"{out.stem}.partial{out.suffix or '.h5'}")
+
+
+def _write_partial(out: Path, sim: discrete.Simulation, scenario: Scenario, error: str) -> str:
+    """Save the failed run as it is (record up to the failure); a note for the message."""
+    path = partial_path(out)
+    try:
+        with np.errstate(all="ignore"):
+            discrete.save(path, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
+                                            "error": error, "complete": False})
+    except Exception as exc:  # never hide the instability behind a failed write
+        return f"; the partial results could not be written to {path}: {exc}"
+    return (f"; the results up to the failure are in {path} (hertzchain info; the state is "
+            "not resumable)")
+
+
 def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
-                 progress: bool = False) -> dict:
+                 progress: bool = False, checkpoint_interval: float | None = None,
+                 resume: bool = True, threads: int | None = None, check: bool = True,
+                 log=None) -> dict:
     """Run ``scenario`` with the discrete solver; return its summary dict.
 
     Parameters
@@ -237,33 +376,109 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
         attributes) to this HDF5 file, atomically.
     progress : bool
         Show a progress bar for long runs.
+    checkpoint_interval : float, optional
+        Wall time between checkpoints, s (>= 0).  None (default): one uninterrupted
+        ``Simulation.run`` call, no checkpoints.  Otherwise the run is integrated in
+        segments (:func:`hertzchain.checkpoint.run_segmented`, bit for bit the same
+        result) and, with ``out``, checkpointed to ``out + ".ckpt"``, which is removed
+        once ``out`` is written; SIGINT/SIGTERM then stop cleanly with a checkpoint
+        (:class:`hertzchain.checkpoint.Interrupted`).
+    resume : bool
+        Continue from an existing checkpoint of the same scenario (default).  A
+        checkpoint of another scenario raises :class:`~hertzchain.checkpoint.CheckpointError`;
+        ``resume=False`` deletes it and starts over.
+    threads : int, optional
+        Kernel threads (bitwise identical results for every value); None: default.
+    check : bool
+        Validate dt, the wave and the stop event against the built chain
+        (:func:`build_simulation`); False only to provoke an instability on purpose.
+    log : callable, optional
+        Receives one-line messages (resuming, checkpoint removed); default: silent.
 
     Returns
     -------
     dict
-        Keys ``Ek_tr, Ek_re, Ep_tr, Ep_re, Et_tr, Et_re`` (NaN if the waves did not
-        separate from the interface), ``front_speed_tr, front_speed_re`` (m/s),
-        ``front_speed_tr_over_c0L``, ``transmitted`` (fracture/squeeze/none),
-        ``reflected`` (compressive/expansive/none), ``n_transmitted_pulses``,
-        ``separated``, ``energy_drift``, ``steps``, ``t`` (s), ``dt`` (s),
-        ``n_grains``, ``wall_time`` (s).
+        Keys ``Ek_tr, Ek_re, Ep_tr, Ep_re, Et_tr, Et_re`` (NaN unless ``separated``),
+        ``front_speed_tr, front_speed_re`` (m/s; NaN if fewer than 5 grains gave an
+        arrival time), ``front_speed_tr_over_c0L`` (NaN also at δ0 = 0),
+        ``transmitted`` (fracture/squeeze/none), ``reflected``
+        (compressive/expansive/none), ``n_transmitted_pulses``, ``separated``,
+        ``energy_drift``, ``steps``, ``t`` (s), ``dt`` (s), ``n_grains``, ``wall_time``
+        (s; summed over resumed sessions).  Every key but ``wall_time`` is bit for bit
+        the same whether the run was checkpointed, interrupted and resumed, or not.
+
+    Raises
+    ------
+    ScenarioError
+        Invalid scenario for the built chain (:func:`build_simulation`).
+    discrete.InstabilityError
+        NaN or energy drift beyond the tolerance; the message names the cause and the
+        largest stable dt, and with ``out`` the partial results are written to
+        :func:`partial_path` (a checkpoint, if any, is kept).
+    hertzchain.checkpoint.Interrupted
+        SIGINT/SIGTERM during a checkpointed run (after writing the checkpoint).
     """
+    from . import checkpoint as C
+
     start = time.perf_counter()
-    chain, init, sim = build_simulation(scenario)
-    amp = incident_amplitude(chain, init.u, init.v, init.wall_left, init.wall_right)
+    say = log or (lambda message: None)
+    if checkpoint_interval is not None and not (
+            isinstance(checkpoint_interval, int | float) and math.isfinite(checkpoint_interval)
+            and checkpoint_interval >= 0):
+        raise ValueError(f"checkpoint_interval must be None or a finite number of seconds "
+                         f">= 0 (got {checkpoint_interval!r})")
+    out = None if out is None else Path(out)
+    ckpt = C.checkpoint_path(out) if out is not None and checkpoint_interval is not None \
+        else None
+    key = C.run_key(scenario.to_dict())
+    resumed = None
+    if ckpt is not None:
+        if resume:
+            resumed = C.read_checkpoint(ckpt, key)
+        elif ckpt.exists():
+            ckpt.unlink()
+            say(f"removed the checkpoint {ckpt} (--restart)")
+    if resumed is not None:
+        sim, extra = resumed
+        chain, amp, elapsed = sim.chain, extra["incident_amplitude"], extra["wall_time"]
+        stable, auto = extra["stable_dt"], extra["auto_dt"]
+        say(f"resuming from {ckpt}: t = {sim.t:.6g} s, step {sim.steps}")
+    else:
+        chain, init, sim = build_simulation(scenario, threads=threads, check=check)
+        amp = incident_amplitude(chain, init.u, init.v, init.wall_left, init.wall_right)
+        elapsed = 0.0
+        stable, auto = _stable_and_auto_dt(init)
     until = None
     if scenario.run.until_front_at is not None:
         until = discrete.WaveAt(scenario.run.until_front_at)
-    sim.run(scenario.run.t_end, until=until, max_steps=scenario.run.max_steps,
-            progress=progress)
-    summary = summarise(chain, sim, amp)
-    summary["wall_time"] = time.perf_counter() - start
-    if out is not None:
-        from discrete.io import save
 
-        with atomic_path(out) as tmp:
-            save(tmp, sim)
-            with h5py.File(tmp, "a") as f:
-                f.attrs["scenario"] = canonical_json(scenario.to_dict())
-                f.attrs["summary"] = canonical_json(summary)
+    def extra_state() -> dict:
+        return {"incident_amplitude": amp, "stable_dt": stable, "auto_dt": auto,
+                "wall_time": elapsed + time.perf_counter() - start,
+                "scenario": scenario.to_dict()}
+
+    try:
+        if checkpoint_interval is None:
+            sim.run(scenario.run.t_end, until=until, max_steps=scenario.run.max_steps,
+                    progress=progress)
+        else:
+            C.run_segmented(sim, t_end=scenario.run.t_end, until=until,
+                            step_limit=scenario.run.max_steps, checkpoint=ckpt, key=key,
+                            interval=float(checkpoint_interval), extra=extra_state,
+                            progress=progress)
+    except discrete.InstabilityError as exc:
+        text = (f"{exc}. From the initial state: largest linearly stable dt {stable:.4g} s, "
+                f"dt = 'auto' gives {auto:.4g} s")
+        if out is not None:
+            text += _write_partial(out, sim, scenario, text)
+        if ckpt is not None and ckpt.exists():
+            text += f"; the last checkpoint {ckpt} is kept"
+        raise discrete.InstabilityError(text) from exc
+    summary = summarise(chain, sim, amp)
+    summary["wall_time"] = elapsed + time.perf_counter() - start
+    if out is not None:
+        discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
+                                       "summary": canonical_json(summary)})
+        if ckpt is not None and ckpt.exists():
+            ckpt.unlink()
     return summary

@@ -1,0 +1,299 @@
+"""Checkpoint and resume of long runs, bit for bit (issue 8).
+
+A run is integrated in *segments* of :func:`segment_steps` steps (``Simulation.run``
+called repeatedly with ``max_steps``).  After every segment that ends more than
+``interval`` seconds of wall time after the last checkpoint, the whole
+:class:`~discrete.Simulation` — state, recording, record, pending events — is written
+with :func:`discrete.io.save` (atomically: temporary file, ``fsync``, rename) to the
+checkpoint file, together with a *key* that identifies the run (for
+:func:`hertzchain.runner.run_scenario` the hash of the scenario).  Rerunning the same
+run finds the checkpoint, checks the key and continues from it; a checkpoint with
+another key is refused (:class:`CheckpointError`: resuming another scenario's state
+would silently produce wrong results, and discarding it silently could throw away
+hours of work — ``--restart`` discards it explicitly).
+
+Why the result is bit for bit that of an uninterrupted run
+----------------------------------------------------------
+* The kernel's arithmetic per grain does not depend on where a run or a chunk starts or
+  ends (:mod:`discrete.kernels`: the fused kick of a chunk's last step is split into the
+  same two additions), and :func:`discrete.io.save` stores u, v, a, the running maxima
+  and every record array losslessly (float64, gzip).
+* Segments end on multiples of ``monitor_every`` (and of the kernel's ``UMAX_EVERY``):
+  the uninterrupted run cuts its chunks there too, so the chunk sequence — and with it
+  the step at which a :class:`~discrete.WaveAt` event is taken — is the same, and the
+  running maximum of u receives no extra sample.
+* ``Simulation.run`` appends an energy-monitor sample when it returns and another one
+  when it starts.  At a segment boundary both are the same sample of the same state
+  (the uninterrupted run takes it once, in its loop), so the closing one is dropped
+  (:func:`_drop_closing_sample`) before the next segment or the checkpoint.
+* The watched-grain maxima of the event test restart from the present velocity at each
+  ``run`` call; an event that has not fired has a running maximum that is either below
+  its threshold or equal to the present velocity, so the restart changes nothing.
+
+``tests/test_reliability_checkpoint.py`` checks all of this: segmented, saved → loaded
+→ continued, and a real process killed with SIGKILL and resumed give the same bits in
+every dataset of the output file as one uninterrupted ``run`` call.
+
+Signals: while a segmented run is in progress SIGINT (Ctrl-C) and SIGTERM only set a
+flag; the run stops at the end of the present segment, writes a checkpoint and raises
+:class:`Interrupted` (a :class:`KeyboardInterrupt`).  A second Ctrl-C interrupts at
+once (the last checkpoint stays valid).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import signal
+import threading
+import time
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import discrete
+from discrete import kernels as _kernels
+from discrete.io import load, save
+
+from .cache import CACHE_SCHEMA, canonical_json, param_hash
+
+__all__ = ["DEFAULT_INTERVAL", "CHECKPOINT_SCHEMA", "CheckpointError", "Interrupted",
+           "checkpoint_path", "run_key", "segment_steps", "write_checkpoint",
+           "read_checkpoint", "run_segmented"]
+
+DEFAULT_INTERVAL = 300.0
+"""Default wall time between checkpoints, s (``hertzchain run --checkpoint-interval``)."""
+
+CHECKPOINT_SCHEMA = 1
+"""Part of every key: bump when checkpoints of older code must not be resumed."""
+
+_PREFIX = "checkpoint_"  # root attributes written by this module
+
+
+class CheckpointError(ValueError):
+    """A checkpoint cannot be used: damaged, or written for another run."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """A segmented run stopped on SIGINT/SIGTERM after writing a checkpoint.
+
+    Attributes
+    ----------
+    signum : int
+        The signal (``signal.SIGINT`` or ``signal.SIGTERM``).
+    checkpoint : pathlib.Path or None
+        The checkpoint written (None if the run had no checkpoint file).
+    t : float
+        Simulated time reached, s.
+    steps : int
+        Steps reached.
+    """
+
+    def __init__(self, signum: int, checkpoint: Path | None, t: float, steps: int) -> None:
+        self.signum, self.checkpoint, self.t, self.steps = signum, checkpoint, t, steps
+        name = signal.Signals(signum).name
+        where = f"at t = {t:.6g} s (step {steps})"
+        if checkpoint is None:
+            text = f"interrupted by {name} {where}; no checkpoint (no output file)"
+        else:
+            text = (f"interrupted by {name} {where}; checkpoint written to {checkpoint}: "
+                    "rerun the same command to resume")
+        super().__init__(text)
+
+    @property
+    def exit_code(self) -> int:
+        """Shell convention: 128 + signal number (130 for SIGINT, 143 for SIGTERM)."""
+        return 128 + int(self.signum)
+
+    def __str__(self) -> str:
+        return str(self.args[0])
+
+
+def checkpoint_path(out: str | Path) -> Path:
+    """The checkpoint file of the output ``out``: ``out`` + ``".ckpt"`` beside it."""
+    out = Path(out)
+    return out.with_name(out.name + ".ckpt")
+
+
+def run_key(params: dict) -> str:
+    """Key of a run from its parameters (JSON-able): schema versions and a SHA-256 prefix."""
+    return f"ckpt{CHECKPOINT_SCHEMA}-cache{CACHE_SCHEMA}-{param_hash(params)}"
+
+
+def segment_steps(sim: discrete.Simulation) -> int:
+    """Steps per segment: the least common multiple of the boundaries a run cuts at.
+
+    ``Recording.monitor_every`` (the run's chunks end there, and the energy monitor
+    samples there) and ``kernels.UMAX_EVERY`` (the running maximum of u is sampled on
+    those steps, if the kernel has such a period).
+    """
+    return math.lcm(int(sim.recording.monitor_every), int(getattr(_kernels, "UMAX_EVERY", 1)))
+
+
+def write_checkpoint(path: str | Path, sim: discrete.Simulation, key: str,
+                     extra: dict | None = None) -> Path:
+    """Write ``sim`` and ``key`` (and ``extra``, JSON-able) to ``path`` atomically."""
+    attrs = {f"{_PREFIX}key": key, f"{_PREFIX}extra": canonical_json(extra or {}),
+             f"{_PREFIX}written": time.time()}
+    return save(path, sim, attrs=attrs)
+
+
+def read_checkpoint(path: str | Path, key: str) -> tuple[discrete.Simulation, dict] | None:
+    """The simulation and ``extra`` dict of the checkpoint at ``path`` (None if absent).
+
+    Raises
+    ------
+    CheckpointError
+        If the file is damaged or was written for a different ``key``.
+    """
+    import json
+
+    import h5py
+
+    path = Path(path)
+    if not path.exists():
+        return None
+    try:
+        with h5py.File(path, "r") as f:
+            found = f.attrs.get(f"{_PREFIX}key")
+            extra = f.attrs.get(f"{_PREFIX}extra")
+    except OSError as exc:
+        raise CheckpointError(f"{path}: damaged checkpoint, not a readable HDF5 file "
+                              f"({exc}); delete it (or rerun with --restart) to start over"
+                              ) from None
+    if isinstance(found, bytes):
+        found = found.decode()
+    if found is None or extra is None:
+        raise CheckpointError(f"{path}: not a checkpoint (no {_PREFIX}key attribute); "
+                              "delete it (or rerun with --restart) to start over")
+    if found != key:
+        raise CheckpointError(
+            f"{path}: checkpoint of a different run (key {found}, this run {key}): "
+            "the scenario changed since it was written. Rerun with --restart to discard "
+            "it, or write to another --out file")
+    try:
+        sim = load(path)
+        extra = json.loads(extra)
+    except ValueError as exc:
+        raise CheckpointError(f"damaged checkpoint: {exc}; delete it (or rerun with "
+                              "--restart) to start over") from None
+    return sim, extra
+
+
+@contextlib.contextmanager
+def _deferred_signals(enabled: bool) -> Iterator[list[int]]:
+    """Turn the first SIGINT/SIGTERM into a flag (yielded list); restore on exit."""
+    flag: list[int] = []
+    if not enabled or threading.current_thread() is not threading.main_thread():
+        yield flag
+        return
+    previous = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+
+    def handler(signum, frame):
+        flag.append(signum)
+        for s, h in previous.items():  # a second signal acts at once
+            signal.signal(s, h)
+
+    for s in previous:
+        signal.signal(s, handler)
+    try:
+        yield flag
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
+
+
+def _drop_closing_sample(sim: discrete.Simulation) -> None:
+    """Drop the monitor sample ``run`` appended on return; the next ``run`` re-takes it."""
+    rec = sim.record
+    if rec.monitor_t and rec.monitor_t[-1] == sim.t:
+        rec.monitor_t.pop()
+        rec.monitor_energy.pop()
+        rec.monitor_shadow.pop()
+
+
+def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until=None,
+                  step_limit: int | None = None, checkpoint: str | Path | None = None,
+                  key: str = "", interval: float = DEFAULT_INTERVAL,
+                  extra: Callable[[], dict] | None = None, progress: bool = False,
+                  signals: bool = True) -> str:
+    """Integrate ``sim`` like ``sim.run(t_end, until=until, max_steps=...)``, checkpointing.
+
+    The result is bit for bit that of one ``run`` call (module docstring).
+
+    Parameters
+    ----------
+    sim : discrete.Simulation
+        A fresh simulation or one read back with :func:`read_checkpoint`.
+    t_end : float, optional
+        Absolute end time, s.
+    until : event, optional
+        Stop event (:class:`discrete.WaveAt` or :class:`discrete.AtTime`).
+    step_limit : int, optional
+        Absolute step number at which to stop (``max_steps`` of the equivalent single
+        call made at step 0).
+    checkpoint : path, optional
+        Checkpoint file; None: no checkpoints (segments and clean signal handling only).
+    key : str
+        Identifies the run (:func:`run_key`); stored in the checkpoint.
+    interval : float
+        Wall time between checkpoints, s (>= 0; 0 writes one after every segment).
+    extra : callable, optional
+        Returns a JSON-able dict stored with each checkpoint.
+    progress : bool
+        Show a progress bar (tqdm, stderr) over the steps.
+    signals : bool
+        Defer SIGINT/SIGTERM to the end of a segment (main thread only).
+
+    Returns
+    -------
+    str
+        What stopped the run: the event's label, ``"t_end"`` or ``"max_steps"``.
+
+    Raises
+    ------
+    Interrupted
+        On SIGINT/SIGTERM, after writing the checkpoint.
+    discrete.InstabilityError
+        As ``Simulation.run``; the last checkpoint is left as it was.
+    """
+    if not (isinstance(interval, int | float) and math.isfinite(interval) and interval >= 0):
+        raise ValueError(f"interval must be a finite number of seconds >= 0 (got {interval!r})")
+    if t_end is None and until is None and step_limit is None:
+        raise ValueError("give t_end (s), until (event) or step_limit")
+    end = math.inf
+    if t_end is not None:
+        end = sim._step_of(float(t_end))  # same rounding as Simulation.run
+    if step_limit is not None:
+        end = min(end, int(step_limit))
+    if sim.steps >= end:  # nothing to integrate: exactly what one call does
+        kw = {} if step_limit is None else {"max_steps": max(0, int(step_limit) - sim.steps)}
+        return sim.run(t_end, until=until, progress=False, **kw).stopped_by
+    period = segment_steps(sim)
+    checkpoint = None if checkpoint is None else Path(checkpoint)
+    last = time.monotonic()
+    bar = None
+    if progress:
+        from tqdm.auto import tqdm
+
+        bar = tqdm(total=None if math.isinf(end) else int(end), initial=sim.steps,
+                   unit="step", leave=False)
+    try:
+        with _deferred_signals(signals) as flag:
+            while True:
+                stop = min(end, (sim.steps // period + 1) * period)
+                info = sim.run(t_end, until=until, max_steps=int(stop - sim.steps),
+                               progress=False)
+                if bar is not None:
+                    bar.update(sim.steps - bar.n)
+                if info.stopped_by not in ("t_end", "max_steps") or sim.steps >= end:
+                    return info.stopped_by
+                _drop_closing_sample(sim)
+                now = time.monotonic()
+                if checkpoint is not None and (flag or now - last >= interval):
+                    write_checkpoint(checkpoint, sim, key, extra() if extra else None)
+                    last = time.monotonic()
+                if flag:
+                    raise Interrupted(flag[0], checkpoint, sim.t, sim.steps)
+    finally:
+        if bar is not None:
+            bar.close()
