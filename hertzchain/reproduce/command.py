@@ -50,8 +50,11 @@ def jsonable(obj):
 def _text(result: dict) -> str:
     from .report import summary_rows
 
-    lines = [f"{row[0]}: ours {row[1]}, paper {row[2]}, difference {row[3]}"
-             + (f" ({row[4]})" if row[4] else "") for row in summary_rows(result["runs"])]
+    lines = []
+    for q, ours, paper, diff, note in summary_rows(result["runs"]):
+        text = f"{q}: {ours}" if paper == "—" else f"{q}: ours {ours}, paper {paper}"
+        text += f", difference {diff}" if diff != "—" else ""
+        lines.append(text + (f" ({note})" if note else ""))
     if "table2" in result["items"]:
         from ..paper import TABLE2, TABLE2_KEYS
 

@@ -128,7 +128,8 @@ def run(ctx: Context, n_grains: dict | None = None, variants=None) -> Fig2Result
     return Fig2Result(plateaus, profiles, out, files)
 
 
-def plot_panel(ax, result: Fig2Result, delta0_over_d: float, *, every: int | None = None):
+def plot_panel(ax, result: Fig2Result, delta0_over_d: float, *, every: int | None = None,
+               zoom: int = 200):
     """One panel of Fig. 2: v_i/v0 at the end of the run, v_max/v0 and its mean.
 
     Parameters
@@ -139,6 +140,8 @@ def plot_panel(ax, result: Fig2Result, delta0_over_d: float, *, every: int | Non
         Which chain (0 or 1e-3).
     every : int, optional
         Plot every ``every``-th v_max square (default: ~300 squares).
+    zoom : int
+        Grains behind the leading wave repeated in an inset for long chains (0: none).
     """
     prof = result.profiles[delta0_over_d]
     p = result.plateaus[delta0_over_d]
@@ -158,6 +161,16 @@ def plot_panel(ax, result: Fig2Result, delta0_over_d: float, *, every: int | Non
     title = r"$\delta_0 = 0$" if delta0_over_d == 0 else rf"$\delta_0/d = {delta0_over_d:g}$"
     ax.set_title(f"({'a' if delta0_over_d == 0 else 'b'}) {title}")
     ax.legend(fontsize="x-small", loc="upper right")
+    if zoom and n > 4 * zoom:
+        # inset: the leading wave and the start of its tail at the end of the run
+        front = int(np.argmax(prof["v"]))
+        g = np.arange(max(0, front - zoom), min(n, front + 15))
+        ins = ax.inset_axes([0.3, 0.35, 0.45, 0.4])
+        ins.plot(g + 1, prof["v"][g], lw=0.8, color="C0")
+        ins.axhline(0, color="0.7", lw=0.4)
+        ins.set_xlim(g[0] + 1, g[-1] + 1)
+        ins.tick_params(labelsize="x-small")
+        ins.set_title(f"grains {g[0] + 1}–{g[-1] + 1}", fontsize="x-small")
 
 
 def figures(ctx: Context, result: Fig2Result) -> list:

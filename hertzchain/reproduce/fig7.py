@@ -27,9 +27,10 @@ import theory
 from .common import Context, log_ticks, new_figure, run_scenario_cached, save_figure, tqdm_iter
 
 __all__ = ["QUICK", "FULL", "BASE", "Fig7Result", "points", "scenario", "compute_points",
-           "run", "plot_phase_diagram", "paper_statements", "figures", "report", "to_json"]
+           "run", "plot_phase_diagram", "reflected_counts", "paper_statements", "figures",
+           "report", "to_json"]
 
-QUICK = {"grid": 8, "lim": (0.2, 5.0), "backend": "loop", "workers": 2}
+QUICK = {"grid": 10, "lim": (0.2, 5.0), "backend": "loop", "workers": 2}
 FULL = {"grid": 20, "lim": (0.2, 5.0), "backend": "sweep", "workers": 2}
 BASE = {
     "chain": {"delta0_over_d": 1e-3, "material": "paper",
@@ -203,21 +204,32 @@ def figures(ctx: Context, res: Fig7Result) -> list:
              "paper's a–d, M, N, P, Q).")]
 
 
+def reflected_counts(res: Fig7Result, side: int = 1) -> dict[str, int]:
+    """Reflected labels of the points off the lines with γ_RG > 1 (``side=1``) or < 1."""
+    gc, gr = res.gamma_c0, res.gamma_rg
+    off = (np.abs(np.log(gc)) > 1e-9) & (np.abs(np.log(gr)) > 1e-9)
+    m = off & ((gr > 1) if side > 0 else (gr < 1))
+    re = np.array(res.reflected)[m]
+    return {"points": int(m.sum()), **{k: int(np.sum(re == k))
+                                       for k in ("compressive", "expansive", "none")}}
+
+
 def paper_statements(res: Fig7Result) -> list[str]:
     """The paper's statements about Fig. 7, checked on the classified points."""
-    gc, gr = res.gamma_c0, res.gamma_rg
-    tr, re = np.array(res.transmitted), np.array(res.reflected)
-    off = (np.abs(np.log(gc)) > 1e-9) & (np.abs(np.log(gr)) > 1e-9)
+    gc = res.gamma_c0
+    tr = np.array(res.transmitted)
+    off = (np.abs(np.log(gc)) > 1e-9) & (np.abs(np.log(res.gamma_rg)) > 1e-9)
     out = []
-    m = (gr > 1) & off
+    c = reflected_counts(res, 1)
     out.append(f"Section 4: \"when γ_RG > 1, i.e. (II) and (III) regions … the RSWs are "
-               f"expansive waves\": of {m.sum()} points with γ_RG > 1, "
-               f"{np.sum(re[m] == 'compressive')} reflect a compressive wave and "
-               f"{np.sum(re[m] == 'expansive')} an expansive one — the text contradicts the "
+               f"expansive waves\": of {c['points']} points with γ_RG > 1, "
+               f"{c['compressive']} reflect a compressive wave, {c['expansive']} an expansive "
+               f"one ({c['none']} below the detection threshold) — the text contradicts the "
                f"data (and the paper's own Section 3.2 and Fig. 5b, d).")
-    m = (gr < 1) & off
-    out.append(f"γ_RG < 1 (regions I, IV): {np.sum(re[m] == 'expansive')} of {m.sum()} "
-               f"points reflect an expansive wave (paper: expansive, overshoot).")
+    c = reflected_counts(res, -1)
+    out.append(f"γ_RG < 1 (regions I, IV): {c['expansive']} of {c['points']} points reflect "
+               f"an expansive wave, {c['compressive']} a compressive one (paper: expansive, "
+               f"overshoot).")
     m = (gc > 1) & off
     nf = int(np.sum(tr[m] == "fracture"))
     both = m & ~((res.alpha_rho < 1) & (res.alpha_kn > 1))
@@ -231,6 +243,11 @@ def paper_statements(res: Fig7Result) -> list[str]:
     return out
 
 
+def _sides(d: dict) -> str:
+    return "; ".join(f"{k}: {v:.3g}" if isinstance(v, float) else f"{k}: {v}"
+                     for k, v in d.items())
+
+
 def report(rep, res: Fig7Result, figs: list) -> None:
     """Add the Fig. 7 section."""
     rep.heading("Fig. 7 — phase diagram")
@@ -242,9 +259,9 @@ def report(rep, res: Fig7Result, figs: list) -> None:
         f"{a.fraction_agree:.1%} of the points have both labels right (transmitted "
         f"{a.fraction_agree_transmitted:.1%}, reflected {a.fraction_agree_reflected:.1%}); "
         f"disagreement band around γ_c0 = 1: |ln γ_c0| ≤ {a.band_gamma_c0:.3g}, around "
-        f"γ_RG = 1: |ln γ_RG| ≤ {a.band_gamma_rg:.3g} (by side of the other line: "
-        f"{a.band_gamma_c0_by_side}, {a.band_gamma_rg_by_side}).  On the lines: "
-        f"{a.on_line_labels}."
+        f"γ_RG = 1: |ln γ_RG| ≤ {a.band_gamma_rg:.3g} (the band around γ_c0 = 1 on each "
+        f"side of γ_RG = 1: {_sides(a.band_gamma_c0_by_side)}).  Measured labels of the "
+        f"points on the lines: {_sides(a.on_line_labels)}."
         + (f"  The transmitted labels agree better ({a.fraction_agree_fission:.1%}) with "
            f"the fission criterion q = γ_c0 √(2γ_RG/(1 + γ_RG)) > 1 of "
            f"hertzchain.sweep.analysis (the transmitted amplitude also matters, not γ_c0 "

@@ -109,9 +109,15 @@ def paper_issues(runs) -> list[str]:
           "are expansive waves\" — contradicted by the paper's own Section 3.2, Fig. 5b/d "
           "text and by the data: the reflected waves are compressive there.")
     if "fig7" in r:
-        from .fig7 import paper_statements
+        from .fig7 import reflected_counts
 
-        s4 += "  " + paper_statements(r["fig7"].result)[0]
+        c = reflected_counts(r["fig7"].result, 1)
+        s4 += (f"  Of {c['points']} simulated points with γ_RG > 1, {c['compressive']} "
+               f"reflect a compressive wave and {c['expansive']} an expansive one "
+               f"({c['none']} below the 5 % detection threshold, next to γ_RG = 1).")
+    if "fig5" in r:
+        cases = {x.case: x.numbers["reflected"] for x in r["fig5"].result}
+        s4 += f"  Fig. 5 cases (γ_RG > 1: b, d): {cases}."
     out.append(s4)
     out.append("Conclusions: \"when γ_c0 > 1, i.e. α_ρ < 1 and α_kn > 1\" (and \"γ_c0 < 1, "
                "i.e. α_ρ > 1 and α_kn < 1\") — sufficient, not equivalent: γ_c0 > 1 means "

@@ -44,7 +44,7 @@ __all__ = ["QUICK", "FULL", "POINTS", "DISTANCES", "PointResult", "point_scenari
            "run_point", "run", "report", "to_json"]
 
 POINTS = ("M", "N", "P", "Q")
-DISTANCES = (10, 50, 100, 200)
+DISTANCES = (10, 30, 50, 100, 150, 200)
 """Grains past the interface at which the drift of the ratios is tabulated."""
 QUICK = {"n_left": 200, "n_right": 800, "centre": 100, "t_end": 2.4e-3, "energy_every": 20,
          "continuum": True, "continuum_distance": 100, "continuum_nodes": 5}
@@ -114,9 +114,13 @@ def run_point(ctx: Context, point: str, s: dict | None = None, *, grid: bool = F
     front = _front(e, iface)
     ratios = {k: float(summary[k]) for k in TABLE2_KEYS}
     activity = D.interface_activity(e, iface)
+    # rows before the reflected wave reaches the left wall (its echo would change Re)
+    tot = np.abs(e).sum(axis=1)
+    at_wall = np.flatnonzero(np.abs(e[:, :5]).sum(axis=1) > 1e-3 * tot)
+    last = int(at_wall[0]) if at_wall.size else e.shape[0]
     drift = {}
     for dist in DISTANCES:
-        rows = np.flatnonzero(front >= dist)
+        rows = np.flatnonzero(front[:last] >= dist)
         if rows.size:
             r = D.energy_ratios_from_grid(ek, ep, chain.section, i_in, int(rows[0]))
             drift[dist] = r.as_dict() | {"interface_activity": float(activity[rows[0]])}
@@ -226,7 +230,8 @@ def report(rep, results: list[PointResult], figs: list | None = None) -> None:
     rep.table(["point", "grains past interface", "energy near interface"]
               + list(TABLE2_KEYS), drows,
               caption="Drift of the discrete ratios with the distance of the transmitted "
-              "peak from the interface (PHYSICS.md §6: P's Ek_tr decreases); 'energy near "
+              "peak from the interface, until the reflected wave reaches the left wall "
+              "(PHYSICS.md §6: P's Ek_tr decreases); 'energy near "
               "interface' = fraction of Σ|e| within 5 grains of it (the attribution of the "
               "interface contact matters at that level)")
     rep.paragraph(
