@@ -5,11 +5,12 @@ Layout: root attributes ``format``, ``package_version``, ``solver``, ``dt`` (s),
 ``wall_right`` (m), ``chain_params`` and ``recording`` (JSON) and ``units`` (JSON:
 the unit of every dataset); groups ``chain`` (mass, k, delta0, diameter, section),
 ``state`` (u, v, a), ``record`` (series, energy grid, monitor, maxima) and
-``snapshots/<i>`` (u, v, overlaps with attributes label, t, step).  Datasets are
-chunked and gzip-compressed.  Optional root attributes: ``integrator`` (the time
-stepper's name, :mod:`discrete.integrators`; absent means ``"verlet"``) and whatever the
-caller passes as ``attrs`` (the runner adds the scenario and the summary, a checkpoint
-its scenario hash).
+``snapshots/<i>`` (u, v, overlaps with attributes label, t, step).  Datasets of 64
+or more entries are chunked, gzip-compressed and checksummed (Fletcher-32: a corrupted
+chunk is an error on reading, not silently wrong numbers).  Optional root attributes:
+``integrator`` (the time stepper's name, :mod:`discrete.integrators`; absent means
+``"verlet"``) and whatever the caller passes as ``attrs`` (the runner adds the scenario
+and the summary, a checkpoint its scenario hash).
 
 Robustness: the file is written to a hidden temporary file in the target directory,
 flushed to disk (``fsync``) and renamed when complete (``os.replace``), so a reader never
@@ -54,11 +55,12 @@ def _version() -> str:
         return "unknown"
 
 
-def _ds(group: h5py.Group, name: str, data) -> None:
+def _ds(group: h5py.Group, name: str, data, compress: bool = True) -> None:
     data = np.asarray(data)
     if data.size >= 64:
-        group.create_dataset(name, data=data, chunks=True, compression="gzip",
-                             compression_opts=4, shuffle=True)
+        kw = {"compression": "gzip", "compression_opts": 4, "shuffle": True} if compress \
+            else {}
+        group.create_dataset(name, data=data, chunks=True, fletcher32=True, **kw)
     else:
         group.create_dataset(name, data=data)
     if name in UNITS:
@@ -72,7 +74,8 @@ def _events_json(rec: Recording) -> list:
     return out
 
 
-def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None) -> Path:
+def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
+         compress: bool = True) -> Path:
     """Write ``sim`` (chain, state, recording, record) to the HDF5 file ``path``, atomically.
 
     Parameters
@@ -83,6 +86,8 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None)
         The simulation (finished or not: a loaded one can continue, bit for bit).
     attrs : dict, optional
         Extra root attributes (str, numbers or bool) written in the same atomic step.
+    compress : bool
+        gzip the large datasets (default); False writes faster (checkpoints).
 
     Returns
     -------
@@ -122,23 +127,23 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None)
             a["units"] = json.dumps(UNITS)
             g = f.create_group("chain")
             for name in ("mass", "k", "delta0", "diameter", "section"):
-                _ds(g, name, getattr(sim.chain, name))
+                _ds(g, name, getattr(sim.chain, name), compress)
             g = f.create_group("state")
             for name in ("u", "v", "a"):
-                _ds(g, name, getattr(sim, name))
+                _ds(g, name, getattr(sim, name), compress)
             g = f.create_group("record")
             for name, arr in sim.record.arrays().items():
-                _ds(g, name, arr)
+                _ds(g, name, arr, compress)
             if sim.record.vmax is not None:
-                _ds(g, "vmax", sim.record.vmax)
-                _ds(g, "umax", sim.record.umax)
+                _ds(g, "vmax", sim.record.vmax, compress)
+                _ds(g, "umax", sim.record.umax, compress)
             g.attrs["energy_coarsen"] = sim.record.energy_coarsen
             sg = f.create_group("snapshots")
             for i, s in enumerate(sim.record.snapshots):
                 h = sg.create_group(f"{i:05d}")
                 h.attrs["label"], h.attrs["t"], h.attrs["step"] = s.label, s.t, s.step
                 for name in ("u", "v", "overlaps"):
-                    _ds(h, name, getattr(s, name))
+                    _ds(h, name, getattr(s, name), compress)
             for key, value in (attrs or {}).items():
                 a[key] = value
         _fsync(tmp)
@@ -245,8 +250,9 @@ def load(path: str | os.PathLike) -> Simulation:
             return _read(r)
         except (OSError, KeyError, ValueError, TypeError, IndexError, RuntimeError,
                 json.JSONDecodeError) as exc:
+            detail = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
             raise ValueError(f"{path}: damaged or incomplete {FORMAT} file ({r.where}): "
-                             f"{exc}") from None
+                             f"{detail}") from None
 
 
 def _read(r: _Reader) -> Simulation:

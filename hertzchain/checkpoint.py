@@ -57,8 +57,8 @@ from discrete.io import load, save
 from .cache import CACHE_SCHEMA, canonical_json, param_hash
 
 __all__ = ["DEFAULT_INTERVAL", "CHECKPOINT_SCHEMA", "CheckpointError", "Interrupted",
-           "checkpoint_path", "run_key", "segment_steps", "write_checkpoint",
-           "read_checkpoint", "run_segmented"]
+           "checkpoint_path", "remove_stale_temporaries", "run_key", "segment_steps",
+           "write_checkpoint", "read_checkpoint", "run_segmented"]
 
 DEFAULT_INTERVAL = 300.0
 """Default wall time between checkpoints, s (``hertzchain run --checkpoint-interval``)."""
@@ -114,6 +114,26 @@ def checkpoint_path(out: str | Path) -> Path:
     return out.with_name(out.name + ".ckpt")
 
 
+def remove_stale_temporaries(out: str | Path) -> list[Path]:
+    """Delete temporary files a killed writer left beside ``out`` and its checkpoint.
+
+    :func:`discrete.io.save` and :func:`hertzchain.cache.atomic_path` write to
+    ``.<name>.<random>.tmp`` in the target directory; a process killed while writing
+    leaves one behind.  Called when a checkpointed run starts and ends (one process per
+    output file is assumed, as for any output file).
+    """
+    import glob
+
+    out = Path(out)
+    removed = []
+    for name in (out.name, checkpoint_path(out).name):
+        for p in out.parent.glob(f".{glob.escape(name)}.*.tmp"):
+            with contextlib.suppress(FileNotFoundError):
+                p.unlink()
+                removed.append(p)
+    return removed
+
+
 def run_key(params: dict) -> str:
     """Key of a run from its parameters (JSON-able): schema versions and a SHA-256 prefix."""
     return f"ckpt{CHECKPOINT_SCHEMA}-cache{CACHE_SCHEMA}-{param_hash(params)}"
@@ -134,7 +154,7 @@ def write_checkpoint(path: str | Path, sim: discrete.Simulation, key: str,
     """Write ``sim`` and ``key`` (and ``extra``, JSON-able) to ``path`` atomically."""
     attrs = {f"{_PREFIX}key": key, f"{_PREFIX}extra": canonical_json(extra or {}),
              f"{_PREFIX}written": time.time()}
-    return save(path, sim, attrs=attrs)
+    return save(path, sim, attrs=attrs, compress=False)  # speed over size
 
 
 def read_checkpoint(path: str | Path, key: str) -> tuple[discrete.Simulation, dict] | None:

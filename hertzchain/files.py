@@ -2,7 +2,9 @@
 
 Discrete runs are written by :func:`discrete.io.save` (attribute ``format``); the runner
 adds the scenario and the summary as JSON attributes.  A file that is missing, not
-HDF5, or truncated gets a clear :class:`ValueError` rather than an h5py traceback.
+HDF5, truncated, or damaged inside (an unreadable object, a missing dataset of a
+discrete run) gets a clear :class:`ValueError` naming the file rather than an h5py
+traceback.  The PNG of :func:`plot_file` is written atomically.
 """
 
 from __future__ import annotations
@@ -13,13 +15,23 @@ from pathlib import Path
 import h5py
 import numpy as np
 
+from .cache import atomic_path
+
 __all__ = ["open_result", "describe", "plot_file"]
+
+
+DISCRETE_DATASETS = ("chain/mass", "chain/k", "chain/delta0", "chain/diameter",
+                     "chain/section", "state/u", "state/v", "state/a", "record/series_t",
+                     "record/series", "record/energy_t", "record/energy_kinetic",
+                     "record/energy_potential", "record/monitor_t", "record/monitor_energy",
+                     "record/monitor_shadow")
+"""Datasets every file of :func:`discrete.io.save` has (checked by :func:`describe`)."""
 
 
 def open_result(path: str | Path) -> h5py.File:
     """Open an HDF5 result read-only, with a clear error for bad files."""
     path = Path(path)
-    if not path.exists():
+    if not path.is_file():
         raise ValueError(f"{path}: no such file")
     try:
         return h5py.File(path, "r")
@@ -42,24 +54,46 @@ def _attr(value):
 
 
 def describe(path: str | Path) -> str:
-    """A readable description: attributes (parameters, summary) and datasets."""
+    """A readable description: attributes (parameters, summary) and datasets.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, if it is not a readable HDF5 file, an object in it cannot be
+        read, or a discrete run (``format`` attribute) lacks one of
+        :data:`DISCRETE_DATASETS`.
+    """
     lines = [f"{path}"]
     with open_result(path) as f:
-        for key in sorted(f.attrs):
-            val = _attr(f.attrs[key])
-            if isinstance(val, dict):
-                lines.append(f"  {key}:")
-                lines += [f"    {k}: {v}" for k, v in val.items()]
-            else:
-                lines.append(f"  {key}: {val}")
-        lines.append("  datasets:")
-
-        def visit(name, obj):
-            if isinstance(obj, h5py.Dataset):
-                lines.append(f"    {name} {obj.shape} {obj.dtype}")
-
-        f.visititems(visit)
+        try:
+            _describe(f, lines)
+        except (OSError, RuntimeError, KeyError, TypeError) as exc:
+            raise ValueError(f"{path}: damaged HDF5 file (an object cannot be read): "
+                             f"{exc}") from None
+        fmt = _attr(f.attrs.get("format", ""))
+        if isinstance(fmt, str) and fmt.startswith("hertzchain.discrete/"):
+            missing = [name for name in DISCRETE_DATASETS if name not in f]
+            if missing:
+                raise ValueError(f"{path}: incomplete discrete run ({fmt}): missing "
+                                 f"dataset(s) {missing}")
     return "\n".join(lines)
+
+
+def _describe(f: h5py.File, lines: list[str]) -> None:
+    for key in sorted(f.attrs):
+        val = _attr(f.attrs[key])
+        if isinstance(val, dict):
+            lines.append(f"  {key}:")
+            lines += [f"    {k}: {v}" for k, v in val.items()]
+        else:
+            lines.append(f"  {key}: {val}")
+    lines.append("  datasets:")
+
+    def visit(name, obj):
+        if isinstance(obj, h5py.Dataset):
+            lines.append(f"    {name} {obj.shape} {obj.dtype}")
+
+    f.visititems(visit)
 
 
 def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
@@ -90,6 +124,19 @@ def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
                        label="grain energy (J)", cmap="viridis")
     fig.tight_layout()
     out = Path(out) if out is not None else path.with_suffix(".png")
-    fig.savefig(out, dpi=120)
-    plt.close(fig)
+    try:
+        with atomic_path(out) as tmp:
+            fig.savefig(tmp, dpi=120, format="png")
+        _readable(out)
+    finally:
+        plt.close(fig)
     return out
+
+
+def _readable(path: Path) -> None:
+    """The usual permissions for a written file (atomic temporary files are 0600)."""
+    import os
+
+    from discrete.io import _umask
+
+    os.chmod(path, 0o666 & ~_umask())

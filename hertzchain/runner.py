@@ -361,6 +361,19 @@ def _write_partial(out: Path, sim: discrete.Simulation, scenario: Scenario, erro
             "not resumable)")
 
 
+def _integrate(sim, scenario: Scenario, until, ckpt, key, interval, extra, progress) -> None:
+    """One ``Simulation.run`` call, or checkpointed segments (bit for bit the same)."""
+    from . import checkpoint as C
+
+    if interval is None:
+        sim.run(scenario.run.t_end, until=until, max_steps=scenario.run.max_steps,
+                progress=progress)
+    else:
+        C.run_segmented(sim, t_end=scenario.run.t_end, until=until,
+                        step_limit=scenario.run.max_steps, checkpoint=ckpt, key=key,
+                        interval=float(interval), extra=extra, progress=progress)
+
+
 def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
                  progress: bool = False, checkpoint_interval: float | None = None,
                  resume: bool = True, threads: int | None = None, check: bool = True,
@@ -433,6 +446,7 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
     key = C.run_key(scenario.to_dict())
     resumed = None
     if ckpt is not None:
+        C.remove_stale_temporaries(out)
         if resume:
             resumed = C.read_checkpoint(ckpt, key)
         elif ckpt.exists():
@@ -457,15 +471,10 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
                 "wall_time": elapsed + time.perf_counter() - start,
                 "scenario": scenario.to_dict()}
 
-    try:
-        if checkpoint_interval is None:
-            sim.run(scenario.run.t_end, until=until, max_steps=scenario.run.max_steps,
-                    progress=progress)
-        else:
-            C.run_segmented(sim, t_end=scenario.run.t_end, until=until,
-                            step_limit=scenario.run.max_steps, checkpoint=ckpt, key=key,
-                            interval=float(checkpoint_interval), extra=extra_state,
-                            progress=progress)
+    try:  # a NaN is the Simulation's to report, whatever the caller's numpy error state
+        with np.errstate(invalid="ignore", over="ignore"):
+            _integrate(sim, scenario, until, ckpt, key, checkpoint_interval, extra_state,
+                       progress)
     except discrete.InstabilityError as exc:
         text = (f"{exc}. From the initial state: largest linearly stable dt {stable:.4g} s, "
                 f"dt = 'auto' gives {auto:.4g} s")
@@ -479,6 +488,7 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
     if out is not None:
         discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
                                        "summary": canonical_json(summary)})
-        if ckpt is not None and ckpt.exists():
-            ckpt.unlink()
+        if ckpt is not None:
+            ckpt.unlink(missing_ok=True)
+            C.remove_stale_temporaries(out)
     return summary
