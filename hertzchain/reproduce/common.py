@@ -60,6 +60,7 @@ class Context:
     computed: list[Path] = field(default_factory=list)
     reused: list[Path] = field(default_factory=list)
     timings: dict[str, float] = field(default_factory=dict)
+    notes: dict[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         self.out = Path(self.out)

@@ -94,6 +94,8 @@ def compute_points(ctx: Context, pts, *, backend: str = "loop", workers: int = 2
     spec["base"]["name"] = "fig7-point"
     outcome = run_sweep(spec, out=ctx.out / f"fig7-sweep-{ctx.mode}", workers=workers,
                         progress=ctx.progress, retry_failed=ctx.force)
+    ctx.notes["fig7"] = (f"Fig. 7 sweep ({outcome.directory}): {outcome.n_run} points run on "
+                         f"Dask, {outcome.n_skipped} reused, {outcome.n_failed} failed")
     res = read_results(outcome.table)
     cols = res.columns
     return [{k: (cols[k][i] if k in cols else None) for k in

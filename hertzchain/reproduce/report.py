@@ -148,7 +148,8 @@ def write_report(ctx, runs, wall_time: float) -> tuple[Path, Path]:
         f"({len(ctx.computed)} simulations computed, {len(ctx.reused)} reused from "
         f"`runs/`); Python {platform.python_version()}, NumPy {np.__version__}.  Grain "
         f"numbers are the paper's (1-based).  Material: Hertz constant with ν = 0.30 "
-        f"(reproduces the paper; see the last section).")
+        f"(reproduces the paper; see the last section)."
+        + "".join(f"  {note}." for note in ctx.notes.values()))
     rows = summary_rows(runs)
     if rows:
         rep.heading("Summary")

@@ -186,3 +186,18 @@ def test_reproduce_fig2_table2_quick_json(tmp_path, capsys):
         assert set(row) == set(TABLE2_KEYS)
         for k in TABLE2_KEYS:
             assert row[k] == pytest.approx(TABLE2[point][k], abs=5e-4), (point, k)
+
+
+@pytest.mark.slow
+def test_fig7_sweep_backend_matches_loop(tmp_path):
+    # the --full path: the same points through hertzchain.sweep (Dask) give the same labels
+    from hertzchain.reproduce import fig7
+
+    ctx = Context(tmp_path, progress=False)
+    loop = fig7.run(ctx, grid=2, backend="loop")
+    sweep = fig7.run(ctx, grid=2, backend="sweep", workers=1)
+    assert sweep.transmitted == loop.transmitted and sweep.reflected == loop.reflected
+    assert "points run on Dask" in ctx.notes["fig7"]
+    again = fig7.run(ctx, grid=2, backend="sweep", workers=1)   # resumed: nothing to run
+    assert again.transmitted == loop.transmitted
+    assert " 0 points run on Dask" in ctx.notes["fig7"]
