@@ -48,6 +48,11 @@ GRID_ROWS_PER_GRAIN = 0.5
 SEPARATION_FRACTIONS = (1e-6, 1e-5, 1e-4, 1e-3)
 """Energy fractions near the interface tried, strictest first, to call the waves separated."""
 
+TRANSMITTED_FLOOR = 1e-3
+"""The transmitted wave is classified only if the right section's largest |v| exceeds
+this fraction of the chain's (otherwise "none": the wave has not arrived, and
+classifying round-off dust of 1e-50 m/s can fail)."""
+
 _MAX_GRID = 2e7  # entries of the (rows, columns) energy grid before coarsening
 
 
@@ -122,7 +127,8 @@ def _check_amplitude(chain: discrete.Chain, init, key: str, value: float) -> Non
         raise ScenarioError(
             f"[initial] {key} = {value!r} m/s is non-physical: the contacts would overlap by "
             f"{worst:.3g} grain diameters (allowed < {MAX_OVERLAP_OVER_D:g}, the Hertz "
-            f"small-strain range); lower {key}")
+            f"small-strain range); lower {key} (or stiffen the contacts: alpha_kn, "
+            "material)")
 
 
 def build_initial_checked(scenario: Scenario, chain: discrete.Chain):
@@ -275,10 +281,13 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     """Flat summary of a finished two-section run (see module docstring).
 
     ``incident`` is the incident amplitude (:func:`incident_amplitude`); reflected waves
-    below 5 % of it are classified ``"none"``.
+    below 5 % of it are classified ``"none"``, and so is a transmitted wave whose peak
+    velocity is below :data:`TRANSMITTED_FLOOR` of the chain's.
 
     For a chain with one section only the drift, cost and front speed are filled; the
-    energy ratios and classifications need an interface (section 0 | section 1).
+    energy ratios and classifications need an interface (section 0 | section 1).  A
+    striker grain prepended by :func:`discrete.initial.impact` (section -1) belongs to
+    neither section.
     """
     out: dict = {"steps": int(sim.steps), "t": float(sim.t), "dt": float(sim.dt),
                  "energy_drift": float(sim.energy_drift), "n_grains": int(chain.n)}
@@ -290,8 +299,9 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     arr = sim.record.arrays()
     ek, ep, t = arr["energy_kinetic"], arr["energy_potential"], arr["energy_t"]
     coarsen = sim.record.energy_coarsen
-    d = float(chain.diameter[0])
-    n_left = int(np.count_nonzero(chain.section == chain.section[0]))
+    s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain, if any
+    d = float(chain.diameter[s0])
+    n_left = s0 + int(np.count_nonzero(chain.section == chain.section[s0]))
     two = n_left < chain.n
     if ek.shape[0] == 0:
         return out
@@ -327,18 +337,25 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     vtr = _front_speed(t, ek, np.arange(iface, ek.shape[1]), i_hit, d * coarsen)
     vre = _front_speed(t, ek, np.arange(iface - 1, -1, -1), i_hit + 1, d * coarsen)
     out["front_speed_tr"], out["front_speed_re"] = vtr, vre
-    if chain.delta0[1] > 0:
-        c0l = float(theory.c0(chain.k[1], chain.mass[0], d, chain.delta0[1]))
+    precompressed = chain.delta0[s0 + 1] > 0
+    if precompressed:
+        c0l = float(theory.c0(chain.k[s0 + 1], chain.mass[s0], d, chain.delta0[s0 + 1]))
         out["front_speed_tr_over_c0L"] = vtr / c0l
     # classification on the final state (Fig. 7)
-    ctr = D.classify_transmitted(sim.v, lo=n_left, hi=chain.n - 1, direction=1)
-    out["transmitted"], out["n_transmitted_pulses"] = ctr.label, int(ctr.n_pulses)
-    if chain.delta0[1] > 0:
-        cre = D.classify_reflected(overlaps=sim.overlaps(), delta0=chain.delta0,
-                                   lo=1, hi=n_left - 1, reference=incident)
-    else:
-        cre = D.classify_reflected(velocity=sim.v, lo=0, hi=n_left - 1, reference=incident)
-    out["reflected"] = cre.label
+    # (ranges of fewer than 3 grains are left "none")
+    v_tr = float(np.max(np.abs(sim.v[n_left:])))
+    if chain.n - 1 - n_left >= 2 and v_tr > TRANSMITTED_FLOOR * float(np.max(np.abs(sim.v))):
+        ctr = D.classify_transmitted(sim.v, lo=n_left, hi=chain.n - 1, direction=1)
+        out["transmitted"], out["n_transmitted_pulses"] = ctr.label, int(ctr.n_pulses)
+    lo = s0 + 1 if precompressed else s0
+    if n_left - 1 - lo >= 2:
+        if precompressed:
+            cre = D.classify_reflected(overlaps=sim.overlaps(), delta0=chain.delta0,
+                                       lo=lo, hi=n_left - 1, reference=incident)
+        else:
+            cre = D.classify_reflected(velocity=sim.v, lo=lo, hi=n_left - 1,
+                                       reference=incident)
+        out["reflected"] = cre.label
     return out
 
 
