@@ -28,3 +28,16 @@ def test_atomic_path_success_and_failure(tmp_path):
         raise RuntimeError("crash")
     assert target.read_text() == "complete"
     assert sorted(p.name for p in target.parent.iterdir()) == ["r.txt"]
+
+
+def test_atomic_path_file_mode_follows_umask(tmp_path):
+    import os
+    import stat
+
+    old = os.umask(0o022)
+    try:
+        with atomic_path(tmp_path / "m.txt") as tmp:
+            tmp.write_text("x")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "m.txt").stat().st_mode) == 0o644
