@@ -219,11 +219,19 @@ class _Reader:
         return self.f[name]
 
 
-def load(path: str | os.PathLike) -> Simulation:
+def load(path: str | os.PathLike, *, threads: int | None = None) -> Simulation:
     """Read a file written by :func:`save`; returns a Simulation that can continue.
 
     Continuing the loaded simulation gives bit for bit what continuing the saved one
     would have given (``tests/test_reliability_checkpoint.py``).
+
+    Parameters
+    ----------
+    path : path
+        The file.
+    threads : int, optional
+        Kernel threads of the returned Simulation (a property of the machine, not of
+        the run: not stored; results are bitwise identical for every value).
 
     Raises
     ------
@@ -247,7 +255,7 @@ def load(path: str | os.PathLike) -> Simulation:
             raise ValueError(f"{path} is not a {FORMAT} file (format {fmt!r})")
         r = _Reader(f)
         try:
-            return _read(r)
+            return _read(r, threads)
         except (OSError, KeyError, ValueError, TypeError, IndexError, RuntimeError,
                 json.JSONDecodeError) as exc:
             detail = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
@@ -255,7 +263,7 @@ def load(path: str | os.PathLike) -> Simulation:
                              f"{detail}") from None
 
 
-def _read(r: _Reader) -> Simulation:
+def _read(r: _Reader, threads: int | None) -> Simulation:
     c = r.group("chain")
     chain = Chain(r.data("mass", c), r.data("k", c), r.data("delta0", c),
                   r.data("diameter", c), r.data("section", c), r.json("chain_params"))
@@ -267,7 +275,7 @@ def _read(r: _Reader) -> Simulation:
                           monitor_every=rj["monitor_every"])
     s = r.group("state")
     u, v, acc = r.data("u", s), r.data("v", s), r.data("a", s)
-    kwargs = {}
+    kwargs = {} if threads is None else {"threads": threads}
     integrator = str(r.f.attrs.get("integrator", "verlet"))
     if integrator != "verlet":  # keyword only in versions that have other integrators
         kwargs["integrator"] = integrator

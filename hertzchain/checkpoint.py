@@ -157,8 +157,11 @@ def write_checkpoint(path: str | Path, sim: discrete.Simulation, key: str,
     return save(path, sim, attrs=attrs, compress=False)  # speed over size
 
 
-def read_checkpoint(path: str | Path, key: str) -> tuple[discrete.Simulation, dict] | None:
+def read_checkpoint(path: str | Path, key: str, *, threads: int | None = None
+                    ) -> tuple[discrete.Simulation, dict] | None:
     """The simulation and ``extra`` dict of the checkpoint at ``path`` (None if absent).
+
+    ``threads`` is passed to :func:`discrete.io.load`.
 
     Raises
     ------
@@ -191,7 +194,7 @@ def read_checkpoint(path: str | Path, key: str) -> tuple[discrete.Simulation, di
             "the scenario changed since it was written. Rerun with --restart to discard "
             "it, or write to another --out file")
     try:
-        sim = load(path)
+        sim = load(path, threads=threads)
         extra = json.loads(extra)
     except ValueError as exc:
         raise CheckpointError(f"damaged checkpoint: {exc}; delete it (or rerun with "

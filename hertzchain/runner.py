@@ -465,7 +465,7 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
     if ckpt is not None:
         C.remove_stale_temporaries(out)
         if resume:
-            resumed = C.read_checkpoint(ckpt, key)
+            resumed = C.read_checkpoint(ckpt, key, threads=threads)
         elif ckpt.exists():
             ckpt.unlink()
             say(f"removed the checkpoint {ckpt} (--restart)")

@@ -180,3 +180,20 @@ def test_loaded_simulation_continues_bit_for_bit(result, tmp_path):
     back.run(t_end, progress=False)
     assert sim.u.tobytes() == back.u.tobytes() and sim.v.tobytes() == back.v.tobytes()
     assert isinstance(back, discrete.Simulation)
+
+
+@pytest.mark.parametrize("integrator", ["yoshida4", "blanes_moan4"])
+def test_integrator_is_carried_by_save_and_load(integrator, tmp_path):
+    import inspect
+
+    if "integrator" not in inspect.signature(discrete.Simulation).parameters:
+        pytest.skip("Simulation has no integrator option yet")
+    ch = discrete.Chain.two_section(60, 60, alpha_kn=2.0)  # sonic vacuum: gaps, compact wave
+    init = discrete.exact_wave(ch, 30.0, velocity_max=0.3)
+    sim = init.simulation(integrator=integrator, record=discrete.Recording(monitor_every=100))
+    sim.run(max_steps=300, progress=False)
+    back = load(save(tmp_path / "r.h5", sim))
+    assert back.integrator == integrator
+    sim.run(max_steps=300, progress=False)
+    back.run(max_steps=300, progress=False)
+    assert sim.u.tobytes() == back.u.tobytes() and sim.v.tobytes() == back.v.tobytes()
