@@ -348,11 +348,16 @@ def save_sweep_figures(results: SweepResults | str | Path, out: str | Path | Non
             ((numeric + ["index", "index"])[:2] if len(numeric) != 1 else (numeric[0], "index"))
         x, y = x or dx, y or dy
     out.parent.mkdir(parents=True, exist_ok=True)
-    fig = phase_map_figure(results, x=x, y=y, energy=energy)
-    fig.savefig(out, dpi=dpi)
-    written = [out]
+    import matplotlib.pyplot as plt
+
+    from .cache import atomic_path
+
+    figures = [(out, phase_map_figure(results, x=x, y=y, energy=energy))]
     if varies:
-        cuts = out.with_name(out.stem + "-cuts.png")
-        cuts_figure(results, energy=tuple(dict.fromkeys((energy, "Et_re")))).savefig(cuts, dpi=dpi)
-        written.append(cuts)
-    return written
+        figures.append((out.with_name(out.stem + "-cuts.png"),
+                        cuts_figure(results, energy=tuple(dict.fromkeys((energy, "Et_re"))))))
+    for path, fig in figures:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=dpi, format="png")
+        plt.close(fig)
+    return [path for path, _ in figures]

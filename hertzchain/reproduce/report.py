@@ -9,7 +9,6 @@ it when the item that measures it was run.
 
 from __future__ import annotations
 
-import os
 import platform
 from pathlib import Path
 
@@ -159,14 +158,4 @@ def write_report(ctx, runs, wall_time: float) -> tuple[Path, Path]:
         rep.paragraph(f"({run.name}: {run.seconds:.1f} s)")
     rep.heading("Where the paper does not hold")
     rep.bullets(paper_issues(runs))
-    md, html = rep.write(ctx.out)
-    for p in [md, html, *[f for r in runs for f, _ in r.figures]]:
-        _readable(p)
-    return md, html
-
-
-def _readable(path) -> None:
-    """Give a written file the usual permissions (atomic temp files are created 0600)."""
-    mask = os.umask(0)
-    os.umask(mask)
-    os.chmod(path, 0o666 & ~mask)
+    return rep.write(ctx.out)
