@@ -4,13 +4,14 @@ Layout: root attributes ``format``, ``package_version``, ``solver``, ``dt`` (s),
 ``steps``, ``t`` (s), ``t0`` (s), ``energy0`` (J), ``energy_drift``, ``wall_left``,
 ``wall_right`` (m), ``chain_params`` and ``recording`` (JSON) and ``units`` (JSON:
 the unit of every dataset); groups ``chain`` (mass, k, delta0, diameter, section),
-``state`` (u, v, a), ``record`` (series, energy grid, monitor, maxima) and
-``snapshots/<i>`` (u, v, overlaps with attributes label, t, step).  Datasets of 64
-or more entries are chunked, gzip-compressed and checksummed (Fletcher-32: a corrupted
-chunk is an error on reading, not silently wrong numbers).  Optional root attributes:
-``integrator`` (the time stepper's name, :mod:`discrete.integrators`; absent means
-``"verlet"``) and whatever the caller passes as ``attrs`` (the runner adds the scenario
-and the summary, a checkpoint its scenario hash).
+``state`` (u, v, a; optional ``delta_expected``, the largest expected overlaps of the
+run's initial state, with the attribute ``dt_default``), ``record`` (series, energy
+grid, monitor, maxima) and ``snapshots/<i>`` (u, v, overlaps with attributes label, t,
+step).  Datasets of 64 or more entries are chunked, gzip-compressed and checksummed
+(Fletcher-32: a corrupted chunk is an error on reading, not silently wrong numbers).
+Optional root attributes: ``integrator`` (the time stepper's name,
+:mod:`discrete.integrators`; absent means ``"verlet"``) and whatever the caller passes
+as ``attrs`` (the runner adds the scenario and the summary, a checkpoint its key).
 
 Robustness: the file is written to a hidden temporary file in the target directory,
 flushed to disk (``fsync``) and renamed when complete (``os.replace``), so a reader never
@@ -131,6 +132,9 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
             g = f.create_group("state")
             for name in ("u", "v", "a"):
                 _ds(g, name, getattr(sim, name), compress)
+            if hasattr(sim, "_delta_expected"):  # the run's start, for instability messages
+                _ds(g, "delta_expected", sim._delta_expected, compress)
+                a["dt_default"] = sim.dt_default
             g = f.create_group("record")
             for name, arr in sim.record.arrays().items():
                 _ds(g, name, arr, compress)
@@ -293,6 +297,9 @@ def _read(r: _Reader, threads: int | None) -> Simulation:
         raise ValueError(f"state/a must be finite with shape {sim.a.shape} (got {acc.shape})")
     sim.a[:] = acc
     sim.energy0 = float(r.attr("energy0"))
+    if "delta_expected" in s and "dt_default" in r.f.attrs:  # optional (older files)
+        sim._delta_expected = r.data("delta_expected", s)
+        sim.dt_default = float(r.attr("dt_default"))
     sim._default_threshold = float(r.attr("default_threshold"))
     sim._pending = [_event(e) for e in r.json("pending_events")]
     g = r.group("record")
