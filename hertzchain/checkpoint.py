@@ -57,7 +57,8 @@ from discrete.io import load, save
 from .cache import CACHE_SCHEMA, canonical_json, param_hash
 
 __all__ = ["DEFAULT_INTERVAL", "CHECKPOINT_SCHEMA", "CheckpointError", "Interrupted",
-           "checkpoint_path", "remove_stale_temporaries", "run_key", "segment_steps",
+           "checkpoint_path", "deferred_signals", "remove_stale_temporaries", "run_key",
+           "segment_steps",
            "write_checkpoint", "read_checkpoint", "run_segmented"]
 
 DEFAULT_INTERVAL = 300.0
@@ -88,11 +89,14 @@ class Interrupted(KeyboardInterrupt):
         Steps reached.
     """
 
-    def __init__(self, signum: int, checkpoint: Path | None, t: float, steps: int) -> None:
+    def __init__(self, signum: int, checkpoint: Path | None, t: float, steps: int,
+                 note: str | None = None) -> None:
         self.signum, self.checkpoint, self.t, self.steps = signum, checkpoint, t, steps
         name = signal.Signals(signum).name
         where = f"at t = {t:.6g} s (step {steps})"
-        if checkpoint is None:
+        if note is not None:
+            text = f"interrupted by {name} {where}; {note}"
+        elif checkpoint is None:
             text = f"interrupted by {name} {where}; no checkpoint (no output file)"
         else:
             text = (f"interrupted by {name} {where}; checkpoint written to {checkpoint}: "
@@ -203,8 +207,12 @@ def read_checkpoint(path: str | Path, key: str, *, threads: int | None = None
 
 
 @contextlib.contextmanager
-def _deferred_signals(enabled: bool) -> Iterator[list[int]]:
-    """Turn the first SIGINT/SIGTERM into a flag (yielded list); restore on exit."""
+def deferred_signals(enabled: bool = True) -> Iterator[list[int]]:
+    """Turn the first SIGINT/SIGTERM into a flag (the yielded list); restore on exit.
+
+    Only in the main thread (elsewhere signals cannot be handled: no-op).  A second
+    signal gets the previous handler (Ctrl-C twice interrupts at once).
+    """
     flag: list[int] = []
     if not enabled or threading.current_thread() is not threading.main_thread():
         yield flag
@@ -238,7 +246,7 @@ def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until
                   step_limit: int | None = None, checkpoint: str | Path | None = None,
                   key: str = "", interval: float = DEFAULT_INTERVAL,
                   extra: Callable[[], dict] | None = None, progress: bool = False,
-                  signals: bool = True) -> str:
+                  signals: bool | list[int] = True) -> str:
     """Integrate ``sim`` like ``sim.run(t_end, until=until, max_steps=...)``, checkpointing.
 
     The result is bit for bit that of one ``run`` call (module docstring).
@@ -264,8 +272,9 @@ def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until
         Returns a JSON-able dict stored with each checkpoint.
     progress : bool
         Show a progress bar (tqdm, stderr) over the steps.
-    signals : bool
-        Defer SIGINT/SIGTERM to the end of a segment (main thread only).
+    signals : bool or list
+        Defer SIGINT/SIGTERM to the end of a segment (main thread only); or the flag list
+        of an enclosing :func:`deferred_signals` (the caller owns the handlers).
 
     Returns
     -------
@@ -301,7 +310,8 @@ def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until
         bar = tqdm(total=None if math.isinf(end) else int(end), initial=sim.steps,
                    unit="step", leave=False)
     try:
-        with _deferred_signals(signals) as flag:
+        with (contextlib.nullcontext(signals) if isinstance(signals, list)
+              else deferred_signals(signals)) as flag:
             while True:
                 stop = min(end, (sim.steps // period + 1) * period)
                 info = sim.run(t_end, until=until, max_steps=int(stop - sim.steps),

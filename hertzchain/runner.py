@@ -378,7 +378,8 @@ def _write_partial(out: Path, sim: discrete.Simulation, scenario: Scenario, erro
             "not resumable)")
 
 
-def _integrate(sim, scenario: Scenario, until, ckpt, key, interval, extra, progress) -> None:
+def _integrate(sim, scenario: Scenario, until, ckpt, key, interval, extra, progress,
+               flag: list[int]) -> None:
     """One ``Simulation.run`` call, or checkpointed segments (bit for bit the same)."""
     from . import checkpoint as C
 
@@ -388,7 +389,8 @@ def _integrate(sim, scenario: Scenario, until, ckpt, key, interval, extra, progr
     else:
         C.run_segmented(sim, t_end=scenario.run.t_end, until=until,
                         step_limit=scenario.run.max_steps, checkpoint=ckpt, key=key,
-                        interval=float(interval), extra=extra, progress=progress)
+                        interval=float(interval), extra=extra, progress=progress,
+                        signals=flag)
 
 
 def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
@@ -488,24 +490,31 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
                 "wall_time": elapsed + time.perf_counter() - start,
                 "scenario": scenario.to_dict()}
 
-    try:  # a NaN is the Simulation's to report, whatever the caller's numpy error state
-        with np.errstate(invalid="ignore", over="ignore"):
-            _integrate(sim, scenario, until, ckpt, key, checkpoint_interval, extra_state,
-                       progress)
-    except discrete.InstabilityError as exc:
-        text = (f"{exc}. From the initial state: largest linearly stable dt {stable:.4g} s, "
-                f"dt = 'auto' gives {auto:.4g} s")
+    # with checkpoints, SIGINT/SIGTERM stop the integration at a segment end (checkpoint,
+    # Interrupted) and, once it is done, wait until the output is written
+    with C.deferred_signals(checkpoint_interval is not None) as late_signal:
+        try:  # a NaN is the Simulation's to report, whatever the caller's numpy error state
+            with np.errstate(invalid="ignore", over="ignore"):
+                _integrate(sim, scenario, until, ckpt, key, checkpoint_interval,
+                           extra_state, progress, late_signal)
+        except discrete.InstabilityError as exc:
+            text = (f"{exc}. From the initial state: largest linearly stable dt "
+                    f"{stable:.4g} s, dt = 'auto' gives {auto:.4g} s")
+            if out is not None:
+                text += _write_partial(out, sim, scenario, text)
+            if ckpt is not None and ckpt.exists():
+                text += f"; the last checkpoint {ckpt} is kept"
+            raise discrete.InstabilityError(text) from exc
+        summary = summarise(chain, sim, amp)
+        summary["wall_time"] = elapsed + time.perf_counter() - start
         if out is not None:
-            text += _write_partial(out, sim, scenario, text)
-        if ckpt is not None and ckpt.exists():
-            text += f"; the last checkpoint {ckpt} is kept"
-        raise discrete.InstabilityError(text) from exc
-    summary = summarise(chain, sim, amp)
-    summary["wall_time"] = elapsed + time.perf_counter() - start
-    if out is not None:
-        discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
-                                       "summary": canonical_json(summary)})
-        if ckpt is not None:
-            ckpt.unlink(missing_ok=True)
-            C.remove_stale_temporaries(out)
+            discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
+                                           "summary": canonical_json(summary)})
+            if ckpt is not None:
+                ckpt.unlink(missing_ok=True)
+                C.remove_stale_temporaries(out)
+    if late_signal:
+        done = f"the run had finished: results written to {out}" if out is not None \
+            else "the run had finished (no output file)"
+        raise C.Interrupted(late_signal[0], None, sim.t, sim.steps, note=done)
     return summary

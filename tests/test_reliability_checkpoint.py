@@ -338,3 +338,24 @@ def test_one_and_two_threads_are_bitwise_identical(tmp_path):
     b = run_scenario(sc, out=tmp_path / "b.h5", threads=2, checkpoint_interval=0.0)
     assert _same_summary(a, b)
     _assert_same_file(tmp_path / "a.h5", tmp_path / "b.h5")
+
+
+def test_signal_after_the_integration_still_writes_the_output(tmp_path, monkeypatch):
+    # Ctrl-C while the summary is computed: the output is completed first, then the
+    # run reports the interruption (exit code 130 in the CLI).
+    import hertzchain.runner as R
+
+    real = R.summarise
+
+    def summarise_then_signal(*args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(R, "summarise", summarise_then_signal)
+    out = tmp_path / "run.h5"
+    with pytest.raises(C.Interrupted, match="the run had finished: results written to"):
+        run_scenario(parse_scenario(SCENARIOS["exact"]), out=out, checkpoint_interval=300.0)
+    monkeypatch.setattr(R, "summarise", real)
+    run_scenario(parse_scenario(SCENARIOS["exact"]), out=tmp_path / "ref.h5")
+    _assert_same_file(out, tmp_path / "ref.h5")
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
