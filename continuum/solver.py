@@ -11,6 +11,7 @@ registry (``solver="verlet"``) and works with the numpy and numba backends.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Any
 
@@ -138,15 +139,27 @@ def run(
     monitor = DataTracker(lambda s, t: (pde.energy(s)["total"], pde.momentum(s)),
                           interrupts=interval)
     all_trackers = [monitor, *(trackers or [])]
-    store = None
+    store = tmp = None
     if storage is not None:
-        store = FileStorage(storage, info=info, write_mode="truncate")
+        # write to a temporary name beside the target and rename when complete, so no
+        # reader ever sees a half-written file (a crash leaves the old file or none)
+        target = Path(storage)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        tmp = target.with_name(f".{target.name}.{os.getpid()}.tmp")
+        store = FileStorage(tmp, info=info, write_mode="truncate")
         all_trackers.append(store.tracker(interrupts=interval))
     solver = VerletSolver(pde, backend=backend, order=order)
     controller = Controller(solver, t_range=float(t_end), tracker=all_trackers)
-    final = controller.run(state.copy(), dt)
-    if store is not None:
-        store.close()
+    try:
+        final = controller.run(state.copy(), dt)
+        if store is not None:
+            store.close()
+            os.replace(tmp, target)
+    finally:
+        if tmp is not None and tmp.exists():
+            if store is not None:
+                store.close()
+            tmp.unlink()
     data = np.asarray(monitor.data, dtype=float).reshape(-1, 2)
     return RunResult(state=final, times=np.asarray(monitor.times), energy=data[:, 0],
                      momentum=data[:, 1], info={**info, **controller.diagnostics.get(

@@ -153,9 +153,6 @@ def test_failed_run_writes_no_result_file(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.xfail(strict=True, reason="hertzchain/sweep/store.py read_results lets h5py's "
-                   "OSError through without the file name (patch proposed in the issue-8 "
-                   "report; owner: sweep)")
 def test_sweep_results_reader_names_the_file(tmp_path):
     from hertzchain.sweep.spec import load_sweep_spec, shipped_sweeps
     from hertzchain.sweep.store import read_results, write_table

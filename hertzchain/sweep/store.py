@@ -338,6 +338,14 @@ def read_results(path: str | os.PathLike) -> SweepResults:
         path = path / "results.h5"
     if not path.exists():
         raise FileNotFoundError(f"no sweep results table at {path}")
+    try:
+        return _read_results(path)
+    except (OSError, KeyError) as exc:
+        raise ValueError(f"{path}: not a readable sweep results table (truncated or "
+                         f"corrupted?): {exc}") from None
+
+
+def _read_results(path: Path) -> SweepResults:
     with h5py.File(path, "r") as fh:
         if fh.attrs.get("format") != FORMAT:
             raise ValueError(f"{path} is not a hertzchain sweep results table "

@@ -132,8 +132,9 @@ def synthetic_point(scenario: Scenario, *, out: Path | None = None, progress: bo
     if out is not None:
         import h5py
 
-        Path(out).parent.mkdir(parents=True, exist_ok=True)
-        with h5py.File(out, "w") as fh:
+        from ..cache import atomic_path
+
+        with atomic_path(out) as tmp, h5py.File(tmp, "w") as fh:
             for key, value in summary.items():
                 fh.attrs[key] = value
     return summary

@@ -242,3 +242,22 @@ def test_storage_records_parameters(tmp_path, uniform):
     assert '"t"' in attrs["scenario"]
     assert "dt_s" in attrs and "nodes_per_grain" in attrs
     assert isinstance(res["state"][0], ScalarField)
+
+
+def test_storage_is_atomic(tmp_path):
+    """A run that fails midway leaves no (half-written) file; a finished one no temp file."""
+    from pde.trackers.base import TrackerBase
+
+    class Boom(TrackerBase):
+        def handle(self, field, t):
+            if t > 0:
+                raise RuntimeError("crash midway")
+
+    pde = BoussinesqPDE(Medium.uniform(40, DELTA0), 3)
+    state = solitary_wave(pde, 10.0, velocity_max=VMAX)
+    path = tmp_path / "run.h5"
+    with pytest.raises(RuntimeError, match="crash midway"):
+        run(pde, state, 2e-5, storage=path, interval=1e-5, trackers=[Boom(interrupts=1e-5)])
+    assert list(tmp_path.iterdir()) == []
+    run(pde, state, 2e-5, storage=path, interval=1e-5)
+    assert [p.name for p in tmp_path.iterdir()] == ["run.h5"]
