@@ -37,20 +37,46 @@ modes (1.8e-5 at δ0/d = 1e-3, ≈ (ω_lat Δt)²/24).  The drift of :math:`\til
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from . import kernels as K
 from .chain import Chain
+from .integrators import get_integrator
 from .recording import AtTime, Record, Recording, Snapshot, WaveAt, as_event, check_event
 from .reference import overlaps as _overlaps
 
 __all__ = ["Simulation", "State", "RunInfo", "InstabilityError", "default_dt", "stable_dt",
-           "expected_overlaps", "DT_FRACTION"]
+           "expected_overlaps", "DT_FRACTION", "PARALLEL_MIN_GRAINS"]
 
 DT_FRACTION = 0.002
 """Default dt as a fraction of the shortest linearised contact period (module docstring)."""
+
+BLOCK_SUBSTEPS = 256
+"""Substeps (force evaluations) per block of the temporally blocked kernel
+(:mod:`discrete.kernels`): 256 velocity-Verlet steps, 42 of a 6-stage method."""
+
+TILE_GRAINS = 8192
+"""Grains per tile of the temporally blocked kernel (u, v, max v: 192 kB, in L2)."""
+
+SERIAL_BLOCK_MIN_GRAINS = 400_000
+"""On one thread, windows from this size use temporal blocking (memory-bound beyond L3).
+
+Measured (benchmarks/README.md): at 1e4–2e5 grains the per-step pass is compute-bound
+(one square root per grain) and blocking gains nothing; at 1e6 it gains ~5–10 %."""
+
+_TUNE_PROBE = 16
+"""Every this many chunks the thread choice re-measures the other mode."""
+
+PARALLEL_MIN_GRAINS = 20_000
+"""Windows of at least this many grains are split over the threads (``threads=None``).
+
+Measured with ``benchmarks/kernel.py --threads 2`` (benchmarks/README.md): below ~1e4
+grains a substep takes a few microseconds and the fork/join of the parallel region
+(~1.5 µs each) eats the gain."""
 
 
 class InstabilityError(RuntimeError):
@@ -146,12 +172,22 @@ class Simulation:
         its drift measures only accumulated error (1e-8–1e-5 in sane runs).
     chunk : int
         Largest number of steps per kernel call.
+    integrator : str
+        Time-stepping method (:data:`discrete.integrators.INTEGRATORS`): ``"verlet"``
+        (velocity Verlet, the paper's; default), ``"yoshida4"``, ``"blanes_moan4"``.
+    threads : int, optional
+        Threads for the kernel, used only while the active window has at least
+        :data:`PARALLEL_MIN_GRAINS` grains.  None (default): all numba threads
+        (``numba.get_num_threads()``), where they are measured to be faster than one
+        (the machine may be busy; :meth:`_tune_choose`); n: n threads; 1: one.  Results
+        are bitwise identical for every choice (:mod:`discrete.kernels`).
     """
 
     def __init__(self, chain: Chain, u=None, v=None, *, dt: float | None = None,
                  wall_left: float = 0.0, wall_right: float = 0.0,
                  record: Recording | None = None, t: float = 0.0, active_window: bool = True,
-                 drift_tolerance: float = 1e-4, chunk: int = 4096) -> None:
+                 drift_tolerance: float = 1e-4, chunk: int = 4096,
+                 integrator: str = "verlet", threads: int | None = None) -> None:
         if not isinstance(chain, Chain):
             raise ValueError(f"chain must be a Chain (got {type(chain).__name__})")
         n = chain.n
@@ -167,9 +203,11 @@ class Simulation:
         self._delta_expected = expected_overlaps(chain, self.u, self.v, self.wall_left,
                                                  self.wall_right)
         w = float(np.max(_contact_omega(chain, self._delta_expected)))
-        self.dt_default = DT_FRACTION * 2.0 * math.pi / w if w > 0 else math.inf
+        method = get_integrator(integrator)
+        self.dt_default = method.dt_fraction * 2.0 * math.pi / w if w > 0 else math.inf
         if dt is None:
-            dt = default_dt(chain, self.u, self.v, self.wall_left, self.wall_right)
+            dt = default_dt(chain, self.u, self.v, self.wall_left, self.wall_right,
+                            fraction=method.dt_fraction)
         dt = float(dt) if isinstance(dt, int | float | np.floating) else dt
         if not isinstance(dt, float) or not math.isfinite(dt) or dt <= 0:
             raise ValueError(f"dt must be a finite number > 0 s (got {dt!r})")
@@ -180,12 +218,28 @@ class Simulation:
         if int(chunk) < 1:
             raise ValueError(f"chunk must be an integer >= 1 (got {chunk!r})")
         self.chunk = int(chunk)
+        self.integrator = method.name
+        self._drift, self._kick = method.coefficients(self.dt)
+        self._auto_threads = threads is None
+        self._tune_count = 0
+        if threads is None:
+            self.threads = int(numba.get_num_threads())
+            self.min_parallel = PARALLEL_MIN_GRAINS
+        else:
+            nmax = int(numba.config.NUMBA_NUM_THREADS)
+            if int(threads) != threads or not 1 <= threads <= nmax:
+                raise ValueError(f"threads must be None or an integer in [1, {nmax}] "
+                                 f"(got {threads!r})")
+            self.threads, self.min_parallel = int(threads), PARALLEL_MIN_GRAINS
+        self._rates = {1: None, self.threads: None}
         self.active_window = bool(active_window)
+        self.block_steps = max(4, BLOCK_SUBSTEPS // method.stages)
         self.t0 = float(t)
         self.steps = 0
         self._inv_m = 1.0 / chain.mass
         self._f0 = chain.f0
         self._k, self._d0 = chain.k, chain.delta0
+        self._runs = K.chain_runs(self._inv_m, self._k, self._d0, self._f0)
         self.a = np.zeros(n)
         K.accelerations(self.u, self.a, self._inv_m, self._k, self._d0, self._f0,
                         self.wall_left, self.wall_right, 0, n - 1)
@@ -266,7 +320,7 @@ class Simulation:
     def _monitor(self) -> tuple[float, float]:
         e = self.energy()
         sh = 0.0
-        if self._lo >= 0:
+        if self._lo >= 0 and self.integrator == "verlet":
             sh = K.shadow_correction(self.u, self.v, self.a, self.chain.mass, self._k,
                                      self._d0, self.wall_left, self.wall_right,
                                      self._lo, self._hi)
@@ -304,7 +358,8 @@ class Simulation:
             f"{cause} at t = {self.t:.6g} s (step {self.steps}) with dt = {self.dt:.4g} s; "
             f"likely cause: dt too large for the contact stiffness. The largest linearly "
             f"stable dt at the expected overlaps is about {stable_dt(self.chain, dmax):.4g} s "
-            f"(Gershgorin bound 2/ω_lat); the default {DT_FRACTION}·2π/ω_max is "
+            f"(Gershgorin bound 2/ω_lat, velocity Verlet); the default "
+            f"{get_integrator(self.integrator).dt_fraction}·2π/ω_max is "
             f"{self.dt_default:.4g} s")
 
     # ------------------------------------------------------------------ running
@@ -398,10 +453,21 @@ class Simulation:
                         self._append_series(self._series_row(), self.steps)
                 else:
                     lo, hi = self._lo, self._hi
-                    done, rows, fired, lo, hi = K.run_chunk(
-                        self.u, self.v, self.a, self._inv_m, self._k, self._d0, self._f0,
-                        self.wall_left, self.wall_right, self.dt, nsteps, lo, hi, vmax, umax,
-                        rec.maxima, watch, wmax, wthr, s_idx, s_every, self.steps, ts_buf)
+                    nthreads, nsteps = self._tune_choose(nsteps)
+                    clock = time.perf_counter()
+                    threads0 = numba.get_num_threads()
+                    numba.set_num_threads(nthreads)
+                    try:
+                        done, rows, fired, lo, hi = K.run_chunk(
+                            self.u, self.v, self.a, self._inv_m, self._k, self._d0,
+                            self._f0, *self._runs, self.wall_left, self.wall_right, self.dt,
+                            self._drift, self._kick, nsteps, lo, hi, vmax, umax, rec.maxima,
+                            watch, wmax, wthr, s_idx, s_every, self.steps, ts_buf, nthreads,
+                            self.min_parallel, self.block_steps, TILE_GRAINS,
+                            SERIAL_BLOCK_MIN_GRAINS)
+                    finally:
+                        numba.set_num_threads(threads0)
+                    self._tune_record(nthreads, nsteps, done, lo, hi, clock)
                     phase = self.steps % s_every
                     if rows:
                         first = self.steps + (s_every - phase if phase else s_every)
@@ -434,6 +500,41 @@ class Simulation:
                 np.maximum(umax, self.u, out=umax)
         self._check(e_start, es_start, drift)
         return RunInfo(self.steps - start_steps, self.t, stopped_by, drift[0], drift[1])
+
+    # ------------------------------------------------------------------ threads
+    def _tune_choose(self, nsteps: int) -> tuple[int, int]:
+        """Threads for the next chunk (and its length), measured where it pays.
+
+        With ``threads=None`` and a window of at least ``min_parallel`` grains both
+        modes are timed (grain-steps per second, exponential average) and the faster is
+        used; every ``_TUNE_PROBE``-th chunk re-measures the other one on a short chunk
+        (1/8 of the steps), so a load change on the machine (other processes taking a
+        core) switches back to one thread.  Results do not depend on the choice.
+        """
+        nt = self.threads
+        if nt == 1 or not self._auto_threads or self._hi - self._lo + 1 < self.min_parallel:
+            return nt, nsteps
+        rates = self._rates
+        self._tune_count += 1
+        if rates[nt] is None:
+            return nt, nsteps
+        if rates[1] is None:
+            return 1, max(1, nsteps // 8)
+        best = nt if rates[nt] >= rates[1] else 1
+        if self._tune_count % _TUNE_PROBE == 0:
+            return (1 if best == nt else nt), max(1, nsteps // 8)
+        return best, nsteps
+
+    def _tune_record(self, nthreads: int, nsteps: int, done: int, lo: int, hi: int,
+                     clock: float) -> None:
+        if not self._auto_threads or self.threads == 1 or done < 16:
+            return
+        el = time.perf_counter() - clock
+        if el <= 0:
+            return
+        rate = done * (hi - lo + 1) / el
+        old = self._rates.get(nthreads)
+        self._rates[nthreads] = rate if old is None else 0.5 * (old + rate)
 
     def _series_row(self) -> np.ndarray:
         g = self.record.series_grains

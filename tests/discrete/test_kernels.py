@@ -7,6 +7,7 @@ from discrete import Chain, Recording, Simulation
 from discrete import kernels as K
 from discrete import reference as R
 from discrete.initial import exact_wave
+from discrete.integrators import INTEGRATORS
 
 
 def _gappy_run(random_composite, rng, steps, **kw):
@@ -38,8 +39,9 @@ def test_rest_in_equilibrium_has_exactly_zero_acceleration(rng, make_composite):
     assert np.all(a == 0.0)
 
 
+@pytest.mark.parametrize("integrator", sorted(INTEGRATORS))
 @pytest.mark.parametrize("delta0, exact", [(0.0, False), (5e-6, False), (5e-6, True)])
-def test_active_window_bitwise_identical(delta0, exact):
+def test_active_window_bitwise_identical(delta0, exact, integrator):
     # A pulse in the middle of a long chain (or an exact solitary wave, with the grains
     # behind it and the left wall shifted), a watched event and all recording on:
     # windowed and full integration must agree bit for bit (no tolerance).
@@ -57,7 +59,7 @@ def test_active_window_bitwise_identical(delta0, exact):
     runs = []
     for window in (True, False):
         sim = Simulation(ch, u, v, dt=2e-7, wall_left=wl, record=Recording(**rec),
-                         active_window=window, chunk=333)
+                         active_window=window, chunk=333, integrator=integrator)
         sim.run(t_end=1e-3, progress=False)
         runs.append(sim)
     a, b = runs

@@ -1,0 +1,215 @@
+"""Throughput of the discrete solver's production kernel, with the NumPy step beside it.
+
+What is measured: grain-updates per second (grains in the active window × steps / wall
+time) of :meth:`discrete.Simulation.run` — the production path, with the recording the
+paper needs switched on: per-grain running maxima of v and u (Fig. 2), a snapshot
+trigger (``WaveAt`` on the middle grain, tested every step; its threshold is never
+reached, so it never fires) and the energy monitor (total and modified energy every
+10,000 steps).  The chain is the paper's two-section chain (3/4 of the grains on the
+left, α_ρ = 5 on the right, δ0^L/d = 1e-3) with random grain velocities (normal,
+σ = 1 mm/s, seeded) *everywhere*: the active window covers all N grains at every step
+(checked).  The baseline is the plain NumPy velocity-Verlet step
+(:mod:`discrete.reference`) on the same chain and state, measured in the same run,
+repeats interleaved with the kernel's.  Rates are the best of ``--repeats`` repeats
+(the medians are printed too); compilation is excluded (a warm-up run first).
+
+Threads: ``--threads 2`` also measures ``Simulation(threads=2)`` (temporally blocked
+kernel on both cores) beside ``threads=1`` and prints the 2-thread / 1-thread ratio;
+``--threshold-scan`` measures that ratio over window sizes (the basis of
+``discrete.simulation.PARALLEL_MIN_GRAINS``).  The machine is shared: the load average
+(``os.getloadavg``) is printed before and after, and ratios are measured in one run.
+
+Usage::
+
+    python benchmarks/kernel.py                      # table at N = 1e4 and 1e5
+    python benchmarks/kernel.py --grains 10000 --json
+    python benchmarks/kernel.py --grains 50000 --threads 2
+    python benchmarks/kernel.py --threshold-scan
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+# this folder is not a package: keep it off the import path (benchmarks/*.py named like
+# the packages they measure would shadow them)
+_here = Path(__file__).resolve().parent
+sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != _here]
+
+import numpy as np  # noqa: E402
+
+from discrete import Chain, Recording, Simulation, WaveAt  # noqa: E402
+from discrete import reference as R  # noqa: E402
+
+SIGMA_V = 1e-3  # m/s, random grain velocities everywhere
+
+
+def machine() -> dict:
+    """CPU model, cores and load (for the README table)."""
+    model = platform.processor() or "?"
+    try:
+        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
+        for line in out.splitlines():
+            if line.startswith("Model name:"):
+                model = line.split(":", 1)[1].strip()
+    except (OSError, subprocess.CalledProcessError):
+        pass
+    return {"cpu": model, "cores": os.cpu_count(), "load": os.getloadavg()}
+
+
+def chain_and_state(n: int, seed: int = 0):
+    """The benchmark chain and its initial velocities (module docstring)."""
+    n_right = n // 4
+    ch = Chain.two_section(n - n_right, n_right, alpha_rho=5.0, delta0_over_d=1e-3)
+    v = np.random.default_rng(seed).normal(0.0, SIGMA_V, n)
+    return ch, v
+
+
+def production(ch: Chain, v: np.ndarray, threads: int, recording: bool = True) -> Simulation:
+    """A warmed-up Simulation with the paper's recording (or none)."""
+    n = ch.n
+    rec = (Recording(maxima=True, snapshots=[WaveAt(n // 2, threshold=1.0)],
+                     monitor_every=10_000) if recording
+           else Recording(maxima=False, monitor_every=10**9))
+    sim = Simulation(ch, v=v.copy(), record=rec, threads=threads)
+    sim.run(max_steps=600, progress=False)  # compile / load the kernels, enter the regime
+    return sim
+
+
+def time_sim(sim: Simulation, steps: int) -> float:
+    """Grain-updates per second of ``steps`` steps (the window must be the whole chain)."""
+    t0 = time.perf_counter()
+    sim.run(max_steps=steps, progress=False)
+    dt = time.perf_counter() - t0
+    lo, hi = sim.window
+    if (lo, hi) != (0, sim.chain.n - 1):
+        raise RuntimeError(f"active window {lo, hi} is not the whole chain")
+    return sim.chain.n * steps / dt
+
+
+class NumpyStep:
+    """The NumPy reference step (discrete.reference) on the same chain and state."""
+
+    def __init__(self, ch: Chain, v: np.ndarray, dt: float):
+        self.args = (ch.mass, ch.k, ch.delta0)
+        self.u = np.zeros(ch.n)
+        self.v = v.copy()
+        self.a = R.accelerations(self.u, *self.args)
+        self.dt = dt
+        self.n = ch.n
+
+    def rate(self, steps: int) -> float:
+        t0 = time.perf_counter()
+        u, v, a = self.u, self.v, self.a
+        for _ in range(steps):
+            u, v, a = R.step(u, v, a, self.dt, *self.args)
+        self.u, self.v, self.a = u, v, a
+        return self.n * steps / (time.perf_counter() - t0)
+
+
+def steps_for(n: int, rate: float, seconds: float) -> int:
+    return max(20, int(math.ceil(seconds * rate / n)))
+
+
+def measure(n: int, repeats: int, seconds: float, threads: int = 1) -> dict:
+    """Kernel (threads=1, and ``threads`` if > 1) and NumPy rates, repeats interleaved."""
+    ch, v = chain_and_state(n)
+    sims = {1: production(ch, v, 1)}
+    if threads > 1:
+        sims[threads] = production(ch, v, threads)
+    bare = production(ch, v, 1, recording=False)
+    ref = NumpyStep(ch, v, sims[1].dt)
+    ref.rate(3)
+    rates: dict = {key: [] for key in [*sims, "bare", "numpy"]}
+    # step counts from a first estimate so that a repeat takes ~``seconds``
+    est = {key: time_sim(sim, steps_for(n, 2e9, 0.05)) for key, sim in sims.items()}
+    est["bare"] = time_sim(bare, steps_for(n, 2e9, 0.05))
+    est["numpy"] = ref.rate(steps_for(n, 2e8, 0.05))
+    for _ in range(repeats):
+        for key, sim in sims.items():
+            rates[key].append(time_sim(sim, steps_for(n, est[key], seconds)))
+        rates["bare"].append(time_sim(bare, steps_for(n, est["bare"], seconds)))
+        rates["numpy"].append(ref.rate(steps_for(n, est["numpy"], seconds)))
+    return {"grains": n, "threads": threads, "dt": sims[1].dt,
+            "best": {k: max(r) for k, r in rates.items()},
+            "median": {k: float(np.median(r)) for k, r in rates.items()}}
+
+
+def print_table(results: list[dict], load0, load1) -> None:
+    m = machine()
+    print(f"# {m['cpu']}, {m['cores']} cores; load average before {load0[0]:.2f} "
+          f"{load0[1]:.2f} {load0[2]:.2f}, after {load1[0]:.2f} {load1[1]:.2f} {load1[2]:.2f}")
+    print("# grain-updates/s, best (median) of the repeats; recording: maxima + WaveAt "
+          "trigger + energy monitor; full-chain disturbance")
+    head = (f"{'N':>8} {'kernel 1 thread':>20} {'no recording':>20} {'NumPy step':>20} "
+            f"{'kernel/NumPy':>13}")
+    print(head)
+    for r in results:
+        b, md = r["best"], r["median"]
+        print(f"{r['grains']:>8} {b[1]:>11.3e} ({md[1]:.2e}) {b['bare']:>11.3e} "
+              f"({md['bare']:.2e}) {b['numpy']:>11.3e} ({md['numpy']:.2e}) "
+              f"{b[1] / b['numpy']:>12.1f}x")
+        if r["threads"] > 1:
+            t = r["threads"]
+            print(f"{'':>8} {t} threads: {b[t]:.3e} ({md[t]:.2e}) — {t}-thread / 1-thread "
+                  f"ratio {b[t] / b[1]:.2f} (best), {md[t] / md[1]:.2f} (median)")
+
+
+def threshold_scan(repeats: int, seconds: float) -> None:
+    print("# 2-thread / 1-thread ratio of Simulation.run (best of repeats, recording on)")
+    print(f"{'N':>8} {'1 thread':>12} {'2 threads':>12} {'ratio':>7}")
+    for n in (5_000, 10_000, 20_000, 50_000, 100_000):
+        ch, v = chain_and_state(n)
+        s1 = production(ch, v, 1)
+        s2 = production(ch, v, 2)
+        s2.min_parallel = 0  # force the threaded kernel at every size
+        r1, r2 = [], []
+        est = time_sim(s1, steps_for(n, 2e9, 0.05))
+        for _ in range(repeats):
+            r1.append(time_sim(s1, steps_for(n, est, seconds)))
+            r2.append(time_sim(s2, steps_for(n, est, seconds)))
+        print(f"{n:>8} {max(r1):>12.3e} {max(r2):>12.3e} {max(r2) / max(r1):>7.2f}")
+
+
+def main(argv=None) -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--grains", type=int, action="append",
+                   help="chain length (repeatable); default 10000 and 100000")
+    p.add_argument("--threads", type=int, default=1, help="also measure this many threads")
+    p.add_argument("--repeats", type=int, default=5)
+    p.add_argument("--seconds", type=float, default=0.4, help="wall time per repeat")
+    p.add_argument("--json", action="store_true", help="one JSON object (one --grains)")
+    p.add_argument("--threshold-scan", action="store_true")
+    a = p.parse_args(argv)
+    if a.threshold_scan:
+        threshold_scan(a.repeats, a.seconds)
+        return
+    grains = a.grains or ([50_000] if a.threads > 1 else [10_000, 100_000])
+    if a.json and len(grains) != 1:
+        p.error("--json takes exactly one --grains")
+    load0 = os.getloadavg()
+    results = [measure(n, a.repeats, a.seconds, a.threads) for n in grains]
+    load1 = os.getloadavg()
+    if a.json:
+        r = results[0]
+        out = {"grains": r["grains"], "grain_updates_per_s": r["best"][1],
+               "baseline_numpy_grain_updates_per_s": r["best"]["numpy"]}
+        if a.threads > 1:
+            out["threads"] = a.threads
+            out["grain_updates_per_s_threads"] = r["best"][a.threads]
+            out["thread_ratio"] = r["best"][a.threads] / r["best"][1]
+        print(json.dumps(out))
+    else:
+        print_table(results, load0, load1)
+
+
+if __name__ == "__main__":
+    main()
