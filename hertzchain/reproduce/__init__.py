@@ -75,7 +75,8 @@ def run_item(ctx, name: str) -> ItemRun:
 
 
 def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-reproduce",
-              force: bool = False, progress: bool = True, report: bool = True) -> dict:
+              force: bool = False, progress: bool = True, report: bool = True,
+              checkpoint_interval: float | None = 300.0) -> dict:
     """Reproduce the given items and write the report.
 
     Parameters
@@ -87,22 +88,32 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     out : path
         Output directory.
     force : bool
-        Recompute every simulation even if its HDF5 file exists.
+        Recompute every simulation even if its HDF5 file exists (checkpoints discarded).
     progress : bool
         Progress bars and messages on stderr.
     report : bool
         Write ``report.md`` and ``report.html``.
+    checkpoint_interval : float or None
+        Wall time between checkpoints of a simulation, s (>= 0); after a kill, calling
+        again with the same arguments resumes from the last one, bit for bit
+        (:mod:`.common`).  None: no checkpoints.
 
     Returns
     -------
     dict
         ``items`` (each item's JSON numbers), ``runs`` (:class:`ItemRun` list), ``report``
         (paths), ``computed``/``reused`` (HDF5 files), ``wall_time`` (s).
+
+    Raises
+    ------
+    hertzchain.checkpoint.Interrupted
+        SIGINT/SIGTERM during a simulation, after writing its checkpoint.
     """
     from .common import Context
 
     names = check_items(items)
-    ctx = Context(Path(out), mode=mode, force=force, progress=progress)
+    ctx = Context(Path(out), mode=mode, force=force, progress=progress,
+                  checkpoint_interval=checkpoint_interval)
     start = time.perf_counter()
     runs = [run_item(ctx, n) for n in names]
     wall = time.perf_counter() - start

@@ -10,6 +10,7 @@ import json
 import math
 import sys
 
+from .._argtypes import nonnegative_float
 from . import ITEMS, check_items
 
 __all__ = ["add_arguments", "run_command", "jsonable"]
@@ -31,7 +32,15 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="print the items' numbers as one JSON object (keyed by item if "
                         "several)")
     p.add_argument("--force", action="store_true",
-                   help="recompute every simulation even if its HDF5 file exists")
+                   help="recompute every simulation even if its HDF5 file exists "
+                        "(discards checkpoints)")
+    p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
+                   metavar="SECONDS",
+                   help="wall time between checkpoints of a simulation, s (>= 0; default "
+                        "300; beside its file in OUT/runs). Rerunning the same command "
+                        "reuses the finished simulations and resumes the interrupted one "
+                        "from its last checkpoint, bit for bit; Ctrl-C stops with a "
+                        "checkpoint")
 
 
 def jsonable(obj):
@@ -73,11 +82,20 @@ def _text(result: dict) -> str:
 
 def run_command(args: argparse.Namespace) -> int:
     """Run ``hertzchain reproduce``; print JSON or a short summary; return the exit status."""
+    from ..checkpoint import Interrupted
     from . import reproduce
 
     items = check_items(args.items)  # ValueError → "hertzchain: error: ..." (exit 2)
-    result = reproduce(items, mode=args.mode, out=args.out, force=args.force,
-                       progress=not args.json or sys.stderr.isatty())
+    try:
+        result = reproduce(items, mode=args.mode, out=args.out, force=args.force,
+                           progress=not args.json or sys.stderr.isatty(),
+                           checkpoint_interval=args.checkpoint_interval)
+    except Interrupted:  # during a simulation: the message says how to resume
+        raise
+    except KeyboardInterrupt:  # between simulations (set-up, analysis, figures)
+        print("hertzchain: interrupted; the finished simulations are kept in "
+              f"{args.out}/runs: rerun the same command to continue", file=sys.stderr)
+        return 130
     if args.json:
         nums = result["items"]
         out = nums[items[0]] if len(items) == 1 else nums

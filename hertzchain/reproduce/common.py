@@ -5,11 +5,22 @@ its HDF5 file lives at :func:`hertzchain.cache.cache_path` ``(out/runs, stem, pa
 and is written atomically, so a re-run reuses every finished file and ``--force``
 recomputes.  :class:`Context` carries the output directory, the mode (``quick`` or
 ``full``) and counts what was computed and what was reused (the tests check it).
+
+Checkpoints (issue 8): a simulation is integrated in segments
+(:func:`hertzchain.checkpoint.run_segmented`, bit for bit one ``Simulation.run`` call)
+and written every ``Context.checkpoint_interval`` seconds of wall time to its HDF5 file's
+name + ``.ckpt`` (:func:`hertzchain.checkpoint.checkpoint_path`), keyed by the same
+parameters as the file.  After a kill, rerunning the same command reuses the finished
+files and resumes the interrupted simulation from its checkpoint; the results are those
+of an uninterrupted run, bit for bit.  SIGINT/SIGTERM during an integration write a
+checkpoint and raise :class:`hertzchain.checkpoint.Interrupted` (exit status 130/143).
+``--force`` discards the checkpoints with the finished files.
 """
 
 from __future__ import annotations
 
 import json
+import math
 import sys
 import time
 from collections.abc import Callable, Iterable
@@ -23,6 +34,7 @@ import numpy as np
 import discrete
 import theory
 
+from .. import checkpoint as C
 from ..cache import atomic_path, cache_path, canonical_json
 from ..paper import DIAMETER, V0
 
@@ -48,15 +60,19 @@ class Context:
     mode : {"quick", "full"}
         Size of the runs (each item module has ``QUICK`` and ``FULL`` defaults).
     force : bool
-        Recompute even when a finished HDF5 file exists.
+        Recompute even when a finished HDF5 file exists (and discard checkpoints).
     progress : bool
         Show progress bars and messages on stderr.
+    checkpoint_interval : float or None
+        Wall time between checkpoints of a simulation, s (>= 0; 0: after every segment).
+        None: one uninterrupted ``Simulation.run`` call per simulation, no checkpoints.
     """
 
     out: Path
     mode: str = "quick"
     force: bool = False
     progress: bool = True
+    checkpoint_interval: float | None = C.DEFAULT_INTERVAL
     computed: list[Path] = field(default_factory=list)
     reused: list[Path] = field(default_factory=list)
     timings: dict[str, float] = field(default_factory=dict)
@@ -66,6 +82,11 @@ class Context:
         self.out = Path(self.out)
         if self.mode not in MODES:
             raise ValueError(f"mode must be one of {MODES} (got {self.mode!r})")
+        ci = self.checkpoint_interval
+        if ci is not None and not (isinstance(ci, int | float) and not isinstance(ci, bool)
+                                   and math.isfinite(ci) and ci >= 0):
+            raise ValueError(f"checkpoint_interval must be None or a finite number of "
+                             f"seconds >= 0 (got {ci!r})")
 
     @property
     def runs(self) -> Path:
@@ -105,9 +126,29 @@ def _params_attr(params: dict) -> str:
     return canonical_json(params)
 
 
+def _retell(exc: C.Interrupted, ctx: Context, note: str) -> C.Interrupted:
+    """``exc`` told for ``hertzchain reproduce`` (how to go on; --force discards)."""
+    how = ("rerun the same command without --force to resume (--force discards "
+           "checkpoints and finished files)" if ctx.force else
+           "rerun the same command to resume (finished simulations are reused)")
+    return C.Interrupted(exc.signum, exc.checkpoint, exc.t, exc.steps, note=f"{note}: {how}")
+
+
+def _checkpoint_error(exc: C.CheckpointError) -> C.CheckpointError:
+    """The runner's advice (--restart) in the terms of ``hertzchain reproduce``."""
+    return C.CheckpointError(str(exc).replace("--restart", "--force"))
+
+
 def run_cached(ctx: Context, stem: str, params: dict,
-               make: Callable[[], discrete.Simulation]) -> tuple[discrete.Simulation, Path]:
+               make: Callable[[], discrete.Simulation] | None = None, *,
+               build: Callable[[], discrete.Simulation] | None = None, until=None,
+               t_end: float | None = None) -> tuple[discrete.Simulation, Path]:
     """The finished simulation for ``params``: loaded from its HDF5 file or computed.
+
+    Give either ``make`` (builds *and runs* the simulation: no checkpoints) or ``build``
+    (builds it, ready to run) with ``until`` and/or ``t_end``: the simulation is then
+    run as ``sim.run(t_end, until=until)`` would, in checkpointed segments (module
+    docstring), resuming from the checkpoint of an interrupted earlier run.
 
     Parameters
     ----------
@@ -115,9 +156,16 @@ def run_cached(ctx: Context, stem: str, params: dict,
     stem : str
         File-name stem (e.g. ``"fig2"``).
     params : dict
-        Everything the result depends on (JSON-able); the cache key.
-    make : callable
+        Everything the result depends on (JSON-able); the cache key and the checkpoint
+        key (:func:`hertzchain.checkpoint.run_key`).
+    make : callable, optional
         Builds and runs the simulation (called only on a cache miss or with ``force``).
+    build : callable, optional
+        Builds the simulation, not run (called only when there is no checkpoint).
+    until : event, optional
+        Stop event of the run (:class:`discrete.WaveAt`, :class:`discrete.AtTime`).
+    t_end : float, optional
+        End time of the run, s.
 
     Returns
     -------
@@ -125,8 +173,22 @@ def run_cached(ctx: Context, stem: str, params: dict,
         With its recorded data (``sim.record``).
     path : pathlib.Path
         The HDF5 file.
+
+    Raises
+    ------
+    hertzchain.checkpoint.Interrupted
+        SIGINT/SIGTERM during the integration (after writing the checkpoint), or while
+        the finished result was being written (after writing it).
+    hertzchain.checkpoint.CheckpointError
+        The checkpoint is damaged or was written by incompatible code (``--force``
+        discards it).
     """
+    if (make is None) == (build is None):
+        raise TypeError("give exactly one of make (build and run) and build")
+    if build is not None and until is None and t_end is None:
+        raise TypeError("with build, give until (event) and/or t_end (s)")
     path = cache_path(ctx.runs, stem, params)
+    ckpt = C.checkpoint_path(path)
     if path.exists() and not ctx.force:
         try:
             sim = discrete.load(path)
@@ -136,14 +198,62 @@ def run_cached(ctx: Context, stem: str, params: dict,
             ctx.reused.append(path)
             return sim, path
     start = time.perf_counter()
-    sim = make()
+    elapsed = 0.0  # wall time of earlier (interrupted) sessions
+    if make is not None:
+        sim = make()
+        _save_result(path, sim, params, time.perf_counter() - start)
+        ctx.computed.append(path)
+        return sim, path
+    key = C.run_key(params)
+    C.remove_stale_temporaries(path)
+    if ctx.force and ckpt.exists():
+        ckpt.unlink()
+        ctx.log(f"{stem}: removed the checkpoint {ckpt} (--force)")
+    try:
+        got = C.read_checkpoint(ckpt, key)
+    except C.CheckpointError as exc:
+        raise _checkpoint_error(exc) from None
+    if got is not None:
+        sim, extra = got
+        elapsed = float(extra.get("wall_time", 0.0))
+        ctx.log(f"{stem}: resuming from {ckpt}: t = {sim.t:.6g} s, step {sim.steps}")
+    else:
+        sim = build()
+    if ctx.checkpoint_interval is None:
+        sim.run(t_end, until=until, progress=ctx.progress)
+        _save_result(path, sim, params, elapsed + time.perf_counter() - start)
+        ctx.computed.append(path)
+        return sim, path
+
+    def extra() -> dict:
+        return {"wall_time": elapsed + time.perf_counter() - start, "stem": stem}
+
+    # SIGINT/SIGTERM: at a segment end, checkpoint and Interrupted; once the integration
+    # is done, the result is written first and the interruption reported after it
+    with C.deferred_signals() as late_signal:
+        try:
+            C.run_segmented(sim, t_end=t_end, until=until, checkpoint=ckpt, key=key,
+                            interval=float(ctx.checkpoint_interval), extra=extra,
+                            progress=ctx.progress, signals=late_signal)
+        except C.Interrupted as exc:
+            raise _retell(exc, ctx, f"checkpoint written to {ckpt}") from None
+        _save_result(path, sim, params, elapsed + time.perf_counter() - start)
+        ckpt.unlink(missing_ok=True)
+        C.remove_stale_temporaries(path)
+    ctx.computed.append(path)
+    if late_signal:
+        raise _retell(C.Interrupted(late_signal[0], None, sim.t, sim.steps), ctx,
+                      f"the simulation had finished: result written to {path}")
+    return sim, path
+
+
+def _save_result(path: Path, sim: discrete.Simulation, params: dict, wall: float) -> None:
+    """Write a finished simulation (atomically) with its parameters and wall time."""
     with atomic_path(path) as tmp:
         discrete.save(tmp, sim)
         with h5py.File(tmp, "a") as f:
             f.attrs["reproduce_params"] = _params_attr(params)
-            f.attrs["wall_time"] = time.perf_counter() - start
-    ctx.computed.append(path)
-    return sim, path
+            f.attrs["wall_time"] = wall
 
 
 def run_scenario_cached(ctx: Context, stem: str, scenario: dict, *, full: bool = True
@@ -169,10 +279,27 @@ def run_scenario_cached(ctx: Context, stem: str, scenario: dict, *, full: bool =
         if summary is not None:
             ctx.reused.append(path)
             return summary, path
-    if full:
-        summary = run_scenario(sc, out=path, progress=ctx.progress)
-    else:
-        summary = run_scenario(sc, progress=ctx.progress)
+    try:
+        if full:  # checkpointed to path + ".ckpt" (--force: started over)
+            summary = run_scenario(sc, out=path, progress=ctx.progress,
+                                   checkpoint_interval=ctx.checkpoint_interval,
+                                   resume=not ctx.force,
+                                   log=lambda m: ctx.log(f"{stem}: {m}".replace(
+                                       "--restart", "--force")))
+        else:  # no output file, no checkpoint: the finished points are cached
+            summary = run_scenario(sc, progress=ctx.progress,
+                                   checkpoint_interval=ctx.checkpoint_interval)
+    except C.CheckpointError as exc:
+        raise _checkpoint_error(exc) from None
+    except C.Interrupted as exc:
+        if exc.checkpoint is not None:
+            note = f"checkpoint written to {exc.checkpoint}"
+        elif full:
+            note = f"the simulation had finished: result written to {path}"
+        else:
+            note = f"this point is not saved, the {stem} points before it are"
+        raise _retell(exc, ctx, note) from None
+    if not full:
         with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
             f.attrs["scenario"] = canonical_json(params)
             f.attrs["summary"] = canonical_json(summary)

@@ -80,15 +80,14 @@ def _impact_run(ctx: Context, delta0_over_d: float, n: int, kn: float, variant: 
               "k_n": kn, "mass": float(theory.grain_mass(DIAMETER, MATERIAL.density)),
               "diameter": DIAMETER, "stop_grain": n - STOP_BEFORE_END, "variant": variant}
 
-    def make():
+    def build():
         m = params["mass"]
         chain = discrete.Chain.from_arrays(np.full(n, m), np.full(n + 1, kn),
                                            delta0_over_d * DIAMETER, diameter=DIAMETER)
-        sim = discrete.impact(chain, V0).simulation(record=discrete.Recording(maxima=True))
-        sim.run(until=discrete.WaveAt(n - STOP_BEFORE_END), progress=ctx.progress)
-        return sim
+        return discrete.impact(chain, V0).simulation(record=discrete.Recording(maxima=True))
 
-    return run_cached(ctx, "fig2", params, make)
+    return run_cached(ctx, "fig2", params, build=build,
+                      until=discrete.WaveAt(n - STOP_BEFORE_END))
 
 
 def _plateau(vmax: np.ndarray) -> D.PlateauStats:

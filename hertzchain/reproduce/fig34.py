@@ -80,16 +80,15 @@ def _params(item: str, alpha: float, s: dict) -> dict:
 
 
 def _simulate(ctx: Context, p: dict):
-    def make():
+    def build():
         chain = two_section(p["n_left"], p["n_right"], p["alpha_rho"], p["alpha_kn"], 0.0)
         init = incident_wave(ctx, chain, p["centre"])
         rec = discrete.Recording(series_grains=p["series_grains"],
                                  series_every=p["series_every"], maxima=True)
-        sim = init.simulation(record=rec)
-        sim.run(until=discrete.WaveAt(p["snapshot_index"]), progress=ctx.progress)
-        return sim
+        return init.simulation(record=rec)
 
-    return run_cached(ctx, p["item"], p, make)
+    return run_cached(ctx, p["item"], p, build=build,
+                      until=discrete.WaveAt(p["snapshot_index"]))
 
 
 def _case(ctx: Context, item: str, alpha: float, s: dict) -> CaseResult:

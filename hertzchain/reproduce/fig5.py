@@ -85,17 +85,16 @@ def _case(ctx: Context, case: str, s: dict) -> CaseResult:
     p = {"item": "fig5", "case": case, "alpha_rho": ar, "alpha_kn": ak,
          "delta0_over_d": DELTA0_OVER_D, "incident": "cut_wave", **s}
 
-    def make():
+    def build():
         cost = estimate_cost(ctx, p)
         ctx.log(f"fig5 ({case}): {p['n_grains']} grains, ~{cost['steps']:.3g} steps, "
                 f"~{cost['grain_updates']:.2g} grain updates, estimated "
                 f"~{cost['seconds']:.0f} s at {UPDATES_PER_SECOND:.0e} updates/s")
         _, init = _chain_init(ctx, p)
-        sim = init.simulation(record=discrete.Recording(maxima=True))
-        sim.run(until=discrete.WaveAt(p["snapshot"] - 1), progress=ctx.progress)
-        return sim
+        return init.simulation(record=discrete.Recording(maxima=True))
 
-    sim, path = run_cached(ctx, "fig5", p, make)
+    sim, path = run_cached(ctx, "fig5", p, build=build,
+                           until=discrete.WaveAt(p["snapshot"] - 1))
     n_left = p["interface"]
     chain = sim.chain
     v = np.asarray(sim.v)

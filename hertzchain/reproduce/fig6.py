@@ -83,16 +83,14 @@ def _run(ctx: Context, ar: float, ak: float, s: dict) -> SpeedResult:
          "n_right": length + 40, "centre": n_left - s["lead"], "watch": watch,
          "delta0_over_d": DELTA0_OVER_D, "incident": "cut_wave"}
 
-    def make():
+    def build():
         chain = two_section(n_left, p["n_right"], ar, ak, DELTA0_OVER_D)
         init = incident_wave(ctx, chain, p["centre"])
         rec = discrete.Recording(snapshots=[discrete.WaveAt(g) for g in watch[:-1]],
                                  maxima=False)
-        sim = init.simulation(record=rec)
-        sim.run(until=discrete.WaveAt(watch[-1]), progress=ctx.progress)
-        return sim
+        return init.simulation(record=rec)
 
-    sim, _ = run_cached(ctx, "fig6", p, make)
+    sim, _ = run_cached(ctx, "fig6", p, build=build, until=discrete.WaveAt(watch[-1]))
     ch = sim.chain
     d = float(ch.diameter[0])
     snaps = [sn for sn in sim.record.snapshots if sn.label.startswith("wave_at=")]
