@@ -25,6 +25,7 @@ Usage::
     python benchmarks/kernel.py --grains 10000 --json
     python benchmarks/kernel.py --grains 50000 --threads 2
     python benchmarks/kernel.py --threshold-scan
+    python benchmarks/kernel.py --roofline           # what limits the kernel
 """
 
 from __future__ import annotations
@@ -163,6 +164,61 @@ def print_table(results: list[dict], load0, load1) -> None:
                   f"ratio {b[t] / b[1]:.2f} (best), {md[t] / md[1]:.2f} (median)")
 
 
+def _ceilings():
+    import numba
+
+    @numba.njit(nogil=True)
+    def sqrt_only(x, y, reps):  # one r·sqrt(r) per element: the kernel's one square root
+        for _ in range(reps):
+            for i in range(x.size):
+                r = x[i]
+                y[i] = r * np.sqrt(r)
+
+    @numba.njit(nogil=True)
+    def traffic(u, v, w, reps):  # the kernel's memory traffic: read u, v, max v; write u, v
+        for _ in range(reps):
+            for i in range(u.size):
+                ui = u[i] + 1e-9 * v[i]
+                u[i] = ui
+                vi = v[i] - 1e-9 * ui
+                v[i] = vi
+                if vi > w[i]:  # never (w = 1e9): read only, like the running maximum
+                    w[i] = vi
+
+    return sqrt_only, traffic
+
+
+def roofline(grains: list[int], repeats: int) -> None:
+    """What limits the kernel: its rate beside a square-root-only loop and a loop with
+    the kernel's memory traffic (both vectorised numba loops over the same N)."""
+    sqrt_only, traffic = _ceilings()
+    print("# per grain-update: one r·sqrt(r) (compute ceiling) | the kernel's traffic, "
+          "24 B read + 16 B written (memory ceiling) | bare kernel | with recording")
+    print(f"{'N':>9} {'sqrt only':>11} {'traffic':>11} {'bare':>11} {'recording':>11}")
+    for n in grains:
+        x = np.random.default_rng(0).uniform(1.0, 2.0, n)
+        y, z = np.zeros(n), np.full(n, 1e9)
+        reps = max(1, int(2e8 / n))
+        sqrt_only(x, y, 1)
+        traffic(x.copy(), y, z, 1)
+        r_sqrt = r_mem = 0.0
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            sqrt_only(x, y, reps)
+            r_sqrt = max(r_sqrt, n * reps / (time.perf_counter() - t0))
+            u = x.copy()
+            t0 = time.perf_counter()
+            traffic(u, y, z, reps)
+            r_mem = max(r_mem, n * reps / (time.perf_counter() - t0))
+        ch, v = chain_and_state(n)
+        bare = production(ch, v, 1, recording=False)
+        full = production(ch, v, 1)
+        steps = steps_for(n, 2.5e9, 0.3)
+        r_bare = max(time_sim(bare, steps) for _ in range(repeats))
+        r_full = max(time_sim(full, steps) for _ in range(repeats))
+        print(f"{n:>9} {r_sqrt:>11.3e} {r_mem:>11.3e} {r_bare:>11.3e} {r_full:>11.3e}")
+
+
 def threshold_scan(repeats: int, seconds: float) -> None:
     print("# 2-thread / 1-thread ratio of Simulation.run (best of repeats, recording on)")
     print(f"{'N':>8} {'1 thread':>12} {'2 threads':>12} {'ratio':>7}")
@@ -188,9 +244,14 @@ def main(argv=None) -> None:
     p.add_argument("--seconds", type=float, default=0.4, help="wall time per repeat")
     p.add_argument("--json", action="store_true", help="one JSON object (one --grains)")
     p.add_argument("--threshold-scan", action="store_true")
+    p.add_argument("--roofline", action="store_true",
+                   help="the kernel beside its compute and memory ceilings")
     a = p.parse_args(argv)
     if a.threshold_scan:
         threshold_scan(a.repeats, a.seconds)
+        return
+    if a.roofline:
+        roofline(a.grains or [10_000, 100_000, 1_000_000], a.repeats)
         return
     grains = a.grains or ([50_000] if a.threads > 1 else [10_000, 100_000])
     if a.json and len(grains) != 1:
