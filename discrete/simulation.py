@@ -190,7 +190,8 @@ class Simulation:
         Initial time, s.
     active_window : bool
         Integrate only the grains not exactly at rest in equilibrium (bitwise identical
-        results; False integrates every grain, for tests).
+        results; False integrates every grain, one step at a time on one thread — for
+        tests).
     drift_tolerance : float
         Relative drift of velocity Verlet's modified energy (:func:`kernels.shadow_correction`)
         that counts as an instability.  The modified energy has no O(dt²) oscillation, so
@@ -205,7 +206,9 @@ class Simulation:
         :data:`PARALLEL_MIN_GRAINS` grains.  None (default): all numba threads
         (``numba.get_num_threads()``), where they are measured to be faster than one
         (the machine may be busy; :meth:`_tune_choose`); n: n threads; 1: one.  Results
-        are bitwise identical for every choice (:mod:`discrete.kernels`).
+        are bitwise identical for every choice (:mod:`discrete.kernels`).  Threads work
+        through the temporally blocked kernel, which is not used while a time-series
+        grain sampled in the block lies within reach of the active window.
     """
 
     def __init__(self, chain: Chain, u=None, v=None, *, dt: float | None = None,
@@ -258,7 +261,10 @@ class Simulation:
             self.threads, self.min_parallel = int(threads), PARALLEL_MIN_GRAINS
         self._rates = {1: None, self.threads: None}
         self.active_window = bool(active_window)
-        self.block_steps = max(4, BLOCK_SUBSTEPS // method.stages)
+        # blocks shrink the window to the active grains: not with active_window=False
+        # blocks shrink the window to the active grains, and carry the threads: not with
+        # active_window=False
+        self.block_steps = max(4, BLOCK_SUBSTEPS // method.stages) if active_window else 0
         self.t0 = float(t)
         self.steps = 0
         self._inv_m = 1.0 / chain.mass
