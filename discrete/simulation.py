@@ -41,8 +41,9 @@ evaluations per unit time).  Measured on the Fig. 5 scattering runs (precompress
 gaps; ``benchmarks/fig5_full.py``, section energies and front speed against velocity
 Verlet at dt = 1e-9 s): velocity Verlet at its default is within 1.3e-6, Blanes–Moan
 at 48× that dt (1/8 of the force evaluations) within 1e-7, with fitted orders 2.00
-and 3.9–4.0.  With gaps opening (δ0 = 0 scattering) the 4th-order methods lose their
-order (errors no longer monotone in dt; still ~2× more accurate at equal cost), and the
+and 3.9–4.0.  With gaps opening (δ0 = 0 scattering; the Hertz force is only C¹ at
+r = 0) Blanes–Moan's order drops to ~3.3 with errors no longer monotone in dt (still 5×
+more accurate than velocity Verlet's default at 1/8 of the force evaluations), and the
 per-step running maxima (Fig. 2) carry an O(Δt²) sampling error whatever the method.
 Velocity Verlet stays the default: its convergence is a clean 2nd order in every
 regime, it has the modified-energy monitor, and results of existing runs do not change;
@@ -55,8 +56,8 @@ Threads and speed
 The kernel (:mod:`discrete.kernels`) runs one fused pass per force evaluation over the
 active window, temporally blocked and on several threads for large windows
 (``threads``; bitwise identical results).  Measured on the 2-core development machine
-(``benchmarks/kernel.py``, recording on): 2.4e9 grain-updates/s on one core at 1e4 and
-1e5 grains (10× the NumPy step), 4.5e9 on two cores at 5e4.
+(``benchmarks/kernel.py``, recording on): 2.4–2.5e9 grain-updates/s on one core at 1e4
+and 1e5 grains (10× the NumPy step), 4.0–4.7e9 on two cores at 5e4.
 """
 
 from __future__ import annotations
