@@ -439,13 +439,17 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
                 del batch
                 if max_points is not None:
                     done = done[:max_points - n_run]
-                for rec in store.append_many(done):
+                appended = store.append_many(done)
+                # book the whole batch (it is on disk) before any hook may interrupt, so
+                # the table written on the way out holds every record that is on disk
+                for rec in appended:
                     records[rec["id"]] = rec
                     n_run += 1
                     n_failed += rec["status"] != "ok"
                     bar.update(1)
-                    bar.set_postfix(failed=n_failed, refresh=False)
-                    if on_result is not None:
+                bar.set_postfix(failed=n_failed, refresh=False)
+                if on_result is not None:
+                    for rec in appended:
                         on_result(rec)
                 if max_points is not None and n_run >= max_points:
                     stopped = True
