@@ -233,7 +233,7 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         snapshots=list(rec.snapshot_times), series_grains=list(rec.time_series_grains),
         maxima=rec.running_max, energy_every=every, energy_coarsen=coarsen)
     kwargs = {} if threads is None else {"threads": threads}
-    sim = init.simulation(dt=dt, record=recording, **kwargs)
+    sim = init.simulation(dt=dt, record=recording, check_dt=check, **kwargs)
     return init.chain, init, sim
 
 

@@ -176,11 +176,21 @@ def test_run_continues_and_t_end():
 @pytest.mark.parametrize("dt, cause", [(1e-4, "non-finite"), (3e-6, "drift")])
 def test_instability_error_names_stable_dt(dt, cause):
     # linear stability limit here: 4.9e-6 s; default dt 4.4e-8 s
-    sim = impact(Chain.two_section(50, 0, delta0_over_d=1e-3)).simulation(dt=dt)
+    sim = impact(Chain.two_section(50, 0, delta0_over_d=1e-3)).simulation(dt=dt,
+                                                                         check_dt=False)
     with pytest.raises(InstabilityError, match=cause) as err:
         sim.run(max_steps=20_000, progress=False)
     assert "largest linearly stable dt at the expected overlaps is about 4.9" in str(err.value)
     assert isinstance(err.value, RuntimeError)
+
+
+def test_dt_above_stability_bound_is_rejected_at_construction():
+    # linear stability limit 4.9e-6 s (see above): just above -> ValueError naming dt and
+    # the allowed range; just below -> accepted
+    init = impact(Chain.two_section(50, 0, delta0_over_d=1e-3))
+    with pytest.raises(ValueError, match=r"dt = 5e-06 s .*allowed range \(0, 4.9"):
+        init.simulation(dt=5e-6)
+    assert init.simulation(dt=4.9e-6).dt == 4.9e-6
 
 
 @pytest.mark.parametrize("kwargs, match", [
