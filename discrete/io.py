@@ -34,6 +34,7 @@ import h5py
 import numpy as np
 
 from .chain import Chain
+from .integrators import get_integrator
 from .recording import AtTime, Record, Recording, Snapshot, WaveAt
 from .simulation import Simulation
 
@@ -107,7 +108,8 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
             a["format"] = FORMAT
             a["integrator"] = str(getattr(sim, "integrator", "verlet"))
             a["package_version"] = _version()
-            a["solver"] = "velocity Verlet (discrete.kernels.run_chunk)"
+            method = get_integrator(str(getattr(sim, "integrator", "verlet")))
+            a["solver"] = f"discrete DEM, {method.name} ({method.reference})"
             for key in ("dt", "steps", "t", "t0", "energy0", "wall_left", "wall_right",
                         "drift_tolerance", "chunk"):
                 a[key] = getattr(sim, key)
