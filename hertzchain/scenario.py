@@ -349,16 +349,21 @@ def parse_scenario(data: dict) -> Scenario:
     )
 
 
+def read_toml(path: Path, error: type[ValueError] = ValueError, what: str = "file") -> dict:
+    """Parse a TOML file; a missing or malformed file raises ``error`` naming the path."""
+    try:
+        with path.open("rb") as fh:
+            return tomllib.load(fh)
+    except FileNotFoundError as exc:
+        raise error(f"{what} not found: {path}") from exc
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: not valid TOML: {exc}") from exc
+
+
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario TOML file."""
     path = Path(path)
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except FileNotFoundError as exc:
-        raise ScenarioError(f"scenario file not found: {path}") from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{path}: not valid TOML: {exc}") from exc
+    data = read_toml(path, ScenarioError, "scenario file")
     try:
         return parse_scenario(data)
     except ScenarioError as exc:

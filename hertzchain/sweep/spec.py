@@ -39,7 +39,6 @@ from __future__ import annotations
 
 import copy
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -47,7 +46,7 @@ from typing import Any
 import numpy as np
 
 from ..cache import canonical_json, param_hash
-from ..scenario import Scenario, ScenarioError, parse_scenario
+from ..scenario import Scenario, ScenarioError, parse_scenario, read_toml
 
 __all__ = [
     "SweepError",
@@ -432,13 +431,7 @@ def load_sweep_spec(path: str | Path, *, validate_points: bool = True) -> SweepS
         elif not path.suffix:
             raise SweepError(f"sweep file not found: {path} (shipped sweeps: "
                              f"{sorted(shipped)})")
-    try:
-        with path.open("rb") as fh:
-            data = tomllib.load(fh)
-    except FileNotFoundError as exc:
-        raise SweepError(f"sweep file not found: {path}") from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise SweepError(f"{path}: not valid TOML: {exc}") from exc
+    data = read_toml(path, SweepError, "sweep file")
     try:
         return parse_sweep_spec(data, default_name=path.stem,
                                 validate_points=validate_points)
