@@ -23,6 +23,7 @@ import numpy as np
 import discrete
 import theory
 from discrete import diagnostics as D
+from discrete.integrators import get_integrator
 
 from ..plotting import plot_grain_profile
 from .common import V0, Context, incident_wave, new_figure, run_cached, save_figure, two_section
@@ -31,7 +32,11 @@ __all__ = ["QUICK", "FULL", "CASES", "CaseResult", "estimate_cost", "run", "plot
            "figures", "report", "to_json"]
 
 QUICK = {"n_grains": 10_000, "interface": 7_000, "snapshot": 9_900, "lead": 300}
-FULL = {"n_grains": 50_000, "interface": 35_000, "snapshot": 49_900, "lead": 300}
+FULL = {"n_grains": 50_000, "interface": 35_000, "snapshot": 49_900, "lead": 300,
+        "integrator": "blanes_moan4", "dt_fraction": 0.096}
+"""--full integrates with Blanes–Moan's 4th-order method at 0.096·2π/ω_max (48× velocity
+Verlet's default dt, 1/8 of its force evaluations): within 1e-7 of a dt = 1e-9 s
+reference in section energies and front speed (``benchmarks/fig5_full.py``)."""
 CASES = ("a", "b", "c", "d")
 DELTA0_OVER_D = 1e-3
 UPDATES_PER_SECOND = 1e9
@@ -58,6 +63,14 @@ def _chain_init(ctx: Context, p: dict):
     return chain, incident_wave(ctx, chain, p["interface"] - p["lead"])
 
 
+def _simulation(init, p: dict, record: discrete.Recording) -> discrete.Simulation:
+    """The case's Simulation: integrator and dt fraction from ``p`` (default Verlet)."""
+    frac = p.get("dt_fraction")
+    dt = None if frac is None else discrete.default_dt(
+        init.chain, init.u, init.v, init.wall_left, init.wall_right, fraction=frac)
+    return init.simulation(record=record, dt=dt, integrator=p.get("integrator", "verlet"))
+
+
 def estimate_cost(ctx: Context, p: dict) -> dict:
     """Steps, grain updates and seconds a case will take (before running it).
 
@@ -66,7 +79,8 @@ def estimate_cost(ctx: Context, p: dict) -> dict:
     the reflected waves (≈ c0^L), so the grain updates are ≈ steps × (mean window).
     """
     chain, init = _chain_init(ctx, p)
-    sim = init.simulation(record=discrete.Recording(maxima=False))
+    sim = _simulation(init, p, discrete.Recording(maxima=False))
+    stages = get_integrator(sim.integrator).stages
     d = float(chain.diameter[0])
     c0l = float(theory.c0(chain.k[1], chain.mass[0], d, chain.delta0[1]))
     gc = float(theory.gamma_c0(*theory.PAPER_POINTS[p["case"]]))
@@ -75,7 +89,7 @@ def estimate_cost(ctx: Context, p: dict) -> dict:
     t2 = (p["snapshot"] - p["interface"]) * d / (gc * c0l)
     steps1, steps2 = t1 / sim.dt, t2 / sim.dt
     window_end = min(p["n_grains"], (p["snapshot"] - p["interface"]) * (1 + 1.05 / gc))
-    updates = steps1 * 100 + steps2 * 0.5 * window_end
+    updates = stages * (steps1 * 100 + steps2 * 0.5 * window_end)
     return {"dt": sim.dt, "steps": int(steps1 + steps2), "grain_updates": float(updates),
             "seconds": updates / UPDATES_PER_SECOND}
 
@@ -91,7 +105,7 @@ def _case(ctx: Context, case: str, s: dict) -> CaseResult:
                 f"~{cost['grain_updates']:.2g} grain updates, estimated "
                 f"~{cost['seconds']:.0f} s at {UPDATES_PER_SECOND:.0e} updates/s")
         _, init = _chain_init(ctx, p)
-        return init.simulation(record=discrete.Recording(maxima=True))
+        return _simulation(init, p, discrete.Recording(maxima=True))
 
     sim, path = run_cached(ctx, "fig5", p, build=build,
                            until=discrete.WaveAt(p["snapshot"] - 1))
