@@ -265,8 +265,8 @@ def report(rep, res: Fig7Result, figs: list) -> None:
         f"side of γ_RG = 1: {_sides(a.band_gamma_c0_by_side)}).  Measured labels of the "
         f"points on the lines: {_sides(a.on_line_labels)}."
         + (f"  The transmitted labels agree better ({a.fraction_agree_fission:.1%}) with "
-           f"the fission criterion q = γ_c0 √(2γ_RG/(1 + γ_RG)) > 1 of "
-           f"hertzchain.sweep.analysis (the transmitted amplitude also matters, not γ_c0 "
+           f"the fission criterion q = γ_c0 √(2γ_RG/(1 + γ_RG)) > 1 "
+           f"(theory.fission_parameter; the transmitted amplitude also matters, not γ_c0 "
            f"alone): the disagreements cluster on the γ_RG < 1 side of γ_c0 = 1."
            if getattr(a, "fraction_agree_fission", None) is not None else ""))
     rows = []
