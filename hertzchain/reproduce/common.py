@@ -139,16 +139,14 @@ def _checkpoint_error(exc: C.CheckpointError) -> C.CheckpointError:
     return C.CheckpointError(str(exc).replace("--restart", "--force"))
 
 
-def run_cached(ctx: Context, stem: str, params: dict,
-               make: Callable[[], discrete.Simulation] | None = None, *,
-               build: Callable[[], discrete.Simulation] | None = None, until=None,
+def run_cached(ctx: Context, stem: str, params: dict, *,
+               build: Callable[[], discrete.Simulation], until=None,
                t_end: float | None = None) -> tuple[discrete.Simulation, Path]:
     """The finished simulation for ``params``: loaded from its HDF5 file or computed.
 
-    Give either ``make`` (builds *and runs* the simulation: no checkpoints) or ``build``
-    (builds it, ready to run) with ``until`` and/or ``t_end``: the simulation is then
-    run as ``sim.run(t_end, until=until)`` would, in checkpointed segments (module
-    docstring), resuming from the checkpoint of an interrupted earlier run.
+    ``build`` builds the simulation, ready to run; it is then run as
+    ``sim.run(t_end, until=until)`` would, in checkpointed segments (module docstring),
+    resuming from the checkpoint of an interrupted earlier run.
 
     Parameters
     ----------
@@ -158,10 +156,9 @@ def run_cached(ctx: Context, stem: str, params: dict,
     params : dict
         Everything the result depends on (JSON-able); the cache key and the checkpoint
         key (:func:`hertzchain.checkpoint.run_key`).
-    make : callable, optional
-        Builds and runs the simulation (called only on a cache miss or with ``force``).
-    build : callable, optional
-        Builds the simulation, not run (called only when there is no checkpoint).
+    build : callable
+        Builds the simulation, not run (called only on a cache miss, or with ``force``,
+        when there is no checkpoint).
     until : event, optional
         Stop event of the run (:class:`discrete.WaveAt`, :class:`discrete.AtTime`).
     t_end : float, optional
@@ -183,10 +180,8 @@ def run_cached(ctx: Context, stem: str, params: dict,
         The checkpoint is damaged or was written by incompatible code (``--force``
         discards it).
     """
-    if (make is None) == (build is None):
-        raise TypeError("give exactly one of make (build and run) and build")
-    if build is not None and until is None and t_end is None:
-        raise TypeError("with build, give until (event) and/or t_end (s)")
+    if until is None and t_end is None:
+        raise TypeError("give until (event) and/or t_end (s)")
     path = cache_path(ctx.runs, stem, params)
     ckpt = C.checkpoint_path(path)
     if path.exists() and not ctx.force:
@@ -199,11 +194,6 @@ def run_cached(ctx: Context, stem: str, params: dict,
             return sim, path
     start = time.perf_counter()
     elapsed = 0.0  # wall time of earlier (interrupted) sessions
-    if make is not None:
-        sim = make()
-        _save_result(path, sim, params, time.perf_counter() - start)
-        ctx.computed.append(path)
-        return sim, path
     key = C.run_key(params)
     C.remove_stale_temporaries(path)
     if ctx.force and ckpt.exists():

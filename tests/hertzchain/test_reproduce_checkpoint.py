@@ -140,24 +140,22 @@ def test_scenario_runs_resume_and_force_discards(tmp_path, monkeypatch):
     _assert_same_runs(tmp_path / "ref" / "runs", tmp_path / "run" / "runs")
 
 
-def test_make_still_runs_without_checkpoints(tmp_path):
-    # run_cached(make=...): a simulation built and run by the caller, cached as before
+def test_run_cached_reuses_the_finished_file(tmp_path):
+    # run_cached(build=..., until=...): computed once, then reused; no checkpoint left
     import discrete
     from hertzchain.reproduce.common import run_cached
 
-    def make():
+    def build():
         chain = discrete.Chain.from_arrays(np.full(60, 1e-3), np.full(61, 1e9), 0.0)
-        sim = discrete.impact(chain, 1.0).simulation()
-        sim.run(until=discrete.WaveAt(40), progress=False)
-        return sim
+        return discrete.impact(chain, 1.0).simulation()
 
     ctx = Context(tmp_path, progress=False, checkpoint_interval=0.0)
-    sim, path = run_cached(ctx, "x", {"n": 60}, make)
-    again, _ = run_cached(ctx, "x", {"n": 60}, make)
+    sim, path = run_cached(ctx, "x", {"n": 60}, build=build, until=discrete.WaveAt(40))
+    again, _ = run_cached(ctx, "x", {"n": 60}, build=build, until=discrete.WaveAt(40))
     assert ctx.computed == ctx.reused == [path] and again.steps == sim.steps > 0
     assert not list(tmp_path.rglob("*.ckpt"))
-    with pytest.raises(TypeError, match="exactly one"):
-        run_cached(ctx, "x", {"n": 60}, make, build=make)
+    with pytest.raises(TypeError, match="until"):
+        run_cached(ctx, "y", {"n": 60}, build=build)
 
 
 def test_checkpoint_interval_option(tmp_path, capsys):
