@@ -122,10 +122,6 @@ def tqdm_iter(ctx: Context, iterable: Iterable, *, desc: str, total: int | None 
     return tqdm(iterable, desc=desc, total=total, leave=False, file=sys.stderr)
 
 
-def _params_attr(params: dict) -> str:
-    return canonical_json(params)
-
-
 def _retell(exc: C.Interrupted, ctx: Context, note: str) -> C.Interrupted:
     """``exc`` told for ``hertzchain reproduce`` (how to go on; --force discards)."""
     how = ("rerun the same command without --force to resume (--force discards "
@@ -239,11 +235,8 @@ def run_cached(ctx: Context, stem: str, params: dict, *,
 
 def _save_result(path: Path, sim: discrete.Simulation, params: dict, wall: float) -> None:
     """Write a finished simulation (atomically) with its parameters and wall time."""
-    with atomic_path(path) as tmp:
-        discrete.save(tmp, sim)
-        with h5py.File(tmp, "a") as f:
-            f.attrs["reproduce_params"] = _params_attr(params)
-            f.attrs["wall_time"] = wall
+    discrete.save(path, sim, attrs={"reproduce_params": canonical_json(params),
+                                    "wall_time": wall})
 
 
 def run_scenario_cached(ctx: Context, stem: str, scenario: dict, *, full: bool = True
