@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from theory import wave_contact_energy
+
 __all__ = ["GrainSample", "sample_grains", "section_energies"]
 
 
@@ -99,7 +101,7 @@ def sample_grains(pde, state) -> GrainSample:
     return GrainSample(
         u=u, v=v, overlap=overlap,
         kinetic=0.5 * med.mass * v * v,
-        potential=0.4 * med.k * (dp**2.5 - med.delta0**2.5),
+        potential=wave_contact_energy(overlap, med.k, med.delta0),
         force=med.k * dp**1.5,
         delta0=med.delta0.copy(),
         force0=med.force0,

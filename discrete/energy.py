@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from theory import wave_contact_energy
+
 from .reference import overlaps
 
 __all__ = ["contact_energy", "kinetic_energy", "grain_energy", "total_energy",
@@ -25,17 +27,12 @@ __all__ = ["contact_energy", "kinetic_energy", "grain_energy", "total_energy",
 
 
 def contact_energy(r, k, delta0):
-    """Wave potential energy (2/5) k([r]_+^{5/2} - δ0^{5/2}) of each contact, J."""
-    r = np.asarray(r, dtype=float)
-    k = np.asarray(k, dtype=float)
-    d0 = np.asarray(delta0, dtype=float)
-    s = d0 * d0 * np.sqrt(d0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x = np.where(d0 > 0, (r - d0) / np.where(d0 > 0, d0, 1.0), 0.0)
-        rel = s * np.expm1(2.5 * np.log1p(np.maximum(x, -1.0)))
-    rp = np.maximum(r, 0.0)
-    out = np.where(d0 > 0, np.where(r > 0, rel, -s), rp * rp * np.sqrt(rp))
-    return 0.4 * k * out
+    """Wave potential energy (2/5) k([r]_+^{5/2} - δ0^{5/2}) of each contact, J.
+
+    :func:`theory.wave_contact_energy` (the numba kernels have their own scalar copy,
+    ``kernels._contact_potential``, for the hot path).
+    """
+    return wave_contact_energy(r, k, delta0)
 
 
 def kinetic_energy(chain, v):

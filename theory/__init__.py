@@ -35,7 +35,7 @@ from .materials import (
     hertz_constant_wall,
     paper_kn,
 )
-from .precompression import static_energy, static_force, static_overlaps
+from .precompression import static_energy, static_force, static_overlaps, wave_contact_energy
 from .profiles import (
     ChainState,
     DiscreteSolitaryWave,
@@ -104,4 +104,5 @@ __all__ = [
     "transmitted_soliton_count",
     "velocity_reflection",
     "velocity_transmission",
+    "wave_contact_energy",
 ]

@@ -15,7 +15,7 @@ import numpy as np
 
 from ._validate import check_nonnegative, check_positive
 
-__all__ = ["static_force", "static_overlaps", "static_energy"]
+__all__ = ["static_force", "static_overlaps", "static_energy", "wave_contact_energy"]
 
 
 def static_force(k, delta0):
@@ -71,3 +71,34 @@ def static_energy(k, delta):
     delta = check_nonnegative("delta", delta)
     out = 0.4 * k * delta**2.5
     return out if out.ndim else float(out)
+
+
+def wave_contact_energy(r, k, delta0):
+    """Wave potential energy of a contact, (2/5) k ([r]_+^{5/2} - δ0^{5/2}), J.
+
+    The integral of the Hertz force (paper Eq. 1) minus the static energy of the same
+    contact (PHYSICS.md §6): negative when the contact is less compressed than at rest.
+    Evaluated as δ0^{5/2} expm1((5/2) log1p((r - δ0)/δ0)), without the cancellation of
+    r^{5/2} - δ0^{5/2} for a small wave on a large precompression.  Broadcasts; no
+    validation (hot diagnostic path).
+
+    Parameters
+    ----------
+    r : array_like
+        Overlaps, m (negative: gap).
+    k : array_like
+        Hertz constants, N/m^{3/2}.
+    delta0 : array_like
+        Static overlaps, m (>= 0).
+    """
+    r = np.asarray(r, dtype=float)
+    d0 = np.asarray(delta0, dtype=float)
+    s = d0 * d0 * np.sqrt(d0)
+    pos = d0 > 0
+    safe = np.where(pos, d0, 1.0)
+    x = np.maximum(np.where(pos, (r - d0) / safe, 0.0), -1.0)
+    with np.errstate(divide="ignore"):
+        rel = s * np.expm1(2.5 * np.log1p(x))
+    rp = np.maximum(r, 0.0)
+    out = np.where(pos, np.where(r > 0, rel, -s), rp * rp * np.sqrt(rp))
+    return 0.4 * np.asarray(k, dtype=float) * out

@@ -33,6 +33,8 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from theory import wave_contact_energy
+
 __all__ = [
     "overlaps_from_displacements",
     "kinetic_energy",
@@ -115,19 +117,7 @@ def contact_energy(r: ArrayLike, k: ArrayLike, delta0: ArrayLike) -> FloatArray:
     delta0 : array_like, shape (N + 1,)
         Static overlaps, m.
     """
-    r = _f(r, "r")
-    d0 = _f(delta0, "delta0")
-    s = d0 * d0 * np.sqrt(d0)
-    pos = d0 > 0
-    safe = np.where(pos, d0, 1.0)
-    # r^{5/2} - δ0^{5/2} = δ0^{5/2} expm1((5/2) log1p(x)), x = (r - δ0)/δ0: no cancellation
-    # for a small wave on a large precompression.
-    x = np.maximum(np.where(pos, (r - d0) / safe, 0.0), -1.0)
-    with np.errstate(divide="ignore"):
-        rel = s * np.expm1(2.5 * np.log1p(x))
-    rp = np.maximum(r, 0.0)
-    out = np.where(pos, np.where(r > 0, rel, -s), rp * rp * np.sqrt(rp))
-    return 0.4 * _f(k, "k") * out
+    return wave_contact_energy(_f(r, "r"), _f(k, "k"), _f(delta0, "delta0"))
 
 
 def contact_linear_energy(r: ArrayLike, k: ArrayLike, delta0: ArrayLike) -> FloatArray:

@@ -108,3 +108,20 @@ def test_static_overlaps_validation():
         theory.static_overlaps([1.0], delta0=-1.0)
     with pytest.raises(ValueError, match="k_contacts"):
         theory.static_overlaps([1.0, -2.0], delta0=1.0)
+
+
+def test_wave_contact_energy():
+    # (2/5) k ([r]_+^{5/2} - delta0^{5/2}); exact for moderate waves, negative when opened
+    k, d0 = 5e9, 5e-6
+    r = np.array([0.0, -1e-6, 2e-6, 5e-6, 6e-6, 0.0])
+    d = np.array([d0, d0, d0, d0, d0, 0.0])
+    expect = 0.4 * k * (np.maximum(r, 0) ** 2.5 - d**2.5)
+    np.testing.assert_allclose(theory.wave_contact_energy(r, k, d), expect, rtol=1e-13,
+                               atol=1e-30)
+    # a tiny wave on a large precompression: the series F0*x + (3/4)F0*x^2/delta0 ...
+    # (x = r - delta0) is recovered to 1e-12, which the naive difference misses
+    x = 1e-12 * d0
+    series = k * d0**1.5 * x + 0.75 * k * d0**0.5 * x**2
+    assert theory.wave_contact_energy(d0 + x, k, d0) == pytest.approx(series, rel=1e-9)
+    naive = 0.4 * k * ((d0 + x) ** 2.5 - d0**2.5)
+    assert abs(naive / series - 1) > 1e-6
