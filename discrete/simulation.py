@@ -431,6 +431,12 @@ class Simulation:
         RunInfo
             Steps, end time, what stopped the run, and the relative energy drift.
         """
+        # a NaN or overflow is this object's to detect and report (InstabilityError),
+        # whatever numpy error state the caller has set
+        with np.errstate(invalid="ignore", over="ignore"):
+            return self._run(t_end, until=until, max_steps=max_steps, progress=progress)
+
+    def _run(self, t_end, *, until, max_steps, progress) -> RunInfo:
         n = self.chain.n
         if t_end is None and until is None and max_steps is None:
             raise ValueError("give t_end (s), until (event) or max_steps")

@@ -67,7 +67,8 @@ def test_drift_beyond_tolerance_through_cli(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "hertzchain: error: relative drift" in err and "beyond the tolerance 0.0001" in err
     assert "likely cause: dt too large" in err
-    named = _number(r"largest linearly stable dt ([0-9.e+-]+) s", err)
+    named = _number(r"largest linearly stable dt at the expected overlaps is about "
+                    r"([0-9.e+-]+) s", err)
     assert named == pytest.approx(stable, rel=1e-3)
     # no result file; the partial results and the last checkpoint are readable
     assert not out.exists()
@@ -109,8 +110,8 @@ def test_nan_stops_with_cause_and_stable_dt(tmp_path):
         run_scenario(sc, out=out, check=False)
     text = str(err.value)
     assert "non-finite state (NaN/inf)" in text
-    assert _number(r"From the initial state: largest linearly stable dt ([0-9.e+-]+) s",
-                   text) == pytest.approx(stable, rel=1e-3)
+    assert _number(r"largest linearly stable dt at the expected overlaps is about "
+                   r"([0-9.e+-]+) s", text) == pytest.approx(stable, rel=1e-3)
     assert not out.exists()
     assert "error: non-finite" in describe(partial_path(out))
     with pytest.raises(ValueError, match="must be finite"):  # NaN state: clear, not resumable
