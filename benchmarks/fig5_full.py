@@ -10,7 +10,7 @@ grains; ``discrete.cut_wave``, computed once and cached on disk) with its peak a
 velocity peak reaches grain 49,900 (``WaveAt(49_899)``, with its snapshot); recording:
 per-grain maxima, snapshots at the front's passage at grains 39,900 and 49,900 (front
 speed), energy monitor.  Reported per case: wall time, steps, kinetic / potential /
-total energy of each section at the final snapshot (J; PHYSICS.md §6), the transmitted
+total energy of each section at the final snapshot (J; docs/physics.md §6), the transmitted
 front's speed (grains/s, from the sub-grid peak positions in the two snapshots), the
 energy drift.
 

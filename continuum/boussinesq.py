@@ -2,14 +2,14 @@ r"""Weakly nonlinear long-wave equation of a precompressed chain (corrected Eq. 
 
 Regularisation
 --------------
-The paper's Eq. 4, corrected (PHYSICS.md §2), reads in grain units X = x/d
+The paper's Eq. 4, corrected (docs/physics.md §2), reads in grain units X = x/d
 
 .. math:: u_{tt} = \frac{K}{m}\Big(u_{XX} + \frac{1}{12}u_{XXXX}
           - \frac{1}{2\delta_0}u_X u_{XX}\Big),\qquad K = \tfrac32 k_n\delta_0^{1/2},
 
 i.e. :math:`c_0^2 (u_{xx} + (d^2/12)u_{xxxx} - (d/(2\delta_0))u_x u_{xx})` with
 :math:`c_0^2 = K d^2/m`.  Linearised it has :math:`\omega^2 = c_0^2k^2(1 - k^2d^2/12)`,
-negative for :math:`k > \sqrt{12}/d`: ill-posed (PHYSICS.md §4).  We solve instead the
+negative for :math:`k > \sqrt{12}/d`: ill-posed (docs/physics.md §4).  We solve instead the
 Rosenau quasi-continuum / "improved Boussinesq" form, which replaces
 :math:`(c_0^2 d^2/12)u_{xxxx}` by :math:`(d^2/12)u_{xxtt}` (equal to leading order
 because :math:`u_{tt} = c_0^2 u_{xx} + \dots`), written in flux form for a composite

@@ -2,7 +2,7 @@ r"""Initial conditions matching the discrete solver's: solitary waves and grain 
 
 * :func:`solitary_wave` — the sech² solitary wave of the regularised Eq. 4
   (:class:`~continuum.boussinesq.BoussinesqPDE`), or the KdV soliton of Eq. 4 itself;
-* :func:`compacton` — Nesterenko's cos⁴ compacton (PHYSICS.md §3, paper Eq. 8) for
+* :func:`compacton` — Nesterenko's cos⁴ compacton (docs/physics.md §3, paper Eq. 8) for
   :class:`~continuum.nesterenko.NesterenkoPDE`;
 * :func:`from_grains` — any discrete snapshot ``(u_i, v_i)`` (e.g. the exact discrete
   solitary wave of ``theory.profiles`` sampled per grain, or a DEM state) interpolated
@@ -23,7 +23,7 @@ __all__ = ["solitary_wave", "solitary_wave_parameters", "compacton", "compacton_
            "from_grains"]
 
 COMPACTON_WAVENUMBER = np.sqrt(10.0) / 5.0
-"""κ = √10/5 of the compacton cos⁴(κ X) (PHYSICS.md §3), per grain diameter."""
+"""κ = √10/5 of the compacton cos⁴(κ X) (docs/physics.md §3), per grain diameter."""
 
 
 def _grain_index(pde, center: float) -> int:
@@ -131,7 +131,7 @@ def compacton_parameters(pde, *, amplitude: float | None = None,
 
 def compacton(pde, center: float, *, amplitude: float | None = None,
               velocity_max: float | None = None) -> FieldCollection:
-    r"""State of a right-going compacton ξ = ξ_max cos⁴(√10 (X - X0)/5) (PHYSICS.md §3).
+    r"""State of a right-going compacton ξ = ξ_max cos⁴(√10 (X - X0)/5) (docs/physics.md §3).
 
     Zero outside :math:`|X - X_0| \le 5\pi/(2\sqrt{10})` ≈ 2.48 grains.  The
     displacement is the exact integral of the overlap (zero ahead of the wave).

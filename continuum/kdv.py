@@ -1,7 +1,7 @@
 r"""Unidirectional (KdV) reduction of the corrected Eq. 4, with its exact sech² soliton.
 
 For right-going waves of :math:`u_{tt} = c^2(u_{XX} + \tfrac1{12}u_{XXXX}
-- \tfrac{1}{2\delta_0}u_X u_{XX})` (grain units, PHYSICS.md §2) the overlap change
+- \tfrac{1}{2\delta_0}u_X u_{XX})` (grain units, docs/physics.md §2) the overlap change
 s = -u_X (m) obeys, to the same order,
 
 .. math:: s_t + c\,s_X + \frac{c}{24}\,s_{XXX} + \frac{c}{4\delta_0}\,s\,s_X = 0,

@@ -197,7 +197,7 @@ class Medium:
         """The paper's two-section composite chain (Section 2, Fig. 1).
 
         Left section: ``material`` (default :data:`theory.PAPER_MATERIAL`, which
-        reproduces the paper's numbers with the Hertz constant, PHYSICS.md §1); right
+        reproduces the paper's numbers with the Hertz constant, docs/physics.md §1); right
         section: ``material.scaled(alpha_rho, alpha_kn)``.  The interface contact
         (between grains ``n_left - 1`` and ``n_left``) has the Hertz constant of the
         unlike pair, the harmonic mean (Johnson 1985, Eq. 4.22); wall contacts are

@@ -2,7 +2,7 @@ r"""Nesterenko's strongly nonlinear long-wave equation (corrected Eq. 7), regula
 
 The equation
 ------------
-In conservative form (PHYSICS.md §3), with overlap δ = δ0 - u_X (m) and X = x/d,
+In conservative form (docs/physics.md §3), with overlap δ = δ0 - u_X (m) and X = x/d,
 
 .. math:: m\,u_{tt} = -\partial_X F,\qquad
           F = k\Big[\delta^{3/2} + \tfrac{1}{10}\,\delta^{1/4}\,\partial_{XX}\delta^{5/4}\Big],
@@ -16,7 +16,7 @@ variational derivative of :math:`\Pi = \int k[\tfrac25\delta^{5/2} - \tfrac1{25}
 Regularisation: saturated dispersion (cap at the coercivity limit)
 -------------------------------------------------------------------
 Linearised, the dispersive term gives :math:`\omega^2 = c_0^2k^2(1 - k^2/12)`: ill-posed
-(PHYSICS.md §4), and Π is unbounded below.  We replace :math:`\partial_{XX}` in the
+(docs/physics.md §4), and Π is unbounded below.  We replace :math:`\partial_{XX}` in the
 dispersive term by the operator H with Fourier multiplier :math:`-\min(k^2, C)`,
 ``cap`` C = 10 by default:
 

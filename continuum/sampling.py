@@ -9,7 +9,7 @@ continuum run and a DEM run are compared with identical definitions:
   δ0; periodic chains wrap), m;
 * kinetic energy of grain i: ½ m_i v_i², J;
 * potential energy of contact j: the contact energy minus the static energy of the same
-  contact, (2/5) k_j ([δ_j]_+^{5/2} - δ0_j^{5/2}), J (paper Table 2, PHYSICS.md §6 —
+  contact, (2/5) k_j ([δ_j]_+^{5/2} - δ0_j^{5/2}), J (paper Table 2, docs/physics.md §6 —
   it keeps the linear term F0 (δ_j - δ0_j), so an expansive wave has negative
   potential energy);
 * energy of grain i: kinetic plus half of each of its two contacts.
@@ -112,7 +112,7 @@ def section_energies(sample: GrainSample, n_left: int) -> dict[str, dict[str, fl
     """Kinetic, potential and total energy left and right of contact ``n_left``, J.
 
     The interface contact (between grains ``n_left - 1`` and ``n_left``) is split half
-    to each side (PHYSICS.md §6: once the waves have separated its share is negligible).
+    to each side (docs/physics.md §6: once the waves have separated its share is negligible).
     ``potential_linear`` is the linear part of the potential energy,
     F0 Σ(δ_j - δ0_j), used by :func:`theory.table2_prediction`.
     """

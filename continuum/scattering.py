@@ -4,7 +4,7 @@ r"""Energy scattering of a solitary wave at a composite-chain interface (paper T
 a two-section chain (:meth:`Medium.two_section`), lets it cross the interface with a
 continuum solver, and returns the transmitted and reflected fractions of the incident
 kinetic, potential and total energy, defined exactly as in the paper's Table 2 and
-PHYSICS.md §6: energies are computed per grain with the discrete formulas
+docs/physics.md §6: energies are computed per grain with the discrete formulas
 (:mod:`continuum.sampling`), the potential energy being the contact energy minus the
 static energy of the same contacts; incident energies are those of the initial wave
 (entirely in the left section); transmitted/reflected energies are the right/left
@@ -66,7 +66,7 @@ def energy_ratios(
         force F0, and any motion of it would add work F0 Δu to the Table-2 energies.
     distance : int
         The ratios are measured when the transmitted peak is this many grains past the
-        interface (PHYSICS.md §6: for point P Ek_tr drifts slowly with distance).
+        interface (docs/physics.md §6: for point P Ek_tr drifts slowly with distance).
     n : int
         Nodes per grain (odd).
     model : {"boussinesq", "nesterenko"}
@@ -77,7 +77,7 @@ def energy_ratios(
         Order of the symplectic time stepper.
     initial : {"regularised", "discrete"} or (u, v)
         Incident wave: the sech² solitary wave of the regularised Eq. 4 (default), the
-        exact discrete solitary wave (:func:`theory.discrete_solitary_wave`, PHYSICS.md
+        exact discrete solitary wave (:func:`theory.discrete_solitary_wave`, docs/physics.md
         §7) sampled per grain and interpolated (:func:`from_grains`), or any per-grain
         arrays (u, v) over the whole chain.
     material, diameter :

@@ -1,9 +1,9 @@
-r"""Energies of the chain as NumPy functions (paper Fig. 8, Table 2; PHYSICS.md §6).
+r"""Energies of the chain as NumPy functions (paper Fig. 8, Table 2; docs/physics.md §6).
 
 * kinetic energy of grain i: :math:`e^k_i = \tfrac12 m_i v_i^2` (J);
 * wave potential energy of contact j: :math:`e^c_j = \tfrac25 k_j([r_j]_+^{5/2} -
   \delta_{0,j}^{5/2})` (J), the integral of Eq. 1 minus the static energy of the same
-  contact.  The linear term :math:`F_0 (r_j - \delta_{0,j})` is kept (PHYSICS.md §6),
+  contact.  The linear term :math:`F_0 (r_j - \delta_{0,j})` is kept (docs/physics.md §6),
   so the potential energy of an expansive wave is negative;
 * per grain: :math:`e^p_i = \tfrac12(e^c_i + e^c_{i+1})`, :math:`e^t_i = e^k_i + e^p_i`
   (a wall contact belongs wholly to its grain: walls store no energy);

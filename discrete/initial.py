@@ -104,7 +104,7 @@ class SettledWave:
 
 
 def _settle_grains(delta0_over_d: float) -> int:
-    # PHYSICS.md §1: at δ0/d = 1e-3 the leading wave needs ~6,000–9,000 grains to settle;
+    # docs/physics.md §1: at δ0/d = 1e-3 the leading wave needs ~6,000–9,000 grains to settle;
     # without precompression ~100 suffice (v̄max/v0 constant to 1e-6 beyond grain 50).
     return 200 if delta0_over_d == 0 else 10_000
 
@@ -232,7 +232,7 @@ def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None
                tail: float = 1e-12, **kwargs) -> Initial:
     """The exact discrete solitary wave (:func:`theory.discrete_solitary_wave`), right-going.
 
-    The travelling wave r_j(t) = R(j - centre - s t) of Eq. 2 (PHYSICS.md §7) for the
+    The travelling wave r_j(t) = R(j - centre - s t) of Eq. 2 (docs/physics.md §7) for the
     grains and contact at ``centre`` (their mass, k_n, δ0, diameter), with its overlap
     peak at contact ``centre`` (between grains centre-1 and centre) at t = 0.  Give
     exactly one of ``velocity_max`` (peak grain velocity, m/s), ``amplitude`` (peak

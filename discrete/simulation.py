@@ -344,7 +344,7 @@ class Simulation:
         return _overlaps(self.u, self._d0, self.wall_left, self.wall_right)
 
     def energy(self) -> float:
-        """Total wave energy Σ ½mv² + Σ (2/5)k([r]_+^{5/2} - δ0^{5/2}), J (PHYSICS.md §6)."""
+        """Total wave energy Σ ½mv² + Σ (2/5)k([r]_+^{5/2} - δ0^{5/2}), J (docs/physics.md §6)."""
         if self._lo < 0:
             return 0.0
         ek = np.empty(self.chain.n)

@@ -2,7 +2,7 @@
 
 :func:`run_scenario` builds the chain (:func:`build_chain`), the initial state
 (:func:`build_initial`) and the recording, integrates, and returns a flat JSON-able
-summary: the Table 2 energy ratios (transmitted/reflected over incident, PHYSICS.md §6),
+summary: the Table 2 energy ratios (transmitted/reflected over incident, docs/physics.md §6),
 front speeds of the transmitted and reflected waves (Fig. 6), the classification of
 Fig. 7, the energy drift and the cost.  The same summary is a row of a sweep.
 
@@ -318,7 +318,7 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     # "Separated": the energy within 5 grains of the interface stays below a fraction of
     # the total.  A cut impact wave drags a weak dispersive tail (~1e-5 of the energy)
     # across the interface for a long time, so the strictest fraction that is met is used
-    # and reported (PHYSICS.md §6: the attribution of the interface contact then changes
+    # and reported (docs/physics.md §6: the attribution of the interface contact then changes
     # the ratios by less than that fraction).
     i_out = None
     for fraction in SEPARATION_FRACTIONS:

@@ -120,7 +120,7 @@ def table2_prediction(gamma_rg_, ek_in, ep_linear_in, ep_quadratic_in) -> dict[s
     r"""Linear-acoustic prediction of the paper's Table 2 energy ratios.
 
     Under precompression the wave's potential energy (contact energy minus the static
-    energy of the same contacts, PHYSICS.md §6) splits into a linear part
+    energy of the same contacts, docs/physics.md §6) splits into a linear part
     F0 Σ(δ_j - δ0) = F0 × (net displacement across the wave), which transmits and
     reflects like the displacement (2/(1+γ_RG), (γ_RG-1)/(γ_RG+1) counted as
     compression), and a quadratic part which, like the kinetic energy, transmits with

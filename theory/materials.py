@@ -14,7 +14,7 @@ spheres of radii :math:`R_1, R_2`, Young's moduli :math:`E_1, E_2` and Poisson r
 
 For two identical spheres of diameter :math:`d` this is
 :math:`k = E d^{1/2} / (3(1-\nu^2))`.  The paper prints
-:math:`k_n = 2E d^{1/2}/(3(1-\nu^2))`, twice the Hertz value (PHYSICS.md §1).  The
+:math:`k_n = 2E d^{1/2}/(3(1-\nu^2))`, twice the Hertz value (docs/physics.md §1).  The
 paper's figures (v̄max/v0 = 0.0822 at δ0/d = 1e-3, Table 2) are reproduced by the
 *Hertz* constant with ν = 0.30, not by the printed formula with ν = 0.25 of its
 Table 1; both conventions are available here (:func:`hertz_constant` and
@@ -101,7 +101,7 @@ STEEL_TABLE1 = Material(7900.0, 193e9, 0.25, name="stainless steel (paper Table 
 PAPER_MATERIAL = Material(7900.0, 193e9, 0.30, name="stainless steel, nu=0.30 (reproduces paper)")
 """The material that reproduces the paper's numbers with the Hertz constant.
 
-PHYSICS.md §1: only k_n/m matters; v̄max/v0 = 0.0822 at δ0/d = 1e-3 and Table 2 are
+docs/physics.md §1: only k_n/m matters; v̄max/v0 = 0.0822 at δ0/d = 1e-3 and Table 2 are
 reproduced by the physical Hertz constant with ν = 0.30 (not Table 1's 0.25, not the
 paper's printed k_n).  The paper scenarios use this material and say why.
 """
@@ -145,7 +145,7 @@ def hertz_constant(d1, mat1: Material, d2=None, mat2: Material | None = None):
 
     .. math:: k = \tfrac{4}{3} E^* \sqrt{R^*}
 
-    (Johnson 1985, Eq. 4.22; PHYSICS.md §1).  For identical spheres of diameter d,
+    (Johnson 1985, Eq. 4.22; docs/physics.md §1).  For identical spheres of diameter d,
     k = E d^{1/2}/(3(1-ν²)).  For equal diameters and different materials it is the
     harmonic mean of the two identical-pair constants, 2 k1 k2/(k1 + k2).
 
@@ -201,7 +201,7 @@ def paper_kn(d, mat: Material):
     r"""The paper's printed elastic coefficient k_n = 2E d^{1/2}/(3(1-ν²)), N/m^{3/2}.
 
     Paper Section 2, below Eq. 1.  This is **twice** the Hertz value for two identical
-    spheres (see :func:`hertz_constant` and PHYSICS.md §1); it is kept as an explicit
+    spheres (see :func:`hertz_constant` and docs/physics.md §1); it is kept as an explicit
     alternative so the paper's convention can be examined, but it does not reproduce
     the paper's own figures (v̄max/v0 at δ0/d = 1e-3 comes out ≈ 0.041, not 0.0822).
     """

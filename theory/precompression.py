@@ -77,7 +77,7 @@ def wave_contact_energy(r, k, delta0):
     """Wave potential energy of a contact, (2/5) k ([r]_+^{5/2} - δ0^{5/2}), J.
 
     The integral of the Hertz force (paper Eq. 1) minus the static energy of the same
-    contact (PHYSICS.md §6): negative when the contact is less compressed than at rest.
+    contact (docs/physics.md §6): negative when the contact is less compressed than at rest.
     Evaluated as δ0^{5/2} expm1((5/2) log1p((r - δ0)/δ0)), without the cancellation of
     r^{5/2} - δ0^{5/2} for a small wave on a large precompression.  Broadcasts; no
     validation (hot diagnostic path).

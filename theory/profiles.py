@@ -5,10 +5,10 @@ Contact j lies between grains j-1 and j; r_j = δ0 + u_{j-1} - u_j is its overla
 All waves travel to the right (+x); u → 0 ahead of the wave and u = D > 0 (the net
 shift) behind it.
 
-* ``kdv_soliton_*`` — sech² wave of the corrected paper Eq. 4 (PHYSICS.md §2).
-* ``compacton_*`` — Nesterenko's cos⁴ compacton of Eq. 7, speed Eq. 8 (PHYSICS.md §3).
+* ``kdv_soliton_*`` — sech² wave of the corrected paper Eq. 4 (docs/physics.md §2).
+* ``compacton_*`` — Nesterenko's cos⁴ compacton of Eq. 7, speed Eq. 8 (docs/physics.md §3).
 * :func:`discrete_solitary_wave` — exact travelling wave of the lattice (Eq. 2), δ0 >= 0,
-  by Petviashvili iteration (PHYSICS.md §7); ``.sample`` gives a DEM initial condition.
+  by Petviashvili iteration (docs/physics.md §7); ``.sample`` gives a DEM initial condition.
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ def kdv_soliton_width(amplitude: ArrayLike, d: ArrayLike, delta0: ArrayLike) -> 
     r"""Width 1/κ = √(2 δ0 d / A) of the KdV solitary wave of the corrected Eq. 4, m.
 
     The strain ξ = -u_x of u_tt = c0²(u_xx + a u_xxxx - b u_x u_xx), a = d²/12,
-    b = d/(2δ0) (paper Eq. 4 corrected, PHYSICS.md §2) obeys
+    b = d/(2δ0) (paper Eq. 4 corrected, docs/physics.md §2) obeys
     ξ_tt = c0² (ξ + a ξ_xx + (b/2) ξ²)_xx.  A wave ξ(x - Vt) decaying at ±∞ integrates
     twice to a ξ'' = (V²/c0² - 1) ξ - (b/2) ξ²; ξ = A sech²(κ y) solves it iff
     4aκ² = V²/c0² - 1 (sech² terms) and 6aκ² = bA/2 (sech⁴ terms), i.e.
@@ -120,7 +120,7 @@ def _compacton_phase(x, d, x0):
 def compacton_strain(x: ArrayLike, amplitude: ArrayLike, d: ArrayLike, x0: ArrayLike = 0.0) -> Real:
     r"""Nesterenko's compacton ξ = A cos⁴(√10 (x - x0)/(5d)), zero for |x - x0| > 5πd/(2√10).
 
-    Travelling wave of the conservative form of paper Eq. 7 (PHYSICS.md §3; Nesterenko
+    Travelling wave of the conservative form of paper Eq. 7 (docs/physics.md §3; Nesterenko
     2001, Ch. 1): u(x - Vt) in u_tt = -c² ∂x[ξ^{3/2} + (d²/10) ξ^{1/4} (ξ^{5/4})_xx]
     integrates to V² ξ = c² [ξ^{3/2} + (d²/10) ξ^{1/4} (ξ^{5/4})''].  With θ = √10 x/(5d),
     ξ^{1/4}(ξ^{5/4})'' = A^{3/2} (10/(25d²)) (20 cos⁴θ - 25 cos⁶θ), so the bracket is

@@ -8,7 +8,7 @@ change / d), ξ0 = δ0/d the static strain.
   i.e. c0 = d √(K/m) with the linearised stiffness K = dF/dδ = (3/2) k_n δ0^{1/2}.
 * c_mat² = k_n d^{5/2}/m  — (paper Eq. 7), so c0² = (3/2) c_mat² ξ0^{1/2}.
 * V_S = c0 (1 + d ξ_max/(12 δ0))  — KdV solitary wave (paper Eq. 5); only consistent
-  with Eq. 4 when its nonlinear coefficient is b = d/(2δ0) (PHYSICS.md §2).
+  with Eq. 4 when its nonlinear coefficient is b = d/(2δ0) (docs/physics.md §2).
 * V_S0 = (2/√5) c_mat ξ_max^{1/4}  — Nesterenko's sonic-vacuum wave (paper Eq. 8).
 * Nesterenko's general relation (Nesterenko, *Dynamics of Heterogeneous Materials*,
   Springer 2001, Eq. 1.4.28; Sen et al., Phys. Rep. 462 (2008) Eq. 14)
@@ -97,7 +97,7 @@ def kdv_speed_exact(c0_, d, delta0, xi_max):
     """Solitary-wave speed of the corrected Eq. 4, V = c0 √(1 + d ξ_max/(6 δ0)), m/s.
 
     The sech² travelling wave of u_tt = c0²(u_xx + (d²/12) u_xxxx - (d/(2δ0)) u_x u_xx)
-    has V²/c0² = 1 + b ξ_max/3 with b = d/(2δ0) (PHYSICS.md §2); to first order this is
+    has V²/c0² = 1 + b ξ_max/3 with b = d/(2δ0) (docs/physics.md §2); to first order this is
     Eq. 5.
     """
     c0_ = check_positive("c0", c0_)
@@ -157,7 +157,7 @@ def nesterenko_speed(c_mat_, xi0, xi_max):
 def lattice_dispersion(k, c0_, d):
     """Linear dispersion of the precompressed chain, ω = (2 c0/d) |sin(k d/2)|, rad/s.
 
-    Linearising Eq. 2 about δ0 gives a mass-spring lattice (PHYSICS.md §4).
+    Linearising Eq. 2 about δ0 gives a mass-spring lattice (docs/physics.md §4).
     """
     k = np.asarray(k, dtype=float)
     c0_ = check_positive("c0", c0_)

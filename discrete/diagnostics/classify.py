@@ -269,7 +269,7 @@ class ReflectedClassification:
         |dominant| / ``reference`` (NaN without a reference).
     net_strain : float
         Σ (r_j - δ0_j)/δ0_j over the examined contacts (NaN for velocity): its sign is
-        that of the linear potential energy carried (PHYSICS.md §6).
+        that of the linear potential energy carried (docs/physics.md §6).
     min_ratio : float
         Threshold on ``relative_amplitude`` below which the label is ``"none"``.
     """

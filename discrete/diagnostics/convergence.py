@@ -3,7 +3,7 @@ r"""Fig. 2: the settled solitary-wave amplitude from per-grain running maxima of
 The paper (Section 2, Fig. 2) gives a velocity v0 to the first grain and records, for
 every grain, the maximum velocity reached "when solitary wave passes by"; its average
 over the grains where the wave has formed is v̄max, with v̄max/v0 = 0.6816 at δ0 = 0 and
-0.0822 at δ0/d = 1e-3 (the latter needs ~6,000–9,000 grains to settle, PHYSICS.md §1).
+0.0822 at δ0/d = 1e-3 (the latter needs ~6,000–9,000 grains to settle, docs/physics.md §1).
 """
 
 from __future__ import annotations

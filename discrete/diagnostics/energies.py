@@ -6,14 +6,14 @@ wall (Hertz constant k_j = 0 for a free end).  Overlaps r_j = δ0_j + u_{j-1} - 
 u_{-1} = ``wall_left`` and u_N = ``wall_right`` (m); u are displacements from static
 equilibrium.
 
-Energies (J), PHYSICS.md §6 and paper Section 4 (Fig. 8, Table 2):
+Energies (J), docs/physics.md §6 and paper Section 4 (Fig. 8, Table 2):
 
 * kinetic, per grain: e_k,i = ½ m_i v_i²;
 * potential, per contact: e_p,j = (2/5) k_j [r_j]_+^{5/2} - (2/5) k_j δ0_j^{5/2}, i.e. the
   Hertz contact energy (integral of paper Eq. 1) minus the static precompression energy
   of the same contact — negative for a contact less compressed than at rest;
 * its linear part e_L,j = F0_j (r_j - δ0_j) with F0_j = k_j δ0_j^{3/2} (the first term of
-  the Taylor expansion about δ0; it dominates under precompression, PHYSICS.md §6) and
+  the Taylor expansion about δ0; it dominates under precompression, docs/physics.md §6) and
   the remainder e_Q,j = e_p,j - e_L,j (≥ 0, quadratic to leading order), the split that
   :func:`theory.table2_prediction` needs;
 * per grain: e_i = e_k,i + ½ e_p,i + ½ e_p,i+1 (half of each adjacent grain–grain
@@ -106,7 +106,7 @@ def contact_energy(r: ArrayLike, k: ArrayLike, delta0: ArrayLike) -> FloatArray:
     """Wave potential energy per contact, (2/5) k ([r]_+^{5/2} - δ0^{5/2}), J.
 
     Integral of the Hertz force (paper Eq. 1) minus the static energy of the same contact
-    (PHYSICS.md §6); negative when the contact is less compressed than at rest.
+    (docs/physics.md §6); negative when the contact is less compressed than at rest.
 
     Parameters
     ----------
@@ -123,7 +123,7 @@ def contact_energy(r: ArrayLike, k: ArrayLike, delta0: ArrayLike) -> FloatArray:
 def contact_linear_energy(r: ArrayLike, k: ArrayLike, delta0: ArrayLike) -> FloatArray:
     """Linear part of the contact potential, F0 (r - δ0) with F0 = k δ0^{3/2}, J.
 
-    First-order Taylor term of :func:`contact_energy` about δ0 (PHYSICS.md §6).  Summed
+    First-order Taylor term of :func:`contact_energy` about δ0 (docs/physics.md §6).  Summed
     over a wave it is F0 times the net displacement across it.
     """
     d0 = _f(delta0, "delta0")
@@ -139,7 +139,7 @@ class ChainEnergies:
     kinetic : ndarray, shape (..., N)
         ½ m v² per grain, J.
     contact : ndarray, shape (..., N + 1)
-        Contact potential minus static energy per contact, J (PHYSICS.md §6).
+        Contact potential minus static energy per contact, J (docs/physics.md §6).
     linear : ndarray, shape (..., N + 1)
         Linear part F0 (r - δ0) of ``contact``, J.
     """
@@ -187,7 +187,7 @@ def chain_energies(
     wall_left: ArrayLike = 0.0,
     wall_right: ArrayLike = 0.0,
 ) -> ChainEnergies:
-    """Energies of chain state(s) from plain arrays (PHYSICS.md §6).
+    """Energies of chain state(s) from plain arrays (docs/physics.md §6).
 
     Give either ``overlaps`` (N + 1 contacts) or ``u`` (with the wall displacements).
 

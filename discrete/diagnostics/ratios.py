@@ -1,6 +1,6 @@
 r"""Table 2 energy ratios, "incident"/"separated" times and the Fig. 8 normalisation.
 
-Paper Section 4 (Fig. 8, Table 2) and PHYSICS.md §6: E_Tr/E_In is the energy in the
+Paper Section 4 (Fig. 8, Table 2) and docs/physics.md §6: E_Tr/E_In is the energy in the
 right section once the waves have separated from the interface over the incident energy
 measured in the left section before the wave reaches the interface; E_Re/E_In the
 energy left in the left section over the same; for the kinetic, potential (contact
@@ -43,7 +43,7 @@ class EnergyRatios:
 
     E_Tr/E_In = (energy in the right section, late) / (energy in the left section, early),
     E_Re/E_In = (energy in the left section, late) / (same incident energy), for the
-    kinetic (k), potential (p, relative to static, PHYSICS.md §6) and total (t) energy.
+    kinetic (k), potential (p, relative to static, docs/physics.md §6) and total (t) energy.
 
     Attributes
     ----------
@@ -125,7 +125,7 @@ def energy_ratios(
     right: int = 1,
     interface: Attribution = "half",
 ) -> EnergyRatios:
-    """Table 2 energy ratios from two chain states (paper Section 4, PHYSICS.md §6).
+    """Table 2 energy ratios from two chain states (paper Section 4, docs/physics.md §6).
 
     Parameters
     ----------
@@ -142,7 +142,7 @@ def energy_ratios(
         Section of the incident (and reflected) wave and of the transmitted wave.
     interface : {"half", "left", "right"}
         Attribution of the interface contact; once the waves have separated it does not
-        matter (PHYSICS.md §6).
+        matter (docs/physics.md §6).
 
     Returns
     -------
@@ -221,7 +221,7 @@ def interface_activity(energy: ArrayLike, interface: int, halfwidth: int = 5) ->
     Σ_{|i - interface + ½| < halfwidth} |e_i| / Σ_i |e_i|, with ``interface`` the index
     of the first grain right of the interface (so grains interface - halfwidth ...
     interface + halfwidth - 1 are counted).  Absolute values, because the potential
-    energy relative to static may be negative (PHYSICS.md §6).
+    energy relative to static may be negative (docs/physics.md §6).
 
     Parameters
     ----------
@@ -248,7 +248,7 @@ def incident_time_index(energy: ArrayLike, interface: int, *, halfwidth: int = 5
                         fraction: float = 1e-6) -> int:
     """Last time index before the wave's energy near the interface exceeds ``fraction``.
 
-    Where to measure the incident energy (PHYSICS.md §6: "on the left section before the
+    Where to measure the incident energy (docs/physics.md §6: "on the left section before the
     wave arrives").  See :func:`interface_activity`.  Raises ``ValueError`` if the wave is
     already at the interface in the first row.
     """

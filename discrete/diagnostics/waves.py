@@ -9,7 +9,7 @@ below the grid spacing by a three-point parabola through the peak sample and its
 neighbours (``"parabola"``), or through their logarithms (``"gaussian"``, exact for a
 Gaussian), or by the |signal|-weighted centroid of the pulse (``"centroid"``).
 
-Sign conventions (paper Section 4; PHYSICS.md §6).  For a right-going wave u = f(x - Vt)
+Sign conventions (paper Section 4; docs/physics.md §6).  For a right-going wave u = f(x - Vt)
 the particle velocity is v = V ξ with the strain ξ = -u_x; for a left-going one v = -V ξ.
 So a compressive (ξ > 0) reflected (left-going) wave has negative grain velocities, as
 the paper says of Fig. 3b; an expansive one positive.

@@ -45,7 +45,7 @@ __all__ = ["MODES", "Context", "run_cached", "run_scenario_cached", "read_summar
 MODES = ("quick", "full")
 MATERIAL = theory.PAPER_MATERIAL
 """Left-section material of every paper scenario: the Hertz constant with ν = 0.30
-reproduces the paper's numbers (PHYSICS.md §1; ``theory.PAPER_MATERIAL``)."""
+reproduces the paper's numbers (docs/physics.md §1; ``theory.PAPER_MATERIAL``)."""
 
 
 @dataclass

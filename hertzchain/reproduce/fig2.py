@@ -4,13 +4,13 @@ Paper Section 2: the left-most grain gets v0 = 1 m/s, the others are at rest; a
 leading solitary wave forms, followed by a tail of solitary waves (δ0 = 0) or of
 decaying oscillations (δ0/d = 1e-3).  The per-grain maximum velocity v_max settles to
 v̄max/v0 = 0.6816 (δ0 = 0) and 0.0822 (δ0/d = 1e-3).  At δ0/d = 1e-3 the wave settles
-only after ~6,000–9,000 grains (PHYSICS.md §1), so the chain is 10,000 grains long in
+only after ~6,000–9,000 grains (docs/physics.md §1), so the chain is 10,000 grains long in
 ``--quick`` and 20,000 in ``--full``; the averaging range is chosen by
 :func:`discrete.diagnostics.vmax_plateau` (every v_max from there on within
 ``RTOL`` of the settled value, ``MARGIN`` grains kept clear of the wave's position at
 the end of the run).
 
-The k_n convention (PHYSICS.md §1): the paper's printed k_n = 2E√d/(3(1-ν²)) with
+The k_n convention (docs/physics.md §1): the paper's printed k_n = 2E√d/(3(1-ν²)) with
 Table 1's ν = 0.25 gives v̄max/v0 ≈ 0.041 at δ0/d = 1e-3, not 0.0822; the Hertz
 constant of two spheres with ν = 0.25 gives ≈ 0.0846 and with ν = 0.30 the paper's
 0.0822 (only k_n/m matters).  Both alternatives are run as variants.
@@ -205,7 +205,7 @@ def report(rep, result: Fig2Result, figs: list) -> None:
         f"first grain after which every v_max lies within {RTOL:g} (relative) of the "
         f"settled value, to {MARGIN} grains before the last grain the wave has reached "
         f"(grain numbers 1-based).  At δ0/d = 1e-3 the leading wave keeps shedding its "
-        f"tail for thousands of grains (PHYSICS.md §1), hence the long chain.  Only the "
+        f"tail for thousands of grains (docs/physics.md §1), hence the long chain.  Only the "
         f"Hertz constant with ν = 0.30 reproduces the paper's 0.0822; the printed k_n "
         f"(2× the Hertz value) with Table 1's ν = 0.25 gives about half of it.")
     for path, caption in figs:

@@ -3,7 +3,7 @@ r"""Fig. 8: space–time maps of the kinetic, potential and total energy per gra
 Paper Section 4, Fig. 8: δ0^L/d = 1e-3, interface between grains 200 and 201; rows
 a–d are the points M, N, P, Q, columns 1–3 the kinetic, potential and total energy per
 grain (potential: half of each adjacent contact's energy minus its static energy,
-PHYSICS.md §6) divided by "the single grain kinetic energy, potential energy, and total
+docs/physics.md §6) divided by "the single grain kinetic energy, potential energy, and total
 energy at the peak of the ISW" (:func:`discrete.diagnostics.normalise_to_incident_peak`,
 the maxima over the left section before the wave reaches the interface).  The runs are
 those of :mod:`.table2` (one HDF5 file each).

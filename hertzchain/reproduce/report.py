@@ -73,7 +73,7 @@ def paper_issues(runs) -> list[str]:
     """Where the paper's printed formulas or statements do not hold, with our evidence."""
     r = _by_name(runs)
     out = []
-    k = ("k_n convention (PHYSICS.md §1): the printed k_n = 2E√d/(3(1−ν²)) is twice the "
+    k = ("k_n convention (docs/physics.md §1): the printed k_n = 2E√d/(3(1−ν²)) is twice the "
          "Hertz constant of two identical spheres, E√d/(3(1−ν²)).  The paper's numbers are "
          "reproduced with the Hertz constant and ν = 0.30 (theory.PAPER_MATERIAL), not "
          "with Table 1's ν = 0.25.")
@@ -103,7 +103,7 @@ def paper_issues(runs) -> list[str]:
     out.append("Eq. 7: the second and third terms need u_xxxx (not u_xxx) and u_xx u_xxx "
                "(not u_x u_xxx); in conservative form u_tt = −c²∂x[ξ^{3/2} + (d²/10) "
                "ξ^{1/4} ∂xx ξ^{5/4}], whose travelling wave is the compacton with the speed "
-               "of Eq. 8 (PHYSICS.md §3; continuum.NesterenkoPDE).")
+               "of Eq. 8 (docs/physics.md §3; continuum.NesterenkoPDE).")
     s4 = ("Section 4 (after Fig. 7): \"when γ_RG > 1, i.e. (II) and (III) regions … The RSWs "
           "are expansive waves\" — contradicted by the paper's own Section 3.2, Fig. 5b/d "
           "text and by the data: the reflected waves are compressive there.")

@@ -6,7 +6,7 @@ with the scenario runner (:func:`hertzchain.runner.run_scenario`): the settled v
 m/s impact wave cut and placed at grain 100, energies per grain on a space–time grid,
 incident energies on the left section before the wave reaches the interface, and the
 ratios at the first grid row from which the energy within 5 grains of the interface
-stays below a small fraction of the total (the waves have separated; PHYSICS.md §6).
+stays below a small fraction of the total (the waves have separated; docs/physics.md §6).
 The same runs give Fig. 8 (:mod:`.fig8`).
 
 Besides the paper's values, each ratio is compared with
@@ -19,7 +19,7 @@ Besides the paper's values, each ratio is compared with
   transmitted peak is ``continuum_distance`` grains past the interface.
 
 Where it is measured matters for P: its transmitted pulse keeps reshaping in the slow
-section and Ek_tr drifts with distance (PHYSICS.md §6), so the ratios are also tabulated
+section and Ek_tr drifts with distance (docs/physics.md §6), so the ratios are also tabulated
 when the transmitted peak is ``DISTANCES`` grains past the interface.
 """
 
@@ -231,7 +231,7 @@ def report(rep, results: list[PointResult], figs: list | None = None) -> None:
               + list(TABLE2_KEYS), drows,
               caption="Drift of the discrete ratios with the distance of the transmitted "
               "peak from the interface, until the reflected wave reaches the left wall "
-              "(PHYSICS.md §6: P's Ek_tr decreases); 'energy near "
+              "(docs/physics.md §6: P's Ek_tr decreases); 'energy near "
               "interface' = fraction of Σ|e| within 5 grains of it (the attribution of the "
               "interface contact matters at that level)")
     rep.paragraph(

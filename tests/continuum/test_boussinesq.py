@@ -79,7 +79,7 @@ def test_dispersion_relation_single_modes(j):
     assert omega == pytest.approx(omega_h, rel=1e-6)
     assert omega == pytest.approx(c * k / np.sqrt(1 + k * k / 12), rel=0.02)
     if k > np.sqrt(12):
-        assert 1 - k * k / 12 < 0  # Eq. 4 as written would grow here (PHYSICS.md §4)
+        assert 1 - k * k / 12 < 0  # Eq. 4 as written would grow here (docs/physics.md §4)
 
 
 def test_grid_scale_noise_does_not_grow(rng):
@@ -88,7 +88,7 @@ def test_grid_scale_noise_does_not_grow(rng):
     energy error is an O((ωΔt)²) oscillation, not a drift: it stays below 20 % (1 % at
     a 5x smaller step) and the noise amplitude stays bounded (max |u| < 3x its start).
     The same noise under a naive explicit discretisation of Eq. 4 (u_XXXX with the bad
-    sign, PHYSICS.md §4) grows by > 1e10 within 300 steps."""
+    sign, docs/physics.md §4) grows by > 1e10 within 300 steps."""
     med = Medium.uniform(40, DELTA0)
     pde = BoussinesqPDE(med, 5, bc="periodic")
     u0 = 1e-2 * DELTA0 * rng.standard_normal(pde.grid.shape)

@@ -533,7 +533,7 @@ def test_table2_energy_ratios_points_m_n(two_section_run, point):
     r0 = D.table2_ratios(ch, snaps[0], snaps[-1]).as_dict()
     for key in D.EnergyRatios.KEYS:
         assert r0[key] == pytest.approx(r[key], abs=2e-5)
-    # interface-contact attribution does not matter once separated (PHYSICS.md §6): 5 digits
+    # interface-contact attribution does not matter once separated (docs/physics.md §6): 5 digits
     for itf in ("left", "right"):
         for key, val in ratios[itf].as_dict().items():
             assert val == pytest.approx(r[key], abs=1e-6)
@@ -552,7 +552,7 @@ def test_table2_energy_ratios_points_m_n(two_section_run, point):
     pred = ratios["half"].theory(theory.gamma_rg(*theory.PAPER_POINTS[point]))
     for key in D.EnergyRatios.KEYS:
         assert r[key] == pytest.approx(pred[key], abs=4e-3), key
-    # L dominates the incident potential energy (PHYSICS.md §6)
+    # L dominates the incident potential energy (docs/physics.md §6)
     inc = ratios["half"]
     assert inc.incident_linear > 10 * inc.incident_quadratic > 0
     # per-grain energies (walls whole, grain–grain contacts halved) give the same ratios

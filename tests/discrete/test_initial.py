@@ -84,7 +84,7 @@ def test_exact_wave_strain_amplitude():
 
 @pytest.mark.parametrize("delta0_over_d, v_peak", [(0.0, 0.6816), (1e-3, 0.0822)])
 def test_exact_wave_travels_unchanged(delta0_over_d, v_peak):
-    # The exact lattice wave (theory.profiles, PHYSICS.md §7) travels 1,000 grains with
+    # The exact lattice wave (theory.profiles, docs/physics.md §7) travels 1,000 grains with
     # its amplitude (per-grain max velocity) unchanged to 1e-5 and its speed equal to
     # the predicted one to 1e-5.  dt = half the default: the step-sampled velocity peak
     # and Verlet's O(dt²) error give 1.0e-5 / 2.0e-5 at the default dt, 2.6e-6 / 4.9e-6

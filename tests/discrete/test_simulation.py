@@ -49,7 +49,7 @@ def test_fig2_precompressed_converges_towards_paper():
 @pytest.mark.slow
 def test_fig2_precompressed_settled():
     # Paper Fig. 2b: 0.0822 within 2e-4 once settled (measured 0.082181 at the default
-    # dt over grains 7000..9500; 0.08217 is the dt -> 0 limit, PHYSICS.md §1).
+    # dt over grains 7000..9500; 0.08217 is the dt -> 0 limit, docs/physics.md §1).
     sim, _ = _fig2(1e-3, 10_000, 9_900)
     assert abs(sim.record.vmax[slice(*FIG2_RANGE_1E3)].mean() - 0.0822) < 2e-4
 

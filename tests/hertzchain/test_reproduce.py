@@ -128,7 +128,7 @@ def test_tiny_figure_functions_draw_on_ax(tiny):
 def test_tiny_numbers(tiny):
     _, res = tiny
     assert res["fig2"].vmax_over_v0[0.0] == pytest.approx(0.6816, abs=2e-4)
-    # k_n printed in the paper (2x Hertz, nu = 0.25) halves the amplitude (PHYSICS.md §1)
+    # k_n printed in the paper (2x Hertz, nu = 0.25) halves the amplitude (docs/physics.md §1)
     assert res["fig2"].variants["printed_nu025"].mean < 0.6 * res["fig2"].vmax_over_v0[1e-3]
     a, b = res["fig5"]
     assert (a.numbers["transmitted"], a.numbers["reflected"]) == ("fracture", "expansive")

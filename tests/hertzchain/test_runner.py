@@ -84,7 +84,7 @@ t_end = 7.5e-4
     assert main(["run", str(toml), "--out", str(out), "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["reflected"] == "expansive"          # point M: gamma_RG = 0.5
-    assert summary["Ep_re"] < 0                          # PHYSICS.md §6
+    assert summary["Ep_re"] < 0                          # docs/physics.md §6
     assert main(["info", str(out)]) == 0
     text = capsys.readouterr().out
     assert "cli-M" in text and "energy_drift" in text

@@ -1,4 +1,4 @@
-"""Hertz constants, masses and precompression (paper Eq. 1, Section 2; PHYSICS.md §1)."""
+"""Hertz constants, masses and precompression (paper Eq. 1, Section 2; docs/physics.md §1)."""
 
 import numpy as np
 import pytest
@@ -15,12 +15,12 @@ def test_hertz_constant_hand_calculation():
     k_hand = 4.0 / 3.0 * e_star * np.sqrt(d / 4)
     k = theory.hertz_constant(d, Material(7900, E, nu))
     assert k == pytest.approx(k_hand, rel=1e-14)
-    # and the closed form E d^{1/2} / (3 (1 - nu^2)) of PHYSICS.md §1
+    # and the closed form E d^{1/2} / (3 (1 - nu^2)) of docs/physics.md §1
     assert k == pytest.approx(E * np.sqrt(d) / (3 * (1 - nu**2)), rel=1e-14)
 
 
 def test_paper_kn_is_twice_hertz():
-    # PHYSICS.md §1: the paper's printed k_n = 2E d^{1/2}/(3(1-nu^2)) is 2x the Hertz value.
+    # docs/physics.md §1: the paper's printed k_n = 2E d^{1/2}/(3(1-nu^2)) is 2x the Hertz value.
     for mat in (theory.STEEL_TABLE1, theory.PAPER_MATERIAL, Material(2200, 1.5e9, 0.46)):
         ratio = theory.paper_kn(5e-3, mat) / theory.hertz_constant(5e-3, mat)
         assert ratio == pytest.approx(2.0, rel=1e-14)
@@ -37,7 +37,7 @@ def test_paper_reproducing_choice_kn_over_m():
 
 def test_harmonic_mean_rule_for_equal_diameters(rng):
     # For equal diameters, the two-material Hertz constant is the harmonic mean of the
-    # two identical-pair constants (PHYSICS.md; the issue's interface-contact rule).
+    # two identical-pair constants (docs/physics.md; the issue's interface-contact rule).
     for _ in range(20):
         m1 = Material(rng.uniform(1e3, 1e4), rng.uniform(1e9, 4e11), rng.uniform(-0.9, 0.49))
         m2 = Material(rng.uniform(1e3, 1e4), rng.uniform(1e9, 4e11), rng.uniform(-0.9, 0.49))

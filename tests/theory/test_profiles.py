@@ -19,7 +19,7 @@ from theory.profiles import (
     kdv_soliton_width,
 )
 
-# Paper set-up (PHYSICS.md §1): steel, Hertz constant with nu = 0.30, d = 5 mm
+# Paper set-up (docs/physics.md §1): steel, Hertz constant with nu = 0.30, d = 5 mm
 D = 5e-3
 MAT = theory.PAPER_MATERIAL
 M = theory.grain_mass(D, MAT.density)
@@ -55,7 +55,7 @@ def test_kdv_solves_travelling_wave_ode():
     # a xi'' = (V^2/c0^2 - 1) xi - (b/2) xi^2 with b = d/(2 delta0).  FD truncation with
     # kappa h = 1/100 is ~1e-9 relative; 1e-7 leaves margin.
     assert kdv_ode_residual(D / (2 * DELTA0)) < 1e-7
-    # the paper's printed b = d/delta0 is not solved by this wave (PHYSICS.md §2)
+    # the paper's printed b = d/delta0 is not solved by this wave (docs/physics.md §2)
     assert kdv_ode_residual(D / DELTA0) > 0.1
 
 
