@@ -635,7 +635,7 @@ def _contact_potential(kj, d0j, r):
 
 @numba.njit(**_JIT)
 def contact_energies(u, k, d0, wl, wr, lo, hi, out):
-    """out[j] = (2/5) k_j([r_j]_+^{5/2} - δ0_j^{5/2}) , contacts lo..hi, J (docs/physics.md §6)."""
+    """out[j] = (2/5) k_j([r_j]_+^{5/2} - δ0_j^{5/2}), contacts lo..hi, J (docs/physics.md §6)."""
     n = u.size
     for j in range(lo, hi + 1):
         ul = wl if j == 0 else u[j - 1]
