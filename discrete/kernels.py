@@ -115,7 +115,11 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 import numba  # noqa: E402
 import numpy as np  # noqa: E402
 
+from theory import jitcache  # noqa: E402
+
 from .laws import N_PARAMS, ContactLaw, as_law, source_digest  # noqa: E402
+
+jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
 
 __all__ = ["Kernels", "make_kernels", "kernel_params", "chain_runs", "active_window",
            "UMAX_EVERY", "RUNS_MIN_LENGTH"]
