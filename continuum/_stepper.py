@@ -440,6 +440,8 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
     need = 2 * w - 1
     m = fstate[0]
     if ncomp * ncomp <= 40 * w + 2000:
+        for q in range(qa, qb + 1):
+            hy[q] = 0.0
         for a in range(ncomp):
             q = comp[a]
             acc = 0.0
@@ -493,8 +495,9 @@ def _face_strain(u, q, ih, bc):
 
 
 @nb.njit(**_JIT)
-def _nesterenko_faces(u, L, R, h, bc, k, d0, sk, z0, mask, eps, dl, ph, y, comp):
-    """Overlap δ, φ and y = mask √k (ζ(δ) - ζ0) on the faces of nodes [L, R].
+def _nesterenko_faces(u, L, R, h, bc, k, d0, f0, sk, z0, mask, eps, dl, fh, ph, y, comp):
+    """Overlap δ, Hertz flux k δ^{3/2} - f0, φ and y = mask √k (ζ(δ) - ζ0) on the faces
+    of nodes [L, R].
 
     Returns (qa, qb, ncomp): the face range and how many faces (listed in ``comp``)
     carry a nonzero y or φ.
@@ -503,16 +506,27 @@ def _nesterenko_faces(u, L, R, h, bc, k, d0, sk, z0, mask, eps, dl, ph, y, comp)
     qa = L
     qb = R if bc == PERIODIC else R + 1
     ncomp = 0
+    e4 = np.sqrt(np.sqrt(eps))
     for q in range(qa, qb + 1):
         x = d0[q] + _face_strain(u, q, ih, bc)
         if x < 0.0:
             x = 0.0
         dl[q] = x
-        zq, pq = _zeta_phi(x, eps)
-        ph[q] = mask[q] * pq
+        sq = np.sqrt(x)
+        fh[q] = k[q] * (x * sq) - f0[q]
+        if x >= eps:
+            r4 = np.sqrt(sq)
+            zq = x * r4
+            pq = r4
+        else:  # C¹ continuation below the floor (NesterenkoPDE)
+            r = x / eps
+            zq = eps * e4 * (0.625 * r * r + 0.375)
+            pq = e4 * r
+        pq *= mask[q]
+        ph[q] = pq
         yq = mask[q] * sk[q] * (zq - z0[q])
         y[q] = yq
-        if yq != 0.0 or ph[q] != 0.0:
+        if yq != 0.0 or pq != 0.0:
             comp[ncomp] = q
             ncomp += 1
     return qa, qb, ncomp
@@ -520,43 +534,50 @@ def _nesterenko_faces(u, L, R, h, bc, k, d0, sk, z0, mask, eps, dl, ph, y, comp)
 
 @nb.njit(**_JIT)
 def _nesterenko_pass(u, v, L, R, alpha, beta, h, bc, k, d0, f0, sk, z0, mask, eps, disp,
-                     inv_m, c, spec, fft_re, fft_c, fstate, dl, ph, y, hy, comp):
-    """One drift (α Δt) and one kick (β Δt) of the regularised Eq. 7 over nodes [L, R]."""
+                     inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
+    """One drift (α Δt) and one kick (β Δt) of the regularised Eq. 7 over nodes [L, R].
+
+    Sweeps: drift; faces (δ, Hertz flux, φ, y); the saturated operator H y; flux
+    F = k δ^{3/2} - f0 + disp √k φ H y fused with the kick v_i += β Δt (F_i - F_{i+1})/(h m_i).
+    """
     n = u.size
     ih = 1.0 / h
     for i in range(L, R + 1):
         u[i] += alpha * v[i]
-    qa, qb, ncomp = _nesterenko_faces(u, L, R, h, bc, k, d0, sk, z0, mask, eps, dl, ph,
-                                      y, comp)
-    for q in range(qa, qb + 1):
-        hy[q] = 0.0
+    qa, qb, ncomp = _nesterenko_faces(u, L, R, h, bc, k, d0, f0, sk, z0, mask, eps, dl, fh,
+                                      ph, y, comp)
     _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
                      bc == PERIODIC)
-    # flux into hy
-    for q in range(qa, qb + 1):
-        x = dl[q]
-        hy[q] = k[q] * (x * np.sqrt(x)) - f0[q] + disp * sk[q] * ph[q] * hy[q]
     if bc == PERIODIC:
+        f_first = fh[0] + disp * sk[0] * ph[0] * hy[0]
+        f_l = f_first
         for i in range(n):
-            ip = i + 1 if i < n - 1 else 0
-            v[i] += beta * (hy[i] - hy[ip]) * ih * inv_m[i]
+            if i < n - 1:
+                f_r = fh[i + 1] + disp * sk[i + 1] * ph[i + 1] * hy[i + 1]
+            else:
+                f_r = f_first
+            v[i] += beta * (f_l - f_r) * ih * inv_m[i]
+            f_l = f_r
     else:
+        f_l = fh[L] + disp * sk[L] * ph[L] * hy[L]
         for i in range(L, R + 1):
-            v[i] += beta * (hy[i] - hy[i + 1]) * ih * inv_m[i]
+            f_r = fh[i + 1] + disp * sk[i + 1] * ph[i + 1] * hy[i + 1]
+            v[i] += beta * (f_l - f_r) * ih * inv_m[i]
+            f_l = f_r
 
 
 @nb.njit(**_JIT)
 def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, h, bc, k, d0, f0, sk, z0, mask, eps,
-                     disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, ph, y, hy, comp, win,
-                     windowed, tau_v):
+                     disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp, win,
+                     windowed, tau_v, tau_d):
     """Advance the regularised Eq. 7 by ``nsteps`` steps of ``dt`` (s), in place.
 
     With ``windowed`` (sonic vacuum, non-periodic) only nodes [lo - 1, hi + 1] are
     swept, ``win`` = [lo, hi] being the nodes that move (|v| > tau_v) or touch a
-    compressed face: outside, δ = 0 and v = 0, so the flux (Hertz and dispersive, the
-    latter ∝ φ(δ) = 0) vanishes *exactly* and one node per force evaluation is the
-    farthest a disturbance can reach (:mod:`continuum._stepper`).  Otherwise the whole
-    chain is swept.  Returns the node-updates performed.
+    compressed face (δ > tau_d): outside, δ = 0 and v = 0 (to 2^-52 of the wave's
+    values), so the flux (Hertz and dispersive, the latter ∝ φ(δ) = 0) vanishes and one
+    node per force evaluation is the farthest a disturbance can reach.  Otherwise the
+    whole chain is swept.  Returns the node-updates performed.
     """
     n = u.size
     nsub = beta.size
@@ -576,12 +597,12 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, h, bc, k, d0, f0, sk, z0, ma
                 lo = 0
                 hi = n - 1
             _nesterenko_pass(u, v, lo, hi, a, b, h, bc, k, d0, f0, sk, z0, mask, eps, disp,
-                             inv_m, c, spec, fft_re, fft_c, fstate, dl, ph, y, hy, comp)
+                             inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp)
             work += hi - lo + 1
             if windowed:
                 new_lo = -1
                 for i in range(lo, hi + 1):
-                    if abs(v[i]) > tau_v or dl[i] > 0.0 or dl[i + 1] > 0.0:
+                    if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
                         new_lo = i
                         break
                 if new_lo < 0:
@@ -590,7 +611,7 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, h, bc, k, d0, f0, sk, z0, ma
                 else:
                     new_hi = new_lo
                     for i in range(hi, new_lo, -1):
-                        if abs(v[i]) > tau_v or dl[i] > 0.0 or dl[i + 1] > 0.0:
+                        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
                             new_hi = i
                             break
                     win[0] = new_lo
@@ -608,8 +629,8 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, h, bc, k, d0, f0, sk, z0, ma
 
 
 @nb.njit(**_JIT)
-def nesterenko_monitor(u, v, h, bc, k, d0, sk, z0, mask, eps, disp, mass, w, c, spec,
-                       fft_re, fft_c, fstate, dl, ph, y, hy, comp):
+def nesterenko_monitor(u, v, h, bc, k, d0, f0, sk, z0, mask, eps, disp, mass, w, c, spec,
+                       fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
     """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
 
     E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q) + y_q (Hy)_q/25]
@@ -621,10 +642,8 @@ def nesterenko_monitor(u, v, h, bc, k, d0, sk, z0, mask, eps, disp, mass, w, c, 
     for i in range(n):
         ek += mass[i] * v[i] * v[i]
         mom += mass[i] * v[i]
-    qa, qb, ncomp = _nesterenko_faces(u, 0, n - 1, h, bc, k, d0, sk, z0, mask, eps, dl, ph,
-                                      y, comp)
-    for q in range(qa, qb + 1):
-        hy[q] = 0.0
+    qa, qb, ncomp = _nesterenko_faces(u, 0, n - 1, h, bc, k, d0, f0, sk, z0, mask, eps, dl,
+                                      fh, ph, y, comp)
     _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
                      bc == PERIODIC)
     ep = 0.0

@@ -268,6 +268,20 @@ class BoussinesqPDE(ChainPDEBase):
         omega2 = np.max(k_eff / d.face_mass) * dmax / (1.0 + self.ell2 * dmax)
         return float(safety * 2.0 / np.sqrt(omega2))
 
+    def instability_hint(self, state) -> str:
+        """Cause of an instability seen from the last finite ``state`` (for the error)."""
+        if self._nl_code != 1:
+            return ""
+        s = self.strain(np.asarray(state[0].data))
+        ratio = s / self.disc.delta0
+        if np.min(ratio) < -1.0:
+            return (f"amplitude: the strain reached {np.min(ratio):.3g} δ0; the quadratic "
+                    "flux of Eq. 4, K s + K s²/(4δ0), loses its stiffness below s = -2δ0 "
+                    "(Eq. 4 is ill-posed there: tension beyond the static overlap); use "
+                    "nonlinearity='hertz', NesterenkoPDE or a smaller amplitude — or dt too "
+                    "large")
+        return ""
+
     @property
     def parameters(self) -> dict:
         """Run parameters for HDF5 attributes."""

@@ -65,7 +65,7 @@ from scipy.fft import next_fast_len
 
 from . import _kernels as kern
 from . import _stepper
-from .base import ChainPDEBase
+from .base import WINDOW_TOLERANCE, ChainPDEBase
 from .medium import Medium
 
 __all__ = ["NesterenkoPDE", "saturated_kernel"]
@@ -251,7 +251,7 @@ class NesterenkoPDE(ChainPDEBase):
             "spec": self._mult.copy() if periodic else np.zeros(m_max // 2 + 1),
             "scratch": [np.zeros(m_max), np.zeros(m_max // 2 + 1, np.complex128),
                         np.zeros(1, np.int64), np.zeros(nf), np.zeros(nf), np.zeros(nf),
-                        np.zeros(nf), np.zeros(nf, np.int64)],
+                        np.zeros(nf), np.zeros(nf), np.zeros(nf, np.int64)],
         }
 
     def make_chunk_stepper(self, state, dt: float, alpha, beta) -> Callable:
@@ -269,10 +269,12 @@ class NesterenkoPDE(ChainPDEBase):
         windowed = self.bc != "periodic" and not self.medium.precompressed
         data = np.asarray(state.data)
         _, tau_v, win = self._initial_window(data[0], data[1])
+        dl = np.maximum(d.delta0 + self.strain(data[0]), 0.0)
+        tau_d = WINDOW_TOLERANCE * float(dl.max())
         if windowed:
-            # at rest: v = 0 (to 2^-52) and no compressed face; a strained gap is at rest
-            dl = np.maximum(d.delta0 + self.strain(data[0]), 0.0)
-            comp = dl > 0
+            # at rest: v = 0 and no compressed face, to 2^-52 of the wave's values (a
+            # strained gap is at rest)
+            comp = dl > tau_d
             act = (np.abs(data[1]) > tau_v) | comp[:-1] | comp[1:]
             idx = np.flatnonzero(act)
             win[:] = [idx[0], idx[-1]] if idx.size else [-1, -1]
@@ -285,7 +287,7 @@ class NesterenkoPDE(ChainPDEBase):
             return _stepper.nesterenko_chunk(
                 state_data[0], state_data[1], int(nsteps), dt, alpha, beta, h, bc, a["k"],
                 a["d0"], a["f0"], a["sk"], a["z0"], a["mask"], eps, self._disp, inv_m, a["c"],
-                a["spec"], *sc, win, windowed, tau_v)
+                a["spec"], *sc, win, windowed, tau_v, tau_d)
 
         chunk.window = win  # type: ignore[attr-defined]
         return chunk
@@ -304,7 +306,7 @@ class NesterenkoPDE(ChainPDEBase):
 
         def monitor(state_data: np.ndarray) -> tuple[float, float]:
             return _stepper.nesterenko_monitor(
-                state_data[0], state_data[1], h, bc, a["k"], a["d0"], a["sk"], a["z0"],
+                state_data[0], state_data[1], h, bc, a["k"], a["d0"], a["f0"], a["sk"], a["z0"],
                 a["mask"], eps, self._disp, mass, w, a["c"], a["spec"], *sc)
 
         return monitor

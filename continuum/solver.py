@@ -153,13 +153,24 @@ class _CheckedSolver(SolverBase):
             raise ValueError("the initial state must be finite (its conserved quantities "
                              f"are {e0!r}, {p0!r})")
         initial = {"state": state.copy(), "recorded": False}
+        last = {"state": state.copy(), "t": None}  # last state that passed the checks
         tol = self.drift_tolerance
         check = self.check_steps
+
+        def bad(e: float, p: float) -> str:
+            if not (math.isfinite(e) and math.isfinite(p)):
+                return "non-finite state (NaN/inf)"
+            drift = abs(e - e0) / abs(e0) if e0 != 0 else 0.0
+            if drift > tol:
+                return (f"relative drift {drift:.3g} of the conserved energy beyond the "
+                        f"tolerance {tol:g}")
+            return ""
 
         def stepper(st, t_start: float, t_end: float) -> float:
             if not initial["recorded"]:
                 self._record(t_start, e0, p0)
                 initial["recorded"] = True
+                last["t"] = t_start
             steps = max(1, round((t_end - t_start) / dt))
             done = 0
             e = p = float("nan")
@@ -171,39 +182,65 @@ class _CheckedSolver(SolverBase):
                     self.info["steps"] += n
                     e, p = monitor(st)
                     t_now = t_start + done * dt
-                    if not (math.isfinite(e) and math.isfinite(p)):
-                        raise self._instability("non-finite state (NaN/inf)", t_now,
-                                                initial["state"])
-                    drift = abs(e - e0) / abs(e0) if e0 != 0 else 0.0
-                    if drift > tol:
-                        raise self._instability(
-                            f"drift {drift:.3g} of the conserved energy beyond the "
-                            f"tolerance {tol:g}", t_now, initial["state"])
+                    cause = bad(e, p)
+                    if cause:
+                        # replay from the last checked state step by step, to report the
+                        # state just before the failure
+                        t_bad = self._replay(st, last, advance, monitor, bad)
+                        raise self._instability(cause, t_bad, initial["state"], last)
+                    last["state"].data[...] = st.data
+                    last["t"] = t_now
             self._record(t_start + steps * dt, e, p)
             return t_start + steps * dt
 
         return stepper
+
+    def _replay(self, st, last: dict, advance, monitor, bad) -> float:
+        """Redo the steps from ``last`` one by one until the check fails; return that time.
+
+        Leaves in ``last`` the last state that passed (for the error message).
+        """
+        window = getattr(getattr(self, "_chunk", None), "window", None)
+        if window is not None:  # integrate the whole chain: the window may be garbage
+            window[:] = [0, st.data.shape[-1] - 1]
+        st.data[...] = last["state"].data
+        t = last["t"]
+        dt = self.info["dt"]
+        for _ in range(self.check_steps):
+            advance(st, t, 1)
+            t += dt
+            if bad(*monitor(st)):
+                return t
+            last["state"].data[...] = st.data
+            last["t"] = t
+        return t  # pragma: no cover - the failure did not reproduce
 
     def _record(self, t: float, e: float, p: float) -> None:
         self.monitor["t"].append(float(t))
         self.monitor["energy"].append(float(e))
         self.monitor["momentum"].append(float(p))
 
-    def _instability(self, cause: str, t: float, state0) -> InstabilityError:
+    def _instability(self, cause: str, t: float, state0, last: dict) -> InstabilityError:
+        """The error for ``cause`` at time ``t``: dt, the stable steps, the PDE's hint."""
         dt = self.info["dt"]
-        try:
-            with np.errstate(all="ignore"):
-                stable = float(self.pde.stable_dt(state0))
-            hint = (f"the stable step for the initial state is about {stable:.4g} s "
-                    f"(pde.stable_dt; dt/stable = {dt / stable:.3g})")
-        except Exception:  # pragma: no cover - a PDE without stable_dt
-            hint = "no stable-step estimate available"
-        extra = getattr(self.pde, "instability_hint", None)
-        more = extra(state0) if extra is not None else ""
+        parts = []
+        with np.errstate(all="ignore"):
+            for label, st in (("the initial state", state0),
+                              (f"the last checked state (t = {last['t']:.6g} s)",
+                               last["state"])):
+                try:
+                    stable = float(self.pde.stable_dt(st))
+                except Exception:  # pragma: no cover - a PDE without a usable estimate
+                    continue
+                if math.isfinite(stable) and stable > 0:
+                    parts.append(f"{stable:.4g} s for {label}")
+            hint = getattr(self.pde, "instability_hint", None)
+            more = hint(last["state"]) if hint is not None else ""
+        stable_txt = ("; stable step (pde.stable_dt) " + ", ".join(parts)) if parts else ""
         return InstabilityError(
-            f"{type(self.pde).__name__}: {cause} at t = {t:.6g} s (step {self.info['steps']}) "
-            f"with dt = {dt:.4g} s; likely cause: dt too large for the medium's stiffness — "
-            f"{hint}{more}")
+            f"{type(self.pde).__name__}: {cause} at t = {t:.6g} s with dt = {dt:.4g} s"
+            f"{stable_txt}. Likely cause: "
+            f"{more or 'dt too large for the stiffness of the state: lower dt'}")
 
 
 class VerletSolver(_CheckedSolver):
