@@ -496,11 +496,10 @@ def _face_strain(u, q, ih, bc):
 
 @nb.njit(**_JIT)
 def _nesterenko_faces(u, L, R, h, bc, k, d0, f0, sk, z0, mask, eps, dl, fh, ph, y, comp):
-    """Overlap δ, Hertz flux k δ^{3/2} - f0, φ and y = mask √k (ζ(δ) - ζ0) on the faces
-    of nodes [L, R].
+    """Overlap δ, Hertz flux k δ^{3/2} - f0, φ and y = mask √k (ζ(δ) - ζ0) per face.
 
-    Returns (qa, qb, ncomp): the face range and how many faces (listed in ``comp``)
-    carry a nonzero y or φ.
+    Faces of the nodes [L, R].  Returns (qa, qb, ncomp): the face range and how many
+    faces (listed in ``comp``) carry a nonzero y or φ.
     """
     ih = 1.0 / h
     qa = L
