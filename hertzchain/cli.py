@@ -59,6 +59,11 @@ def cmd_run(args: argparse.Namespace) -> int:
     With ``--out`` the run is checkpointed to ``OUT.ckpt`` every
     ``--checkpoint-interval`` seconds of wall time; rerunning the same command resumes
     from it (bit for bit the same result), ``--restart`` discards it.
+
+    Exit status 0 when the run completed; 2 on an error (invalid scenario, unreachable
+    stop, instability, I/O); :data:`EXIT_INCOMPLETE` (3) when it ended before the stop the
+    scenario asked for (``completed`` false: ``max_steps`` came first, or a snapshot was
+    never taken) — the summary is printed and written all the same.
     """
     from .runner import run_scenario
     from .scenario import load_scenario
@@ -74,14 +79,30 @@ def cmd_run(args: argparse.Namespace) -> int:
                            resume=not args.restart, threads=args.threads, log=log)
     if args.json:
         print(json.dumps(summary, default=_json_default, allow_nan=True))
+    else:
+        print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains")
+        for key, value in summary.items():
+            text = (f"{value:.6g}" if isinstance(value, float)
+                    else "n/a" if value is None else str(value))
+            print(f"  {key:<26} {text}")
+        if out:
+            print(f"written: {out}")
+    return _incomplete_status(summary, out)
+
+
+EXIT_INCOMPLETE = 3
+"""Exit status of a run that ended before the stop the scenario asked for."""
+
+
+def _incomplete_status(summary: dict, out) -> int:
+    """0, or :data:`EXIT_INCOMPLETE` with a message if the run did not complete."""
+    if summary.get("completed", True):
         return 0
-    print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains")
-    for key, value in summary.items():
-        text = f"{value:.6g}" if isinstance(value, float) else str(value)
-        print(f"  {key:<26} {text}")
-    if out:
-        print(f"written: {out}")
-    return 0
+    kept = f"; its results are in {out} (completed = false)" if out else ""
+    print(f"hertzchain: error: incomplete run: {summary['incomplete_reason']}{kept}. Raise "
+          "[run] max_steps or t_end, or move the stop or snapshots within reach",
+          file=sys.stderr)
+    return EXIT_INCOMPLETE
 
 
 def cmd_info(args: argparse.Namespace) -> int:
