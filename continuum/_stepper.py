@@ -47,9 +47,13 @@ k [δ0 + s]_+^{3/2} - f0.  No ``fastmath``: the tests rely on IEEE arithmetic.
 
 from __future__ import annotations
 
-import numba as nb
-import numpy as np
-from rocket_fft import c2r, good_size, r2c
+from theory import jitcache
+
+jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
+
+import numba as nb  # noqa: E402
+import numpy as np  # noqa: E402
+from rocket_fft import c2r, good_size, r2c  # noqa: E402
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
