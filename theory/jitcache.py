@@ -24,7 +24,8 @@ Numba chooses a function's cache directory when the ``cache=True`` decorator run
 :func:`configure` must be called before the kernel modules define their functions:
 each kernel module calls it first (``discrete/kernels.py``, ``continuum/_kernels.py``,
 ``continuum/_stepper.py``, ``hertzchain/sweep/synthetic.py``).  It also exports
-``NUMBA_CACHE_DIR`` so that numba's configuration reloads and child processes (Dask workers) use the same directory.
+``NUMBA_CACHE_DIR`` so that numba's configuration reloads and child processes (Dask
+workers) use the same directory.
 
 This module lives in :mod:`theory` because it is the one package that both
 :mod:`discrete` and :mod:`continuum` may import; it imports numba only when called.
