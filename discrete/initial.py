@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from .chain import Chain
+from .laws import ContactLaw, as_law
 from .recording import Recording, WaveAt
 from .simulation import Simulation
 from .timestep import DT_FRACTION, default_dt
@@ -230,7 +231,7 @@ def cut_wave(chain: Chain, centre: int, *, v0: float = 1.0, settle_grains: int |
 
 def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None,
                amplitude: float | None = None, strain_max: float | None = None,
-               tail: float = 1e-12, **kwargs) -> Initial:
+               tail: float = 1e-12, law: ContactLaw | None = None, **kwargs) -> Initial:
     """The exact discrete solitary wave (:func:`theory.discrete_solitary_wave`), right-going.
 
     The travelling wave r_j(t) = R(j - centre - s t) of Eq. 2 (docs/physics.md §7) for the
@@ -244,8 +245,9 @@ def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None
     its peak must have the wave's parameters (ValueError otherwise: the wave does not
     fit in the chain or section).  Velocities below ``tail`` × peak are set to exactly 0
     (the spectral sampling leaves a uniform ~1e-13 × peak velocity behind the wave), so
-    the grains behind it are inert.  Other keyword arguments go to
-    :func:`theory.discrete_solitary_wave`.
+    the grains behind it are inert.  ``law``: the contact law whose (elastic) exponent n
+    the wave is solved for (:mod:`discrete.laws`; default Hertz; n ≠ 3/2 needs δ0 = 0).
+    Other keyword arguments go to :func:`theory.discrete_solitary_wave`.
     """
     from theory import discrete_solitary_wave
 
@@ -257,6 +259,8 @@ def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None
         if amplitude is not None or velocity_max is not None:
             raise ValueError("give exactly one of velocity_max, amplitude or strain_max")
         amplitude = float(strain_max) * float(chain.diameter[j])
+    if law is not None:
+        kwargs.setdefault("exponent", as_law(law).exponent)
     w = discrete_solitary_wave(chain.k[j], chain.mass[j], chain.diameter[j], chain.delta0[j],
                                amplitude=amplitude, velocity_max=velocity_max, **kwargs)
     st = w.sample(chain.n, c)
