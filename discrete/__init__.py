@@ -9,7 +9,7 @@ energies (:mod:`discrete.energy`), recording (:class:`Recording`, :class:`WaveAt
 (:func:`save`, :func:`load`).
 """
 
-from .chain import Chain, Section
+from .chain import Chain, Disorder, Periodic, Section, Tapered
 from .initial import Initial, cut_wave, exact_wave, impact, place_wave, settled_wave
 from .io import load, save
 from .laws import HERTZ, ContactLaw, PowerLaw, ViscoelasticHertz
@@ -23,8 +23,10 @@ __all__ = [
     "AtTime",
     "Chain",
     "ContactLaw",
+    "Disorder",
     "Initial",
     "InstabilityError",
+    "Periodic",
     "PowerLaw",
     "Record",
     "Recording",
@@ -34,6 +36,7 @@ __all__ = [
     "Simulation",
     "Snapshot",
     "State",
+    "Tapered",
     "TimeStep",
     "ViscoelasticHertz",
     "WaveAt",

@@ -28,18 +28,123 @@ import numpy as np
 import theory
 from theory import Material
 
-__all__ = ["Chain", "Section", "WallKind"]
+__all__ = ["Chain", "Section", "Tapered", "Periodic", "Disorder", "WallKind"]
 
 WallKind = Literal["paper", "hertz"] | None
 
 
 @dataclass(frozen=True)
+class Tapered:
+    """Per-grain profile: grain masses shrink (or grow) by ``mass_ratio`` from grain to grain.
+
+    m_{i+1}/m_i = q along the section, left to right, at fixed material: diameters
+    d_i = d q^{i/3}.  q < 1 is a *forward* taper for a wave travelling right (large to
+    small grains; Sen, Manciu & Wright, Phys. Rev. E 57 (1998) 2386; Doney & Sen, Phys.
+    Rev. Lett. 97 (2006) 155502), q > 1 a backward one.
+    """
+
+    mass_ratio: float
+
+    def __post_init__(self) -> None:
+        _positive_scalar("Tapered.mass_ratio", self.mass_ratio)
+
+    def grains(self, n: int, diameter: float, material: Material):
+        """Per-grain (diameters, materials) of a section of ``n`` grains."""
+        return diameter * float(self.mass_ratio) ** (np.arange(n) / 3.0), [material] * n
+
+    def to_dict(self) -> dict:
+        """JSON-able description."""
+        return {"profile": "tapered", "mass_ratio": float(self.mass_ratio)}
+
+
+@dataclass(frozen=True)
+class Periodic:
+    """Per-grain profile: a repeated unit cell (dimer, trimer, …).
+
+    ``cell`` lists (diameter factor, material) per grain of the cell; the factor
+    multiplies the section's diameter and a material of ``None`` is the section's.
+    A dimer of equal materials with mass ratio ε: ``Periodic(((1.0, None),
+    (ε ** (1/3), None)))``.  The section's grain count need not be a multiple of the
+    cell length (the last cell is cut).
+    """
+
+    cell: tuple
+
+    def __post_init__(self) -> None:
+        cell = tuple(tuple(c) for c in self.cell)
+        if not cell or any(len(c) != 2 for c in cell):
+            raise ValueError("Periodic.cell must be a non-empty sequence of "
+                             "(diameter factor, material or None) pairs")
+        for f, m in cell:
+            _positive_scalar("Periodic.cell diameter factor", f)
+            if m is not None and not isinstance(m, Material):
+                raise ValueError(f"Periodic.cell material must be a theory.Material or None "
+                                 f"(got {m!r})")
+        object.__setattr__(self, "cell", cell)
+
+    def grains(self, n: int, diameter: float, material: Material):
+        """Per-grain (diameters, materials) of a section of ``n`` grains."""
+        idx = np.arange(n) % len(self.cell)
+        d = np.array([diameter * float(self.cell[q][0]) for q in idx])
+        mats = [self.cell[q][1] or material for q in idx]
+        return d, mats
+
+    def to_dict(self) -> dict:
+        """JSON-able description."""
+        return {"profile": "periodic",
+                "cell": [[float(f), None if m is None else _material_dict(m)]
+                         for f, m in self.cell]}
+
+
+@dataclass(frozen=True)
+class Disorder:
+    """Seeded random disorder of a section's masses, contact stiffnesses and diameters.
+
+    Each quantity is multiplied by an independent factor 1 + σ√3 U, U uniform in
+    [-1, 1] (relative standard deviation σ, in [0, 0.5]): ``diameter`` changes the
+    grains (mass ∝ d³ and the Hertz constants follow), ``mass`` the masses alone (a
+    density defect), ``stiffness`` the grain–grain contact constants alone.
+    """
+
+    mass: float = 0.0
+    stiffness: float = 0.0
+    diameter: float = 0.0
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name in ("mass", "stiffness", "diameter"):
+            x = getattr(self, name)
+            if not (isinstance(x, int | float) and 0.0 <= x <= 0.5):
+                raise ValueError(f"Disorder.{name} must be in [0, 0.5] (got {x!r})")
+        if not isinstance(self.seed, int | np.integer):
+            raise ValueError(f"Disorder.seed must be an integer (got {self.seed!r})")
+
+    def factors(self, n: int) -> dict[str, np.ndarray]:
+        """The random factors (mass, stiffness, diameter) of ``n`` grains (contacts)."""
+        rng = np.random.default_rng(int(self.seed))
+        s3 = math.sqrt(3.0)
+        return {name: 1.0 + getattr(self, name) * s3 * rng.uniform(-1.0, 1.0, n)
+                for name in ("diameter", "mass", "stiffness")}
+
+    def to_dict(self) -> dict:
+        """JSON-able description."""
+        return {"mass": float(self.mass), "stiffness": float(self.stiffness),
+                "diameter": float(self.diameter), "seed": int(self.seed)}
+
+
+@dataclass(frozen=True)
 class Section:
-    """A run of ``n`` identical grains of diameter ``diameter`` (m) and ``material``."""
+    """A run of ``n`` grains of diameter ``diameter`` (m) and ``material``.
+
+    ``profile`` (:class:`Tapered`, :class:`Periodic`; None: identical grains) varies
+    diameters and materials per grain; ``disorder`` (:class:`Disorder`) perturbs them.
+    """
 
     n: int
     diameter: float
     material: Material
+    profile: Tapered | Periodic | None = None
+    disorder: Disorder | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.n, int | np.integer) or self.n < 1:
@@ -47,16 +152,59 @@ class Section:
         _positive_scalar("Section.diameter", self.diameter)
         if not isinstance(self.material, Material):
             raise ValueError(f"Section.material must be a theory.Material (got {self.material!r})")
+        if self.profile is not None and not isinstance(self.profile, Tapered | Periodic):
+            raise ValueError(f"Section.profile must be Tapered, Periodic or None "
+                             f"(got {self.profile!r})")
+        if self.disorder is not None and not isinstance(self.disorder, Disorder):
+            raise ValueError(f"Section.disorder must be a Disorder or None "
+                             f"(got {self.disorder!r})")
+
+    @property
+    def uniform(self) -> bool:
+        """All grains identical (no profile, no disorder)."""
+        return self.profile is None and self.disorder is None
 
     @property
     def mass(self) -> float:
-        """Grain mass (π/6) d³ ρ, kg (paper Section 2)."""
+        """Grain mass (π/6) d³ ρ, kg (paper Section 2), of the section's nominal grain."""
         return float(theory.grain_mass(self.diameter, self.material.density))
 
     @property
     def kn(self) -> float:
-        """Hertz constant of two grains of this section, N/m^{3/2} (Johnson Eq. 4.22)."""
+        """Hertz constant of two nominal grains, N/m^{3/2} (Johnson Eq. 4.22)."""
         return float(theory.hertz_constant(self.diameter, self.material))
+
+    def grains(self):
+        """Per-grain (diameters, materials, mass factors, stiffness factors).
+
+        Arrays of the n grains (materials: a list); the stiffness factor of grain i is
+        that of the contact on its left.
+        """
+        n = int(self.n)
+        if self.profile is None:
+            d, mats = np.full(n, float(self.diameter)), [self.material] * n
+        else:
+            d, mats = self.profile.grains(n, float(self.diameter), self.material)
+        fm = fk = np.ones(n)
+        if self.disorder is not None:
+            f = self.disorder.factors(n)
+            d, fm, fk = d * f["diameter"], f["mass"], f["stiffness"]
+        return d, mats, fm, fk
+
+    def to_dict(self) -> dict:
+        """JSON-able description (chain ``params``)."""
+        out = {"n": int(self.n), "diameter": float(self.diameter),
+               "material": _material_dict(self.material)}
+        if self.profile is not None:
+            out["profile"] = self.profile.to_dict()
+        if self.disorder is not None:
+            out["disorder"] = self.disorder.to_dict()
+        return out
+
+
+def _material_dict(m: Material) -> dict:
+    return {"density": m.density, "youngs_modulus": m.youngs_modulus,
+            "poisson_ratio": m.poisson_ratio, "name": m.name}
 
 
 def _positive_scalar(name: str, value) -> float:
@@ -88,14 +236,43 @@ def _array(name: str, value, size: int, *, positive=False, nonneg=False) -> np.n
     return a
 
 
-def _wall_k(kind: WallKind, side: str, sec: Section) -> float:
+def _wall_k(kind: WallKind, side: str, diameter: float, material: Material) -> float:
+    """Constant of the wall contact of a grain (diameter m, material), N/m^{3/2}."""
     if kind is None:
         return 0.0
     if kind == "paper":
-        return sec.kn
+        return float(theory.hertz_constant(float(diameter), material))
     if kind == "hertz":
-        return float(theory.hertz_constant_wall(sec.diameter, sec.material))
+        return float(theory.hertz_constant_wall(float(diameter), material))
     raise ValueError(f"{side}_wall must be 'paper', 'hertz' or None (got {kind!r})")
+
+
+def _pair_k(d1, m1, d2, m2) -> np.ndarray:
+    """Two-sphere Hertz constants of grain pairs (arrays of diameters, lists of materials).
+
+    The arithmetic of :func:`theory.hertz_constant` (Johnson 1985, Eq. 4.22), per pair.
+    """
+    def props(ms, name):
+        return np.array([getattr(m, name) for m in ms], dtype=float)
+
+    r1, r2 = np.asarray(d1, float) / 2, np.asarray(d2, float) / 2
+    r_eff = r1 * r2 / (r1 + r2)
+    e_eff = theory.effective_modulus(props(m1, "youngs_modulus"), props(m1, "poisson_ratio"),
+                                     props(m2, "youngs_modulus"), props(m2, "poisson_ratio"))
+    return 4.0 / 3.0 * np.asarray(e_eff) * np.sqrt(r_eff)
+
+
+def _gravity_overlaps(k, mass, top_force: float, g: float, exponent: float) -> np.ndarray:
+    """Static overlaps under gravity: F_j = F_top + g Σ_{i<j} m_i, δ_j = (F_j/k_j)^{1/n}."""
+    f = top_force + g * np.r_[0.0, np.cumsum(mass)]
+    out = np.zeros_like(k)
+    present = k > 0
+    n = float(exponent)
+    if n == 1.5:
+        out[present] = (f[present] / k[present]) ** (2.0 / 3.0)
+    else:
+        out[present] = (f[present] / k[present]) ** (1.0 / n)
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,7 +326,8 @@ class Chain:
         if np.any(self.delta0 > 0.5 * np.minimum(
                 np.r_[self.diameter[0], self.diameter], np.r_[self.diameter, self.diameter[-1]])):
             raise ValueError("delta0 must be below half the grain diameter (Hertz small-strain)")
-        if np.any(self.delta0 > 0) and (self.k[0] == 0 or self.k[-1] == 0):
+        if np.any(self.delta0 > 0) and (self.k[0] == 0 or self.k[-1] == 0) \
+                and self.gravity == 0:
             raise ValueError("a precompressed chain (delta0 > 0) needs both walls (k[0], k[N] > 0)")
 
     # ------------------------------------------------------------------ properties
@@ -157,6 +335,16 @@ class Chain:
     def n(self) -> int:
         """Number of grains N."""
         return int(self.mass.size)
+
+    @property
+    def gravity(self) -> float:
+        """Acceleration of gravity from grain 0 towards grain N-1, m/s² (``params``; 0)."""
+        return float(self.params.get("gravity", 0.0))
+
+    @property
+    def body_force(self) -> np.ndarray:
+        """Body force on each grain, m_i g, N (towards grain N-1)."""
+        return self.mass * self.gravity
 
     @property
     def exponent(self) -> float:
@@ -224,29 +412,43 @@ class Chain:
     @classmethod
     def from_sections(cls, sections: Sequence[Section], *, delta0: float | None = None,
                       wall_force: float | None = None, left_wall: WallKind = "paper",
-                      right_wall: WallKind = "paper", exponent: float = 1.5) -> Chain:
-        """Chain built from consecutive sections (paper Section 2, Fig. 1).
+                      right_wall: WallKind = "paper", exponent: float = 1.5,
+                      gravity: float = 0.0) -> Chain:
+        r"""Chain built from consecutive sections (paper Section 2, Fig. 1).
 
         Grain–grain contacts use the physical two-sphere Hertz constant
         k = (4/3) E* √R* (Johnson 1985, Eq. 4.22; :func:`theory.hertz_constant`), which
         for equal diameters at an interface is the harmonic mean of the two sections'
         k_n.  A wall contact is ``"paper"`` (the grain–grain constant of the adjacent
         grain, as the paper's Section 2 does), ``"hertz"`` (sphere on a rigid flat,
-        :func:`theory.hertz_constant_wall`) or ``None`` (free end).
+        :func:`theory.hertz_constant_wall`) or ``None`` (free end).  Sections may vary
+        their grains (:class:`Tapered`, :class:`Periodic`, :class:`Disorder`).
+
+        Static forces from force equilibrium (paper, below Eq. 9): one force F0 through
+        the chain, δ0_j = (F0/k_j)^{1/n}; with ``gravity`` g the chain is vertical,
+        grain 0 on top, and contact j carries the weight of the grains above it,
+        :math:`F_j = F_0 + g\sum_{i<j} m_i` (F0 the force on the top wall), so the
+        precompression grows with depth (Sinkovits & Sen, Phys. Rev. Lett. 74 (1995)
+        2686; Hong, Ji & Kim, Phys. Rev. Lett. 82 (1999) 3058).
 
         Parameters
         ----------
         sections : sequence of Section
-            The sections from left to right.
+            The sections from left (top) to right (bottom).
         delta0 : float, optional
-            Static overlap of the left section's grain–grain contacts δ0^L, m (>= 0).
+            Static overlap of the left section's grain–grain contacts δ0^L, m (>= 0);
+            not with gravity.
         wall_force : float, optional
-            Alternatively the static force F0, N (>= 0).  Default: δ0 = 0.
+            Alternatively the static force F0, N (>= 0): with gravity, the force on the
+            top wall (0 for a free top).  Default: δ0 = 0.
         left_wall, right_wall : {"paper", "hertz", None}
-            Kind of wall contact.
+            Kind of wall contact (with gravity the right wall is the floor: required).
         exponent : float
             Exponent n of the contact law whose static forces k δ0^n balance (3/2: Hertz,
             the paper's; the constants k are Hertz's in any case).
+        gravity : float
+            Acceleration of gravity along the chain, from grain 0 to grain N-1, m/s²
+            (>= 0; 9.81 for a vertical chain standing on its right wall).
         """
         sections = list(sections)
         if not sections or not all(isinstance(s, Section) for s in sections):
@@ -254,23 +456,57 @@ class Chain:
         n = sum(int(s.n) for s in sections)
         if n < 2:
             raise ValueError(f"a chain needs N >= 2 grains (got {n})")
+        g = float(theory._validate.check_nonnegative("gravity", gravity))
         mass = np.concatenate([np.full(s.n, s.mass) for s in sections])
         diam = np.concatenate([np.full(s.n, float(s.diameter)) for s in sections])
         sec = np.concatenate([np.full(s.n, i) for i, s in enumerate(sections)])
+        # per-grain data where a section varies its grains (uniform sections keep the
+        # scalar arithmetic above: the paper's chains are bitwise unchanged)
+        grains = [s.grains() for s in sections]
+        mats = [m for gr in grains for m in gr[1]]
+        fk = np.concatenate([gr[3] for gr in grains])
+        i = 0
+        for s, (d, m, fm, _) in zip(sections, grains, strict=True):
+            if not s.uniform:
+                diam[i:i + s.n] = d
+                rho = np.array([x.density for x in m])
+                mass[i:i + s.n] = theory.grain_mass(d, rho) * fm
+            i += s.n
         k = np.empty(n + 1)
-        k[0] = _wall_k(left_wall, "left", sections[0])
-        k[-1] = _wall_k(right_wall, "right", sections[-1])
+        k[0] = _wall_k(left_wall, "left", diam[0], mats[0])
+        k[-1] = _wall_k(right_wall, "right", diam[-1], mats[-1])
         i = 0
         for a, s in enumerate(sections):
-            k[i + 1:i + s.n] = s.kn
+            if s.uniform:
+                k[i + 1:i + s.n] = s.kn
+            else:
+                k[i + 1:i + s.n] = _pair_k(diam[i:i + s.n - 1], mats[i:i + s.n - 1],
+                                           diam[i + 1:i + s.n], mats[i + 1:i + s.n])
+                k[i + 1:i + s.n] *= fk[i + 1:i + s.n]
             i += s.n
             if a + 1 < len(sections):
                 t = sections[a + 1]
-                k[i] = float(theory.hertz_constant(s.diameter, s.material, t.diameter, t.material))
+                if s.uniform and t.uniform:
+                    k[i] = float(theory.hertz_constant(s.diameter, s.material, t.diameter,
+                                                       t.material))
+                else:
+                    k[i] = float(_pair_k(diam[i - 1:i], mats[i - 1:i], diam[i:i + 1],
+                                         mats[i:i + 1])[0]) * fk[i]
         if delta0 is not None and wall_force is not None:
             raise ValueError("give at most one of delta0 (m) or wall_force (N)")
         ref = 1 if sections[0].n > 1 else 0
-        if wall_force is not None:
+        if g > 0:
+            if delta0 is not None:
+                raise ValueError("with gravity give wall_force (the force on the top wall, N; "
+                                 "0 for a free top), not delta0: the overlaps grow with depth")
+            if k[-1] == 0:
+                raise ValueError("gravity needs a floor: right_wall must not be None")
+            f = 0.0 if wall_force is None else float(
+                theory._validate.check_nonnegative("wall_force", wall_force))
+            if f > 0 and k[0] == 0:
+                raise ValueError("a top wall force needs a top wall (left_wall)")
+            d0 = _gravity_overlaps(k, mass, f, g, exponent)
+        elif wall_force is not None:
             f = float(theory._validate.check_nonnegative("wall_force", wall_force))
             d0 = _equilibrium(k, (f / k[ref]) ** (1 / exponent), reference=ref,
                               exponent=exponent)
@@ -280,17 +516,15 @@ class Chain:
             d0 = _equilibrium(k, dl, reference=ref, exponent=exponent)
         params = {
             "kind": "sections",
-            "sections": [{"n": int(s.n), "diameter": float(s.diameter),
-                          "material": {"density": s.material.density,
-                                       "youngs_modulus": s.material.youngs_modulus,
-                                       "poisson_ratio": s.material.poisson_ratio,
-                                       "name": s.material.name}} for s in sections],
+            "sections": [s.to_dict() for s in sections],
             "delta0": float(d0[ref]),
             "left_wall": left_wall,
             "right_wall": right_wall,
         }
         if exponent != 1.5:
             params["exponent"] = float(exponent)
+        if g > 0:
+            params["gravity"] = g
         return cls(mass, k, d0, diam, sec, params)
 
     @classmethod

@@ -31,7 +31,7 @@ from .simulation import Simulation
 from .timestep import DT_FRACTION, default_dt
 
 __all__ = ["Initial", "SettledWave", "impact", "settled_wave", "place_wave", "cut_wave",
-           "exact_wave"]
+           "exact_wave", "kdv_wave"]
 
 
 @dataclass
@@ -287,3 +287,74 @@ def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None
                            "grain_rate": w.grain_rate, "velocity_max": w.velocity_max,
                            "amplitude": w.amplitude, "net_shift": w.net_shift,
                            "residual": w.residual})
+
+
+def kdv_wave(chain: Chain, centre: float, strain_max: float, *,
+             sample: str = "contacts", tail: float = 1e-12) -> Initial:
+    r"""The KdV sech² solitary wave of the long-wave equation, as a chain state (right-going).
+
+    :math:`\xi = A\,\mathrm{sech}^2(\kappa(x - x_0))`, :math:`\kappa^2 = A/(2\delta_0 d)`,
+    v = V ξ with :math:`V = c_0\sqrt{1 + dA/(6\delta_0)}` (the corrected paper Eq. 4,
+    docs/physics.md §2; :func:`theory.kdv_soliton_strain`, :func:`theory.kdv_soliton_motion`)
+    for the grains and contact at ``centre`` (a precompressed region, δ0 > 0), its strain
+    peak at contact ``centre`` (x measured in grains: contact j at j, grain i at i + ½).
+    Where the continuum profile is *sampled* matters at the 1 % level (the lattice wave
+    it settles into differs): ``sample`` is
+
+    * ``"contacts"``: the overlaps are δ0 + d ξ at the contact positions, the
+      displacements their sum from the right (u → 0 ahead), v_i = V ξ at grain i's
+      centre;
+    * ``"grains"``: u and v of the continuum wave at the grain centres, the overlaps
+      their differences δ0 + u_{i-1} - u_i.
+
+    Grains behind the wave and the left wall carry its net shift (as :func:`exact_wave`);
+    velocities below ``tail`` × peak are set to 0.  ``strain_max``: the peak dynamic
+    strain A = (r_max - δ0)/d (> 0).
+    """
+    from theory import c0 as sound_speed
+    from theory import kdv_soliton_motion, kdv_soliton_strain, kdv_speed_exact
+
+    c = float(centre)
+    if not np.isfinite(c) or not 0 <= c <= chain.n:
+        raise ValueError(f"centre {centre!r} outside the chain: contact index in [0, {chain.n}]")
+    a = float(strain_max)
+    if not (np.isfinite(a) and a > 0):
+        raise ValueError(f"strain_max must be finite and > 0 (got {strain_max!r})")
+    if sample not in ("contacts", "grains"):
+        raise ValueError(f"sample must be 'contacts' or 'grains' (got {sample!r})")
+    j = int(np.clip(round(c), 1, chain.n - 1))
+    d, m, k, d0 = (float(chain.diameter[j]), float(chain.mass[j]), float(chain.k[j]),
+                   float(chain.delta0[j]))
+    if d0 <= 0:
+        raise ValueError("the KdV wave needs precompression (delta0 > 0 at the centre)")
+    c0_ = float(sound_speed(k, m, d, d0))
+    xg = (np.arange(chain.n) + 0.5) * d  # grain centres, m
+    xc = np.arange(chain.n + 1) * d      # contacts, m
+    x0 = c * d
+    if sample == "contacts":
+        xi_c = np.asarray(kdv_soliton_strain(xc, a, d, d0, x0))
+        dr = d * xi_c
+        u = np.cumsum(dr[1:][::-1])[::-1]  # u_i = Σ_{j > i} (r_j - δ0)
+        _, v = kdv_soliton_motion(xg, a, d, d0, c0_, x0)
+        wl = float(u[0] + dr[0])
+    else:
+        u, v = kdv_soliton_motion(xg, a, d, d0, c0_, x0)
+        wl = float(kdv_soliton_motion(-0.5 * d, a, d, d0, c0_, x0)[0])  # a grain -1
+    u, v = np.asarray(u, float), np.asarray(v, float)
+    vmax = float(np.max(np.abs(v)))
+    if abs(v[0]) > tail * vmax or abs(v[-1]) > tail * vmax:
+        raise ValueError(f"wave placed outside the chain: at centre {c} its tails (above "
+                         f"{tail:g} of the peak) reach a chain end; move it inwards or "
+                         "raise strain_max")
+    mov = np.abs(v) > tail * vmax
+    grains = np.flatnonzero(mov)
+    for name, arr, val in (("mass", chain.mass[grains], m), ("k", chain.k[grains], k),
+                           ("delta0", chain.delta0[grains], d0)):
+        if np.any(np.abs(arr - val) > 1e-9 * abs(val)):
+            raise ValueError(f"the chain's {name} under the KdV wave differs from that at "
+                             "the centre: the wave does not fit in one section")
+    v = np.where(mov, v, 0.0)
+    return Initial(chain, u, v, wall_left=wl if chain.k[0] > 0 else 0.0,
+                   params={"kind": "kdv_wave", "centre": c, "strain_max": a,
+                           "sample": sample,
+                           "speed": float(kdv_speed_exact(c0_, d, d0, a))})

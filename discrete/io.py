@@ -52,6 +52,7 @@ UNITS = {
     "series_t": "s", "energy_t": "s", "energy_kinetic": "J", "energy_potential": "J",
     "monitor_t": "s", "monitor_energy": "J", "monitor_shadow": "J", "monitor_dissipated": "J",
     "vmax": "m/s", "umax": "m", "dissipated": "J", "delta_expected": "m", "drag": "1/s",
+    "sensor_grains": "1", "sensor_force": "N", "wall_force": "N", "overlap_max": "m",
     "dt_default": "s", "dissipation_rate0": "W",
 }
 
@@ -151,7 +152,10 @@ def _write(f: h5py.File, saved: SavedSimulation, compress: bool) -> None:
     if rec.vmax is not None:
         _ds(g, "vmax", rec.vmax, compress)
         _ds(g, "umax", rec.umax, compress)
+    if rec.overlap_max is not None:
+        _ds(g, "overlap_max", rec.overlap_max, compress)
     g.attrs["energy_coarsen"] = rec.energy_coarsen
+    g.attrs["wall_forces"] = bool(rec.wall_forces)
     sg = f.create_group("snapshots")
     for i, s in enumerate(rec.snapshots):
         h = sg.create_group(f"{i:05d}")
@@ -282,7 +286,16 @@ def _read(r: _Reader, threads: int | None) -> Simulation:
             raise KeyError(f"missing attribute {key!r} of /")
     g = r.group("record")
     rec = Record(series_grains=r.data("series_grains", g),
-                 energy_coarsen=int(r.attr("energy_coarsen", g)))
+                 energy_coarsen=int(r.attr("energy_coarsen", g)),
+                 sensor_grains=(r.data("sensor_grains", g) if "sensor_grains" in g
+                                else np.zeros(0, np.int64)),
+                 wall_forces=bool(g.attrs.get("wall_forces", False)))
+    for name in ("sensor_force", "wall_force"):  # optional (older files)
+        if name in g:
+            data = r.data(name, g)
+            setattr(rec, name, [data] if len(data) else [])
+    if "overlap_max" in g:
+        rec.overlap_max = r.data("overlap_max", g)
     series = r.data("series", g)
     rec.series_t = list(r.data("series_t", g))
     rec.series = [series] if len(series) else []

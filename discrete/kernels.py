@@ -397,14 +397,16 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
     # of composition methods (adding 0·a is exact).  Two loop variants per constant
     # layout (track or not: the untracked one vectorises); both inline.
     @jit(**_INLINE)
-    def loop_const(uw, vw, vmw, aw, dw, m, un, vn, phi_l, dc, c1, c2, hb, p, im, kr, d0r, f0r,
-                   track):
+    def loop_const(uw, vw, vmw, rmw, aw, dw, m, un, vn, phi_l, dc, c1, c2, hb, p, im, kr, d0r,
+                   f0r, track, trk_r):
         """Fused pass over m grains sharing the constants (1/m, k, δ0, f0) of the right contact."""
         if track:
             for i in range(m):
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0r + (un - unr)
+                if trk_r and r > rmw[i]:
+                    rmw[i] = r
                 vnr = vw[i + 1] + c1 * aw[i + 1] if VD else 0.0
                 rd = vn - vnr
                 phi_r = contact(r, rd, kr, f0r, p)
@@ -438,14 +440,16 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
         return un, vn, phi_l
 
     @jit(**_INLINE)
-    def loop_arrays(uw, vw, vmw, aw, dw, imw, kw, d0w, f0w, m, un, vn, phi_l, dc, c1, c2, hb,
-                    p, track):
+    def loop_arrays(uw, vw, vmw, rmw, aw, dw, imw, kw, d0w, f0w, m, un, vn, phi_l, dc, c1, c2,
+                    hb, p, track, trk_r):
         """Fused pass over m grains with per-grain constants (kw etc. from the right contact)."""
         if track:
             for i in range(m):
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0w[i] + (un - unr)
+                if trk_r and r > rmw[i]:
+                    rmw[i] = r
                 vnr = vw[i + 1] + c1 * aw[i + 1] if VD else 0.0
                 rd = vn - vnr
                 phi_r = contact(r, rd, kw[i], f0w[i], p)
@@ -479,7 +483,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
         return un, vn, phi_l
 
     @jit(**_INLINE)
-    def piece(st, con, p, vmax, i0, i1, ul, ur, vl, vr, dc, c1, c2, hb, track):
+    def piece(st, con, p, mx, i0, i1, ul, ur, vl, vr, dc, c1, c2, hb, track):
         """One substep of grains [i0, i1) given the drifted outer neighbours ``ul``, ``ur``.
 
         (And, for velocity-dependent laws, their predicted velocities ``vl``, ``vr``.)
@@ -487,10 +491,14 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
         """
         u, v, a, dis = st
         inv_m, k, d0, f0, rs, rc = con
+        vmax, rmax, trk_r = mx
+        trk_r = track and trk_r
         un = u[i0] + dc * v[i0]
         u[i0] = un
         vn = v[i0] + c1 * a[i0] if VD else 0.0
         r = d0[i0] + (ul - un)
+        if trk_r and r > rmax[i0]:
+            rmax[i0] = r
         rd = vl - vn
         phi_l = contact(r, rd, k[i0], f0[i0], p)
         book(dis, i0, hb, r, rd, k[i0], p, phi_l, f0[i0])
@@ -502,18 +510,21 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
                 while j < last:
                     e = min(rs[q + 1], last)
                     un, vn, phi_l = loop_const(u[j:e + 1], v[j:e + 1], vmax[j:e + 1],
-                                               a[j:e + 1], dis[j:e + 1], e - j, un, vn, phi_l,
-                                               dc, c1, c2, hb, p, rc[q, 0], rc[q, 1], rc[q, 2],
-                                               rc[q, 3], track)
+                                               rmax[j + 1:e + 1], a[j:e + 1], dis[j:e + 1],
+                                               e - j, un, vn, phi_l, dc, c1, c2, hb, p,
+                                               rc[q, 0], rc[q, 1], rc[q, 2], rc[q, 3], track,
+                                               trk_r)
                     j = e
                     q += 1
             else:
-                un, vn, phi_l = loop_arrays(u[j:i1], v[j:i1], vmax[j:i1], a[j:i1], dis[j:i1],
-                                            inv_m[j:i1], k[j + 1:i1], d0[j + 1:i1],
-                                            f0[j + 1:i1], last - j, un, vn, phi_l, dc, c1, c2,
-                                            hb, p, track)
+                un, vn, phi_l = loop_arrays(u[j:i1], v[j:i1], vmax[j:i1], rmax[j + 1:i1],
+                                            a[j:i1], dis[j:i1], inv_m[j:i1], k[j + 1:i1],
+                                            d0[j + 1:i1], f0[j + 1:i1], last - j, un, vn,
+                                            phi_l, dc, c1, c2, hb, p, track, trk_r)
         # last grain: right neighbour given
         r = d0[i1] + (un - ur)
+        if trk_r and r > rmax[i1]:
+            rmax[i1] = r
         rd = vn - vr
         phi_r = contact(r, rd, k[i1], f0[i1], p)
         book(dis, i1, hb, r, rd, k[i1], p, phi_r, f0[i1])
@@ -542,7 +553,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
         return (phi_l - phi_r) * inv_m[g]
 
     @jit(**_INLINE)
-    def advance(st, con, p, vmax, umax, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk, umx,
+    def advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk, umx,
                 sp, vsp):
         """One substep of grains [lo_t, hi_t) (``piece``) with the recording.
 
@@ -556,7 +567,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
         q1 = _first_at_least(sp, hi_t)
         for q in range(q0, q1):
             vsp[q] = v[sp[q]]
-        piece(st, con, p, vmax, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk)
+        piece(st, con, p, mx, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk)
         for q in range(q0, q1):
             g = sp[q]
             left = ul if g == lo_t else u[g - 1]
@@ -582,7 +593,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
     # stays in L2 during its nsub substeps.  Position-dependent laws only.
 
     @jit(**_INNER)
-    def trapezoid(st, con, p, vmax, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp, none,
+    def trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp, none,
                   vsp2, nsub):
         """Phase A on tile j (shrinking ranges) or phase B around boundary j (growing)."""
         u, v = st[0], st[1]
@@ -605,11 +616,11 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
                     continue
                 ul = wl if lo_t == 0 else u[lo_t - 1]
                 ur = wr if hi_t == n else u[hi_t]
-            advance(st, con, p, vmax, umax, lo_t, hi_t, ul, ur, 0.0, 0.0, dc, c1s[tau],
+            advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, 0.0, 0.0, dc, c1s[tau],
                     c2s[tau], 0.0, trks[tau], umxs[tau], sp if fins[tau] else none, vsp2[tau])
 
     @jit(parallel=True, **_INNER)
-    def phase_tiles(st, con, p, vmax, umax, bounds, phase, ulb, urb, wl, wr, sub, sp, none,
+    def phase_tiles(st, con, p, mx, umax, bounds, phase, ulb, urb, wl, wr, sub, sp, none,
                     vsp2, nsub):
         """Phase ``phase`` (0: A, 1: B) of a block on the tiles ``bounds``, concurrently.
 
@@ -618,11 +629,11 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
         """
         count = bounds.size - 1 + phase
         for j in numba.prange(count):
-            trapezoid(st, con, p, vmax, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp,
+            trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp,
                       none, vsp2, nsub)
 
     @jit(**_INLINE)
-    def block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, lo, hi, vmax, umax, track,
+    def block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, lo, hi, mx, umax, track,
               events, series, rows, cfg, work):
         """Try one temporal block of ``nb`` steps from step ``s`` (section above).
 
@@ -636,7 +647,8 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
         ts_idx, ts_every, step0, ts_out = series
         nt_max, min_parallel, tile, min_serial_block = cfg
         sub, vsp2, saved_state, swm, bnd, ulb_b, urb_b = work
-        su, sv, svm, sum_ = saved_state
+        su, sv, svm, sum_, srm = saved_state
+        vmax, rmax = mx[0], mx[1]
         dcs, c1s, c2s, trks, umxs, fins = sub
         n = u.size
         ns = drift.size
@@ -685,11 +697,13 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
             sv[lo_p:hi_p + 1] = v[lo_p:hi_p + 1]
             svm[lo_p:hi_p + 1] = vmax[lo_p:hi_p + 1]
             sum_[lo_p:hi_p + 1] = umax[lo_p:hi_p + 1]
+            if mx[2]:
+                srm[lo_p:hi_p + 2] = rmax[lo_p:hi_p + 2]
         swm[:] = wmax
         subv = (dcs[:nsub], c1s[:nsub], c2s[:nsub], trks[:nsub], umxs[:nsub], fins[:nsub])
         none = np.zeros(0, np.int64)
         for phase in range(2):
-            phase_tiles(st, con, p, vmax, umax, bnd[:ntile + 1], phase, ulb_b[:ntile],
+            phase_tiles(st, con, p, mx, umax, bnd[:ntile + 1], phase, ulb_b[:ntile],
                         urb_b[:ntile], wl, wr, subv, sp_w, none, vsp2[:nsub], nsub)
         # events, step by step (the per-step test: the last firing grain wins)
         hit = -1
@@ -707,6 +721,8 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
             v[lo_p:hi_p + 1] = sv[lo_p:hi_p + 1]
             vmax[lo_p:hi_p + 1] = svm[lo_p:hi_p + 1]
             umax[lo_p:hi_p + 1] = sum_[lo_p:hi_p + 1]
+            if mx[2]:
+                rmax[lo_p:hi_p + 2] = srm[lo_p:hi_p + 2]
             wmax[:] = swm
             return 2, rows, -1, lo, hi
         # series grains out of reach: constant u and overlaps, v = 0
@@ -719,7 +735,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
         return 1, rows, hit_q, lo, hi
 
     @jit(**_INLINE)
-    def no_block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, lo, hi, vmax, umax, track,
+    def no_block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, lo, hi, mx, umax, track,
                  events, series, rows, cfg, work):
         """Take every step one by one (status 0): the kernel without blocking."""
         return 0, rows, -1, lo, hi
@@ -727,7 +743,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
 
     # ------------------------------------------------------------------ one step
     @jit(**_INLINE)
-    def step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, vmax, umax, track, do_umax,
+    def step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, mx, umax, track, do_umax,
              sp, vsp):
         """All substeps of one step on the window, grown as needed; returns (lo, hi).
 
@@ -761,7 +777,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
             if VD:  # predicted velocities of the outer neighbours
                 vl = 0.0 if lo == 0 else v[lo - 1] + c1 * a[lo - 1]
                 vr = 0.0 if hi == n - 1 else v[hi + 1] + c1 * a[hi + 1]
-            advance(st, con, p, vmax, umax, lo, hi + 1, ul, ur, vl, vr, dc, c1, c2, dt,
+            advance(st, con, p, mx, umax, lo, hi + 1, ul, ur, vl, vr, dc, c1, c2, dt,
                     final and track, final and track and do_umax, sp if final else none, vsp)
         return lo, hi
 
@@ -769,8 +785,8 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
     def make_run_chunk(try_block, BLOCKS):
         """``run_chunk`` with temporal blocking (``block``) or without (``no_block``)."""
 
-        def run_chunk(st, con, p, wl, wr, dt, drift, kick, nsteps, lo, hi, vmax, umax, track,
-                      watch, wmax, wthr, ts_idx, ts_every, step0, ts_out, cfg):
+        def run_chunk(st, con, p, wl, wr, dt, drift, kick, nsteps, lo, hi, vmax, umax, rmax,
+                      track, track_r, watch, wmax, wthr, ts_idx, ts_every, step0, ts_out, cfg):
             """Advance ``nsteps`` steps on the window ``lo..hi`` in place.
 
             Parameters
@@ -788,11 +804,12 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
             nsteps, lo, hi : int
                 Steps to take and the window: every grain outside ``lo..hi`` must be inert
                 (:func:`active_window`).
-            vmax, umax : (N,) float arrays
-                Running maxima of v (every step) and u (every ``UMAX_EVERY`` global steps and
-                when an event fires), updated in place when ``track``.
-            track : bool
-                Update the running maxima.
+            vmax, umax, rmax : (N,), (N,), (N+1,) float arrays
+                Running maxima of v (every step), u (every ``UMAX_EVERY`` global steps and
+                when an event fires) and the contact overlaps (every step, with
+                ``track_r``), updated in place when ``track``.
+            track, track_r : bool
+                Update the running maxima; also those of the overlaps.
             watch, wmax, wthr : (W,) arrays
                 Grains whose velocity peak stops the chunk, their running maxima (in/out) and
                 thresholds (m/s): the chunk returns one step after the first step at which
@@ -832,15 +849,18 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
             nt_max = max(1, nthreads)
             nsub_max = max(block_steps, 1) * ns if BLOCKS else 1
             keep = n if watch.size > 0 and BLOCKS else 0
+            keep_r = keep + 1 if keep and track_r else 0
             ntile_max = (n // max(tile, 1)) + nt_max + 2
             work = ((np.empty(nsub_max), np.empty(nsub_max), np.empty(nsub_max),
                      np.zeros(nsub_max, np.bool_), np.zeros(nsub_max, np.bool_),
                      np.zeros(nsub_max, np.bool_)),
                     np.zeros((nsub_max, sp_w.size)),
-                    (np.empty(keep), np.empty(keep), np.empty(keep), np.empty(keep)),
+                    (np.empty(keep), np.empty(keep), np.empty(keep), np.empty(keep),
+                     np.empty(keep_r)),
                     np.empty(watch.size), np.empty(ntile_max + 1, np.int64),
                     np.empty(ntile_max), np.empty(ntile_max))
             events = (watch, wmax, wthr, sp_w, pos_w)
+            mx = (vmax, rmax, track_r)
             bcfg = (nt_max, min_parallel, tile, min_serial_block)
             no_block_before = 0
             # opening kick of the first step: v^{n+1/2} (or the first stage velocity)
@@ -851,7 +871,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
                 nb = min(block_steps, nsteps - s)
                 if nb >= 4 and fired < 0 and s >= no_block_before:
                     status, rows, hit, lo_b, hi_b = try_block(
-                        st, con, p, wl, wr, drift, kick, nsteps, s, nb, lo, hi, vmax, umax, track,
+                        st, con, p, wl, wr, drift, kick, nsteps, s, nb, lo, hi, mx, umax, track,
                         events, (ts_idx, ts_every, step0, ts_out), rows, bcfg, work)
                     if status == 1:
                         s += nb
@@ -864,7 +884,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
                 s += 1
                 last = s == nsteps
                 sample = ts_idx.size > 0 and (step0 + s) % ts_every == 0
-                lo, hi = step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, vmax, umax,
+                lo, hi = step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, mx, umax,
                               track, (step0 + s) % UMAX_EVERY == 0, sp_ws if sample else sp_w,
                               vsp)
                 # time series and events use the synchronous velocities of the special grains

@@ -75,6 +75,14 @@ class Recording:
         Sum the energy grid over blocks of this many grains.
     monitor_every : int
         Steps between evaluations of the total energy (drift monitor).
+    sensors : sequence of int
+        Grains read as embedded force sensors (the mean of their two contact forces, N),
+        sampled with the series (every ``series_every`` steps).
+    wall_forces : bool
+        Record the force on each wall (N), sampled with the series.
+    strain_maxima : bool
+        Keep the running maximum of every contact's overlap (needs ``maxima``); the
+        strain maxima are (max overlap - δ0)/d.
     """
 
     snapshots: Sequence[AtTime | WaveAt | float | int] = ()
@@ -84,6 +92,9 @@ class Recording:
     energy_every: int | None = None
     energy_coarsen: int = 1
     monitor_every: int = 10_000
+    sensors: Sequence[int] = ()
+    wall_forces: bool = False
+    strain_maxima: bool = False
 
     def events(self) -> list[Event]:
         """The snapshot events as :class:`AtTime` / :class:`WaveAt` objects."""
@@ -96,7 +107,10 @@ class Recording:
                 "series_every": int(self.series_every), "maxima": bool(self.maxima),
                 "energy_every": None if self.energy_every is None else int(self.energy_every),
                 "energy_coarsen": int(self.energy_coarsen),
-                "monitor_every": int(self.monitor_every)}
+                "monitor_every": int(self.monitor_every),
+                "sensors": [int(g) for g in self.sensors],
+                "wall_forces": bool(self.wall_forces),
+                "strain_maxima": bool(self.strain_maxima)}
 
     @classmethod
     def from_dict(cls, d: dict) -> Recording:
@@ -104,7 +118,9 @@ class Recording:
         return cls(snapshots=[event_from_dict(e) for e in d["snapshots"]],
                    series_grains=d["series_grains"], series_every=d["series_every"],
                    maxima=d["maxima"], energy_every=d["energy_every"],
-                   energy_coarsen=d["energy_coarsen"], monitor_every=d["monitor_every"])
+                   energy_coarsen=d["energy_coarsen"], monitor_every=d["monitor_every"],
+                   sensors=d.get("sensors", ()), wall_forces=d.get("wall_forces", False),
+                   strain_maxima=d.get("strain_maxima", False))
 
     def validate(self, n: int) -> None:
         """Raise ValueError for anything that cannot work on a chain of ``n`` grains."""
@@ -113,6 +129,11 @@ class Recording:
         for g in self.series_grains:
             if not 0 <= int(g) < n:
                 raise ValueError(f"series grain {g} outside the chain [0, {n})")
+        for g in self.sensors:
+            if int(g) != g or not 0 <= int(g) < n:
+                raise ValueError(f"sensor grain {g!r} outside the chain [0, {n})")
+        if self.strain_maxima and not self.maxima:
+            raise ValueError("strain_maxima needs maxima=True (the running maxima)")
         for name in ("series_every", "monitor_every", "energy_coarsen"):
             val = getattr(self, name)
             if int(val) != val or val < 1:
@@ -194,6 +215,14 @@ class Record:
     monitor_t, monitor_energy, monitor_shadow, monitor_dissipated : (M,) arrays
         Total energy (J), velocity Verlet's modified energy (J) and the energy
         dissipated since the start (J; 0 for conservative forces) at monitor times (s).
+    sensor_grains : (S',) int array
+    sensor_force : (R, S') array
+        Embedded-sensor readings (mean of the two contact forces, N) at ``series_t``.
+    wall_forces : bool
+    wall_force : (R, 2) array
+        Force on the left and right wall, N, at ``series_t`` (when ``wall_forces``).
+    overlap_max : (N+1,) array or None
+        Running maximum of every contact's overlap, m.
     """
 
     series_grains: np.ndarray
@@ -210,6 +239,11 @@ class Record:
     monitor_energy: list = field(default_factory=list)
     monitor_shadow: list = field(default_factory=list)
     monitor_dissipated: list = field(default_factory=list)
+    sensor_grains: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    sensor_force: list = field(default_factory=list)
+    wall_forces: bool = False
+    wall_force: list = field(default_factory=list)
+    overlap_max: np.ndarray | None = None
 
     _MONITOR = ("monitor_t", "monitor_energy", "monitor_shadow", "monitor_dissipated")
 
@@ -230,10 +264,16 @@ class Record:
         """ValueError if the record cannot belong to a chain of ``n`` grains recorded so."""
         a = self.arrays()
         if (len(self.series_t) != a["series"].shape[0]
+                or (self.sensor_grains.size and a["sensor_force"].shape
+                    != (len(self.series_t), self.sensor_grains.size))
+                or (self.wall_forces and a["wall_force"].shape[0] != len(self.series_t))
                 or len(self.energy_t) != len(self.energy_kinetic)
                 or len(self.energy_kinetic) != len(self.energy_potential)
                 or len({len(getattr(self, name)) for name in self._MONITOR}) != 1):
             raise ValueError("record arrays of inconsistent lengths")
+        if recording.strain_maxima and (self.overlap_max is None
+                                        or self.overlap_max.shape != (n + 1,)):
+            raise ValueError(f"record/overlap_max must have shape ({n + 1},)")
         if recording.maxima or self.vmax is not None:
             if self.vmax is None or self.umax is None or self.vmax.shape != (n,) \
                     or self.umax.shape != (n,):
@@ -257,6 +297,11 @@ class Record:
             "monitor_energy": np.asarray(self.monitor_energy, dtype=float),
             "monitor_shadow": np.asarray(self.monitor_shadow, dtype=float),
             "monitor_dissipated": np.asarray(self.monitor_dissipated, dtype=float),
+            "sensor_grains": np.asarray(self.sensor_grains, dtype=np.int64),
+            "sensor_force": (np.concatenate(self.sensor_force, axis=0) if self.sensor_force
+                             else np.zeros((0, len(self.sensor_grains)))),
+            "wall_force": (np.concatenate(self.wall_force, axis=0) if self.wall_force
+                           else np.zeros((0, 2))),
         }
 
     def snapshot(self, label: str) -> Snapshot:

@@ -296,10 +296,15 @@ class Simulation:
         self._shrink()
         rec = self.recording
         self.record = Record(series_grains=np.asarray(rec.series_grains, dtype=np.int64),
-                             energy_coarsen=int(rec.energy_coarsen))
+                             energy_coarsen=int(rec.energy_coarsen),
+                             sensor_grains=np.asarray(rec.sensors, dtype=np.int64),
+                             wall_forces=bool(rec.wall_forces))
+        self._ts_grains = self._sampled_grains()
         if rec.maxima:
             self.record.vmax = self.v.copy()
             self.record.umax = self.u.copy()
+        if rec.strain_maxima:
+            self.record.overlap_max = self.overlaps()
         self._pending = rec.events()
         vmax0 = float(np.max(np.abs(self.v))) if n else 0.0
         self._default_threshold = 0.01 * vmax0 if vmax0 > 0 else 1e-12
@@ -320,21 +325,24 @@ class Simulation:
         return a
 
     def _check_equilibrium(self) -> None:
-        """ValueError unless the static forces f0 of the present contacts are equal.
+        """ValueError unless every grain is in static equilibrium under this law.
 
-        The kernels subtract f0 per contact (:mod:`discrete.kernels`): that is Eq. 2
-        only if the static overlaps are in force equilibrium under this law (one F0).
+        The kernels subtract the static force f0 per contact (:mod:`discrete.kernels`):
+        that is Eq. 2 (with the body force m g of a vertical chain) only if
+        f0_i - f0_{i+1} + m_i g = 0 for every grain i.
         """
-        f = self._f0[self._k > 0]
-        if f.size == 0 or not np.any(f > 0):
+        f0, b = self._f0, self.chain.body_force
+        scale = max(float(np.max(np.abs(f0))), float(np.max(np.abs(b))))
+        if scale == 0:
             return
-        spread = float(np.max(f) - np.min(f)) / float(np.max(f))
-        if spread > 1e-9:
+        residual = float(np.max(np.abs(f0[:-1] - f0[1:] + b))) / scale
+        if residual > 1e-9:
             raise ValueError(
                 f"the chain's static overlaps are not in force equilibrium under the "
-                f"{self.law.describe()} (static forces differ by {spread:.3g} relatively; "
-                f"allowed 1e-9): build the chain with exponent={self.law.exponent:g} "
-                f"(it was built for exponent {self.chain.exponent:g})")
+                f"{self.law.describe()} (net static force {residual:.3g} of the largest "
+                f"contact force; allowed 1e-9): build the chain with "
+                f"exponent={self.law.exponent:g} (it was built for exponent "
+                f"{self.chain.exponent:g}), with both walls if it is precompressed")
 
     def _constants(self) -> tuple:
         """(1/m, k, δ0, f0, run starts, run table): the kernels' chain constants."""
@@ -390,7 +398,11 @@ class Simulation:
         return _overlaps(self.u, self._d0, self.wall_left, self.wall_right)
 
     def energy(self) -> float:
-        """Total wave energy Σ ½mv² + Σ (U(r_j) - U(δ0_j)), J (docs/physics.md §6)."""
+        """Total wave energy Σ ½mv² + Σ (U(r_j) - U(δ0_j)) - Σ m_i g u_i, J.
+
+        (docs/physics.md §6; the last term, the potential energy of the body force, only
+        for a vertical chain.)
+        """
         if self._lo < 0:
             return 0.0
         ek = np.empty(self.chain.n)
@@ -398,6 +410,8 @@ class Simulation:
         tk, tp = self.kernels.grain_energies(self.u, self.v, self.chain.mass, self._k,
                                              self._d0, self.wall_left, self.wall_right,
                                              self._lo, self._hi, ek, ep)
+        if self.chain.gravity:
+            tp -= float(np.dot(self.chain.body_force, self.u))
         return tk + tp
 
     def grain_energy(self) -> tuple[np.ndarray, np.ndarray]:
@@ -408,6 +422,8 @@ class Simulation:
             self.kernels.grain_energies(self.u, self.v, self.chain.mass, self._k, self._d0,
                                         self.wall_left, self.wall_right, self._lo,
                                         self._hi, ek, ep)
+        if self.chain.gravity:
+            ep -= self.chain.body_force * self.u
         return ek, ep
 
     def _dissipation_rate(self) -> float:
@@ -602,11 +618,12 @@ class Simulation:
         e_start, es_start = self._monitor()
         drift = [0.0, 0.0]
         rec = self.recording
-        s_idx = self.record.series_grains
+        s_idx = self._ts_grains
         s_every = int(rec.series_every)
         ts_buf = np.zeros((self.chunk // s_every + 1, s_idx.size, 4))
         vmax = self.record.vmax if rec.maxima else np.zeros(n)
         umax = self.record.umax if rec.maxima else np.zeros(n)
+        rmax = self.record.overlap_max if rec.strain_maxima else np.zeros(n + 1)
         waves = [e for e in events if isinstance(e, WaveAt)]
         watch = np.array([e.grain for e in waves], dtype=np.int64)
         wthr = np.array([self._default_threshold if e.threshold is None else e.threshold
@@ -643,16 +660,16 @@ class Simulation:
                         nsteps = min(nsteps, self._until_multiple(s_every))
                     self.steps += nsteps
                     if s_idx.size and self.steps % s_every == 0:
-                        self._append_series(self._series_row(), self.steps)
+                        self._append_rows(self._series_row(),
+                                          np.array([self.t0 + self.steps * self.dt]))
                 else:
-                    done, rows, fired = self._chunk(nsteps, vmax, umax, watch, wmax, wthr,
-                                                    ts_buf)
+                    done, rows, fired = self._chunk(nsteps, vmax, umax, rmax, watch, wmax,
+                                                    wthr, ts_buf)
                     phase = self.steps % s_every
                     if rows:
                         first = self.steps + (s_every - phase if phase else s_every)
                         steps_r = first + s_every * np.arange(rows)
-                        self.record.series_t.extend((self.t0 + steps_r * self.dt).tolist())
-                        self.record.series.append(ts_buf[:rows].copy())
+                        self._append_rows(ts_buf[:rows].copy(), self.t0 + steps_r * self.dt)
                     self.steps += done
                     if not np.isfinite(self.v[self._lo:self._hi + 1]).all():
                         raise self._instability("non-finite state (NaN/inf)")
@@ -679,7 +696,8 @@ class Simulation:
             stopped_by = "t_end" if self.steps >= t_step else "max_steps"
         return RunInfo(self.steps - start_steps, self.t, stopped_by, drift[0], drift[1])
 
-    def _chunk(self, nsteps, vmax, umax, watch, wmax, wthr, ts_buf) -> tuple[int, int, int]:
+    def _chunk(self, nsteps, vmax, umax, rmax, watch, wmax, wthr, ts_buf
+               ) -> tuple[int, int, int]:
         """One kernel call of up to ``nsteps`` steps on the window; (steps, rows, fired)."""
         rec = self.recording
         nthreads, nsteps = self._tune_choose(nsteps)
@@ -690,8 +708,8 @@ class Simulation:
             done, rows, fired, lo, hi = self._kernel(nthreads)(
                 (self.u, self.v, self.a, self._dis), self._constants(), self._p,
                 self.wall_left, self.wall_right, self.dt, self._drift, self._kick, nsteps,
-                self._lo, self._hi, vmax, umax, rec.maxima, watch, wmax, wthr,
-                self.record.series_grains, int(rec.series_every), self.steps, ts_buf,
+                self._lo, self._hi, vmax, umax, rmax, rec.maxima, rec.strain_maxima, watch,
+                wmax, wthr, self._ts_grains, int(rec.series_every), self.steps, ts_buf,
                 (nthreads, self.min_parallel, self.block_steps, TILE_GRAINS,
                  SERIAL_BLOCK_MIN_GRAINS))
         finally:
@@ -753,13 +771,69 @@ class Simulation:
         self._rates[nthreads] = rate if old is None else 0.5 * (old + rate)
 
     def _series_row(self) -> np.ndarray:
-        g = self.record.series_grains
+        g = self._ts_grains
         r = self.overlaps()
         return np.stack([self.u[g], self.v[g], r[g], r[g + 1]], axis=-1)[None]
 
-    def _append_series(self, row: np.ndarray, step: int) -> None:
-        self.record.series_t.append(self.t0 + step * self.dt)
-        self.record.series.append(row)
+    # ------------------------------------------------------------------ sensors
+    def _sampled_grains(self) -> np.ndarray:
+        """Grains the kernel samples: the series grains, then those the sensors need.
+
+        A sensor at grain g reads the overlaps of its two contacts (and, for velocity-
+        dependent forces, the velocities of g-1, g+1); a wall force that of the end grain.
+        """
+        rec, n = self.recording, self.chain.n
+        extra = []
+        for g in rec.sensors:
+            extra.append(int(g))
+            if self.kernels.velocity_dependent:
+                extra += [x for x in (int(g) - 1, int(g) + 1) if 0 <= x < n]
+        if rec.wall_forces:
+            extra += [0, n - 1]
+        return np.r_[np.asarray(rec.series_grains, dtype=np.int64),
+                     np.asarray(extra, dtype=np.int64)].astype(np.int64)
+
+    def _append_rows(self, rows: np.ndarray, t: np.ndarray) -> None:
+        """Append sampled rows (R, S, 4) at times t: the series, and the sensor forces."""
+        rec = self.record
+        ns = rec.series_grains.size
+        rec.series_t.extend(np.asarray(t, float).tolist())
+        rec.series.append(rows[:, :ns])
+        if rec.sensor_grains.size or rec.wall_forces:
+            sensors, walls = self._sensor_forces(rows)
+            if rec.sensor_grains.size:
+                rec.sensor_force.append(sensors)
+            if rec.wall_forces:
+                rec.wall_force.append(walls)
+
+    def _sensor_forces(self, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Sensor readings (R, S) and wall forces (R, 2) from sampled rows, N.
+
+        A sensor grain reads the mean of its two contact forces (an embedded sensor
+        particle; Daraio, Nesterenko, Herbold & Jin, Phys. Rev. E 73 (2006) 026610); a
+        wall the force of its contact.  Total forces F(r, ṙ) of the law (static part
+        included), from the synchronous sampled state.
+        """
+        col = {}
+        for q, g in enumerate(self._ts_grains):
+            col.setdefault(int(g), q)
+        n, k, law = self.chain.n, self._k, self.law
+
+        def vel(g):
+            return rows[:, col[g], 1] if 0 <= g < n and g in col else 0.0
+
+        out = np.empty((rows.shape[0], self.record.sensor_grains.size))
+        for s, g in enumerate(self.record.sensor_grains):
+            g = int(g)
+            vg = rows[:, col[g], 1]
+            fl = law.force(rows[:, col[g], 2], vel(g - 1) - vg, k[g])
+            fr = law.force(rows[:, col[g], 3], vg - vel(g + 1), k[g + 1])
+            out[:, s] = 0.5 * (fl + fr)
+        walls = np.zeros((rows.shape[0], 2))
+        if self.record.wall_forces:
+            walls[:, 0] = law.force(rows[:, col[0], 2], -rows[:, col[0], 1], k[0])
+            walls[:, 1] = law.force(rows[:, col[n - 1], 3], rows[:, col[n - 1], 1], k[n])
+        return out, walls
 
     def _until_multiple(self, every: int) -> int:
         return every - self.steps % every

@@ -14,6 +14,9 @@ elastic energy :math:`U(\delta) = k\delta^{n+1}/(n+1)` (J; for Hertz (2/5) k δ^
 .. math:: \hat\delta_j = U^{-1}\big(U([r_j]_+) + E_1\big)
 
 (:meth:`ContactLaw.overlap_with_energy <discrete.laws.ContactLaw.overlap_with_energy>`).
+For a vertical chain (gravity) the present overlap is taken at least at the force of
+twice the static weight, :math:`2^{1/n}\delta_0` (a chain released uncompressed falls
+onto its static overlaps and overshoots them).
 
 Default time step
 -----------------
@@ -78,6 +81,8 @@ def expected_overlaps(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     u = np.zeros(chain.n) if u is None else np.asarray(u, float)
     v = np.zeros(chain.n) if v is None else np.asarray(v, float)
     r = np.maximum(_overlaps(u, chain.delta0, wall_left, wall_right), 0.0)
+    if chain.gravity:  # the chain may fall onto its static overlaps: 2 × the weight
+        r = np.maximum(r, 2.0 ** (1.0 / law.exponent) * chain.delta0)
     e1 = float(np.max(0.5 * chain.mass * v**2))
     return law.overlap_with_energy(r, e1, chain.k)
 

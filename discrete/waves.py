@@ -1,4 +1,20 @@
-r"""Solitary waves and dissipation: what a contact law does to the exact discrete wave.
+r"""Wave analysis: arrival times and speeds, wave trains, damped solitary waves.
+
+Arrival time and speed at a grain
+---------------------------------
+:func:`arrival_times` times the passage of the leading pulse's velocity peak at recorded
+grains (``Recording.series_grains``, sampled every step or every few) with the cubic
+Hermite interpolant of v between samples, its derivative a taken from the contact law
+and the recorded overlaps (:func:`series_accelerations`; :mod:`discrete.interpolation`):
+O(Δt³) in time.  :func:`wave_speed` is the distance between two grains over the
+difference of their arrival times.
+
+Wave trains
+-----------
+:func:`split_train` cuts a snapshot's velocity profile into its pulses
+(:func:`discrete.diagnostics.find_pulses`) and gives for each its position, peak
+velocity, peak dynamic overlap, energy (the grain energies over its extent) and the speed
+of the exact lattice wave of that peak velocity on the local grains.
 
 Damped solitary wave (first-order estimate)
 -------------------------------------------
@@ -32,15 +48,142 @@ chain in ``tests/discrete/test_physics_laws.py``.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from theory import DiscreteSolitaryWave, discrete_solitary_wave
 
+from .diagnostics.waves import arrival_times as _arrival_times
+from .diagnostics.waves import find_pulses
 from .laws import ContactLaw, as_law
 from .reference import overlap_rates
 
-__all__ = ["wave_dissipation", "damped_wave_decay"]
+__all__ = ["wave_dissipation", "damped_wave_decay", "series_accelerations", "arrival_times",
+           "wave_speed", "TrainWave", "split_train"]
+
+
+def series_accelerations(sim) -> np.ndarray:
+    """Accelerations (R, S) of the recorded series grains, m/s², from the recorded state.
+
+    a_i = (F(r_i) - F(r_{i+1}) + m_i g)/m_i - β v_i with the law's force at the recorded
+    overlaps (paper Eq. 2; exact for position-dependent laws; for a dissipative law the
+    overlap rates are not recorded and its force is taken at ṙ = 0).
+    """
+    rec, ch, law = sim.record, sim.chain, sim.law
+    a = rec.arrays()
+    ser = a["series"]
+    g = np.asarray(rec.series_grains, dtype=np.int64)
+    fl = law.force(ser[:, :, 2], 0.0, ch.k[g])
+    fr = law.force(ser[:, :, 3], 0.0, ch.k[g + 1])
+    acc = (fl - fr + ch.body_force[g]) / ch.mass[g]
+    if sim.drag:
+        acc = acc - sim.drag * ser[:, :, 1]
+    return acc
+
+
+def arrival_times(sim, grains=None, *, threshold: float = 0.5) -> np.ndarray:
+    """Times at which the leading velocity peak passes recorded grains, s (module docstring).
+
+    Parameters
+    ----------
+    sim : Simulation
+        A run that recorded the grains (``Recording(series_grains=...)``).
+    grains : sequence of int, optional
+        Which of the recorded grains (default: all, in recorded order).
+    threshold : float
+        The pulse timed is the first whose peak reaches this fraction of the grain's
+        largest |v|.
+
+    Returns
+    -------
+    ndarray
+        Arrival times, s (NaN where no pulse).
+    """
+    rec = sim.record
+    rg = [int(x) for x in rec.series_grains]
+    grains = rg if grains is None else [int(x) for x in grains]
+    missing = [x for x in grains if x not in rg]
+    if missing:
+        raise ValueError(f"grains {missing} were not recorded (series_grains {rg})")
+    cols = [rg.index(x) for x in grains]
+    a = rec.arrays()
+    acc = series_accelerations(sim)
+    return _arrival_times(a["series_t"], a["series"][:, cols, 1], threshold=threshold,
+                          interpolation="hermite", derivative=acc[:, cols])
+
+
+def wave_speed(sim, grain_a: int, grain_b: int, **kwargs) -> float:
+    """Mean speed of the leading peak between two recorded grains, m/s.
+
+    (x_b - x_a)/(t_b - t_a) with the grains' uncompressed centre positions
+    (:attr:`Chain.positions <discrete.Chain.positions>`) and :func:`arrival_times`.
+    """
+    ta, tb = arrival_times(sim, [grain_a, grain_b], **kwargs)
+    x = sim.chain.positions
+    return float((x[grain_b] - x[grain_a]) / (tb - ta))
+
+
+@dataclass(frozen=True)
+class TrainWave:
+    """One solitary wave of a train (:func:`split_train`).
+
+    Attributes
+    ----------
+    position : float
+        Grain index of its velocity peak (parabola through the peak grain and its
+        neighbours).
+    velocity_max : float
+        Peak grain velocity, m/s (signed: < 0 for a left-going compression).
+    amplitude : float
+        Largest dynamic overlap r - δ0 of its contacts, m.
+    energy : float
+        Sum of the grain energies (kinetic + potential) over its extent, J.
+    speed : float
+        Speed of the exact lattice wave of that peak velocity on the grains at the peak,
+        m/s (NaN where the theory has none: n ≠ 3/2 with δ0 > 0).
+    start, stop : int
+        Its grains: ``start … stop - 1``.
+    """
+
+    position: float
+    velocity_max: float
+    amplitude: float
+    energy: float
+    speed: float
+    start: int
+    stop: int
+
+
+def split_train(sim, *, threshold: float = 0.05, valley: float = 0.5, lo: int = 0,
+                hi: int | None = None) -> list[TrainWave]:
+    """The solitary waves of the present state of ``sim`` (module docstring).
+
+    Pulses of the grain velocity above ``threshold`` × the largest |v| in ``[lo, hi)``
+    separated where |v| falls below ``valley`` × the smaller peak
+    (:func:`discrete.diagnostics.find_pulses`); sorted by position.
+    """
+    ch = sim.chain
+    v = sim.v
+    ek, ep = sim.grain_energy()
+    et = ek + ep
+    r = sim.overlaps()
+    out = []
+    for p in find_pulses(v, threshold=threshold, valley=valley, lo=lo, hi=hi):
+        g = p.index
+        amp = float(np.max(r[p.start:p.stop + 1] - ch.delta0[p.start:p.stop + 1]))
+        j = min(max(g, 1), ch.n - 1)
+        try:
+            w = discrete_solitary_wave(ch.k[j], ch.mass[g], ch.diameter[g], ch.delta0[j],
+                                       velocity_max=abs(p.amplitude),
+                                       exponent=sim.law.exponent)
+            speed = w.speed
+        except (ValueError, RuntimeError):
+            speed = float("nan")
+        out.append(TrainWave(p.position, p.amplitude, amp, float(np.sum(et[p.start:p.stop])),
+                             float(speed), p.start, p.stop))
+    return out
 
 
 def wave_dissipation(wave: DiscreteSolitaryWave, law: ContactLaw, *, phases: int = 16
