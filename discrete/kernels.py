@@ -289,6 +289,7 @@ class Kernels(NamedTuple):
 
     law: ContactLaw
     drag: bool
+    overlap_maxima: bool
     velocity_dependent: bool
     """The law or the drag depends on velocities: predictor path, no blocking."""
     run_steps: object
@@ -308,7 +309,8 @@ class Kernels(NamedTuple):
 _BUILT: dict[tuple, Kernels] = {}
 
 
-def make_kernels(law: ContactLaw | None = None, drag: bool = False) -> Kernels:
+def make_kernels(law: ContactLaw | None = None, drag: bool = False,
+                 overlap_maxima: bool = False) -> Kernels:
     """The kernels of ``law`` (default Hertz), with on-site drag if ``drag``; built once.
 
     Parameters
@@ -318,6 +320,10 @@ def make_kernels(law: ContactLaw | None = None, drag: bool = False) -> Kernels:
     drag : bool
         Include the on-site drag term -m β v (its rate β is a runtime parameter,
         :func:`kernel_params`).
+    overlap_maxima : bool
+        Keep running maxima of the contact overlaps (``Recording.strain_maxima``): a
+        variant of its own, so that the passes without it carry no extra test per grain
+        (measured: a run-time switch cost the recording kernel ~40 %).
 
     Returns
     -------
@@ -325,13 +331,13 @@ def make_kernels(law: ContactLaw | None = None, drag: bool = False) -> Kernels:
         Entry points compiled on first call (or loaded from the disk cache).
     """
     law = as_law(law)
-    key = (law.key(), bool(drag))
+    key = (law.key(), bool(drag), bool(overlap_maxima))
     if key not in _BUILT:
-        _BUILT[key] = _build(law, bool(drag))
+        _BUILT[key] = _build(law, bool(drag), bool(overlap_maxima))
     return _BUILT[key]
 
 
-def _tag(law: ContactLaw, drag: bool) -> str:
+def _tag(law: ContactLaw, drag: bool, rmax: bool) -> str:
     """A name suffix per law for every compiled function of its kernels.
 
     The closures of different laws share their Python names; compiled by different
@@ -339,11 +345,11 @@ def _tag(law: ContactLaw, drag: bool) -> str:
     names too (numba names a function by name, a per-process counter and argument
     types), and one law's code would run for another's.  The suffix keeps them apart.
     """
-    text = f"{law.key()!r}|drag={drag}"
+    text = f"{law.key()!r}|drag={drag}|rmax={rmax}"
     return "L" + hashlib.sha256(text.encode()).hexdigest()[:12]
 
 
-def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure per part
+def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     """Close the passes over the law's compiled pieces (module docstring)."""
     force = law.make_force()
     elastic = law.make_elastic()
@@ -352,8 +358,9 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
     VD = bool(law.dissipative or drag)  # velocity-dependent: predictor path
     DRAG = bool(drag)
     NP = N_PARAMS  # index of the drag rate in p
-    ckey = f"{law.key()!r}|drag={DRAG}|{source_digest()}"
-    tag = _tag(law, DRAG)
+    RMAX = bool(rmax)  # running maxima of the overlaps
+    ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{source_digest()}"
+    tag = _tag(law, DRAG, RMAX)
 
     def jit(**options):
         """numba.njit with the law's tag in the function's name (see :func:`_tag`)."""
@@ -405,7 +412,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0r + (un - unr)
-                if trk_r and r > rmw[i]:
+                if RMAX and trk_r and r > rmw[i]:
                     rmw[i] = r
                 vnr = vw[i + 1] + c1 * aw[i + 1] if VD else 0.0
                 rd = vn - vnr
@@ -448,7 +455,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0w[i] + (un - unr)
-                if trk_r and r > rmw[i]:
+                if RMAX and trk_r and r > rmw[i]:
                     rmw[i] = r
                 vnr = vw[i + 1] + c1 * aw[i + 1] if VD else 0.0
                 rd = vn - vnr
@@ -497,7 +504,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
         u[i0] = un
         vn = v[i0] + c1 * a[i0] if VD else 0.0
         r = d0[i0] + (ul - un)
-        if trk_r and r > rmax[i0]:
+        if RMAX and trk_r and r > rmax[i0]:
             rmax[i0] = r
         rd = vl - vn
         phi_l = contact(r, rd, k[i0], f0[i0], p)
@@ -523,7 +530,7 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
                                             phi_l, dc, c1, c2, hb, p, track, trk_r)
         # last grain: right neighbour given
         r = d0[i1] + (un - ur)
-        if trk_r and r > rmax[i1]:
+        if RMAX and trk_r and r > rmax[i1]:
             rmax[i1] = r
         rd = vn - vr
         phi_r = contact(r, rd, k[i1], f0[i1], p)
@@ -1005,6 +1012,6 @@ def _build(law: ContactLaw, drag: bool) -> Kernels:  # noqa: C901 - one closure 
     accelerations = entry(accelerations, inline="always")
     run_steps = entry(make_run_chunk(no_block, False), "_steps")
     run_blocked = None if VD else entry(make_run_chunk(block, True), "_blocked")
-    return Kernels(law, DRAG, VD, run_steps, run_blocked, accelerations,
+    return Kernels(law, DRAG, RMAX, VD, run_steps, run_blocked, accelerations,
                    entry(contact_energies), entry(grain_energies), entry(shadow_correction),
                    entry(static_forces), entry(dissipation_rate))

@@ -245,7 +245,7 @@ class Simulation:
         self.recording = Recording() if record is None else record
         self.recording.validate(n)
         method = get_integrator(integrator)
-        self.kernels = K.make_kernels(self.law, self.drag > 0)
+        self.kernels = K.make_kernels(self.law, self.drag > 0, self.recording.strain_maxima)
         if self.kernels.velocity_dependent and method.name != "verlet":
             raise ValueError(f"integrator {method.name!r} needs forces that depend on "
                              "positions only; a dissipative law or drag runs with 'verlet' "
