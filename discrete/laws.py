@@ -56,12 +56,20 @@ import numba
 import numpy as np
 
 __all__ = ["ContactLaw", "PowerLaw", "ViscoelasticHertz", "HERTZ", "LAWS", "as_law",
-           "law_from_dict", "N_PARAMS"]
+           "law_from_dict", "compile_piece", "N_PARAMS"]
 
 N_PARAMS = 2
 """Length of the runtime parameter vector every law hands to the kernels."""
 
 _INLINE = {"inline": "always", "nogil": True, "error_model": "numpy"}
+
+
+def compile_piece(func):
+    """Compile a law's scalar piece (force, energy, …) to be fused into the kernels.
+
+    ``numba.njit(inline="always")``: the kernels inline it into their loops.
+    """
+    return numba.njit(**_INLINE)(func)
 
 
 # ----------------------------------------------------------------------- powers

@@ -105,15 +105,16 @@ def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
 
     from discrete.io import load
 
-    from .plotting import plot_grain_profile, plot_spacetime
+    from .plotting import plot_forces, plot_grain_profile, plot_spacetime
 
     path = Path(path)
     open_result(path).close()
     sim = load(path)
     arr = sim.record.arrays()
     has_grid = arr["energy_kinetic"].shape[0] > 1
-    fig, axes = plt.subplots(1, 2 if has_grid else 1, figsize=(11 if has_grid else 6, 4),
-                             squeeze=False)
+    has_forces = arr["sensor_force"].size > 0 or arr["wall_force"].size > 0
+    ncol = 1 + has_grid + has_forces
+    fig, axes = plt.subplots(1, ncol, figsize=(5.5 * ncol, 4), squeeze=False)
     n_left = int(np.count_nonzero(sim.chain.section == sim.chain.section[0]))
     iface = n_left if n_left < sim.chain.n else None
     plot_grain_profile(axes[0, 0], sim.v, interface=iface, ylabel="grain velocity (m/s)")
@@ -122,6 +123,15 @@ def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
         e = arr["energy_kinetic"] + arr["energy_potential"]
         plot_spacetime(axes[0, 1], arr["energy_t"], e, interface=iface,
                        label="grain energy (J)", cmap="viridis")
+    if has_forces:  # what sensors measure (discrete.Recording sensors, wall_forces)
+        cols, labels = [], []
+        if arr["wall_force"].size:
+            cols += [arr["wall_force"][:, 0], arr["wall_force"][:, 1]]
+            labels += ["left wall", "right wall"]
+        for q, g in enumerate(arr["sensor_grains"]):
+            cols.append(arr["sensor_force"][:, q])
+            labels.append(f"sensor at grain {int(g)}")
+        plot_forces(axes[0, -1], arr["series_t"], np.stack(cols, axis=1), labels)
     fig.tight_layout()
     out = Path(out) if out is not None else path.with_suffix(".png")
     try:

@@ -16,6 +16,7 @@ __all__ = [
     "plot_displacement_time",
     "plot_spacetime",
     "plot_theory_lines",
+    "plot_forces",
     "mark_interface",
 ]
 
@@ -142,3 +143,17 @@ def plot_theory_lines(ax, *, lim=(0.2, 5.0), regions: bool = True):
             name = theory.region(theory.gamma_c0(ar, ak), theory.gamma_rg(ar, ak))
             ax.text(ar, ak, name, ha="center", va="center", fontsize=12, weight="bold",
                     color="0.3")
+
+
+def plot_forces(ax, t, forces, labels, *, time_unit: float = 1e-3):
+    """Measured forces vs time: wall forces and embedded sensors (N; t in s).
+
+    ``forces`` (R, S) with one label per column.
+    """
+    forces = np.asarray(forces, dtype=float)
+    for q, label in enumerate(labels):
+        ax.plot(np.asarray(t) / time_unit, forces[:, q], lw=1.0, label=label)
+    ax.set_xlabel("time (ms)" if time_unit == 1e-3 else "time")
+    ax.set_ylabel("force (N)")
+    if labels:
+        ax.legend(fontsize=8)
