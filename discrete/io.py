@@ -7,18 +7,21 @@ the unit of every dataset); groups ``chain`` (mass, k, delta0, diameter, section
 ``state`` (u, v, a; optional ``delta_expected``, the largest expected overlaps of the
 run's initial state, with the attribute ``dt_default``), ``record`` (series, energy
 grid, monitor, maxima) and ``snapshots/<i>`` (u, v, overlaps with attributes label, t,
-step).  Datasets of 64 or more entries are chunked, gzip-compressed and checksummed
-(Fletcher-32: a corrupted chunk is an error on reading, not silently wrong numbers).
-Optional root attributes: ``integrator`` (the time stepper's name,
-:mod:`discrete.integrators`; absent means ``"verlet"``) and whatever the caller passes
-as ``attrs`` (the runner adds the scenario and the summary, a checkpoint its key).
+step).  Datasets of 64 or more entries are chunked and gzip-compressed.  Optional root
+attributes: ``integrator`` (the time stepper's name, :mod:`discrete.integrators`; absent
+means ``"verlet"``) and whatever the caller passes as ``attrs`` (the runner adds the
+scenario and the summary, a checkpoint its key).
 
-Robustness: the file is written to a hidden temporary file in the target directory,
-flushed to disk (``fsync``) and renamed when complete (``os.replace``), so a reader never
-sees a partial file and a crash leaves the old file or the new one.  :func:`load`
-turns every way a file can be unreadable — missing, not HDF5, truncated, a dataset or
-attribute removed, corrupted data, inconsistent shapes — into one :class:`ValueError`
-that names the file and what is wrong, instead of an h5py traceback.
+Integrity (:mod:`theory.integrity`): the file is written through
+:func:`theory.integrity.sealed_hdf5` — to a hidden temporary file in the target
+directory, sealed with the SHA-256 digest of every byte, flushed to disk and renamed
+when complete — and :func:`load` verifies the seal before reading anything, so a
+change of any attribute, dataset or byte since the file was written is an error, never
+a silently different run.  This module only says *what* is written; the seal is a
+file-level wrapper around it.  :func:`load` turns every way a file can be unreadable —
+missing, not sealed, changed, not HDF5, a dataset or attribute missing, inconsistent
+shapes — into one :class:`ValueError` that names the file and what is wrong, instead of
+an h5py traceback.
 """
 
 from __future__ import annotations
@@ -27,11 +30,12 @@ import dataclasses
 import importlib.metadata
 import json
 import os
-import tempfile
 from pathlib import Path
 
 import h5py
 import numpy as np
+
+from theory import integrity
 
 from .chain import Chain
 from .integrators import get_integrator
@@ -62,7 +66,7 @@ def _ds(group: h5py.Group, name: str, data, compress: bool = True) -> None:
     if data.size >= 64:
         kw = {"compression": "gzip", "compression_opts": 4, "shuffle": True} if compress \
             else {}
-        group.create_dataset(name, data=data, chunks=True, fletcher32=True, **kw)
+        group.create_dataset(name, data=data, chunks=True, **kw)
     else:
         group.create_dataset(name, data=data)
     if name in UNITS:
@@ -99,90 +103,61 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
     if not isinstance(sim, Simulation):
         raise ValueError(f"save() takes a Simulation (got {type(sim).__name__})")
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
-        with h5py.File(tmp, "w") as f:
-            a = f.attrs
-            a["format"] = FORMAT
-            a["integrator"] = str(getattr(sim, "integrator", "verlet"))
-            a["package_version"] = _version()
-            method = get_integrator(str(getattr(sim, "integrator", "verlet")))
-            a["solver"] = f"discrete DEM, {method.name} ({method.reference})"
-            for key in ("dt", "steps", "t", "t0", "energy0", "wall_left", "wall_right",
-                        "drift_tolerance", "chunk"):
-                a[key] = getattr(sim, key)
-            a["active_window"] = sim.active_window
-            a["default_threshold"] = sim._default_threshold
-            a["energy_drift"] = sim.energy_drift
-            a["chain_params"] = json.dumps(sim.chain.params)
-            rec = sim.recording
-            a["recording"] = json.dumps({
-                "snapshots": _events_json(rec), "series_grains": [int(g) for g in
-                                                                  rec.series_grains],
-                "series_every": int(rec.series_every), "maxima": bool(rec.maxima),
-                "energy_every": rec.energy_every, "energy_coarsen": int(rec.energy_coarsen),
-                "monitor_every": int(rec.monitor_every)})
-            a["pending_events"] = json.dumps([{"type": type(e).__name__,
-                                               **dataclasses.asdict(e)}
-                                              for e in sim._pending])
-            a["units"] = json.dumps(UNITS)
-            g = f.create_group("chain")
-            for name in ("mass", "k", "delta0", "diameter", "section"):
-                _ds(g, name, getattr(sim.chain, name), compress)
-            g = f.create_group("state")
-            for name in ("u", "v", "a"):
-                _ds(g, name, getattr(sim, name), compress)
-            if hasattr(sim, "_delta_expected"):  # the run's start, for instability messages
-                _ds(g, "delta_expected", sim._delta_expected, compress)
-                a["dt_default"] = sim.dt_default
-            g = f.create_group("record")
-            for name, arr in sim.record.arrays().items():
-                _ds(g, name, arr, compress)
-            if sim.record.vmax is not None:
-                _ds(g, "vmax", sim.record.vmax, compress)
-                _ds(g, "umax", sim.record.umax, compress)
-            g.attrs["energy_coarsen"] = sim.record.energy_coarsen
-            sg = f.create_group("snapshots")
-            for i, s in enumerate(sim.record.snapshots):
-                h = sg.create_group(f"{i:05d}")
-                h.attrs["label"], h.attrs["t"], h.attrs["step"] = s.label, s.t, s.step
-                for name in ("u", "v", "overlaps"):
-                    _ds(h, name, getattr(s, name), compress)
-            for key, value in (attrs or {}).items():
-                a[key] = value
-        _fsync(tmp)
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; a result is shared
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    with integrity.sealed_hdf5(path) as f:  # atomic and sealed (theory.integrity)
+        _write(f, sim, attrs, compress)
     return path
 
 
-def _umask() -> int:
-    """The process umask, read without changing it where possible (threads)."""
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith("Umask:"):
-                    return int(line.split()[1], 8)
-    except (OSError, ValueError):
-        pass
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-def _fsync(path) -> None:
-    """Flush a written file to disk (before the rename that publishes it)."""
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
+def _write(f: h5py.File, sim: Simulation, attrs: dict | None, compress: bool) -> None:
+    """The content of a :func:`save` file (the file itself is the caller's)."""
+    a = f.attrs
+    a["format"] = FORMAT
+    a["integrator"] = str(getattr(sim, "integrator", "verlet"))
+    a["package_version"] = _version()
+    method = get_integrator(str(getattr(sim, "integrator", "verlet")))
+    a["solver"] = f"discrete DEM, {method.name} ({method.reference})"
+    for key in ("dt", "steps", "t", "t0", "energy0", "wall_left", "wall_right",
+                "drift_tolerance", "chunk"):
+        a[key] = getattr(sim, key)
+    a["active_window"] = sim.active_window
+    a["default_threshold"] = sim._default_threshold
+    a["energy_drift"] = sim.energy_drift
+    a["chain_params"] = json.dumps(sim.chain.params)
+    rec = sim.recording
+    a["recording"] = json.dumps({
+        "snapshots": _events_json(rec), "series_grains": [int(g) for g in
+                                                          rec.series_grains],
+        "series_every": int(rec.series_every), "maxima": bool(rec.maxima),
+        "energy_every": rec.energy_every, "energy_coarsen": int(rec.energy_coarsen),
+        "monitor_every": int(rec.monitor_every)})
+    a["pending_events"] = json.dumps([{"type": type(e).__name__,
+                                       **dataclasses.asdict(e)}
+                                      for e in sim._pending])
+    a["units"] = json.dumps(UNITS)
+    g = f.create_group("chain")
+    for name in ("mass", "k", "delta0", "diameter", "section"):
+        _ds(g, name, getattr(sim.chain, name), compress)
+    g = f.create_group("state")
+    for name in ("u", "v", "a"):
+        _ds(g, name, getattr(sim, name), compress)
+    if hasattr(sim, "_delta_expected"):  # the run's start, for instability messages
+        _ds(g, "delta_expected", sim._delta_expected, compress)
+        a["dt_default"] = sim.dt_default
+    g = f.create_group("record")
+    for name, arr in sim.record.arrays().items():
+        _ds(g, name, arr, compress)
+    if sim.record.vmax is not None:
+        _ds(g, "vmax", sim.record.vmax, compress)
+        _ds(g, "umax", sim.record.umax, compress)
+    g.attrs["energy_coarsen"] = sim.record.energy_coarsen
+    sg = f.create_group("snapshots")
+    for i, s in enumerate(sim.record.snapshots):
+        h = sg.create_group(f"{i:05d}")
+        h.attrs["label"], h.attrs["t"], h.attrs["step"] = s.label, s.t, s.step
+        for name in ("u", "v", "overlaps"):
+            _ds(h, name, getattr(s, name), compress)
+    for key, value in (attrs or {}).items():
+        a[key] = value
 
 
 def _event(d: dict):
@@ -242,18 +217,12 @@ def load(path: str | os.PathLike, *, threads: int | None = None) -> Simulation:
     Raises
     ------
     ValueError
-        Naming ``path`` and the cause, if the file is missing, not HDF5, truncated, not
-        a :data:`FORMAT` file, or has a missing, corrupted or inconsistent part.
+        Naming ``path`` and the cause, if the file is missing, fails its integrity seal
+        (:class:`theory.integrity.IntegrityError`: changed, truncated, not sealed), is
+        not a :data:`FORMAT` file, or has a missing or inconsistent part.
     """
     path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{path}: no such file")
-    try:
-        f = h5py.File(path, "r")
-    except OSError as exc:
-        raise ValueError(f"{path}: not a readable HDF5 file (truncated or corrupted?): "
-                         f"{exc}") from None
-    with f:
+    with integrity.open_hdf5(path, what=f"result file ({FORMAT})") as f:
         fmt = f.attrs.get("format")
         if isinstance(fmt, bytes):
             fmt = fmt.decode()
