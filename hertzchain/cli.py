@@ -54,13 +54,14 @@ def _json_default(obj):
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    """Run a scenario TOML file with the discrete solver and print its summary.
+    """Run every model of a scenario TOML file (:func:`hertzchain.models.run`), print a summary.
 
-    With ``--out`` the run is checkpointed to ``OUT.ckpt`` every
+    With ``--out`` the discrete run is written there (checkpointed to ``OUT.ckpt`` every
     ``--checkpoint-interval`` seconds of wall time; rerunning the same command resumes
-    from it (bit for bit the same result), ``--restart`` discards it.
+    from it, bit for bit; ``--restart`` discards it) and a continuum beside it
+    (``OUT`` with the suffix ``.continuum.h5``).
     """
-    from .runner import run_scenario
+    from .models import run
     from .scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
@@ -69,19 +70,26 @@ def cmd_run(args: argparse.Namespace) -> int:
     def log(message: str) -> None:
         print(f"hertzchain: {message}", file=sys.stderr, flush=True)
 
-    summary = run_scenario(scenario, out=out, progress=not args.json,
-                           checkpoint_interval=args.checkpoint_interval,
-                           resume=not args.restart, threads=args.threads, log=log)
+    result = run(scenario, out=out, progress=not args.json,
+                 checkpoint_interval=args.checkpoint_interval, resume=not args.restart,
+                 threads=args.threads, log=log)
+    summary = result.summary()
     if args.json:
         print(json.dumps(summary, default=_json_default, allow_nan=True))
-        return 0
-    print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains")
-    for key, value in summary.items():
-        text = f"{value:.6g}" if isinstance(value, float) else str(value)
-        print(f"  {key:<26} {text}")
-    if out:
-        print(f"written: {out}")
-    return 0
+    else:
+        print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains; "
+              f"models: {', '.join(scenario.models.names)}")
+        for key, value in summary.items():
+            text = f"{value:.6g}" if isinstance(value, float) else str(value)
+            print(f"  {key:<26} {text}")
+        for path in (out, getattr(result.continuum, "path", None)):
+            if path:
+                print(f"written: {path}")
+    failed = [m for m in result.models if not m.completed]
+    for m in failed:
+        print(f"hertzchain: error: the {m.name} model did not complete: {m.stopped_by}",
+              file=sys.stderr)
+    return 1 if failed else 0
 
 
 def cmd_info(args: argparse.Namespace) -> int:
@@ -130,7 +138,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_theory)
 
-    p = sub.add_parser("run", help="run a scenario TOML file (discrete solver)")
+    p = sub.add_parser("run", help="run a scenario TOML file (the models of its [models] "
+                       "table)")
     p.add_argument("scenario", help="scenario file (see hertzchain/scenarios/*.toml)")
     p.add_argument("--out", default=None, help="write the full run to this HDF5 file "
                    "(atomically; checkpoints go to OUT.ckpt)")
