@@ -464,13 +464,22 @@ def _effective(scenario: Scenario, times: np.ndarray, *, keep_name: bool = False
                             models=ModelsSpec(), name=scenario.name if keep_name else "")
 
 
-def _samples_from_sim(sim: discrete.Simulation, times: np.ndarray
+def _samples_from_sim(sim: discrete.Simulation, times: np.ndarray, init
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(times, v, strain) of the snapshots taken at the sample times, then the final state."""
+    """(times, v, strain) of the snapshots taken at the sample times, then the final state.
+
+    Without sample times: the initial state and the final state.
+    """
     by_label = {sn.label: sn for sn in sim.record.snapshots}
     chain = sim.chain
     ts, vs, ss = [], [], []
     last = -math.inf
+    if not len(times):
+        ts.append(0.0)
+        vs.append(np.asarray(init.v))
+        ss.append(D.overlaps_from_displacements(init.u, chain.delta0, init.wall_left,
+                                                init.wall_right) - chain.delta0)
+        last = 0.0
     for t in times:
         sn = by_label.get(discrete.AtTime(float(t)).label)
         if sn is None or sn.t > sim.t:
@@ -504,7 +513,7 @@ def _stopped_by(scenario: Scenario, summary: dict, sim: discrete.Simulation) -> 
 
 def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, force,
                   checkpoint_interval, resume, progress, threads, log, check,
-                  wave_cache) -> tuple[ModelRun, discrete.Simulation]:
+                  wave_cache, init) -> tuple[ModelRun, discrete.Simulation]:
     eff = _effective(scenario, times, keep_name=out is not None)
     key = eff.discrete_dict()
     path = Path(out) if out is not None else (
@@ -530,7 +539,7 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
             checkpoint_interval=checkpoint_interval if path is not None else None,
             resume=resume and not force, threads=threads, check=check, log=log,
             cache_dir=wave_cache)
-    ts, vs, ss = _samples_from_sim(sim, times)
+    ts, vs, ss = _samples_from_sim(sim, times, init)
     completed, stopped = _stopped_by(scenario, summary, sim)
     params = {"scenario": key, "dt": float(sim.dt), "integrator": scenario.run.integrator}
     return ModelRun("discrete", _discrete_label(scenario), ts, vs, ss, float(sim.t),
@@ -880,7 +889,7 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         out: str | Path | None = None, force: bool = False,
         checkpoint_interval: float | None = None, resume: bool = True,
         progress: bool = False, threads: int | None = None, check: bool = True,
-        log=None, wave_cache: str | Path | None = None) -> Run:
+        log=None, wave_cache: str | Path | None = None, samples: bool | None = None) -> Run:
     """Run every model of ``scenario`` from one initial grain state (module docstring).
 
     Parameters
@@ -910,6 +919,10 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         One-line messages.
     wave_cache : path, optional
         Cache of settled waves (``cut_wave``); default: ``cache`` if given.
+    samples : bool, optional
+        Sample the discrete run at the common times (:func:`sample_grid`); default: only
+        if a continuum runs (otherwise the discrete run is the plain scenario's, with
+        the initial and final states as its samples).
 
     Returns
     -------
@@ -946,14 +959,16 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         if m["xi0"] > 0:
             xi = min(xi, v / m["c0"])
         tm.incident = IncidentWave(0.0, v, xi)
-    times, _ = sample_grid(scenario, tm, chain)
+    sampled = bool(models.continuum) if samples is None else samples
+    times = sample_grid(scenario, tm, chain)[0] if sampled or not models.discrete \
+        else np.zeros(0)
     result = Run(scenario, chain, init, ifaces, tm.incident)
     d_run = None
     if models.discrete:
         d_run, sim = _run_discrete(
             scenario, times, cache=cache, stem=stem, out=out, force=force,
             checkpoint_interval=checkpoint_interval, resume=resume, progress=progress,
-            threads=threads, log=log, check=check, wave_cache=wave_cache)
+            threads=threads, log=log, check=check, wave_cache=wave_cache, init=init)
         result.discrete, result.simulation = d_run, sim
         t_final = float(d_run.times[-1])  # the last sample (t_end, or the stop event)
         if scenario.initial.kind == "impact":

@@ -108,7 +108,7 @@ def test_every_shipped_scenario_is_valid():
 # -- the run path -----------------------------------------------------------------------
 def test_discrete_summary_is_the_runner_s():
     sc = scenario()
-    res = M.run(sc)
+    res = M.run(sc, samples=True)
     direct = run_scenario(sc)
     assert res.discrete is not None and res.continuum is None
     for key, value in direct.items():
@@ -122,6 +122,10 @@ def test_discrete_summary_is_the_runner_s():
     np.testing.assert_array_equal(res.discrete.v[-1], res.simulation.v)
     np.testing.assert_array_equal(res.discrete.v[0], res.initial.v)
     assert res.interfaces == [150]
+    # without samples (no continuum): the plain scenario's run, initial and final states
+    plain = M.run(sc)
+    assert plain.discrete.times.size == 2 and plain.discrete.times[-1] == plain.simulation.t
+    assert not plain.simulation.record.snapshots
 
 
 @pytest.fixture(scope="module")
@@ -154,7 +158,7 @@ def test_cache_is_reused(with_continuum):
     # another name and other [models] settings share the discrete run (same stem)
     other = dataclasses.replace(sc, name="renamed",
                                 models=dataclasses.replace(sc.models, continuum=False))
-    assert M.run(other, cache=cache, stem="shared").discrete.cached
+    assert M.run(other, cache=cache, stem="shared", samples=True).discrete.cached
 
 
 def test_until_front_at_samples_end_at_the_event(tmp_path):
@@ -162,7 +166,7 @@ def test_until_front_at_samples_end_at_the_event(tmp_path):
         "chain": {"delta0_over_d": 1e-3, "sections": [{"n": 150}, {"n": 250, "alpha_kn": 2}]},
         "initial": {"kind": "exact_wave", "center": 75, "velocity_max": 0.0822},
         "run": {"until_front_at": 260}, "models": {"samples": 10}})
-    res = M.run(sc)
+    res = M.run(sc, samples=True)
     d = res.discrete
     assert d.stopped_by == "until_front_at" and d.completed
     assert d.times[-1] == res.simulation.t
