@@ -92,6 +92,44 @@ def cmd_run(args: argparse.Namespace) -> int:
     return 1 if failed else 0
 
 
+def cmd_compare(args: argparse.Namespace) -> int:
+    """Run every model of a scenario and compare them (:mod:`hertzchain.compare`).
+
+    Writes ``OUT/compare.h5``, the figures and ``OUT/report.md``/``.html`` (the runs are
+    cached in ``OUT/runs``); prints the verdict and the differences, or with ``--json``
+    every number.  Exit status 1 if a model did not complete (it is not compared).
+    """
+    from .compare import compare
+    from .reproduce.command import jsonable
+    from .scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    if args.continuum is not None:
+        scenario = scenario.with_values(
+            {"models.continuum": False if args.continuum == "off" else args.continuum})
+
+    def log(message: str) -> None:
+        print(f"hertzchain: {message}", file=sys.stderr, flush=True)
+
+    cmp = compare(scenario, out=args.out, force=args.force, progress=not args.json,
+                  checkpoint_interval=args.checkpoint_interval, threads=args.threads,
+                  log=log)
+    if args.json:
+        print(json.dumps(jsonable(cmp.to_dict()), allow_nan=False))
+    else:
+        from .compare_output import difference_rows
+
+        print(cmp.verdict())
+        for row in difference_rows(cmp):
+            print("  " + " | ".join(row))
+        print(f"written: {args.out}/compare.h5, figures, report.md, report.html")
+    failed = [m for m in cmp.run.models if not m.completed]
+    for m in failed:
+        print(f"hertzchain: error: the {m.name} model did not complete ({m.stopped_by}); "
+              "it is not compared", file=sys.stderr)
+    return 1 if failed else 0
+
+
 def cmd_info(args: argparse.Namespace) -> int:
     """Describe an HDF5 file written by either solver."""
     from .files import describe
@@ -153,6 +191,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--threads", type=positive_int, default=None, metavar="N",
                    help="kernel threads (>= 1; default: numba's; results are identical)")
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("compare", help="run the discrete chain, the continuum and the "
+                       "theory of a scenario side by side and compare them")
+    p.add_argument("scenario", help="scenario file (or the name of a shipped one, see "
+                   "hertzchain/scenarios/)")
+    p.add_argument("--out", default="hertzchain-compare",
+                   help="output directory (compare.h5, figures, report.md, runs/)")
+    p.add_argument("--json", action="store_true", help="print every number as JSON")
+    p.add_argument("--continuum", default=None,
+                   choices=("auto", "eq4", "eq7", "kdv", "off"),
+                   help="override [models] continuum (default: the scenario's)")
+    p.add_argument("--force", action="store_true",
+                   help="recompute the runs even if cached in OUT/runs")
+    p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
+                   metavar="SECONDS", help="wall time between checkpoints of the discrete "
+                   "run, s (>= 0; default 300); rerunning resumes from the last one")
+    p.add_argument("--threads", type=positive_int, default=None, metavar="N",
+                   help="kernel threads of the discrete solver (>= 1)")
+    p.set_defaults(func=cmd_compare)
 
     from .reproduce.command import add_arguments as reproduce_arguments
 

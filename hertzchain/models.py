@@ -64,7 +64,8 @@ from .runner import build_chain, build_initial_checked, interfaces, run_simulati
 from .scenario import ModelsSpec, Scenario, ScenarioError
 
 __all__ = ["ModelRun", "IncidentWave", "TheoryModel", "Run", "run", "sample_grid",
-           "incident_wave", "grain_energies", "FRONT_THRESHOLD", "END_FRACTION", "FORMAT"]
+           "incident_wave", "strain_from_velocity", "grain_energies", "FRONT_THRESHOLD",
+           "END_FRACTION", "FORMAT"]
 
 FORMAT = "hertzchain.continuum-samples/1"
 """``format`` attribute of a continuum result file."""
@@ -73,9 +74,10 @@ FRONT_THRESHOLD = 0.05
 """A pulse of grain kinetic energy counts as a wave front if its peak exceeds this
 fraction of the incident wave's peak grain kinetic energy (≈ 22 % in velocity)."""
 
-END_FRACTION = 1e-3
-"""A wave has reached a chain end when the energy of the 5 grains there exceeds this
-fraction of the total (:attr:`ModelRun.valid_until`)."""
+END_FRACTION = 1e-4
+"""A wave has reached a chain end when the energy of the :data:`END_GRAINS` grains there
+exceeds this fraction of the total (:attr:`ModelRun.valid_until`)."""
+END_GRAINS = 10
 
 _ESTIMATE_MARGIN = 4
 """Sample times are requested up to this many times the estimated run time."""
@@ -279,9 +281,14 @@ class TheoryModel:
         return _speed(self.right, self.strain_tr) if self.has_interface else math.nan
 
     @property
+    def reflects(self) -> bool:
+        """Whether a reflected wave is predicted (γ_RG ≠ 1, Eq. 12)."""
+        return self.has_interface and abs(self.gamma_rg - 1.0) > 1e-9
+
+    @property
     def speed_re(self) -> float:
         """Reflected wave speed, m/s (sound speed c0 for an expansive wave; NaN if none)."""
-        if not self.has_interface:
+        if not self.reflects:
             return math.nan
         xi = self.strain_re
         if xi > 0:
@@ -370,27 +377,61 @@ class TheoryModel:
         return out
 
 
-def incident_wave(chain: discrete.Chain, init, kind: str) -> IncidentWave:
-    """The incident wave of an initial state (an impact's: the impacting grain)."""
-    v = np.asarray(init.v)
-    if kind == "impact":
-        return IncidentWave(0.0, float(np.max(np.abs(v))), math.nan)
-    strain = D.overlaps_from_displacements(init.u, chain.delta0, init.wall_left,
-                                           init.wall_right) - chain.delta0
-    kin = 0.5 * chain.mass * v**2
-    p = D.leading_pulse(kin, threshold=0.5)
-    j = int(np.argmax(strain))
-    return IncidentWave(float(p.position) if p is not None else float(np.argmax(kin)),
-                        float(np.max(np.abs(v))), float(strain[j] / chain.diameter[0]))
+def strain_from_velocity(side: dict, velocity: float) -> float:
+    """Peak strain ξ of the solitary wave with peak grain velocity ``velocity`` (m/s).
+
+    Solves v = V(ξ) ξ (v = V ξ for any right-going travelling wave, with Nesterenko's
+    speed V, :func:`theory.nesterenko_speed`).  The peak grain velocity is what a
+    settled wave is known by (the paper's v̄max, Fig. 2); a peak strain read off the
+    contacts of a wave a few grains wide depends on where the wave sits between them.
+    """
+    from scipy.optimize import brentq
+
+    if not velocity > 0:
+        return math.nan
+    hi = 1e-12
+    while _speed(side, hi) * hi < velocity:
+        hi *= 4.0
+        if hi > 1.0:
+            return math.nan
+    return float(brentq(lambda x: (_speed(side, x) * x if x > 0 else 0.0) - velocity,
+                        0.0, hi, xtol=1e-16, rtol=1e-12))
 
 
-def _theory(chain: discrete.Chain, init, incident: IncidentWave, ifaces: list[int]
-            ) -> TheoryModel:
-    """The theory of the first interface, from the built chain and the initial state."""
+def _left(chain: discrete.Chain, ifaces: list[int]) -> dict[str, float]:
+    """Grain and contact parameters of the first section (past a striker)."""
     s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain
     n_first = ifaces[0] if ifaces else chain.n
     mid = s0 + (n_first - s0) // 2
-    left = _side(chain, mid, max(mid, 1))
+    return _side(chain, mid, max(mid, 1))
+
+
+def incident_wave(chain: discrete.Chain, init, kind: str, left: dict) -> IncidentWave:
+    """The incident wave of an initial state (an impact's: estimated, see :func:`run`).
+
+    Position: the peak of the grain kinetic energy (parabola-refined).  Amplitude: the
+    peak grain velocity (an exact wave's own; a cut, settled wave's as measured when it
+    was cut) and the theory's strain for it, :func:`strain_from_velocity` (at δ0 = 0
+    the compacton's peak strain is ~8 % above the exact discrete wave's at the same
+    peak velocity; under precompression they agree to ~1e-3).
+    """
+    v = np.asarray(init.v)
+    params = init.params or {}
+    if kind == "impact":
+        vel = 0.68 * float(np.max(np.abs(v)))  # v̄max/v0 at δ0 = 0 (paper Fig. 2)
+        xi = strain_from_velocity(left, vel)
+        return IncidentWave(0.0, vel, xi)
+    kin = 0.5 * chain.mass * v**2
+    p = D.leading_pulse(kin, threshold=0.5)
+    x0 = float(p.position) if p is not None else float(np.argmax(kin))
+    vel = float(params["velocity_max"] if kind == "exact_wave" else
+                params.get("v_peak", np.max(np.abs(v))))
+    return IncidentWave(x0, vel, strain_from_velocity(left, vel))
+
+
+def _theory(chain: discrete.Chain, init, incident: IncidentWave, ifaces: list[int],
+            left: dict) -> TheoryModel:
+    """The theory of the first interface, from the built chain and the initial state."""
     en = D.chain_energies_of(chain, np.asarray(init.v), u=np.asarray(init.u),
                              wall_left=init.wall_left, wall_right=init.wall_right)
     if ifaces:  # the incident wave's energy: everything left of the interface
@@ -584,7 +625,7 @@ def _valid_until(chain: discrete.Chain, run_: ModelRun, ends: str, walls: tuple[
     e = np.abs(kin) + 0.5 * np.abs(pot[:, :-1] + pot[:, 1:])
     total = e.sum(axis=1)
     out = math.inf
-    for sl in (slice(0, 5), slice(-5, None)):
+    for sl in (slice(0, END_GRAINS), slice(-END_GRAINS, None)):
         frac = e[:, sl].sum(axis=1) / np.where(total > 0, total, 1.0)
         quiet = frac < END_FRACTION
         was_quiet = np.maximum.accumulate(quiet)
@@ -808,6 +849,9 @@ class Run:
     theory : TheoryModel or None
     simulation : discrete.Simulation or None
         The finished discrete simulation (record, final state).
+    estimates : TheoryModel
+        The theory's numbers even if ``[models] theory`` is off (arrival times, speeds:
+        used to place samples and to tell incident from reflected waves).
     """
 
     scenario: Scenario
@@ -820,6 +864,7 @@ class Run:
     theory: TheoryModel | None = None
     simulation: discrete.Simulation | None = None
     wall_time: float = 0.0
+    estimates: TheoryModel | None = None
 
     @property
     def interface(self) -> int | None:
@@ -864,7 +909,8 @@ class Run:
         return out
 
 
-def _measure_impact_wave(run_: ModelRun, chain, iface: int | None) -> IncidentWave | None:
+def _measure_impact_wave(run_: ModelRun, chain, iface: int | None, left: dict
+                         ) -> IncidentWave | None:
     """An impact's incident wave, measured on the discrete samples once it has formed."""
     kin, _ = grain_energies(chain, run_.v, run_.strain)
     stop = iface if iface is not None else chain.n
@@ -878,10 +924,14 @@ def _measure_impact_wave(run_: ModelRun, chain, iface: int | None) -> IncidentWa
     if best is None:
         return None
     i, p = best
-    j = int(round(p.position))
-    lo, hi = max(j - 10, 1), min(j + 11, chain.n)
-    strain = float(np.max(run_.strain[i, lo:hi]) / chain.diameter[0])
-    return IncidentWave(float(p.position), float(np.max(np.abs(run_.v[i, lo:hi]))), strain,
+    # the formed wave's peak velocity: the largest (parabola-refined) pulse peak over the
+    # samples since it left the impact (its grain-sampled peak depends on its phase)
+    vel = 0.0
+    for k in range(1, i + 1):
+        q = D.leading_pulse(run_.v[k], lo=0, hi=stop, threshold=0.5)
+        if q is not None and q.position > 20:
+            vel = max(vel, abs(float(q.amplitude)))
+    return IncidentWave(float(p.position), vel, strain_from_velocity(left, vel),
                         float(run_.times[i]))
 
 
@@ -947,18 +997,12 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
     init = build_initial_checked(scenario, chain, cache_dir=wave_cache)
     chain = init.chain
     ifaces = interfaces(chain)
-    incident = incident_wave(chain, init, scenario.initial.kind)
-    tm = _theory(chain, init, incident, ifaces)
+    left = _left(chain, ifaces)
+    # an impact's wave forms on the way: estimated here (only the sample spacing
+    # depends on it), measured on the discrete run below
+    incident = incident_wave(chain, init, scenario.initial.kind, left)
+    tm = _theory(chain, init, incident, ifaces, left)
     models = scenario.models
-    if scenario.initial.kind == "impact" and not math.isfinite(incident.strain):
-        # before the discrete run: an estimate of the formed wave (v̄max ≈ 0.68 v0 at
-        # δ0 = 0, less under precompression; only the sample spacing depends on it)
-        v = 0.68 * incident.velocity
-        cm, m = tm.left["c_mat"], tm.left
-        xi = (math.sqrt(5.0) * v / (2.0 * cm)) ** 0.8
-        if m["xi0"] > 0:
-            xi = min(xi, v / m["c0"])
-        tm.incident = IncidentWave(0.0, v, xi)
     sampled = bool(models.continuum) if samples is None else samples
     times = sample_grid(scenario, tm, chain)[0] if sampled or not models.discrete \
         else np.zeros(0)
@@ -972,12 +1016,13 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         result.discrete, result.simulation = d_run, sim
         t_final = float(d_run.times[-1])  # the last sample (t_end, or the stop event)
         if scenario.initial.kind == "impact":
-            measured = _measure_impact_wave(d_run, chain, result.interface)
+            measured = _measure_impact_wave(d_run, chain, result.interface, left)
             if measured is not None:
                 tm.incident = measured
                 result.incident = measured
     else:
         t_final = float(times[-1]) if scenario.run.t_end is None else scenario.run.t_end
+    result.estimates = tm
     if models.theory:
         result.theory = tm
     if models.continuum:

@@ -56,6 +56,7 @@ __all__ = [
     "parse_scenario",
     "read_toml",
     "schema_markdown",
+    "set_path",
     "shipped_scenarios",
 ]
 
@@ -477,8 +478,35 @@ class Scenario:
         return d
 
     def replace(self, **tables) -> Scenario:
-        """A copy with whole tables replaced (``record=RecordSpec(...)``)."""
+        """A copy with whole tables replaced (``record=RecordSpec(...)``), not re-validated."""
         return replace(self, **tables)
+
+    def to_input(self) -> dict:
+        """The TOML-like input that parses back to this scenario (:func:`parse_scenario`)."""
+        def clean(x):
+            if isinstance(x, dict):
+                return {k: clean(v) for k, v in x.items() if v is not None}
+            if isinstance(x, tuple | list):
+                return [clean(v) for v in x]
+            return x
+
+        out = clean(self.to_dict())
+        for sec in out["chain"]["sections"]:
+            if "material" in sec:
+                sec.pop("alpha_rho", None)
+                sec.pop("alpha_kn", None)
+        return out
+
+    def with_values(self, values: dict[str, Any]) -> Scenario:
+        """A validated copy with keys set by dotted path (``"chain.sections.1.alpha_rho"``).
+
+        List entries are addressed by their 0-based index (as sweep axes do); every
+        value is validated as if it had been written in the file.
+        """
+        data = self.to_input()
+        for path, value in values.items():
+            set_path(data, path, value)
+        return parse_scenario(data)
 
 
 _SPECS = {"chain": ChainSpec, "chain.sections": SectionSpec, "initial": InitialSpec,
@@ -537,7 +565,7 @@ def _check_record(spec: RecordSpec, n: int, t_end: float | None) -> None:
             raise ScenarioError(f"[record] {name} must lie in [0, {n - 1}]")
 
 
-def _check_models(spec: ModelsSpec, raw: dict, chain: ChainSpec) -> None:
+def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
     if not (spec.discrete or spec.continuum or spec.theory):
         raise ScenarioError("[models] every model is off: set discrete, continuum or theory")
     if spec.nodes_per_grain % 2 == 0:
@@ -556,12 +584,6 @@ def _check_models(spec: ModelsSpec, raw: dict, chain: ChainSpec) -> None:
         raise ScenarioError(
             f"[models] continuum = 'kdv' is unidirectional and needs one section (got "
             f"{len(chain.sections)}); use \"eq4\" or \"auto\" for an interface")
-    if spec.continuum != "auto":  # settings of another equation: probably a mistake
-        for key, only in (("nonlinearity", "eq4"), ("delta_floor", "eq7"),
-                          ("dispersion_cap", "eq7")):
-            if key in raw and spec.continuum != only:
-                raise ScenarioError(f"[models] {key} applies to continuum = {only!r} (or "
-                                    f"'auto') only (got continuum = {spec.continuum!r})")
 
 
 def parse_scenario(data: dict) -> Scenario:
@@ -602,12 +624,36 @@ def parse_scenario(data: dict) -> Scenario:
     _check_record(record, n, run.t_end)
     raw_models = data.get("models", {})
     models = ModelsSpec(**_read_table(raw_models, "models"))
-    _check_models(models, raw_models, chain)
+    _check_models(models, chain)
     return Scenario(chain=chain, initial=initial, run=run, record=record, models=models,
                     name=values["name"])
 
 
 _TABLES = ("chain", "initial", "run", "record", "models")
+
+
+def set_path(data: dict, path: str, value) -> None:
+    """Set ``value`` at a dotted ``path`` of nested tables/lists (ScenarioError if absent)."""
+    keys = path.split(".")
+    node = data
+    for i, key in enumerate(keys[:-1]):
+        if isinstance(node, list):
+            if not key.isdigit() or int(key) >= len(node):
+                raise ScenarioError(f"{path}: no entry {key} in {'.'.join(keys[:i])}")
+            node = node[int(key)]
+        else:
+            node = node.setdefault(key, {})
+        if not isinstance(node, dict | list):
+            raise ScenarioError(f"{path}: {'.'.join(keys[:i + 1])} is not a table or list")
+    last = keys[-1]
+    if isinstance(node, list):
+        if not last.isdigit() or int(last) >= len(node):
+            raise ScenarioError(f"{path}: no entry {last} in {'.'.join(keys[:-1])}")
+        node[int(last)] = value
+    elif value is None:
+        node.pop(last, None)
+    else:
+        node[last] = value
 
 
 def read_toml(path: Path, error: type[ValueError] = ValueError, what: str = "file") -> dict:
