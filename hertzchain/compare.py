@@ -269,8 +269,10 @@ class Comparison:
             e = self.errors[name]
             label = self.series[name].label if name in self.series else \
                 "the theory (Nesterenko speeds, Eqs. 9–13)"
+            what = (f"energy {e['energy']:.1e}, transmitted speed {e['speed']:.1%}"
+                    if self.run.interface is not None else f"front speed {e['speed']:.1%}")
             parts.append(f"{label} is {validity_word(e['error'])} of the discrete chain "
-                         f"(energy {e['energy']:.1e}, transmitted speed {e['speed']:.1%})")
+                         f"({what})")
         if not parts:
             return "Only the discrete chain ran: nothing to compare."
         when = f"up to t = {self.t_compare * 1e3:.4g} ms"

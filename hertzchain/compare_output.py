@@ -216,7 +216,12 @@ def difference_rows(cmp) -> list[list[str]]:
     """Rows of the difference table: quantity, discrete, then value and Δ per model."""
     models = [m for m in ("continuum", "theory") if m in cmp.differences]
     rows = []
+    whole = cmp.run.interface is None
     for key, text, vfmt, dfmt in _ROWS:
+        if whole and key[:2] in ("Et", "Ek", "Ep"):
+            if key.endswith("_tr"):
+                continue
+            text = text.replace("E_R / E_in", "E (whole chain) / E_in")
         cells = [(cmp.differences[m].get(key)) for m in models]
         if all(c is None for c in cells):
             continue

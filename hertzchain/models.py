@@ -771,8 +771,22 @@ def _stepped(pde, state, times, t_final, sample, dt_max, *, order=4, rk=False):
     return np.array(ts), np.array(vs), np.array(ss), info
 
 
+def _dt_max(pde, state, strain_ref: float) -> float:
+    """Largest continuum time step: stable for ``state`` and for a strain ``strain_ref`` (m).
+
+    The stability limit of the nonlinear equations depends on the strain; an impact
+    starts with none (its limit would be infinite), a transmitted wave may be stronger
+    than the incident one, so the limit is also taken at a uniform strain
+    ``strain_ref`` (:func:`run`: 1.5 × the largest expected wave strain).
+    """
+    x = pde.disc.x_nodes
+    ref = pde.get_initial_condition(-strain_ref * (x - x[0]))
+    return float(min(pde.stable_dt(state), pde.stable_dt(ref)))
+
+
 def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, times, t_final,
-                   *, cache, stem, out, force, discrete_key, progress, log) -> ModelRun:
+                   *, cache, stem, out, force, discrete_key, progress, log,
+                   strain_ref: float) -> ModelRun:
     import continuum
 
     models = scenario.models
@@ -812,7 +826,8 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
                     return g.v, g.strain
 
                 ts, vs, ss, info = _stepped(pde, state, times, t_final, sample,
-                                            pde.stable_dt(state), order=models.order)
+                                            _dt_max(pde, state, strain_ref),
+                                            order=models.order)
         if not (np.all(np.isfinite(vs)) and np.all(np.isfinite(ss))):
             raise FloatingPointError("the continuum solution is not finite (unstable)")
         completed, stopped = True, "t_end"
@@ -1028,9 +1043,13 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
     if models.continuum:
         key = _effective(scenario, times).discrete_dict()
         c_out = None if out is None else Path(out).with_suffix(".continuum.h5")
+        expected = [result.incident.strain, tm.strain_tr, abs(tm.strain_re),
+                    strain_from_velocity(left, float(np.max(np.abs(init.v))))]
+        strain_ref = 1.5 * max(x for x in expected if math.isfinite(x)) * left["d"]
         c_run = _run_continuum(scenario, chain, init, result.incident, times, t_final,
                                cache=cache, stem=stem, out=c_out, force=force,
-                               discrete_key=key, progress=progress, log=log)
+                               discrete_key=key, progress=progress, log=log,
+                               strain_ref=strain_ref)
         if d_run is not None and c_run.completed:
             c_run.valid_until = _valid_until(
                 chain, d_run, c_run.params.get("ends", "free"),
