@@ -314,6 +314,11 @@ class TheoryModel:
         if not self.has_interface or not self.energies_in:
             return {}
         e = self.energies_in
+        if e["linear"] + e["quadratic"] <= 0:  # no potential energy (an impact at t = 0)
+            te, re = (float(theory.energy_transmission(self.gamma_rg)),
+                      float(theory.energy_reflection(self.gamma_rg)))
+            return {"Ek_tr": te, "Ek_re": re, "Ep_tr": math.nan, "Ep_re": math.nan,
+                    "Et_tr": te, "Et_re": re}
         return theory.table2_prediction(self.gamma_rg, e["kinetic"], e["linear"],
                                         e["quadratic"])
 
@@ -457,12 +462,15 @@ def sample_grid(scenario: Scenario, theory_model: TheoryModel, chain: discrete.C
 
     ``[run] t_end`` alone: ``samples`` times from 0 to t_end.  With ``until_front_at``:
     spaced by the theory's estimate of the stop time / (samples − 1), requested up to
-    :data:`_ESTIMATE_MARGIN` × the estimate (later ones are not taken).
+    :data:`_ESTIMATE_MARGIN` × the estimate (later ones are not taken); ``samples = 2``:
+    t = 0 only (the final state, at the stop event, is always the last sample).
     """
     k = scenario.models.samples
     run = scenario.run
     if run.until_front_at is None:
         return np.linspace(0.0, run.t_end, k), run.t_end / (k - 1)
+    if k == 2:  # the initial state and the final one (the stop event)
+        return np.zeros(1), math.inf
     est = estimate_arrival(theory_model, chain, run.until_front_at)
     if run.t_end is not None:
         est = min(est, run.t_end)
