@@ -127,6 +127,8 @@ class RunInfo:
     steps: int
     t: float
     stopped_by: str
+    """What ended the call: the stop event's label, ``"t_end"`` (the end time was
+    reached) or ``"max_steps"`` (the step bound came first)."""
     energy_drift: float
     """max |E - E(start of run)| / |E(start of run)| over the run's monitor samples."""
     shadow_drift: float
@@ -444,12 +446,12 @@ class Simulation:
         if until is not None:
             stop_event = as_event(until)
             check_event(stop_event, n)
-        limit = math.inf
+        limit = t_step = math.inf
         if t_end is not None:
             if not math.isfinite(float(t_end)) or float(t_end) < self.t - 0.5 * self.dt:
                 raise ValueError(f"t_end must be finite and >= the present time {self.t} s "
                                  f"(got {t_end!r})")
-            limit = self._step_of(float(t_end))
+            limit = t_step = self._step_of(float(t_end))
         if max_steps is not None:
             if int(max_steps) != max_steps or max_steps < 0:
                 raise ValueError(f"max_steps must be an integer >= 0 (got {max_steps!r})")
@@ -550,6 +552,8 @@ class Simulation:
             if rec.maxima:
                 np.maximum(umax, self.u, out=umax)
         self._check(e_start, es_start, drift)
+        if stopped_by in ("t_end", "max_steps"):  # no event: which bound ended the run
+            stopped_by = "t_end" if self.steps >= t_step else "max_steps"
         return RunInfo(self.steps - start_steps, self.t, stopped_by, drift[0], drift[1])
 
     # ------------------------------------------------------------------ threads

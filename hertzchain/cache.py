@@ -21,8 +21,9 @@ import numpy as np
 
 __all__ = ["CACHE_SCHEMA", "canonical_json", "param_hash", "cache_path", "atomic_path"]
 
-CACHE_SCHEMA = 1
-"""Bump when the meaning of cached results changes, to invalidate old files."""
+CACHE_SCHEMA = 2
+"""Bump when the meaning of cached results changes, to invalidate old files (2: the
+summary says how the run ended, labels are None unless the waves separated)."""
 
 
 def _default(obj):

@@ -60,6 +60,12 @@ def cmd_run(args: argparse.Namespace) -> int:
     ``--checkpoint-interval`` seconds of wall time; rerunning the same command resumes
     from it, bit for bit; ``--restart`` discards it) and a continuum beside it
     (``OUT`` with the suffix ``.continuum.h5``).
+
+    Exit status 0 when every model completed; 2 on an error (invalid scenario,
+    unreachable stop, instability, I/O); :data:`EXIT_INCOMPLETE` (3) when a run ended
+    before the stop the scenario asked for (``completed`` false: ``max_steps`` came
+    first, a snapshot was never taken, or the continuum failed) — the summary is printed
+    and written all the same.
     """
     from .models import run
     from .scenario import load_scenario
@@ -80,16 +86,18 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains; "
               f"models: {', '.join(scenario.models.names)}")
         for key, value in summary.items():
-            text = f"{value:.6g}" if isinstance(value, float) else str(value)
+            text = (f"{value:.6g}" if isinstance(value, float)
+                    else "n/a" if value is None else str(value))
             print(f"  {key:<26} {text}")
         for path in (out, getattr(result.continuum, "path", None)):
             if path:
                 print(f"written: {path}")
-    failed = [m for m in result.models if not m.completed]
+    status = _incomplete_status(summary, out)
+    failed = [m for m in result.models if m.name != "discrete" and not m.completed]
     for m in failed:
         print(f"hertzchain: error: the {m.name} model did not complete: {m.stopped_by}",
               file=sys.stderr)
-    return 1 if failed else 0
+    return EXIT_INCOMPLETE if failed else status
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
@@ -97,7 +105,8 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
     Writes ``OUT/compare.h5``, the figures and ``OUT/report.md``/``.html`` (the runs are
     cached in ``OUT/runs``); prints the verdict and the differences, or with ``--json``
-    every number.  Exit status 1 if a model did not complete (it is not compared).
+    every number.  Exit status :data:`EXIT_INCOMPLETE` (3) if a model did not complete
+    (it is not compared).
     """
     from .compare import compare
     from .reproduce.command import jsonable
@@ -127,7 +136,22 @@ def cmd_compare(args: argparse.Namespace) -> int:
     for m in failed:
         print(f"hertzchain: error: the {m.name} model did not complete ({m.stopped_by}); "
               "it is not compared", file=sys.stderr)
-    return 1 if failed else 0
+    return EXIT_INCOMPLETE if failed else 0
+
+
+EXIT_INCOMPLETE = 3
+"""Exit status of a run that ended before the stop the scenario asked for."""
+
+
+def _incomplete_status(summary: dict, out) -> int:
+    """0, or :data:`EXIT_INCOMPLETE` with a message if the run did not complete."""
+    if summary.get("completed", True):
+        return 0
+    kept = f"; its results are in {out} (completed = false)" if out else ""
+    print(f"hertzchain: error: incomplete run: {summary['incomplete_reason']}{kept}. Raise "
+          "[run] max_steps or t_end, or move the stop or snapshots within reach",
+          file=sys.stderr)
+    return EXIT_INCOMPLETE
 
 
 def cmd_info(args: argparse.Namespace) -> int:

@@ -544,20 +544,21 @@ def _samples_from_sim(sim: discrete.Simulation, times: np.ndarray, init
     return np.array(ts), np.array(vs), np.array(ss)
 
 
-def _stopped_by(scenario: Scenario, summary: dict, sim: discrete.Simulation) -> tuple[bool, str]:
-    """(completed, stopped_by) of a discrete run (the runner's fields if it has them)."""
-    if "completed" in summary and "stopped_by" in summary:
-        return bool(summary["completed"]), str(summary["stopped_by"])
-    run = scenario.run
-    if run.until_front_at is not None and any(
-            sn.label == discrete.WaveAt(run.until_front_at).label
-            for sn in sim.record.snapshots):
-        return True, "until_front_at"
-    if run.t_end is not None and sim.t >= run.t_end * (1 - 1e-12):
-        return True, "t_end"
-    if run.until_front_at is not None and sim.steps < run.max_steps:
-        return True, "until_front_at"
-    return False, "max_steps"
+def _outcome(scenario: Scenario, summary: dict, sim: discrete.Simulation) -> dict:
+    """``stopped_by``, ``completed``, ``incomplete_reason`` of the discrete run.
+
+    :func:`hertzchain.runner.run_outcome` for the scenario's own snapshots: the common
+    sample times requested past a stop event (:func:`sample_grid`) are not required.
+    """
+    from types import SimpleNamespace
+
+    from .runner import run_outcome
+
+    user = discrete.Recording(
+        snapshots=[discrete.AtTime(t) for t in scenario.record.snapshot_times]
+        + [discrete.WaveAt(g) for g in scenario.record.snapshot_grains])
+    view = SimpleNamespace(t=sim.t, steps=sim.steps, recording=user, record=sim.record)
+    return run_outcome(scenario, view, summary.get("stopped_by", "t_end"))
 
 
 def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, force,
@@ -589,7 +590,8 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
             resume=resume and not force, threads=threads, check=check, log=log,
             cache_dir=wave_cache)
     ts, vs, ss = _samples_from_sim(sim, times, init)
-    completed, stopped = _stopped_by(scenario, summary, sim)
+    summary = {**summary, **_outcome(scenario, summary, sim)}
+    completed, stopped = bool(summary["completed"]), str(summary["stopped_by"])
     params = {"scenario": key, "dt": float(sim.dt), "integrator": scenario.run.integrator}
     return ModelRun("discrete", _discrete_label(scenario), ts, vs, ss, float(sim.t),
                     completed=completed, stopped_by=stopped, summary=dict(summary),

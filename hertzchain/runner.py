@@ -18,7 +18,17 @@ Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, `
 ratios are finite exactly when ``separated`` is True (False: the waves did not leave
 the interface region on the recorded grid, the incident wave was already at the
 interface at t = 0, or the chain has one section); the front speeds are NaN when fewer
-than 5 grains gave an arrival time, ``front_speed_tr_over_c0L`` also at δ0 = 0.
+than 5 grains gave an arrival time or the wave never reached the interface,
+``front_speed_tr_over_c0L`` also at δ0 = 0.
+
+How the run ended (issue 14): ``stopped_by`` names what ended it (``t_end``,
+``until_front_at`` or ``max_steps``) and ``completed`` says whether that is what the
+scenario asked for (:func:`run_outcome`; ``incomplete_reason`` says why not).  A
+``t_end`` or snapshot time that ``max_steps`` cannot reach, and a ``t_end`` shorter than
+one step, are refused before the run (:func:`check_stop`).  Labels mean something only
+once the waves have separated: ``transmitted``, ``reflected`` and
+``n_transmitted_pulses`` are None (JSON null; "" in sweep tables) unless ``separated``;
+"none" is a measured answer (no such wave).
 """
 
 from __future__ import annotations
@@ -40,8 +50,8 @@ from .cache import canonical_json
 from .scenario import ChainSpec, Scenario, ScenarioError
 
 __all__ = ["build_chain", "build_initial", "interfaces", "build_initial_checked",
-           "build_simulation", "check_run", "run_scenario", "run_simulation", "summarise",
-           "incident_amplitude", "partial_path",
+           "build_simulation", "check_run", "check_stop", "run_outcome", "run_scenario",
+           "run_simulation", "summarise", "incident_amplitude", "partial_path", "STOPPED_BY",
            "GRID_ROWS_PER_GRAIN", "SEPARATION_FRACTIONS", "MAX_OVERLAP_OVER_D"]
 
 GRID_ROWS_PER_GRAIN = 0.5
@@ -251,9 +261,12 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
     if energy_grid and rec.energy_grid and every is None:
         every = max(1, int(GRID_ROWS_PER_GRAIN * d / (speed * dt)))
     if every:
-        t_est = scenario.run.t_end or 3.0 * init.chain.n * d / speed
+        # (never beyond max_steps: t_end = 1e300 with max_steps = 10 is refused by
+        # check_stop, not by a coarsening factor overflowing int64)
+        t_est = min(scenario.run.t_end or 3.0 * init.chain.n * d / speed,
+                    scenario.run.max_steps * dt)
         rows = t_est / (every * dt)
-        while rows * init.chain.n / coarsen > _MAX_GRID:
+        while rows * init.chain.n / coarsen > _MAX_GRID and coarsen < init.chain.n:
             coarsen *= 2
     recording = discrete.Recording(
         snapshots=[discrete.AtTime(t) for t in rec.snapshot_times]
@@ -313,6 +326,10 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     below 5 % of it are classified ``"none"``, and so is a transmitted wave whose peak
     velocity is below :data:`TRANSMITTED_FLOOR` of the chain's.
 
+    The labels (``transmitted``, ``reflected``, ``n_transmitted_pulses``) are None
+    unless the waves separated, and the front speeds NaN if the wave never reached the
+    interface (module docstring).
+
     For a chain with one section only the drift, cost and front speed are filled; the
     energy ratios and classifications need an interface (section 0 | section 1).  A
     striker grain prepended by :func:`discrete.initial.impact` (section -1) belongs to
@@ -323,8 +340,8 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     keys = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
     out.update(dict.fromkeys(keys, math.nan))
     out.update(front_speed_tr=math.nan, front_speed_re=math.nan,
-               front_speed_tr_over_c0L=math.nan, transmitted="none", reflected="none",
-               n_transmitted_pulses=0, separated=False, separation_fraction=math.nan)
+               front_speed_tr_over_c0L=math.nan, transmitted=None, reflected=None,
+               n_transmitted_pulses=None, separated=False, separation_fraction=math.nan)
     arr = sim.record.arrays()
     ek, ep, t = arr["energy_kinetic"], arr["energy_potential"], arr["energy_t"]
     coarsen = sim.record.energy_coarsen
@@ -350,18 +367,21 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     # across the interface for a long time, so the strictest fraction that is met is used
     # and reported (docs/physics.md §6: the attribution of the interface contact then changes
     # the ratios by less than that fraction).
-    i_out = None
+    i_out, used = None, math.nan
     for fraction in SEPARATION_FRACTIONS:
         i_out = D.separated_time_index(e, iface, fraction=fraction)
         if i_out is not None:
-            out["separation_fraction"] = fraction
+            used = fraction
             break
     if i_in is not None and i_out is not None:
         r = D.energy_ratios_from_grid(ek, ep, block_section, i_in, i_out)
         ratios = {k: float(v) for k, v in r.as_dict().items() if k in keys}
         if all(math.isfinite(v) for v in ratios.values()):
-            out.update(ratios)
-            out["separated"] = True
+            out.update(ratios, separated=True, separation_fraction=used)
+    # the wave reached the interface: its energy there passed 1e-6 of the total on the
+    # grid (incident_time_index is the last row before), or it started there
+    if i_in is not None and i_in >= e.shape[0] - 1:
+        return out  # no transmitted or reflected wave yet: no speeds, no labels
     # arrival times after the incident peak has reached the interface
     i_hit = int(np.argmax(ek[:, max(iface - 1, 0)]))
     vtr = _front_speed(t, ek, np.arange(iface, ek.shape[1]), i_hit, d * coarsen)
@@ -371,8 +391,13 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     if precompressed:
         c0l = float(theory.c0(chain.k[s0 + 1], chain.mass[s0], d, chain.delta0[s0 + 1]))
         out["front_speed_tr_over_c0L"] = vtr / c0l
-    # classification on the final state (Fig. 7)
+    # classification on the final state (Fig. 7), only once the waves have separated:
+    # before, the left section still holds (part of) the incident wave and the right one
+    # a transmitted wave still forming, and a label would describe neither
+    if not out["separated"]:
+        return out
     # (ranges of fewer than 3 grains are left "none")
+    out.update(transmitted="none", reflected="none", n_transmitted_pulses=0)
     v_tr = float(np.max(np.abs(sim.v[n_left:])))
     if chain.n - 1 - n_left >= 2 and v_tr > TRANSMITTED_FLOOR * float(np.max(np.abs(sim.v))):
         ctr = D.classify_transmitted(sim.v, lo=n_left, hi=chain.n - 1, direction=1)
@@ -409,18 +434,88 @@ def _write_partial(out: Path, sim: discrete.Simulation, scenario: Scenario, erro
 
 
 def _integrate(sim, scenario: Scenario, until, ckpt, key, interval, extra, progress,
-               flag: list[int]) -> None:
-    """One ``Simulation.run`` call, or checkpointed segments (bit for bit the same)."""
+               flag: list[int]) -> str:
+    """One ``Simulation.run`` call, or checkpointed segments (bit for bit the same).
+
+    Returns what stopped the run (``RunInfo.stopped_by``: an event label, ``"t_end"``
+    or ``"max_steps"``).
+    """
     from . import checkpoint as C
 
     if interval is None:
-        sim.run(scenario.run.t_end, until=until, max_steps=scenario.run.max_steps,
-                progress=progress)
-    else:
-        C.run_segmented(sim, t_end=scenario.run.t_end, until=until,
-                        step_limit=scenario.run.max_steps, checkpoint=ckpt, key=key,
-                        interval=float(interval), extra=extra, progress=progress,
-                        signals=flag)
+        return sim.run(scenario.run.t_end, until=until, max_steps=scenario.run.max_steps,
+                       progress=progress).stopped_by
+    return C.run_segmented(sim, t_end=scenario.run.t_end, until=until,
+                           step_limit=scenario.run.max_steps, checkpoint=ckpt, key=key,
+                           interval=float(interval), extra=extra, progress=progress,
+                           signals=flag)
+
+
+def check_stop(scenario: Scenario, dt: float) -> None:
+    """ScenarioError if the requested stop can never be reached with time step ``dt``.
+
+    A run ends at ``t_end`` (the first step with t >= t_end), at ``until_front_at``, or
+    after ``max_steps`` steps, whichever comes first; ``max_steps`` is a safety bound.
+    Refused up front: a ``t_end`` or a snapshot time that ``max_steps`` steps of ``dt``
+    cannot reach (``dt = 1e-300``), and a ``t_end`` shorter than one step (the run would
+    take no step).  Whether ``until_front_at`` is reached is known only at the end
+    (:func:`run_outcome`).
+    """
+    run = scenario.run
+    if not (math.isfinite(dt) and dt > 0):
+        raise ScenarioError(f"[run] dt = {dt!r} s: allowed range (0, inf)")
+    if run.t_end is not None:
+        need = run.t_end / dt  # steps to t_end (may overflow to inf: compare as floats)
+        if need <= 1e-9:  # Simulation.run rounds ceil(t/dt - 1e-9)
+            raise ScenarioError(
+                f"[run] t_end = {run.t_end!r} s is shorter than one time step dt = {dt:.4g} s:"
+                f" the run would take no step; allowed t_end >= dt (or a smaller dt)")
+        if need > run.max_steps:
+            raise ScenarioError(
+                f"[run] max_steps = {run.max_steps} ends the run at t = "
+                f"{run.max_steps * dt:.4g} s, before t_end = {run.t_end!r} s, which needs "
+                f"{math.ceil(need - 1e-9) if math.isfinite(need) else need:.6g} steps of "
+                f"dt = {dt:.4g} s; allowed max_steps >= that number (or a larger dt, a "
+                "smaller t_end)")
+    late = [t for t in scenario.record.snapshot_times if t / dt > run.max_steps]
+    if late:
+        raise ScenarioError(
+            f"[record] snapshot_times = {list(scenario.record.snapshot_times)}: "
+            f"{late[0]!r} s comes after max_steps = {run.max_steps} steps of dt = {dt:.4g} s "
+            f"(t = {run.max_steps * dt:.4g} s) and would never be taken; allowed range "
+            f"[0, {run.max_steps * dt:.4g}] s (or raise [run] max_steps)")
+
+
+STOPPED_BY = ("t_end", "until_front_at", "max_steps")
+"""Values of the summary's ``stopped_by``: what ended the run."""
+
+
+def run_outcome(scenario: Scenario, sim: discrete.Simulation, stopped_by: str) -> dict:
+    """``stopped_by``, ``completed`` and ``incomplete_reason`` ("" if completed) of a run.
+
+    ``stopped_by`` is the scenario key that ended the run (:data:`STOPPED_BY`; the
+    ``Simulation`` reports the event label ``wave_at=N`` for ``until_front_at``).  The
+    run is *completed* when it stopped where the scenario asked — at ``until_front_at``
+    if given, otherwise at ``t_end`` — and every requested snapshot was taken.
+    """
+    run = scenario.run
+    key = stopped_by if stopped_by in ("t_end", "max_steps") else "until_front_at"
+    wanted = "until_front_at" if run.until_front_at is not None else "t_end"
+    why = []
+    if key != wanted:
+        goal = (f"the wave front reached grain {run.until_front_at} (until_front_at)"
+                if wanted == "until_front_at" else f"t_end = {run.t_end!r} s")
+        bound = (f"max_steps = {run.max_steps}" if key == "max_steps"
+                 else f"t_end = {run.t_end!r} s")
+        why.append(f"the run stopped at {bound} (t = {sim.t:.6g} s, step {sim.steps}) "
+                   f"before {goal}")
+    from collections import Counter
+
+    missing = Counter(e.label for e in sim.recording.events()) \
+        - Counter(s.label for s in sim.record.snapshots)
+    if missing:
+        why.append(f"the snapshots {sorted(missing.elements())} were never taken")
+    return {"stopped_by": key, "completed": not why, "incomplete_reason": "; ".join(why)}
 
 
 def run_scenario(scenario: Scenario, **kwargs) -> dict:
@@ -472,9 +567,12 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
     summary : dict
         Keys ``Ek_tr, Ek_re, Ep_tr, Ep_re, Et_tr, Et_re`` (NaN unless ``separated``),
         ``front_speed_tr, front_speed_re`` (m/s; NaN if fewer than 5 grains gave an
-        arrival time), ``front_speed_tr_over_c0L`` (NaN also at δ0 = 0),
-        ``transmitted`` (fracture/squeeze/none), ``reflected``
-        (compressive/expansive/none), ``n_transmitted_pulses``, ``separated``,
+        arrival time or the wave never reached the interface), ``front_speed_tr_over_c0L``
+        (NaN also at δ0 = 0), ``transmitted`` (fracture/squeeze/none), ``reflected``
+        (compressive/expansive/none), ``n_transmitted_pulses`` (these three None unless
+        ``separated``), ``separated``, ``separation_fraction``, ``stopped_by``
+        (:data:`STOPPED_BY`), ``completed`` (the run stopped where the scenario asked
+        and took every snapshot), ``incomplete_reason`` ("" if completed),
         ``energy_drift``, ``steps``, ``t`` (s), ``dt`` (s), ``n_grains``, ``wall_time``
         (s; summed over resumed sessions).  Every key but ``wall_time`` is bit for bit
         the same whether the run was checkpointed, interrupted and resumed, or not.
@@ -484,7 +582,8 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
     Raises
     ------
     ScenarioError
-        Invalid scenario for the built chain (:func:`build_simulation`).
+        Invalid scenario for the built chain (:func:`build_simulation`), or a stop that
+        cannot be reached (:func:`check_stop`).
     discrete.InstabilityError
         NaN or energy drift beyond the tolerance; the message names the cause and the
         largest stable dt, and with ``out`` the partial results are written to
@@ -520,6 +619,7 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
     else:
         chain, init, sim = build_simulation(scenario, threads=threads, check=check,
                                             cache_dir=cache_dir)
+        check_stop(scenario, sim.dt)
         amp = incident_amplitude(chain, init.u, init.v, init.wall_left, init.wall_right)
         elapsed = 0.0
     until = None
@@ -535,8 +635,8 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
     # Interrupted) and, once it is done, wait until the output is written
     with C.deferred_signals(checkpoint_interval is not None) as late_signal:
         try:
-            _integrate(sim, scenario, until, ckpt, key, checkpoint_interval,
-                       extra_state, progress, late_signal)
+            stopped_by = _integrate(sim, scenario, until, ckpt, key, checkpoint_interval,
+                                    extra_state, progress, late_signal)
         except discrete.InstabilityError as exc:
             # the message names the cause, the stable dt at the initial expected overlaps
             # and the default dt (kept across save/load, so also after a resume)
@@ -546,7 +646,7 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
             if ckpt is not None and ckpt.exists():
                 text += f"; the last checkpoint {ckpt} is kept"
             raise discrete.InstabilityError(text) from exc
-        summary = summarise(chain, sim, amp)
+        summary = {**run_outcome(scenario, sim, stopped_by), **summarise(chain, sim, amp)}
         summary["wall_time"] = elapsed + time.perf_counter() - start
         if out is not None:
             discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),

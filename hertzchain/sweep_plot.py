@@ -38,8 +38,9 @@ CLASSES: tuple[tuple[str, str], ...] = (
     ("no fracture/squeeze or no reflection", "#F0E442"),
     ("failed", "#8C8C8C"),
     ("pending", "#FFFFFF"),
+    ("not classified (waves not separated, or run incomplete)", "#CC79A7"),
 )
-"""Label and colour of each class code 0..6 (Okabe–Ito colours; regions as in Fig. 7)."""
+"""Label and colour of each class code 0..7 (Okabe–Ito colours; regions as in Fig. 7)."""
 
 _CODES = {("fracture", "expansive"): 0, ("fracture", "compressive"): 1,
           ("squeeze", "compressive"): 2, ("squeeze", "expansive"): 3}
@@ -58,6 +59,10 @@ def classification_codes(results: SweepResults) -> np.ndarray:
     trans = results["transmitted"] if "transmitted" in results else np.full(len(status), "")
     refl = results["reflected"] if "reflected" in results else np.full(len(status), "")
     codes = np.array([_CODES.get((t, r), 4) for t, r in zip(trans, refl, strict=True)])
+    # a label is "" where it is undefined (issue 14): not the same as a measured "none"
+    codes[(trans == "") | (refl == "")] = 7
+    if "completed" in results:
+        codes[np.asarray(results["completed"]) == 0] = 7
     codes[status == "failed"] = 5
     codes[status == "pending"] = 6
     return codes

@@ -194,6 +194,10 @@ def classification_agreement(results: SweepResults, *, tol: float = 1e-9,
     ar = np.asarray(results["alpha_rho"], dtype=float)
     ak = np.asarray(results["alpha_kn"], dtype=float)
     mask = results.ok & np.isfinite(ar) & np.isfinite(ak) & (ar > 0) & (ak > 0)
+    if "transmitted" in results:  # a label exists only once the waves separated ("" else)
+        mask &= (results["transmitted"] != "") & (results["reflected"] != "")
+    if "completed" in results:  # a run cut short is not a measurement of the map
+        mask &= np.asarray(results["completed"]) == 1
     n = int(mask.sum())
     if n == 0 or "transmitted" not in results:
         nan = float("nan")

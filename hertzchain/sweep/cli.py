@@ -14,11 +14,26 @@ from pathlib import Path
 
 from .._argtypes import positive_float, positive_int
 
-__all__ = ["add_sweep_parsers", "cmd_sweep", "cmd_plot_sweep", "main"]
+__all__ = ["add_sweep_parsers", "cmd_sweep", "cmd_plot_sweep", "exit_status", "main",
+           "EXIT_PENDING", "EXIT_ALL_FAILED", "EXIT_SOME_BAD"]
+
+
+EXIT_PENDING = 1
+"""Exit status when points are still pending (interrupted, ``--max-points``)."""
+EXIT_ALL_FAILED = 2
+"""Exit status when every point failed (as for any error)."""
+EXIT_SOME_BAD = 3
+"""Exit status when every point has a record but some failed or did not complete."""
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    """Run (or resume) a sweep; exit 0 when every point has a record, 1 if some are pending."""
+    """Run (or resume) a sweep and return the exit status.
+
+    0: every point ran and completed; :data:`EXIT_PENDING` (1): some points are still
+    pending; :data:`EXIT_ALL_FAILED` (2): every point failed; :data:`EXIT_SOME_BAD` (3):
+    some points failed, or ran but ended before their stop condition (``completed``
+    false).  The table is written in every case.
+    """
     from .engine import (
         DEFAULT_POINT_FUNCTION,
         default_workers,
@@ -75,7 +90,24 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if outcome.n_failed:
         print(f"{outcome.n_failed} point(s) failed (see the 'error' column); rerun with "
               "--retry-failed to retry them", file=sys.stderr)
-    return 1 if outcome.n_pending else 0
+    if outcome.n_incomplete:
+        print(f"{outcome.n_incomplete} point(s) ended before their stop condition "
+              "(column 'completed' false, the reason in 'incomplete_reason'): raise "
+              "[run] max_steps or t_end in the sweep's base scenario", file=sys.stderr)
+    status = exit_status(outcome)
+    if status == EXIT_ALL_FAILED:
+        print(f"hertzchain: error: every point of the sweep failed (table {outcome.table})",
+              file=sys.stderr)
+    return status
+
+
+def exit_status(outcome) -> int:
+    """The exit status of ``hertzchain sweep`` for a :class:`SweepOutcome` (cmd_sweep)."""
+    if outcome.n_pending:
+        return EXIT_PENDING
+    if outcome.n_points and outcome.n_failed == outcome.n_points:
+        return EXIT_ALL_FAILED
+    return EXIT_SOME_BAD if outcome.n_failed or outcome.n_incomplete else 0
 
 
 def cmd_plot_sweep(args: argparse.Namespace) -> int:

@@ -74,6 +74,9 @@ class SweepOutcome:
         Points finished (ok or failed) by this call.
     n_ok, n_failed, n_pending : int
         Status counts of the whole table after this call.
+    n_incomplete : int
+        Points with status "ok" whose run ended before its stop condition
+        (``completed`` false in the summary; the reason is in ``incomplete_reason``).
     elapsed : float
         Wall time of this call, s.
     interrupted : bool
@@ -90,6 +93,7 @@ class SweepOutcome:
     n_pending: int
     elapsed: float
     interrupted: bool = False
+    n_incomplete: int = 0
 
     def to_dict(self) -> dict:
         """JSON-able dict (paths as strings)."""
@@ -377,11 +381,13 @@ def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
                 consolidate_every=consolidate_every, on_result=on_result,
                 n_skipped=n_skipped)
     statuses = [records[p.id]["status"] if p.id in records else "pending" for p in points]
+    incomplete = sum(1 for p in points if p.id in records and records[p.id]["status"] == "ok"
+                     and (records[p.id].get("summary") or {}).get("completed") is False)
     return SweepOutcome(
         directory=directory, table=table_path, n_points=len(points), n_skipped=n_skipped,
         n_run=n_run, n_ok=statuses.count("ok"), n_failed=statuses.count("failed"),
         n_pending=statuses.count("pending"), elapsed=time.perf_counter() - t_start,
-        interrupted=interrupted or statuses.count("pending") > 0)
+        interrupted=interrupted or statuses.count("pending") > 0, n_incomplete=incomplete)
 
 
 def _failed_record(point: Point, exc: BaseException) -> dict[str, Any]:

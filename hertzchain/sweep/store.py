@@ -56,9 +56,13 @@ SUMMARY_FIELDS = (
     "Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re",
     "front_speed_tr", "front_speed_re", "front_speed_tr_over_c0L",
     "transmitted", "reflected", "n_transmitted_pulses", "energy_drift",
-    "steps", "dt", "wall_time",
+    "steps", "dt", "wall_time", "stopped_by", "completed",
 )
-"""Keys every run summary must have (the runner's contract); extra scalar keys are kept."""
+"""Keys every run summary must have (the runner's contract); extra scalar keys are kept.
+
+``completed`` (bool) says whether the run reached the stop its scenario asked for and
+``stopped_by`` what ended it (:func:`hertzchain.runner.run_outcome`); the labels
+``transmitted``/``reflected`` may be None (stored as "") where they are undefined."""
 
 UNITS = {
     "front_speed_tr": "m/s", "front_speed_re": "m/s", "dt": "s", "wall_time": "s",

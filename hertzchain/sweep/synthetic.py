@@ -127,7 +127,7 @@ def synthetic_point(scenario: Scenario, *, out: Path | None = None, progress: bo
         "transmitted": transmitted, "reflected": reflected,
         "n_transmitted_pulses": 1 + (int(3 * lc) if transmitted == "fracture" else 0),
         "energy_drift": drift, "steps": int(work), "dt": 1e-8,
-        "wall_time": time.perf_counter() - t0,
+        "wall_time": time.perf_counter() - t0, "stopped_by": "t_end", "completed": True,
     }
     if out is not None:
         import h5py

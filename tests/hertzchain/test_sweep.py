@@ -64,6 +64,7 @@ def point_fn(scenario, *, out=None, progress=False):
         "reflected": "compressive" if ak > 1 else "expansive",
         "n_transmitted_pulses": int(round(10 * ar)), "energy_drift": np.float64(1e-9 * ak),
         "steps": np.int64(1000), "dt": 1e-8, "wall_time": 0.01,
+        "stopped_by": "t_end", "completed": True,
         "converged": ar < 1.5, "note": f"ak={ak:g}",
     }
 
