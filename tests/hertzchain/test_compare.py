@@ -120,7 +120,7 @@ samples = 7
 
     monkeypatch.setattr(continuum, "run", boom)
     assert main(["compare", str(toml), "--out", str(tmp_path / "d"),
-                 "--continuum", "eq4"]) == 1
+                 "--continuum", "eq4"]) == 3  # EXIT_INCOMPLETE
     captured = capsys.readouterr()
     assert "did not complete" in captured.out and "overflow (test)" in captured.err
     assert "did not complete" in (tmp_path / "d" / "report.md").read_text()
