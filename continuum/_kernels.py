@@ -13,6 +13,10 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from theory import jitcache
+
+jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
+
 FREE, WALL, PERIODIC = 0, 1, 2
 
 

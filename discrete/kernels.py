@@ -80,6 +80,10 @@ os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 import numba  # noqa: E402
 import numpy as np  # noqa: E402
 
+from theory import jitcache  # noqa: E402
+
+jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
+
 __all__ = [
     "accelerations",
     "run_chunk",

@@ -72,6 +72,7 @@ import numpy as np
 from . import kernels as K
 from .chain import Chain
 from .integrators import get_integrator
+from .progress import RunProgress
 from .recording import AtTime, Record, Recording, Snapshot, WaveAt, as_event, check_event
 from .reference import overlaps as _overlaps
 
@@ -426,7 +427,9 @@ class Simulation:
             unbounded (it stops with RuntimeError only if every grain comes to rest):
             give ``t_end`` or ``max_steps`` as a safety bound.
         progress : bool
-            Show a tqdm progress bar for runs of more than 1e5 steps.
+            Show a progress bar towards the stop condition (grains to the ``WaveAt``
+            grain, else simulated time; :class:`discrete.progress.RunProgress`) for runs
+            longer than a second, and say so when the kernels are being compiled.
 
         Returns
         -------
@@ -471,10 +474,8 @@ class Simulation:
                          for e in waves], dtype=float)
         wmax = np.array([self.v[g] for g in watch], dtype=float)
         start_steps = self.steps
-        bar = None
-        if progress and limit - self.steps > 100_000 and math.isfinite(limit):
-            from tqdm.auto import tqdm
-            bar = tqdm(total=int(limit - self.steps), unit="step", leave=False)
+        bar = RunProgress(self, t_end=t_end, until=stop_event,
+                          step_limit=None if max_steps is None else limit, enabled=progress)
         stopped_by = "t_end" if t_end is not None else "max_steps"
         try:
             while True:
@@ -541,14 +542,12 @@ class Simulation:
                         if ev is stop_event:
                             stopped_by = ev.label
                             break
-                if bar is not None:
-                    bar.update(self.steps - bar.n - start_steps)
+                bar.update()
                 if self.steps % rec.monitor_every == 0 and self.steps < limit:
                     self._check(e_start, es_start, drift)
                 self._energy_row()
         finally:
-            if bar is not None:
-                bar.close()
+            bar.close()
             if rec.maxima:
                 np.maximum(umax, self.u, out=umax)
         self._check(e_start, es_start, drift)

@@ -54,6 +54,7 @@ from pathlib import Path
 import discrete
 from discrete import kernels as _kernels
 from discrete.io import load, save
+from discrete.progress import RunProgress
 
 from .cache import CACHE_SCHEMA, canonical_json, param_hash
 
@@ -272,7 +273,8 @@ def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until
     extra : callable, optional
         Returns a JSON-able dict stored with each checkpoint.
     progress : bool
-        Show a progress bar (tqdm, stderr) over the steps.
+        Show a progress bar (tqdm, stderr) towards the stop condition: grains to the
+        ``WaveAt`` grain, else simulated time (:class:`discrete.progress.RunProgress`).
     signals : bool or list
         Defer SIGINT/SIGTERM to the end of a segment (main thread only); or the flag list
         of an enclosing :func:`deferred_signals` (the caller owns the handlers).
@@ -304,12 +306,7 @@ def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until
     period = segment_steps(sim)
     checkpoint = None if checkpoint is None else Path(checkpoint)
     last = time.monotonic()
-    bar = None
-    if progress:
-        from tqdm.auto import tqdm
-
-        bar = tqdm(total=None if math.isinf(end) else int(end), initial=sim.steps,
-                   unit="step", leave=False)
+    bar = RunProgress(sim, t_end=t_end, until=until, step_limit=step_limit, enabled=progress)
     try:
         with (contextlib.nullcontext(signals) if isinstance(signals, list)
               else deferred_signals(signals)) as flag:
@@ -317,8 +314,7 @@ def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until
                 stop = min(end, (sim.steps // period + 1) * period)
                 info = sim.run(t_end, until=until, max_steps=int(stop - sim.steps),
                                progress=False)
-                if bar is not None:
-                    bar.update(sim.steps - bar.n)
+                bar.update()
                 if info.stopped_by not in ("t_end", "max_steps") or sim.steps >= end:
                     return info.stopped_by
                 _drop_closing_sample(sim)
@@ -329,5 +325,4 @@ def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until
                 if flag:
                     raise Interrupted(flag[0], checkpoint, sim.t, sim.steps)
     finally:
-        if bar is not None:
-            bar.close()
+        bar.close()

@@ -1,7 +1,7 @@
 """The paper's reported numbers and set-ups, in one place.
 
 Reference: "Asymmetric scattering effect of solitary wave in a two-section composite
-granular chain" (``shared/paper/``).  Every value carries the place it is printed.
+granular chain".  Every value carries the place it is printed.
 """
 
 from __future__ import annotations

@@ -115,7 +115,10 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     ctx = Context(Path(out), mode=mode, force=force, progress=progress,
                   checkpoint_interval=checkpoint_interval)
     start = time.perf_counter()
-    runs = [run_item(ctx, n) for n in names]
+    runs = []
+    for k, name in enumerate(names, 1):   # "item k of n" before each item's own messages
+        ctx.log(f"[{k}/{len(names)}] {name} ({time.perf_counter() - start:.0f} s elapsed)")
+        runs.append(run_item(ctx, name))
     wall = time.perf_counter() - start
     paths = ()
     if report:

@@ -18,8 +18,11 @@ import numpy as np
 from numba import njit
 
 import theory
+from theory import jitcache
 
 from ..scenario import Scenario
+
+jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
 
 __all__ = ["synthetic_point", "paced_point", "benchmark_point", "hertz_chain_kernel"]
 

@@ -37,7 +37,7 @@ def test_paper_reproducing_choice_kn_over_m():
 
 def test_harmonic_mean_rule_for_equal_diameters(rng):
     # For equal diameters, the two-material Hertz constant is the harmonic mean of the
-    # two identical-pair constants (docs/physics.md; the interface-contact rule).
+    # two identical-pair constants (docs/physics.md §1: the interface contact of a composite chain).
     for _ in range(20):
         m1 = Material(rng.uniform(1e3, 1e4), rng.uniform(1e9, 4e11), rng.uniform(-0.9, 0.49))
         m2 = Material(rng.uniform(1e3, 1e4), rng.uniform(1e9, 4e11), rng.uniform(-0.9, 0.49))
