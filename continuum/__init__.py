@@ -28,12 +28,13 @@ from .medium import Discretisation, Medium
 from .nesterenko import NesterenkoPDE
 from .sampling import GrainSample, sample_grains, section_energies
 from .scattering import PAPER_VELOCITY_MAX, energy_ratios
-from .solver import RunResult, VerletSolver, run
+from .solver import InstabilityError, RunResult, VerletSolver, run
 
 __all__ = [
     "BoussinesqPDE",
     "Discretisation",
     "GrainSample",
+    "InstabilityError",
     "KdVPDE",
     "Medium",
     "NesterenkoPDE",

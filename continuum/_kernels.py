@@ -55,26 +55,25 @@ def flux_divergence(p, h, bc, out):
 def mass_operator_bands(mass, face_mass, h, ell2, bc):
     """Bands of the Rosenau mass operator M = m - ∂_X (m_f ℓ²) ∂_X on the nodes.
 
-    Returns ``(diag, off, corner)``: the diagonal, the off-diagonal (between node p and
-    p+1) and, for periodic chains, the wrap-around entry.  Ghost values: wall a_{-1} =
-    -a_0, free a_{-1} = a_0 (see :mod:`continuum.boussinesq`).
+    ``ell2`` (grains²) is a scalar or one value per face.  Returns ``(diag, off,
+    corner)``: the diagonal, the off-diagonal (between node p and p+1) and, for
+    periodic chains, the wrap-around entry.  Ghost values: wall a_{-1} = -a_0, free
+    a_{-1} = a_0 (see :mod:`continuum.boussinesq`).
     """
-    c = ell2 / h**2
+    w = np.broadcast_to(np.asarray(ell2, float), np.shape(face_mass)) * face_mass / h**2
     if bc == PERIODIC:
-        mf = face_mass  # face q between node q-1 and q, q = 0..n-1
-        diag = mass + c * (mf + np.roll(mf, -1))
-        off = -c * mf[1:]
-        return diag, off, -c * mf[0]
-    mf = face_mass  # n + 1 faces
-    diag = mass + c * (mf[:-1] + mf[1:])
+        # face q between node q-1 and q, q = 0..n-1
+        diag = mass + w + np.roll(w, -1)
+        return diag, -w[1:], -w[0]
+    # n + 1 faces
+    diag = mass + w[:-1] + w[1:]
     if bc == WALL:
-        diag[0] += c * mf[0]
-        diag[-1] += c * mf[-1]
+        diag[0] += w[0]
+        diag[-1] += w[-1]
     else:
-        diag[0] -= c * mf[0]
-        diag[-1] -= c * mf[-1]
-    off = -c * mf[1:-1]
-    return diag, off, 0.0
+        diag[0] -= w[0]
+        diag[-1] -= w[-1]
+    return diag, -w[1:-1], 0.0
 
 
 def tridiag_factor(diag, off, corner):

@@ -20,7 +20,10 @@ from pde.pdes.base import PDEBase
 from ._kernels import FREE, PERIODIC, WALL
 from .medium import BOUNDARY_CONDITIONS, Discretisation, Medium
 
-__all__ = ["ChainPDEBase"]
+__all__ = ["ChainPDEBase", "WINDOW_TOLERANCE"]
+
+WINDOW_TOLERANCE = 2.0**-52
+"""Relative at-rest threshold of the active window (see :mod:`continuum._stepper`)."""
 
 _BC_CODE = {"free": FREE, "wall": WALL, "periodic": PERIODIC}
 
@@ -126,6 +129,27 @@ class ChainPDEBase(PDEBase):
 
         return pde_rhs
 
+    # ------------------------------------------------------------------ fused stepper
+    def _initial_window(self, u: np.ndarray, v: np.ndarray):
+        """At-rest thresholds and active window of a state (:mod:`continuum._stepper`).
+
+        ``tau_s`` and ``tau_v`` are 2^-52 of the state's largest strain (m) and
+        velocity (m/s): below them a node counts as at rest.  Returns
+        ``(tau_s, tau_v, window)`` with ``window`` = int64 [lo, hi] (-1: all at rest).
+        """
+        s = np.abs(self.strain(np.asarray(u)))
+        va = np.abs(np.asarray(v))
+        tau_s = WINDOW_TOLERANCE * float(s.max(initial=0.0))
+        tau_v = WINDOW_TOLERANCE * float(va.max(initial=0.0))
+        active = va > tau_v
+        if self.bc == "periodic":
+            active |= (s > tau_s) | np.roll(s > tau_s, -1)
+        else:
+            active |= (s[:-1] > tau_s) | (s[1:] > tau_s)
+        idx = np.flatnonzero(active)
+        win = np.array([idx[0], idx[-1]] if idx.size else [-1, -1], dtype=np.int64)
+        return tau_s, tau_v, win
+
     # ------------------------------------------------------------------ to implement
     def _acceleration_numpy(self, u: np.ndarray) -> np.ndarray:  # pragma: no cover
         raise NotImplementedError
@@ -147,6 +171,10 @@ class ChainPDEBase(PDEBase):
         ek, ep = self.energy_density(state)
         return {"kinetic": float(ek.sum()), "potential": float(ep.sum()),
                 "total": float(ek.sum() + ep.sum())}
+
+    def invariants(self, state: FieldCollection) -> tuple[float, float]:
+        """(energy J, momentum kg m/s): the quantities :func:`continuum.run` monitors."""
+        return self.energy(state)["total"], self.momentum(state)
 
     def momentum(self, state: FieldCollection) -> float:
         """Total momentum h Σ m_p v_p, kg m/s (conserved for free/periodic ends)."""

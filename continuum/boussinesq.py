@@ -57,6 +57,7 @@ from scipy.sparse import diags
 from scipy.sparse.linalg import splu
 
 from . import _kernels as kern
+from . import _stepper
 from .base import ChainPDEBase
 from .medium import Medium
 
@@ -93,7 +94,7 @@ class BoussinesqPDE(ChainPDEBase):
     """
 
     def __init__(self, medium: Medium, n: int = 5, *, bc: str = "free",
-                 nonlinearity: str = "quadratic") -> None:
+                 nonlinearity: str = "quadratic", correct_h2: bool = True) -> None:
         super().__init__(medium, n, bc=bc)
         if not medium.precompressed:
             raise ValueError("BoussinesqPDE needs a precompressed chain (delta0 > 0); "
@@ -106,8 +107,13 @@ class BoussinesqPDE(ChainPDEBase):
         d = self.disc
         self._K = d.stiffness
         self._b = self._K / (4.0 * d.delta0)  # quadratic coefficient, N/m²
+        self.correct_h2 = bool(correct_h2)
+        # ℓ_h² = (1 - h²)/12: the staggered second difference adds h²/12 u_XXXX, so
+        # this makes the linear dispersion exact to O(h⁴ k⁶) (module docstring)
+        self.ell2 = DISPERSION_LENGTH2 * (1.0 - d.h**2) if self.correct_h2 \
+            else DISPERSION_LENGTH2
         diag, off, corner = kern.mass_operator_bands(
-            d.mass, d.face_mass, d.h, DISPERSION_LENGTH2, self._bc_code
+            d.mass, d.face_mass, d.h, self.ell2, self._bc_code
         )
         self._bands = (diag, off, corner)
         self._factors = kern.tridiag_factor(diag, off, corner)
@@ -117,6 +123,7 @@ class BoussinesqPDE(ChainPDEBase):
         if corner != 0.0:
             mat[0, n_nodes - 1] = mat[n_nodes - 1, 0] = corner
         self._lu = splu(mat.tocsc())
+        self._factor_cache: list = []
 
     # ------------------------------------------------------------------ flux
     def flux(self, s: np.ndarray) -> np.ndarray:
@@ -170,6 +177,64 @@ class BoussinesqPDE(ChainPDEBase):
 
         return accel
 
+    # ------------------------------------------------------------------ fused stepper
+    def _kernel_arrays(self) -> tuple:
+        """Face coefficients (K, B, k, δ0, f0) of the compiled kernels."""
+        d = self.disc
+        kh, d0 = d.k.copy(), d.delta0.copy()
+        # f0 with the kernel's own arithmetic, so that P(0) = 0 exactly (Hertz flux)
+        f0 = kh * (d0 * np.sqrt(d0))
+        return self._K.copy(), self._b.copy(), kh, d0, f0
+
+    def make_chunk_stepper(self, state, dt: float, alpha, beta) -> Callable:
+        """Compiled chunk stepper (:func:`continuum._stepper.rosenau_chunk`).
+
+        Returns ``chunk(state_data, nsteps) -> node_updates`` advancing the (2, N) array
+        in place by ``nsteps`` splitting steps of ``dt`` (s) with drift/kick
+        coefficients ``alpha``/``beta``; it keeps the active window between calls
+        (attribute ``window``).
+        """
+        if not self._factor_cache:
+            self._factor_cache.extend(_stepper.rosenau_factors(*self._bands))
+        fac, z, vfac = self._factor_cache
+        kk, bb, kh, d0, f0 = self._kernel_arrays()
+        h, bc, nl = float(self.disc.h), int(self._bc_code), int(self._nl_code)
+        margin = _stepper.window_margin(fac)
+        data = np.asarray(state.data)
+        tau_s, tau_v, win = self._initial_window(data[0], data[1])
+        y = np.zeros(data.shape[1])
+        alpha = np.ascontiguousarray(alpha, dtype=float)
+        beta = np.ascontiguousarray(beta, dtype=float)
+        dt = float(dt)
+
+        def chunk(state_data: np.ndarray, nsteps: int) -> int:
+            return _stepper.rosenau_chunk(
+                state_data[0], state_data[1], y, int(nsteps), dt, alpha, beta, h, bc, nl,
+                kk, bb, kh, d0, f0, fac, z, vfac, win, margin, tau_s, tau_v)
+
+        chunk.window = win  # type: ignore[attr-defined]
+        chunk.margin = margin  # type: ignore[attr-defined]
+        return chunk
+
+    def make_monitor(self) -> Callable:
+        """Compiled ``monitor(state_data) -> (energy J, momentum kg m/s)``.
+
+        The same functional as :meth:`energy` and :meth:`momentum`
+        (:func:`continuum._stepper.rosenau_monitor`).
+        """
+        d = self.disc
+        kk, bb, kh, d0, f0 = self._kernel_arrays()
+        h, bc, nl = float(d.h), int(self._bc_code), int(self._nl_code)
+        w = self._face_weight.copy()
+        wgrad = w * self.ell2 * d.face_mass
+        mass = d.mass.copy()
+
+        def monitor(state_data: np.ndarray) -> tuple[float, float]:
+            return _stepper.rosenau_monitor(state_data[0], state_data[1], h, bc, nl, kk, bb,
+                                            kh, d0, f0, mass, wgrad, w)
+
+        return monitor
+
     # ------------------------------------------------------------------ energy
     def energy_density(self, state) -> tuple[np.ndarray, np.ndarray]:
         """Kinetic energy per node (incl. the Rosenau term) and potential per face, J."""
@@ -177,7 +242,7 @@ class BoussinesqPDE(ChainPDEBase):
         u, v = (np.asarray(f.data) for f in state)
         ek = 0.5 * d.h * d.mass * v * v
         dv = -self.strain(v)  # v_X at faces (ghosts as for u)
-        ek_grad = 0.5 * d.h * self._face_weight * DISPERSION_LENGTH2 * d.face_mass * dv * dv
+        ek_grad = 0.5 * d.h * self._face_weight * self.ell2 * d.face_mass * dv * dv
         ep = d.h * self._face_weight * self.potential(self.strain(u))
         # attribute the face part of the kinetic energy to the faces' potential array
         # would mix kinds; instead split it half to each adjacent node
@@ -198,16 +263,31 @@ class BoussinesqPDE(ChainPDEBase):
         if state is not None and self._nl_code:
             s = np.maximum(self.strain(np.asarray(state[0].data)), 0.0)
             k_eff = k_eff + 2.0 * self._b * s
-        ell2 = DISPERSION_LENGTH2
-        # ω² ≤ (K/m_f) D/(1 + ℓ² D) with D ≤ 4/h²  →  (K/m_f)/ℓ² · 4/(4 + h²/ℓ²)
-        omega2 = np.max(k_eff / d.face_mass) / ell2 * 4.0 / (4.0 + d.h**2 / ell2)
+        # ω² ≤ (K/m_f) D/(1 + ℓ_h² D) with D ≤ 4/h² (the largest second difference)
+        dmax = 4.0 / d.h**2
+        omega2 = np.max(k_eff / d.face_mass) * dmax / (1.0 + self.ell2 * dmax)
         return float(safety * 2.0 / np.sqrt(omega2))
+
+    def instability_hint(self, state) -> str:
+        """Cause of an instability seen from the last finite ``state`` (for the error)."""
+        if self._nl_code != 1:
+            return ""
+        s = self.strain(np.asarray(state[0].data))
+        ratio = s / self.disc.delta0
+        if np.min(ratio) < -1.0:
+            return (f"amplitude: the strain reached {np.min(ratio):.3g} δ0; the quadratic "
+                    "flux of Eq. 4, K s + K s²/(4δ0), loses its stiffness below s = -2δ0 "
+                    "(Eq. 4 is ill-posed there: tension beyond the static overlap); use "
+                    "nonlinearity='hertz', NesterenkoPDE or a smaller amplitude — or dt too "
+                    "large")
+        return ""
 
     @property
     def parameters(self) -> dict:
         """Run parameters for HDF5 attributes."""
         return {**super().parameters, "nonlinearity": self.nonlinearity,
                 "dispersion_length2_grains2": DISPERSION_LENGTH2,
+                "scheme_length2_grains2": self.ell2, "correct_h2": self.correct_h2,
                 "regularisation": "Rosenau mass operator (m - d/dX m/12 d/dX) u_tt"}
 
 

@@ -33,9 +33,13 @@ here: for a strongly nonlinear flux it changes the O(k²) dispersive term (its s
 wave is sech⁴, not the cos⁴ compacton), and a Padé (1 - β∂²)⁻¹ smoothing of ∂_XX
 distorts k ~ 1–2 by 20–40 % and was seen to reshape the compacton by > 40 % in 50 d;
 the saturated operator keeps it within ~1 % (tests).  H needs FFTs (py-pde has no such
-operator): ends other than periodic are handled by zero padding to twice the length,
-so H is the restriction of a circulant — still symmetric and negative semi-definite.
-The compiled path calls NumPy's FFT through ``numba.objmode`` (numba has no FFT).
+operator).  For ends other than periodic H is the restriction to the chain's faces of
+the infinite-lattice operator (the Toeplitz matrix of :func:`saturated_kernel`, whose
+entries decay as 1/j²) — symmetric, negative semi-definite, bounded by C and
+independent of the chain's length.  The compiled stepper (:mod:`continuum._stepper`)
+applies it with its own radix-2 FFT over the active window, or by a direct sum over
+the compressed faces where that is cheaper: in the sonic vacuum φ(δ) = 0 wherever
+δ = 0, so only compressed faces take part.
 
 Sonic vacuum (δ → 0)
 --------------------
@@ -56,13 +60,40 @@ from collections.abc import Callable
 
 import numba as nb
 import numpy as np
+from rocket_fft import good_size
 from scipy.fft import next_fast_len
 
 from . import _kernels as kern
-from .base import ChainPDEBase
+from . import _stepper
+from .base import WINDOW_TOLERANCE, ChainPDEBase
 from .medium import Medium
 
-__all__ = ["NesterenkoPDE"]
+__all__ = ["NesterenkoPDE", "saturated_kernel"]
+
+
+def saturated_kernel(n_faces: int, h: float, cap: float) -> np.ndarray:
+    r"""Kernel c_j (j = 0 … n_faces-1) of the saturated second derivative, grains⁻².
+
+    On the infinite lattice of spacing h (grains) the operator with Fourier multiplier
+    :math:`\sigma(k) = -\min(k^2, C)` on the Brillouin zone :math:`|k| \le \pi/h` has
+
+    .. math:: c_j = rac{h}{2\pi}\int_{-\pi/h}^{\pi/h}\sigma(k)\,e^{ikjh}\,dk
+              = rac{h}{\pi}\Big[-rac{K^2\sin aK}{a} - rac{2K\cos aK}{a^2}
+              + rac{2\sin aK}{a^3} + rac{C\sin aK}{a}\Big],\quad a = jh,
+
+    with :math:`K = \min(\sqrt C, \pi/h)` (sin(jπ) = 0 removes the upper limit), and
+    :math:`c_0 = (h/\pi)(-K^3/3 - C(\pi/h - K))`.  Without the cap (C → ∞) this is the
+    spectral second derivative -2(-1)^j/(jh)²; with it the 1/a terms cancel and
+    c_j = O(1/j²).
+    """
+    kk = min(np.sqrt(cap), np.pi / h)
+    j = np.arange(1, n_faces)
+    a = j * h
+    sn, cs = np.sin(a * kk), np.cos(a * kk)
+    c = np.empty(n_faces)
+    c[0] = (h / np.pi) * (-(kk**3) / 3.0 - cap * (np.pi / h - kk))
+    c[1:] = (h / np.pi) * ((cap - kk * kk) * sn / a - 2.0 * kk * cs / a**2 + 2.0 * sn / a**3)
+    return c
 
 
 class NesterenkoPDE(ChainPDEBase):
@@ -97,7 +128,7 @@ class NesterenkoPDE(ChainPDEBase):
     """
 
     def __init__(self, medium: Medium, n: int = 5, *, delta_floor: float,
-                 bc: str = "free", cap: float = 10.0) -> None:
+                 bc: str = "free", cap: float = 10.0, correct_h2: bool = True) -> None:
         super().__init__(medium, n, bc=bc)
         if not delta_floor >= 0:
             raise ValueError(f"delta_floor must be >= 0 m (got {delta_floor})")
@@ -105,11 +136,27 @@ class NesterenkoPDE(ChainPDEBase):
             raise ValueError(f"cap must lie in (0, 12] grains^-2 (got {cap})")
         self.delta_floor = float(delta_floor)
         self.cap = float(cap)
+        self.correct_h2 = bool(correct_h2)
+        # dispersive coefficient (d² - h²)/10: the staggered second differences add
+        # h²/10 δ^{1/4} ∂²δ^{5/4} (module docstring), so this makes the scheme O(h⁴)
+        h = self.disc.h
+        self._disp = 0.1 * (1.0 - h * h) if self.correct_h2 else 0.1
         d = self.disc
         nf = d.x_faces.size
-        self._npad = nf if self.bc == "periodic" else next_fast_len(2 * nf)
-        kwave = 2 * np.pi * np.fft.rfftfreq(self._npad, d=d.h)
-        self._mult = -np.minimum(kwave**2, self.cap)
+        if self.bc == "periodic":
+            self._npad = nf
+            kwave = 2 * np.pi * np.fft.rfftfreq(nf, d=d.h)
+            self._mult = -np.minimum(kwave**2, self.cap)
+            self._kernel = np.fft.irfft(self._mult, nf)  # circulant kernel c_j
+        else:
+            # restriction of the infinite-lattice operator: Toeplitz c_{|q-p|}, applied
+            # by embedding in a circulant of size >= 2 nf - 1
+            self._kernel = saturated_kernel(nf, d.h, self.cap)
+            self._npad = next_fast_len(2 * nf)
+            col = np.zeros(self._npad)
+            col[:nf] = self._kernel
+            col[self._npad - nf + 1:] = self._kernel[1:][::-1]
+            self._mult = np.fft.rfft(col).real
         self._sqrt_k = np.sqrt(d.k)
         # dispersive term only on interior faces (ends: plain Hertz law, see _energy)
         self._disp_mask = np.ones(nf)
@@ -119,7 +166,14 @@ class NesterenkoPDE(ChainPDEBase):
 
     # ------------------------------------------------------------------ operator H
     def saturated_laplacian(self, y: np.ndarray) -> np.ndarray:
-        """H y: FFT second derivative with multiplier -min(k², cap), grains⁻² (NumPy)."""
+        """H y: second derivative with multiplier -min(k², cap), grains⁻² (NumPy, FFT).
+
+        Periodic chains: the circulant with that multiplier on the chain's own
+        frequencies.  Other ends: the restriction to the chain's faces of the
+        infinite-lattice operator, (H y)_q = Σ_p c_{|q-p|} y_p with the kernel of
+        :func:`saturated_kernel` (independent of the chain's length), evaluated as a
+        zero-padded circulant product of size ≥ 2 N_faces - 1 (exact to round-off).
+        """
         if self.bc == "periodic":
             return np.fft.irfft(self._mult * np.fft.rfft(y), self._npad)
         ypad = np.zeros(self._npad)
@@ -139,7 +193,7 @@ class NesterenkoPDE(ChainPDEBase):
         delta, phi, y = self._overlaps(u)
         hy = self.saturated_laplacian(y)
         return (d.k * (delta**1.5 - d.delta0**1.5)
-                + 0.1 * self._disp_mask * self._sqrt_k * phi * hy)
+                + self._disp * self._disp_mask * self._sqrt_k * phi * hy)
 
     def _acceleration_numpy(self, u: np.ndarray) -> np.ndarray:
         return self.divergence(self.flux(u)) / self.disc.mass
@@ -150,6 +204,7 @@ class NesterenkoPDE(ChainPDEBase):
         k, d0, sk = d.k.copy(), d.delta0.copy(), self._sqrt_k.copy()
         f0, z0, mask = k * d0**1.5, self._zeta0.copy(), self._disp_mask.copy()
         inv_m, mult, npad = 1.0 / d.mass, self._mult.copy(), int(self._npad)
+        disp = self._disp
         nf = d.x_faces.size
         face_strain, flux_div = kern.face_strain, kern.flux_divergence
 
@@ -174,12 +229,87 @@ class NesterenkoPDE(ChainPDEBase):
                 hy = np.fft.irfft(mult * np.fft.rfft(ypad), npad)
             for q in range(nf):
                 dl = s[q]
-                s[q] = k[q] * dl**1.5 - f0[q] + 0.1 * mask[q] * sk[q] * phi[q] * hy[q]
+                s[q] = k[q] * dl**1.5 - f0[q] + disp * mask[q] * sk[q] * phi[q] * hy[q]
             flux_div(s, h, bc, out)
             for i in range(out.size):
                 out[i] *= inv_m[i]
 
         return accel
+
+    # ------------------------------------------------------------------ fused stepper
+    def _kernel_arrays(self) -> dict:
+        """Arrays of the compiled kernels (:mod:`continuum._stepper`), with scratch."""
+        d = self.disc
+        nf = d.x_faces.size
+        k, d0 = d.k.copy(), d.delta0.copy()
+        periodic = self.bc == "periodic"
+        m_max = nf if periodic else good_size(3 * nf, True)
+        return {
+            "k": k, "d0": d0, "f0": k * (d0 * np.sqrt(d0)), "sk": self._sqrt_k.copy(),
+            "z0": self._zeta0.copy(), "mask": self._disp_mask.copy(),
+            "c": self._kernel.copy(),
+            "spec": self._mult.copy() if periodic else np.zeros(m_max // 2 + 1),
+            "scratch": [np.zeros(m_max), np.zeros(m_max // 2 + 1, np.complex128),
+                        np.zeros(1, np.int64), np.zeros(nf), np.zeros(nf), np.zeros(nf),
+                        np.zeros(nf), np.zeros(nf), np.zeros(nf, np.int64)],
+        }
+
+    def make_chunk_stepper(self, state, dt: float, alpha, beta) -> Callable:
+        """Compiled chunk stepper (:func:`continuum._stepper.nesterenko_chunk`).
+
+        ``chunk(state_data, nsteps) -> node_updates`` advances the (2, N) array in place.
+        In the sonic vacuum (δ0 = 0, ends not periodic) only the active window is
+        swept (exactly: outside it δ = 0 and v = 0); precompressed or periodic chains
+        are swept whole (the saturated operator couples every face).
+        """
+        a = self._kernel_arrays()
+        d = self.disc
+        h, bc, eps = float(d.h), int(self._bc_code), float(self.delta_floor)
+        inv_m = 1.0 / d.mass
+        windowed = self.bc != "periodic" and not self.medium.precompressed
+        data = np.asarray(state.data)
+        _, tau_v, win = self._initial_window(data[0], data[1])
+        dl = np.maximum(d.delta0 + self.strain(data[0]), 0.0)
+        tau_d = WINDOW_TOLERANCE * float(dl.max())
+        if windowed:
+            # at rest: v = 0 and no compressed face, to 2^-52 of the wave's values (a
+            # strained gap is at rest)
+            comp = dl > tau_d
+            act = (np.abs(data[1]) > tau_v) | comp[:-1] | comp[1:]
+            idx = np.flatnonzero(act)
+            win[:] = [idx[0], idx[-1]] if idx.size else [-1, -1]
+        alpha = np.ascontiguousarray(alpha, dtype=float)
+        beta = np.ascontiguousarray(beta, dtype=float)
+        dt = float(dt)
+        sc = a["scratch"]
+
+        def chunk(state_data: np.ndarray, nsteps: int) -> int:
+            return _stepper.nesterenko_chunk(
+                state_data[0], state_data[1], int(nsteps), dt, alpha, beta, h, bc, a["k"],
+                a["d0"], a["f0"], a["sk"], a["z0"], a["mask"], eps, self._disp, inv_m, a["c"],
+                a["spec"], *sc, win, windowed, tau_v, tau_d)
+
+        chunk.window = win  # type: ignore[attr-defined]
+        return chunk
+
+    def make_monitor(self) -> Callable:
+        """Compiled ``monitor(state_data) -> (energy J, momentum kg m/s)``.
+
+        The same functional as :meth:`energy` and :meth:`momentum`
+        (:func:`continuum._stepper.nesterenko_monitor`).
+        """
+        a = self._kernel_arrays()
+        d = self.disc
+        h, bc, eps = float(d.h), int(self._bc_code), float(self.delta_floor)
+        mass, w = d.mass.copy(), self._face_weight.copy()
+        sc = a["scratch"]
+
+        def monitor(state_data: np.ndarray) -> tuple[float, float]:
+            return _stepper.nesterenko_monitor(
+                state_data[0], state_data[1], h, bc, a["k"], a["d0"], a["f0"], a["sk"], a["z0"],
+                a["mask"], eps, self._disp, mass, w, a["c"], a["spec"], *sc)
+
+        return monitor
 
     # ------------------------------------------------------------------ energy
     def energy_density(self, state) -> tuple[np.ndarray, np.ndarray]:
@@ -193,7 +323,8 @@ class NesterenkoPDE(ChainPDEBase):
         s = self.strain(u)
         delta, _, y = self._overlaps(u)
         hertz = d.k * (0.4 * (delta**2.5 - d.delta0**2.5) - d.delta0**1.5 * s)
-        ep = d.h * (self._face_weight * hertz + y * self.saturated_laplacian(y) / 25.0)
+        ep = d.h * (self._face_weight * hertz
+                    + (self._disp / 2.5) * y * self.saturated_laplacian(y))
         return 0.5 * d.h * d.mass * v * v, ep
 
     def stable_dt(self, state, safety: float = 0.5) -> float:

@@ -23,8 +23,9 @@ deleting the directory only costs one recompilation (about 15 s).
 Numba chooses a function's cache directory when the ``cache=True`` decorator runs, so
 :func:`configure` must be called before the kernel modules define their functions:
 each kernel module calls it first (``discrete/kernels.py``, ``continuum/_kernels.py``,
-``hertzchain/sweep/synthetic.py``).  It also exports ``NUMBA_CACHE_DIR`` so that numba's
-configuration reloads and child processes (Dask workers) use the same directory.
+``continuum/_stepper.py``, ``hertzchain/sweep/synthetic.py``).  It also exports
+``NUMBA_CACHE_DIR`` so that numba's configuration reloads and child processes (Dask
+workers) use the same directory.
 
 This module lives in :mod:`theory` because it is the one package that both
 :mod:`discrete` and :mod:`continuum` may import; it imports numba only when called.
@@ -122,7 +123,9 @@ def cache_is_warm(dispatcher) -> bool:
     if not path:
         return False
     py = dispatcher.py_func
-    name = f"{Path(py.__code__.co_filename).stem}.{py.__qualname__}-"
+    # numba's file name drops '<' and '>' (closures: '<locals>')
+    qualname = py.__qualname__.replace("<", "").replace(">", "")
+    name = f"{Path(py.__code__.co_filename).stem}.{qualname}-"
     try:
         src = os.stat(py.__code__.co_filename).st_mtime
         return any(f.name.startswith(name) and f.suffix == ".nbi"

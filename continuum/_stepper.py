@@ -1,0 +1,719 @@
+r"""Compiled time loops of the continuum solvers: one call advances a whole chunk of steps.
+
+Each kernel takes plain arrays (the state, preallocated scratch, the medium's face and
+node coefficients) and performs ``nsteps`` complete time steps without returning to
+Python and without allocating: the stepping, the flux-form right-hand side, the
+tridiagonal (Rosenau) solve and the bookkeeping of the active window are fused into
+two sweeps over the nodes per force evaluation.  They are module-level
+``@njit(cache=True)`` functions (compiled once per machine, not once per equation).
+The NumPy reference of every kernel is the PDE's :meth:`evolution_rate` driven by
+py-pde's generic stepping (``backend="numpy"``); the tests compare the two.
+
+Splitting (symplectic) steps
+----------------------------
+For states (u, v) with u_t = v and v_t = a(u) a step is a position-Verlet composition
+(:class:`continuum.solver.VerletSolver`)
+
+.. math:: u \mathrel{+}= \alpha_0 Δt\,v,\quad v \mathrel{+}= \beta_0 Δt\,a(u),\quad
+          u \mathrel{+}= \alpha_1 Δt\,v,\quad \dots,\quad v \mathrel{+}= \beta_{S-1} Δt\,a(u),
+          \quad u \mathrel{+}= \alpha_S Δt\,v
+
+(Verlet: S = 1, α = (1/2, 1/2), β = (1,); Yoshida-4: S = 3).  Inside a chunk the last
+drift of a step and the first of the next are merged into one (α_S + α_0); a chunk
+starts with α_0 and ends with α_S, so the state is synchronous between chunks.
+
+Active window (Rosenau form of Eq. 4)
+-------------------------------------
+Outside the window ``[lo, hi]`` every node is *at rest*: ``|v| <= tau_v`` and the strain
+of both its faces ``|s| <= tau_s``.  The mass operator :math:`M = m - \partial_X m\ell^2
+\partial_X` is not local: its inverse (the Green's function of the acceleration) decays
+by the factor ρ < 1 per node (ρ = 0.51 at 5 nodes per grain, ≈ e^{-√12} per grain),
+so the force pass covers ``[lo - margin, hi + margin]`` with ρ^margin < 2^{-60}:
+
+* forward elimination from the window's left edge is exact (the right-hand side is
+  zero, to within ``tau``, to its left, so the full sweep's eliminated values are too);
+* back substitution starts ``margin`` nodes right of the last active node with x = 0,
+  an error below 2^{-60} of the largest acceleration.
+
+With ``tau`` = 2^{-52} of the state's largest strain and velocity (set by the caller)
+the windowed step equals the full one to round-off; the window follows the wave (and
+shrinks behind it where the medium comes back to rest).  Periodic chains are always
+integrated whole (cyclic solve by Sherman–Morrison).
+
+Boundary codes (as :mod:`continuum._kernels`): 0 = free, 1 = wall, 2 = periodic.
+Nonlinearity codes: 0 = linear K s, 1 = quadratic K s + B s², 2 = Hertz
+k [δ0 + s]_+^{3/2} - f0.  No ``fastmath``: the tests rely on IEEE arithmetic.
+"""
+
+from __future__ import annotations
+
+from theory import jitcache
+
+jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
+
+import numba as nb  # noqa: E402
+import numpy as np  # noqa: E402
+from rocket_fft import c2r, good_size, r2c  # noqa: E402
+
+_JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
+
+FREE, WALL, PERIODIC = 0, 1, 2
+
+_AXES = np.zeros(1, np.int64)  # the one axis of the rocket-fft transforms
+
+WINDOW_LOG2_TOLERANCE = 60
+"""The windowed tridiagonal solve neglects terms below 2^-60 of the largest value."""
+
+
+# ------------------------------------------------------------------------------ Rosenau
+@nb.njit(inline="always", **_JIT)
+def _flux(s, nl, kq, bq, khq, d0q, f0q):
+    """Dynamic contact force P(s) at one face, N (see the nonlinearity codes)."""
+    if nl == 0:
+        return kq * s
+    if nl == 1:
+        return (kq + bq * s) * s
+    r = d0q + s
+    if r < 0.0:
+        r = 0.0
+    return khq * (r * np.sqrt(r)) - f0q
+
+
+@nb.njit(**_JIT)
+def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac,
+                  tau_s, tau_v, win):
+    """One drift (α Δt) and one kick (β Δt) over nodes [L, R], non-periodic ends.
+
+    Sweep A (vectorisable): drift, face strains and fluxes, flux divergence r_i.
+    Sweep B: the "burn at both ends" (twisted) factorisation of the tridiagonal mass
+    operator, eliminating from L upwards and from R downwards at the same time (two
+    independent dependency chains) to the twist node k; sweep C: back substitution
+    outwards from k with the kick.  ``win`` receives the new active window.
+    """
+    n = u.size
+    ih = 1.0 / h
+    inv_t, g_t, cp_t, inv_b, g_b, cp_b = fac[0], fac[1], fac[2], fac[3], fac[4], fac[5]
+    twist, off = fac[6], fac[7]
+    # ---- sweep A (on views of the window: no negative-index checks, vectorisable)
+    m_ = R + 1 - L
+    uu = u[L:R + 1]
+    vv = v[L:R + 1]
+    yy = y[L:R + 1]
+    for i in range(m_):
+        uu[i] += alpha * vv[i]
+    if L == 0:
+        s = -2.0 * u[0] * ih if bc == WALL else 0.0
+    else:
+        s = (u[L - 1] - u[L]) * ih
+    p_prev = _flux(s, nl, kk[L], bb[L], kh[L], d0[L], f0[L])
+    k1 = kk[L + 1:R + 2]
+    b1 = bb[L + 1:R + 2]
+    if nl == 1:
+        for i in range(m_ - 1):
+            s = (uu[i] - uu[i + 1]) * ih
+            p = (k1[i] + b1[i] * s) * s
+            yy[i] = (p_prev - p) * ih
+            p_prev = p
+    else:
+        h1 = kh[L + 1:R + 2]
+        z1 = d0[L + 1:R + 2]
+        f1 = f0[L + 1:R + 2]
+        for i in range(m_ - 1):
+            s = (uu[i] - uu[i + 1]) * ih
+            p = _flux(s, nl, k1[i], b1[i], h1[i], z1[i], f1[i])
+            yy[i] = (p_prev - p) * ih
+            p_prev = p
+    if R == n - 1:
+        s = 2.0 * u[n - 1] * ih if bc == WALL else 0.0
+    else:
+        s = (u[R] - u[R + 1]) * ih
+    q = R + 1
+    y[R] = (p_prev - _flux(s, nl, kk[q], bb[q], kh[q], d0[q], f0[q])) * ih
+    # ---- sweep B: eliminate L -> k-1 and R -> k+1
+    k = (L + R) // 2
+    nt = k - L
+    nb_ = R - k
+    a = 0.0
+    b = 0.0
+    m = min(nt, nb_)
+    for j in range(m):
+        i = L + j
+        a = y[i] * inv_t[i] - g_t[i] * a
+        y[i] = a
+        i2 = R - j
+        b = y[i2] * inv_b[i2] - g_b[i2] * b
+        y[i2] = b
+    for i in range(L + m, L + nt):
+        a = y[i] * inv_t[i] - g_t[i] * a
+        y[i] = a
+    for i in range(R - m, R - nb_, -1):
+        b = y[i] * inv_b[i] - g_b[i] * b
+        y[i] = b
+    # twist node: (d_k - e_{k-1} cp_t[k-1] - e_k cp_b[k+1]) x_k = r_k - e_{k-1} a - e_k b
+    rk = y[k]
+    if nt > 0:
+        rk -= off[k - 1] * a
+    if nb_ > 0:
+        rk -= off[k] * b
+    xk = rk * twist[k]
+    v[k] += beta * xk
+    # ---- sweep C: back substitution k-1 -> L and k+1 -> R, kick
+    a = xk
+    b = xk
+    for j in range(1, m + 1):
+        i = k - j
+        a = y[i] - cp_t[i] * a
+        v[i] += beta * a
+        i2 = k + j
+        b = y[i2] - cp_b[i2] * b
+        v[i2] += beta * b
+    for i in range(k - m - 1, k - nt - 1, -1):
+        a = y[i] - cp_t[i] * a
+        v[i] += beta * a
+    for i in range(k + m + 1, k + nb_ + 1):
+        b = y[i] - cp_b[i] * b
+        v[i] += beta * b
+    # ---- new active window: scan inwards from both edges
+    lo = -1
+    for i in range(L, R + 1):
+        if _node_active(u, v, i, n, ih, tau_s, tau_v):
+            lo = i
+            break
+    if lo < 0:
+        win[0] = -1
+        win[1] = -1
+        return
+    hi = lo
+    for i in range(R, lo, -1):
+        if _node_active(u, v, i, n, ih, tau_s, tau_v):
+            hi = i
+            break
+    win[0] = lo
+    win[1] = hi
+
+
+@nb.njit(inline="always", **_JIT)
+def _node_active(u, v, i, n, ih, tau_s, tau_v):
+    """Node i moves (|v| > tau_v) or one of its interior faces is strained (> tau_s)."""
+    if abs(v[i]) > tau_v:
+        return True
+    if i > 0 and abs((u[i - 1] - u[i]) * ih) > tau_s:
+        return True
+    if i < n - 1 and abs((u[i] - u[i + 1]) * ih) > tau_s:
+        return True
+    return False
+
+
+@nb.njit(**_JIT)
+def _rosenau_pass_periodic(u, v, y, alpha, beta, h, nl, kk, bb, kh, d0, f0,
+                           inv_den, g, cp, z, vfac):
+    """One drift and one kick over a periodic chain (cyclic Thomas, Sherman–Morrison)."""
+    n = u.size
+    ih = 1.0 / h
+    for i in range(n):
+        u[i] += alpha * v[i]
+    s = (u[n - 1] - u[0]) * ih
+    p0 = _flux(s, nl, kk[0], bb[0], kh[0], d0[0], f0[0])
+    p_prev = p0
+    yp = 0.0
+    for i in range(1, n):
+        s = (u[i - 1] - u[i]) * ih
+        p = _flux(s, nl, kk[i], bb[i], kh[i], d0[i], f0[i])
+        yp = (p_prev - p) * ih * inv_den[i - 1] - g[i - 1] * yp
+        y[i - 1] = yp
+        p_prev = p
+    y[n - 1] = (p_prev - p0) * ih * inv_den[n - 1] - g[n - 1] * yp
+    x = 0.0
+    for i in range(n - 1, -1, -1):
+        x = y[i] - cp[i] * x
+        y[i] = x
+    f = (y[0] + vfac[0] * y[n - 1]) / vfac[1]
+    for i in range(n):
+        v[i] += beta * (y[i] - f * z[i])
+
+
+@nb.njit(**_JIT)
+def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0,
+                  fac, z, vfac, win, margin, tau_s, tau_v):
+    """Advance the Rosenau form of Eq. 4 by ``nsteps`` steps of ``dt`` (s), in place.
+
+    Parameters
+    ----------
+    u, v : float64[N]
+        Node displacements (m) and velocities (m/s).
+    y : float64[N]
+        Scratch.
+    alpha, beta : float64[S+1], float64[S]
+        Drift and kick coefficients of the splitting (module docstring).
+    h, bc, nl :
+        Node spacing (grains), boundary code, nonlinearity code.
+    kk, bb, kh, d0, f0 : float64[faces]
+        Linear stiffness K (N/m), quadratic coefficient K/(4δ0) (N/m²), Hertz constant
+        (N/m^{3/2}), static overlap (m) and static force k δ0^{3/2} (N) per face.
+    fac, z, vfac :
+        Factors of the mass operator (:func:`rosenau_factors`).
+    win : int64[2]
+        Active window [lo, hi] (in/out; lo = -1: the chain is at rest).
+    margin : int
+        Nodes solved beyond the active window on either side.
+    tau_s, tau_v : float
+        At-rest thresholds for strain (m) and velocity (m/s).
+
+    Returns
+    -------
+    int
+        Node-updates performed (nodes swept times force evaluations).
+    """
+    n = u.size
+    nsub = beta.size
+    work = 0
+    for step in range(nsteps):
+        for j in range(nsub):
+            a = alpha[j] * dt
+            if j == 0 and step > 0:
+                a = (alpha[nsub] + alpha[0]) * dt
+            b = beta[j] * dt
+            if bc == PERIODIC:
+                _rosenau_pass_periodic(u, v, y, a, b, h, nl, kk, bb, kh, d0, f0,
+                                       fac[0], fac[1], fac[2], z, vfac)
+                work += n
+                continue
+            if win[0] < 0:
+                # at rest: drifts are no-ops (v = 0 to within tau), kicks vanish
+                continue
+            lo = max(win[0] - margin, 0)
+            hi = min(win[1] + margin, n - 1)
+            _rosenau_pass(u, v, y, lo, hi, a, b, h, bc, nl, kk, bb, kh, d0, f0, fac,
+                          tau_s, tau_v, win)
+            work += hi - lo + 1
+    # closing drift α_S
+    a = alpha[nsub] * dt
+    if nsteps > 0:
+        if bc == PERIODIC:
+            for i in range(n):
+                u[i] += a * v[i]
+        elif win[0] >= 0:
+            lo = max(win[0] - margin, 0)
+            hi = min(win[1] + margin, n - 1)
+            for i in range(lo, hi + 1):
+                u[i] += a * v[i]
+    return work
+
+
+def rosenau_factors(diag, off, corner):
+    """Factors of the symmetric (cyclic) tridiagonal matrix (diag, off, corner).
+
+    Returns ``(fac, z, vfac)``.  ``fac`` (8 × N) holds the elimination from the top
+    (inv_t = 1/den_t, g_t_i = off_{i-1}/den_t_i, cp_t_i = off_i/den_t_i), from the
+    bottom (inv_b, g_b_i = off_i/den_b_i, cp_b_i = off_{i-1}/den_b_i), the inverse
+    twisted pivots d_k - off_{k-1} cp_t_{k-1} - off_k cp_b_{k+1} (Meurant, SIAM J.
+    Matrix Anal. Appl. 13 (1992) 707: the "twisted" factorisation) and off itself.  A cyclic matrix
+    (``corner`` ≠ 0) uses the top elimination of the Sherman–Morrison-modified matrix
+    with the vector z and scalars ``vfac`` (Press et al., *Numerical Recipes*, 3rd ed.,
+    §2.7.2; zeros otherwise).
+    """
+    from ._kernels import tridiag_factor
+
+    d = np.asarray(diag, float)
+    e = np.asarray(off, float)
+    n = d.size
+    den, cp, offp, z, vfac = tridiag_factor(d, e, float(corner))
+    fac = np.zeros((8, n))
+    fac[0] = 1.0 / den
+    fac[1, 1:] = offp[:-1] * fac[0, 1:]
+    fac[2] = cp
+    if corner == 0.0:
+        den_b = np.empty(n)
+        den_b[-1] = d[-1]
+        for i in range(n - 2, -1, -1):
+            den_b[i] = d[i] - e[i] * e[i] / den_b[i + 1]
+        fac[3] = 1.0 / den_b
+        fac[4, :-1] = e * fac[3, :-1]
+        fac[5, 1:] = e * fac[3, 1:]
+        piv = d.copy()
+        piv[1:] -= e * cp[:-1]
+        piv[:-1] -= e * e * fac[3, 1:]
+        fac[6] = 1.0 / piv
+        fac[7, :-1] = e
+    return fac, z, vfac
+
+
+def window_margin(fac) -> int:
+    """Nodes over which the mass operator's Green's function falls below 2^-60.
+
+    The smallest m such that every product of m consecutive back-substitution factors
+    |cp_t| and |cp_b| (rows 2 and 5 of :func:`rosenau_factors`) is below 2^-60: the
+    truncation error of :func:`rosenau_chunk`'s windowed solve relative to the largest
+    value (at least 2).
+    """
+    target = -WINDOW_LOG2_TOLERANCE * np.log(2.0)
+    worst = 0
+    for f in (np.asarray(fac[2], float)[:-1], np.asarray(fac[5], float)[1:]):
+        if f.size == 0:
+            continue
+        lf = np.log(np.maximum(np.abs(f), 1e-300))
+        c = np.r_[0.0, np.cumsum(lf)]
+        m = f.size
+        for m in range(1, f.size + 1):
+            if np.max(c[m:] - c[:-m]) < target:
+                break
+        worst = max(worst, m)
+    return max(2, worst + 1)
+
+
+@nb.njit(**_JIT)
+def rosenau_monitor(u, v, h, bc, nl, kk, bb, kh, d0, f0, mass, wgrad, w):
+    """Energy functional (J) and momentum (kg m/s) of the Rosenau form of Eq. 4.
+
+    E = h Σ_p ½ m_p v_p² + h Σ_q w_q [½ m_q ℓ² (v_X)_q² + W(s_q)] with ``wgrad`` =
+    w_q m_q ℓ² and W the dynamic potential of the flux (``BoussinesqPDE.potential``);
+    P = h Σ m_p v_p.  Non-finite values propagate (NaN/inf state → NaN/inf energy).
+    """
+    n = u.size
+    ih = 1.0 / h
+    ek = 0.0
+    mom = 0.0
+    for i in range(n):
+        ek += mass[i] * v[i] * v[i]
+        mom += mass[i] * v[i]
+    ek *= 0.5
+    nf = kk.size
+    ep = 0.0
+    for q in range(nf):
+        if bc == PERIODIC:
+            im = q - 1 if q > 0 else n - 1
+            s = (u[im] - u[q]) * ih
+            dv = (v[q] - v[im]) * ih
+        elif q == 0 or q == n:
+            if bc == WALL:
+                s = -2.0 * u[0] * ih if q == 0 else 2.0 * u[n - 1] * ih
+                dv = 2.0 * v[0] * ih if q == 0 else -2.0 * v[n - 1] * ih
+            else:
+                s = 0.0
+                dv = 0.0
+        else:
+            s = (u[q - 1] - u[q]) * ih
+            dv = (v[q] - v[q - 1]) * ih
+        if nl == 0:
+            pot = 0.5 * kk[q] * s * s
+        elif nl == 1:
+            pot = 0.5 * kk[q] * s * s + bb[q] * s * s * s / 3.0
+        else:
+            r = d0[q] + s
+            if r < 0.0:
+                r = 0.0
+            pot = 0.4 * kh[q] * (r * r * np.sqrt(r) - d0[q] * d0[q] * np.sqrt(d0[q])) - f0[q] * s
+        ep += w[q] * pot + 0.5 * wgrad[q] * dv * dv
+    return h * (ek + ep), h * mom
+
+
+# ------------------------------------------------------------------------------ Nesterenko
+@nb.njit(inline="always", **_JIT)
+def _zeta_phi(dl, eps):
+    """ζ(δ) = δ^{5/4} and φ(δ) = δ^{1/4}, continued C¹ below ``eps`` (NesterenkoPDE)."""
+    if dl >= eps:
+        sq = np.sqrt(np.sqrt(dl))
+        return dl * sq, sq
+    r = dl / eps
+    e4 = np.sqrt(np.sqrt(eps))
+    return eps * e4 * (0.625 * r * r + 0.375), e4 * r
+
+
+@nb.njit(**_JIT)
+def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate, periodic):
+    """hy[q] = (H y)[q] for the faces that need it, y zero outside ``comp``/[qa, qb].
+
+    Periodic: the circulant with the real multiplier ``spec`` (DUCC real FFTs of the
+    chain's length, through rocket-fft).  Otherwise the restriction of the
+    infinite-lattice Toeplitz operator (kernel ``c``): a direct sum over the
+    ``ncomp`` faces listed in ``comp`` when that is cheaper, else a zero-padded real
+    FFT over the faces [qa, qb] of a length m ≥ 2 (qb - qa) + 1 (``fstate[0]``; the
+    spectrum of the embedded kernel for that length is kept in ``spec`` and
+    recomputed when m changes).  No allocation.
+    """
+    nf = y.size
+    if periodic:
+        m = nf
+        nh = m // 2 + 1
+        r2c(y, fft_c[:nh], _AXES, True, 1.0, 1)
+        for i in range(nh):
+            fft_c[i] *= spec[i]
+        c2r(fft_c[:nh], hy, _AXES, False, 1.0 / m, 1)
+        return
+    w = qb - qa + 1
+    need = 2 * w - 1
+    m = fstate[0]
+    if ncomp * ncomp <= 40 * w + 2000:
+        for q in range(qa, qb + 1):
+            hy[q] = 0.0
+        for a in range(ncomp):
+            q = comp[a]
+            acc = 0.0
+            for b in range(ncomp):
+                p = comp[b]
+                d = q - p if q >= p else p - q
+                acc += c[d] * y[p]
+            hy[q] = acc
+        return
+    if need > m or 4 * need < m:
+        m = good_size(need + need // 4, True)
+        if m > fft_re.size:
+            m = good_size(need, True)
+        fstate[0] = m
+        # spectrum of the circulant of length m holding the Toeplitz matrix
+        for i in range(m):
+            fft_re[i] = 0.0
+        nc = min(m // 2, c.size)
+        fft_re[0] = c[0]
+        for j in range(1, nc):
+            fft_re[j] = c[j]
+            fft_re[m - j] = c[j]
+        nh = m // 2 + 1
+        r2c(fft_re[:m], fft_c[:nh], _AXES, True, 1.0, 1)
+        for i in range(nh):
+            spec[i] = fft_c[i].real
+    nh = m // 2 + 1
+    for i in range(w):
+        fft_re[i] = y[qa + i]
+    for i in range(w, m):
+        fft_re[i] = 0.0
+    r2c(fft_re[:m], fft_c[:nh], _AXES, True, 1.0, 1)
+    for i in range(nh):
+        fft_c[i] *= spec[i]
+    c2r(fft_c[:nh], fft_re[:m], _AXES, False, 1.0 / m, 1)
+    for i in range(w):
+        hy[qa + i] = fft_re[i]
+
+
+@nb.njit(inline="always", **_JIT)
+def _face_strain(u, q, ih, bc):
+    """Strain s = -u_X of face q (m per grain), with the ghosts of ``bc``."""
+    n = u.size
+    if bc == PERIODIC:
+        return (u[q - 1 if q > 0 else n - 1] - u[q]) * ih
+    if q == 0:
+        return -2.0 * u[0] * ih if bc == WALL else 0.0
+    if q == n:
+        return 2.0 * u[n - 1] * ih if bc == WALL else 0.0
+    return (u[q - 1] - u[q]) * ih
+
+
+@nb.njit(**_JIT)
+def _nesterenko_faces(u, L, R, h, bc, k, d0, f0, sk, z0, mask, eps, dl, fh, ph, y, comp):
+    """Overlap δ, Hertz flux k δ^{3/2} - f0, φ and y = mask √k (ζ(δ) - ζ0) per face.
+
+    Faces of the nodes [L, R].  Returns (qa, qb, ncomp): the face range and how many
+    faces (listed in ``comp``) carry a nonzero y or φ.
+    """
+    ih = 1.0 / h
+    qa = L
+    qb = R if bc == PERIODIC else R + 1
+    ncomp = 0
+    e4 = np.sqrt(np.sqrt(eps))
+    for q in range(qa, qb + 1):
+        x = d0[q] + _face_strain(u, q, ih, bc)
+        if x < 0.0:
+            x = 0.0
+        dl[q] = x
+        sq = np.sqrt(x)
+        fh[q] = k[q] * (x * sq) - f0[q]
+        if x >= eps:
+            r4 = np.sqrt(sq)
+            zq = x * r4
+            pq = r4
+        else:  # C¹ continuation below the floor (NesterenkoPDE)
+            r = x / eps
+            zq = eps * e4 * (0.625 * r * r + 0.375)
+            pq = e4 * r
+        pq *= mask[q]
+        ph[q] = pq
+        yq = mask[q] * sk[q] * (zq - z0[q])
+        y[q] = yq
+        if yq != 0.0 or pq != 0.0:
+            comp[ncomp] = q
+            ncomp += 1
+    return qa, qb, ncomp
+
+
+@nb.njit(**_JIT)
+def _nesterenko_pass(u, v, L, R, alpha, beta, h, bc, k, d0, f0, sk, z0, mask, eps, disp,
+                     inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
+    """One drift (α Δt) and one kick (β Δt) of the regularised Eq. 7 over nodes [L, R].
+
+    Sweeps: drift; faces (δ, Hertz flux, φ, y); the saturated operator H y; flux
+    F = k δ^{3/2} - f0 + disp √k φ H y fused with the kick v_i += β Δt (F_i - F_{i+1})/(h m_i).
+    """
+    n = u.size
+    ih = 1.0 / h
+    for i in range(L, R + 1):
+        u[i] += alpha * v[i]
+    qa, qb, ncomp = _nesterenko_faces(u, L, R, h, bc, k, d0, f0, sk, z0, mask, eps, dl, fh,
+                                      ph, y, comp)
+    _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
+                     bc == PERIODIC)
+    if bc == PERIODIC:
+        f_first = fh[0] + disp * sk[0] * ph[0] * hy[0]
+        f_l = f_first
+        for i in range(n):
+            if i < n - 1:
+                f_r = fh[i + 1] + disp * sk[i + 1] * ph[i + 1] * hy[i + 1]
+            else:
+                f_r = f_first
+            v[i] += beta * (f_l - f_r) * ih * inv_m[i]
+            f_l = f_r
+    else:
+        f_l = fh[L] + disp * sk[L] * ph[L] * hy[L]
+        for i in range(L, R + 1):
+            f_r = fh[i + 1] + disp * sk[i + 1] * ph[i + 1] * hy[i + 1]
+            v[i] += beta * (f_l - f_r) * ih * inv_m[i]
+            f_l = f_r
+
+
+@nb.njit(**_JIT)
+def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, h, bc, k, d0, f0, sk, z0, mask, eps,
+                     disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp, win,
+                     windowed, tau_v, tau_d):
+    """Advance the regularised Eq. 7 by ``nsteps`` steps of ``dt`` (s), in place.
+
+    With ``windowed`` (sonic vacuum, non-periodic) only nodes [lo - 1, hi + 1] are
+    swept, ``win`` = [lo, hi] being the nodes that move (|v| > tau_v) or touch a
+    compressed face (δ > tau_d): outside, δ = 0 and v = 0 (to 2^-52 of the wave's
+    values), so the flux (Hertz and dispersive, the latter ∝ φ(δ) = 0) vanishes and one
+    node per force evaluation is the farthest a disturbance can reach.  Otherwise the
+    whole chain is swept.  Returns the node-updates performed.
+    """
+    n = u.size
+    nsub = beta.size
+    work = 0
+    for step in range(nsteps):
+        for j in range(nsub):
+            a = alpha[j] * dt
+            if j == 0 and step > 0:
+                a = (alpha[nsub] + alpha[0]) * dt
+            b = beta[j] * dt
+            if windowed:
+                if win[0] < 0:
+                    continue
+                lo = max(win[0] - 1, 0)
+                hi = min(win[1] + 1, n - 1)
+            else:
+                lo = 0
+                hi = n - 1
+            _nesterenko_pass(u, v, lo, hi, a, b, h, bc, k, d0, f0, sk, z0, mask, eps, disp,
+                             inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp)
+            work += hi - lo + 1
+            if windowed:
+                new_lo = -1
+                for i in range(lo, hi + 1):
+                    if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+                        new_lo = i
+                        break
+                if new_lo < 0:
+                    win[0] = -1
+                    win[1] = -1
+                else:
+                    new_hi = new_lo
+                    for i in range(hi, new_lo, -1):
+                        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+                            new_hi = i
+                            break
+                    win[0] = new_lo
+                    win[1] = new_hi
+    if nsteps > 0:
+        a = alpha[nsub] * dt
+        if windowed:
+            if win[0] >= 0:
+                for i in range(max(win[0] - 1, 0), min(win[1] + 1, n - 1) + 1):
+                    u[i] += a * v[i]
+        else:
+            for i in range(n):
+                u[i] += a * v[i]
+    return work
+
+
+@nb.njit(**_JIT)
+def nesterenko_monitor(u, v, h, bc, k, d0, f0, sk, z0, mask, eps, disp, mass, w, c, spec,
+                       fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
+    """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
+
+    E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q) + y_q (Hy)_q/25]
+    (NesterenkoPDE.energy_density), P = h Σ m v.
+    """
+    n = u.size
+    ek = 0.0
+    mom = 0.0
+    for i in range(n):
+        ek += mass[i] * v[i] * v[i]
+        mom += mass[i] * v[i]
+    qa, qb, ncomp = _nesterenko_faces(u, 0, n - 1, h, bc, k, d0, f0, sk, z0, mask, eps, dl,
+                                      fh, ph, y, comp)
+    _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
+                     bc == PERIODIC)
+    ep = 0.0
+    ih = 1.0 / h
+    for q in range(qa, qb + 1):
+        x = dl[q]
+        s = _face_strain(u, q, ih, bc)
+        pot = k[q] * (0.4 * (x * x * np.sqrt(x) - d0[q] * d0[q] * np.sqrt(d0[q]))
+                      - d0[q] * np.sqrt(d0[q]) * s)
+        ep += w[q] * pot + (disp / 2.5) * y[q] * hy[q]
+    return h * (0.5 * ek + ep), h * mom
+
+
+# ------------------------------------------------------------------------------ KdV
+@nb.njit(**_JIT)
+def _kdv_stage(src, base, acc, dst, wa, wd, mode, a1, a3, nl, h):
+    """One RK4 stage of the KdV rate (periodic), fused with the stage updates.
+
+    k_i = -a1 s_X - a3 s_XXX - nl (s s_X + (s²)_X) of ``src`` (central differences:
+    s_X = (s_{i+1} - s_{i-1})/2h, s_XXX = (s_{i+2} - 2 s_{i+1} + 2 s_{i-1} - s_{i-2})/2h³,
+    as py-pde's ``d_dx(d2_dx2 s)``).  mode 0: acc = base + wa k, dst = base + wd k;
+    mode 1: acc += wa k, dst = base + wd k; mode 2: base = acc + wa k.
+    """
+    n = src.size
+    i2h = 0.5 / h
+    i2h3 = 0.5 / (h * h * h)
+    for i in range(n):
+        im2 = i - 2 if i >= 2 else i - 2 + n
+        im1 = i - 1 if i >= 1 else n - 1
+        ip1 = i + 1 if i + 1 < n else i + 1 - n
+        ip2 = i + 2 if i + 2 < n else i + 2 - n
+        sm2, sm1, s0, sp1, sp2 = src[im2], src[im1], src[i], src[ip1], src[ip2]
+        sx = (sp1 - sm1) * i2h
+        sxxx = ((sp2 - sp1) - (sp1 - s0) - (s0 - sm1) + (sm1 - sm2)) * i2h3
+        s2x = (sp1 * sp1 - sm1 * sm1) * i2h
+        k = -a1 * sx - a3 * sxxx - nl * (s0 * sx + s2x)
+        if mode == 0:
+            acc[i] = base[i] + wa * k
+            dst[i] = base[i] + wd * k
+        elif mode == 1:
+            acc[i] += wa * k
+            dst[i] = base[i] + wd * k
+        else:
+            base[i] = acc[i] + wa * k
+
+
+@nb.njit(**_JIT)
+def kdv_chunk(s, acc, sa, sb, nsteps, dt, a1, a3, nl, h):
+    """Advance the KdV reduction of Eq. 4 by ``nsteps`` classical RK4 steps, in place.
+
+    ``acc``, ``sa``, ``sb`` are scratch arrays of the size of ``s``.  Returns the node
+    updates (points times stages).
+    """
+    for _ in range(nsteps):
+        _kdv_stage(s, s, acc, sa, dt / 6.0, 0.5 * dt, 0, a1, a3, nl, h)
+        _kdv_stage(sa, s, acc, sb, dt / 3.0, 0.5 * dt, 1, a1, a3, nl, h)
+        _kdv_stage(sb, s, acc, sa, dt / 3.0, dt, 1, a1, a3, nl, h)
+        _kdv_stage(sa, s, acc, sa, dt / 6.0, 0.0, 2, a1, a3, nl, h)
+    return 4 * nsteps * s.size
+
+
+@nb.njit(**_JIT)
+def kdv_monitor(s, h):
+    """The KdV invariants ∫s² dX (m² grains) and ∫s dX (m grains) of a periodic state."""
+    m1 = 0.0
+    m2 = 0.0
+    for i in range(s.size):
+        m1 += s[i]
+        m2 += s[i] * s[i]
+    return h * m2, h * m1
