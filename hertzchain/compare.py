@@ -55,7 +55,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
 
 from discrete import diagnostics as D
@@ -530,7 +529,9 @@ def compare_point(scenario: Scenario, *, out: str | Path | None = None,
 
 def read_comparison(path: str | Path) -> dict[str, Any]:
     """The numbers of a ``compare.h5`` file (JSON attribute ``comparison``)."""
-    with h5py.File(path, "r") as f:
+    from theory import integrity
+
+    with integrity.open_hdf5(path, what="comparison") as f:
         if f.attrs.get("format") != FORMAT:
             raise ValueError(f"{path}: not a comparison file ({FORMAT})")
         return json.loads(f.attrs["comparison"])

@@ -1,6 +1,7 @@
 """Output of a :class:`hertzchain.compare.Comparison`: one HDF5 file, figures, a report.
 
-``compare.h5`` (written to a temporary name and renamed; attribute ``format`` =
+``compare.h5`` (written to a temporary name and renamed, sealed by
+:func:`theory.integrity.sealed_hdf5` and verified on reading; attribute ``format`` =
 :data:`hertzchain.compare.FORMAT`) holds
 
 * root attributes ``scenario`` (JSON), ``comparison`` (JSON: every number of
@@ -29,8 +30,9 @@ import math
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
+
+from theory import integrity
 
 from .cache import atomic_path, canonical_json
 from .report import Report
@@ -49,7 +51,7 @@ def _json(obj) -> str:
 def write_hdf5(cmp, path: Path) -> Path:
     """Write ``compare.h5`` (module docstring) atomically; return its path."""
     res = cmp.run
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+    with integrity.sealed_hdf5(path) as f:
         f.attrs["format"] = _format()
         f.attrs["scenario"] = canonical_json(cmp.scenario.to_dict())
         f.attrs["comparison"] = _json(cmp.to_dict())

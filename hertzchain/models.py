@@ -51,15 +51,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
 
 import discrete
 import theory
 from discrete import diagnostics as D
+from theory import integrity
 
 from . import checkpoint as C
-from .cache import atomic_path, cache_path, canonical_json
+from .cache import cache_path, canonical_json
 from .runner import build_chain, build_initial_checked, interfaces, run_simulation
 from .scenario import ModelsSpec, Scenario, ScenarioError
 
@@ -573,8 +573,8 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
     cached = False
     if path is not None and out is None and path.exists() and not force:
         try:
-            sim = discrete.load(path)
-            with h5py.File(path, "r") as f:
+            sim = discrete.load(path)  # verified (theory.integrity)
+            with integrity.open_hdf5(path, what="cached result") as f:
                 summary = json.loads(f.attrs["summary"])
             cached = True
         except (OSError, ValueError, KeyError):  # unreadable or unfinished: recompute
@@ -655,7 +655,7 @@ def _continuum_key(scenario: Scenario, model: str, times: np.ndarray, t_final: f
 
 
 def _read_continuum(path: Path) -> ModelRun:
-    with h5py.File(path, "r") as f:
+    with integrity.open_hdf5(path, what="continuum result") as f:
         if f.attrs.get("format") != FORMAT:
             raise ValueError(f"{path}: not a continuum result ({FORMAT})")
         g = f["samples"]
@@ -663,19 +663,22 @@ def _read_continuum(path: Path) -> ModelRun:
                         g["strain"][()], float(f.attrs["t_final"]),
                         completed=bool(f.attrs["completed"]),
                         stopped_by=str(f.attrs["stopped_by"]),
-                        summary=json.loads(f.attrs["summary"]),
+                        summary={**json.loads(f.attrs["summary"]),
+                                 "wall_time": float(f.attrs["wall_time"])},
                         params=json.loads(f.attrs["params"]), path=path, cached=True)
     return run_
 
 
 def _write_continuum(path: Path, run_: ModelRun, scenario: Scenario) -> None:
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+    with integrity.sealed_hdf5(path) as f:
         f.attrs["format"] = FORMAT
         f.attrs["label"] = run_.label
         f.attrs["t_final"] = run_.t_final
         f.attrs["completed"] = run_.completed
         f.attrs["stopped_by"] = run_.stopped_by
-        f.attrs["summary"] = canonical_json(run_.summary)
+        summary = dict(run_.summary)
+        f.attrs["wall_time"] = float(summary.pop("wall_time", math.nan))
+        f.attrs["summary"] = canonical_json(summary)
         f.attrs["params"] = canonical_json(run_.params)
         f.attrs["scenario"] = canonical_json(scenario.to_dict())
         f.attrs["units"] = canonical_json({"t": "s", "v": "m/s", "strain": "m"})
@@ -842,7 +845,8 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
             raise FloatingPointError("the continuum solution is not finite (unstable)")
         completed, stopped = True, "t_end"
         summary.update(dt=info["dt"], steps=info["steps"], energy_drift=info["energy_drift"])
-    except (FloatingPointError, ValueError, ArithmeticError) as exc:
+    except (FloatingPointError, ValueError, ArithmeticError,
+            continuum.InstabilityError) as exc:
         ts, vs = np.zeros(0), np.zeros((0, chain.n))
         ss = np.zeros((0, chain.n + 1))
         completed, stopped = False, f"error: {type(exc).__name__}: {exc}"
