@@ -26,6 +26,14 @@ Usage::
     python benchmarks/kernel.py --grains 50000 --threads 2
     python benchmarks/kernel.py --threshold-scan
     python benchmarks/kernel.py --roofline           # what limits the kernel
+    python benchmarks/kernel.py --baseline-tree /tmp/old --grains 10000
+        # this code against another checkout of the package (e.g. ``git archive <commit>
+        # | tar -x -C /tmp/old``), in one run: rounds of the two alternate, each in its
+        # own process (PYTHONPATH=<tree>), and the ratio of the best rates is printed
+
+``--baseline-tree`` is how a change to the kernels is checked for speed: both codes run
+this same script (which uses only the public API of ``discrete``), on the same machine,
+interleaved, so that the machine's load drifts equally over both.
 """
 
 from __future__ import annotations
@@ -235,6 +243,40 @@ def threshold_scan(repeats: int, seconds: float) -> None:
         print(f"{n:>8} {max(r1):>12.3e} {max(r2):>12.3e} {max(r2) / max(r1):>7.2f}")
 
 
+def _run_tree(tree: str | None, n: int, repeats: int, seconds: float) -> dict:
+    """This script's --json measurement in a fresh process, on ``tree``'s packages or ours."""
+    env = dict(os.environ)
+    if tree is not None:
+        env["PYTHONPATH"] = str(Path(tree).resolve()) + os.pathsep + env.get("PYTHONPATH", "")
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--grains", str(n), "--json",
+           "--repeats", str(repeats), "--seconds", str(seconds)]
+    out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def compare_trees(tree: str, grains: list[int], rounds: int, repeats: int,
+                  seconds: float) -> None:
+    """Best rates of this code and of ``tree``'s, rounds alternating; their ratio."""
+    m = machine()
+    print(f"# {m['cpu']}, {m['cores']} cores; baseline: packages of {tree}")
+    print(f"{'N':>8} {'kind':>10} {'baseline':>11} {'this code':>11} {'ratio':>7}")
+    for n in grains:
+        best = {"base": {}, "new": {}}
+        for _ in range(rounds):
+            for who, t in (("base", tree), ("new", None)):
+                r = _run_tree(t, n, repeats, seconds)
+                for kind in ("grain_updates_per_s", "bare_grain_updates_per_s"):
+                    if kind in r:
+                        best[who][kind] = max(best[who].get(kind, 0.0), r[kind])
+        for kind, label in (("grain_updates_per_s", "recording"),
+                            ("bare_grain_updates_per_s", "bare")):
+            if kind in best["base"] and kind in best["new"]:
+                b, c = best["base"][kind], best["new"][kind]
+                print(f"{n:>8} {label:>10} {b:>11.3e} {c:>11.3e} {c / b:>7.3f}")
+    load = os.getloadavg()
+    print(f"# load average after: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
+
+
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--grains", type=int, action="append",
@@ -246,7 +288,13 @@ def main(argv=None) -> None:
     p.add_argument("--threshold-scan", action="store_true")
     p.add_argument("--roofline", action="store_true",
                    help="the kernel beside its compute and memory ceilings")
+    p.add_argument("--baseline-tree", metavar="DIR",
+                   help="compare with the packages of another checkout (see the docstring)")
+    p.add_argument("--rounds", type=int, default=5, help="alternating rounds (--baseline-tree)")
     a = p.parse_args(argv)
+    if a.baseline_tree:
+        compare_trees(a.baseline_tree, a.grains or [10_000], a.rounds, a.repeats, a.seconds)
+        return
     if a.threshold_scan:
         threshold_scan(a.repeats, a.seconds)
         return
@@ -262,6 +310,7 @@ def main(argv=None) -> None:
     if a.json:
         r = results[0]
         out = {"grains": r["grains"], "grain_updates_per_s": r["best"][1],
+               "bare_grain_updates_per_s": r["best"]["bare"],
                "baseline_numpy_grain_updates_per_s": r["best"]["numpy"]}
         if a.threads > 1:
             out["threads"] = a.threads

@@ -1,7 +1,9 @@
 """Discrete-element solver for 1-D chains of Hertzian spheres (paper Section 2, Eqs. 1-2).
 
-Chains (:class:`Chain`, :class:`Section`), the velocity-Verlet :class:`Simulation` with
-numba kernels (:mod:`discrete.kernels`) and a NumPy reference (:mod:`discrete.reference`),
+Chains (:class:`Chain`, :class:`Section`), contact laws (:mod:`discrete.laws`: Hertz,
+power laws, viscoelastic Hertz), the :class:`Simulation` with numba kernels built per law
+(:mod:`discrete.kernels`) and a NumPy reference (:mod:`discrete.reference`), the time
+step (:class:`TimeStep`),
 energies (:mod:`discrete.energy`), recording (:class:`Recording`, :class:`WaveAt`,
 :class:`AtTime`), initial conditions (:mod:`discrete.initial`) and HDF5 output
 (:func:`save`, :func:`load`).
@@ -10,34 +12,35 @@ energies (:mod:`discrete.energy`), recording (:class:`Recording`, :class:`WaveAt
 from .chain import Chain, Section
 from .initial import Initial, cut_wave, exact_wave, impact, place_wave, settled_wave
 from .io import load, save
+from .laws import HERTZ, ContactLaw, PowerLaw, ViscoelasticHertz
 from .recording import AtTime, Record, Recording, Snapshot, WaveAt
-from .simulation import (
-    DT_FRACTION,
-    InstabilityError,
-    RunInfo,
-    Simulation,
-    State,
-    default_dt,
-    stable_dt,
-)
+from .simulation import InstabilityError, RunInfo, SavedSimulation, Simulation, State
+from .timestep import DT_FRACTION, TimeStep, default_dt, expected_overlaps, stable_dt
 
 __all__ = [
     "DT_FRACTION",
+    "HERTZ",
     "AtTime",
     "Chain",
+    "ContactLaw",
     "Initial",
     "InstabilityError",
+    "PowerLaw",
     "Record",
     "Recording",
     "RunInfo",
+    "SavedSimulation",
     "Section",
     "Simulation",
     "Snapshot",
     "State",
+    "TimeStep",
+    "ViscoelasticHertz",
     "WaveAt",
     "cut_wave",
     "default_dt",
     "exact_wave",
+    "expected_overlaps",
     "impact",
     "load",
     "place_wave",

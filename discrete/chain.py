@@ -159,9 +159,16 @@ class Chain:
         return int(self.mass.size)
 
     @property
+    def exponent(self) -> float:
+        """Exponent n of the contact law the static overlaps balance (``params``; 3/2)."""
+        return float(self.params.get("exponent", 1.5))
+
+    @property
     def f0(self) -> np.ndarray:
-        """Static contact forces k δ0^{3/2}, N (Eq. 1), computed as the kernels do."""
-        return self.k * (self.delta0 * np.sqrt(self.delta0))
+        """Static contact forces k δ0^n, N (Eq. 1 for n = 3/2, as the kernels compute it)."""
+        if self.exponent == 1.5:
+            return self.k * (self.delta0 * np.sqrt(self.delta0))
+        return self.k * self.delta0**self.exponent
 
     @property
     def positions(self) -> np.ndarray:
@@ -178,7 +185,7 @@ class Chain:
     # ---------------------------------------------------------------- constructors
     @classmethod
     def from_arrays(cls, mass, k, delta0=0.0, *, diameter=theory.PAPER_DIAMETER,
-                    section=0, params: dict | None = None) -> Chain:
+                    section=0, params: dict | None = None, exponent: float = 1.5) -> Chain:
         """Chain from arbitrary per-grain / per-contact arrays (tapered, random, dimer).
 
         Parameters
@@ -189,13 +196,16 @@ class Chain:
             Contact constants, N/m^{3/2} (0 at a free end).
         delta0 : float or (N+1,) array
             Static overlaps, m.  A scalar is the overlap of contact 1 (or 0) and the
-            others follow from force equilibrium δ_j = (F0/k_j)^{2/3} (below Eq. 9).
+            others follow from force equilibrium δ_j = (F0/k_j)^{1/n} (below Eq. 9).
         diameter : float or (N,) array
             Grain diameters, m.
         section : int or (N,) array
             Section index per grain.
         params : dict, optional
             Metadata to store.
+        exponent : float
+            Exponent n of the contact law F = k δ^n the static overlaps balance (3/2:
+            Hertz; :mod:`discrete.laws`); recorded in ``params``.
         """
         mass = np.asarray(mass, dtype=float)
         if mass.ndim != 1 or mass.size < 2:
@@ -205,14 +215,16 @@ class Chain:
             d0 = float(delta0)
             if not math.isfinite(d0) or d0 < 0:
                 raise ValueError(f"delta0 must be finite and >= 0 (got {delta0!r})")
-            delta0 = _equilibrium(k, d0, reference=1)
+            delta0 = _equilibrium(k, d0, reference=1, exponent=exponent)
         p = {"kind": "arrays"} if params is None else dict(params)
+        if exponent != 1.5:
+            p["exponent"] = float(exponent)
         return cls(mass, k, delta0, diameter, section, p)
 
     @classmethod
     def from_sections(cls, sections: Sequence[Section], *, delta0: float | None = None,
                       wall_force: float | None = None, left_wall: WallKind = "paper",
-                      right_wall: WallKind = "paper") -> Chain:
+                      right_wall: WallKind = "paper", exponent: float = 1.5) -> Chain:
         """Chain built from consecutive sections (paper Section 2, Fig. 1).
 
         Grain–grain contacts use the physical two-sphere Hertz constant
@@ -232,6 +244,9 @@ class Chain:
             Alternatively the static force F0, N (>= 0).  Default: δ0 = 0.
         left_wall, right_wall : {"paper", "hertz", None}
             Kind of wall contact.
+        exponent : float
+            Exponent n of the contact law whose static forces k δ0^n balance (3/2: Hertz,
+            the paper's; the constants k are Hertz's in any case).
         """
         sections = list(sections)
         if not sections or not all(isinstance(s, Section) for s in sections):
@@ -257,11 +272,12 @@ class Chain:
         ref = 1 if sections[0].n > 1 else 0
         if wall_force is not None:
             f = float(theory._validate.check_nonnegative("wall_force", wall_force))
-            d0 = _equilibrium(k, (f / k[ref]) ** (2 / 3), reference=ref)
+            d0 = _equilibrium(k, (f / k[ref]) ** (1 / exponent), reference=ref,
+                              exponent=exponent)
         else:
             dl = 0.0 if delta0 is None else delta0
             dl = float(theory._validate.check_nonnegative("delta0", dl))
-            d0 = _equilibrium(k, dl, reference=ref)
+            d0 = _equilibrium(k, dl, reference=ref, exponent=exponent)
         params = {
             "kind": "sections",
             "sections": [{"n": int(s.n), "diameter": float(s.diameter),
@@ -273,6 +289,8 @@ class Chain:
             "left_wall": left_wall,
             "right_wall": right_wall,
         }
+        if exponent != 1.5:
+            params["exponent"] = float(exponent)
         return cls(mass, k, d0, diam, sec, params)
 
     @classmethod
@@ -312,14 +330,22 @@ class Chain:
                 f"delta0_max={self.delta0.max():.4g} m, params={self.params.get('kind')})")
 
 
-def _equilibrium(k: np.ndarray, delta0: float, *, reference: int) -> np.ndarray:
-    """Static overlaps (F0/k_j)^{2/3} of the present contacts (below Eq. 9); 0 elsewhere."""
+def _equilibrium(k: np.ndarray, delta0: float, *, reference: int,
+                 exponent: float = 1.5) -> np.ndarray:
+    """Static overlaps (F0/k_j)^{1/n} of the present contacts (below Eq. 9); 0 elsewhere."""
     out = np.zeros_like(k)
     if delta0 == 0:
         return out
     if k[reference] == 0:
         raise ValueError("the reference contact of delta0 is absent (k = 0)")
+    n = float(exponent)
+    if not (math.isfinite(n) and n >= 1):
+        raise ValueError(f"exponent must be >= 1 (got {exponent!r})")
     present = k > 0
-    out[present] = theory.static_overlaps(k[present], force=float(k[reference]) * delta0**1.5)
+    f0 = float(k[reference]) * delta0**n
+    if n == 1.5:
+        out[present] = theory.static_overlaps(k[present], force=f0)
+    else:
+        out[present] = (f0 / k[present]) ** (1.0 / n)
     out[k == k[reference]] = delta0  # exactly δ0 (not δ0 ± 1 ulp) where k is the same
     return out

@@ -26,7 +26,8 @@ import numpy as np
 
 from .chain import Chain
 from .recording import Recording, WaveAt
-from .simulation import DT_FRACTION, Simulation, default_dt
+from .simulation import Simulation
+from .timestep import DT_FRACTION, default_dt
 
 __all__ = ["Initial", "SettledWave", "impact", "settled_wave", "place_wave", "cut_wave",
            "exact_wave"]

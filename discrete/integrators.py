@@ -47,10 +47,6 @@ class Integrator:
     drift: tuple[float, ...]
     kick: tuple[float, ...]
     reference: str
-    dt_fraction: float
-    """Default dt as a fraction of the shortest contact period (see
-    :func:`discrete.simulation.default_dt`): S × velocity Verlet's, i.e. the same force
-    evaluations per unit time as velocity Verlet at its default."""
 
     @property
     def stages(self) -> int:
@@ -62,15 +58,12 @@ class Integrator:
         return (np.array(self.drift, dtype=float) * dt, np.array(self.kick, dtype=float) * dt)
 
 
-_F_VERLET = 0.002  # = discrete.simulation.DT_FRACTION (not imported: that module imports this)
-
-
 def _yoshida4() -> Integrator:
     w1 = 1.0 / (2.0 - 2.0 ** (1.0 / 3.0))
     w0 = 1.0 - 2.0 * w1
     return Integrator("yoshida4", 4, (w1, w0, w1),
                       (0.5 * w1, 0.5 * (w0 + w1), 0.5 * (w0 + w1), 0.5 * w1),
-                      "H. Yoshida, Phys. Lett. A 150 (1990) 262, Eq. 5.19", 3 * _F_VERLET)
+                      "H. Yoshida, Phys. Lett. A 150 (1990) 262, Eq. 5.19")
 
 
 def _blanes_moan4() -> Integrator:
@@ -81,12 +74,12 @@ def _blanes_moan4() -> Integrator:
     return Integrator("blanes_moan4", 4, (a1, a2, a3, a3, a2, a1),
                       (b1, b2, b3, b4, b3, b2, b1),
                       "S. Blanes & P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313, "
-                      "Table 3 (SRKN_6^b)", 6 * _F_VERLET)
+                      "Table 3 (SRKN_6^b)")
 
 
 INTEGRATORS: dict[str, Integrator] = {
     "verlet": Integrator("verlet", 2, (1.0,), (0.5, 0.5),
-                         "W. C. Swope et al., J. Chem. Phys. 76 (1982) 637, Eq. 7", _F_VERLET),
+                         "W. C. Swope et al., J. Chem. Phys. 76 (1982) 637, Eq. 7"),
     "yoshida4": _yoshida4(),
     "blanes_moan4": _blanes_moan4(),
 }
@@ -105,25 +98,28 @@ def get_integrator(name: str | Integrator) -> Integrator:
 
 
 def step(u, v, a, dt, mass, k, delta0, wall_left=0.0, wall_right=0.0,
-         integrator: str | Integrator = "verlet"):
-    """One step of ``integrator`` in plain NumPy (reference for the tests); new (u, v, a)."""
+         integrator: str | Integrator = "verlet", *, law=None):
+    """One step of ``integrator`` in plain NumPy (reference for the tests); new (u, v, a).
+
+    ``law``: a conservative contact law (:mod:`discrete.laws`; default Hertz).
+    """
     m = get_integrator(integrator)
     args = (mass, k, delta0, wall_left, wall_right)
     v = v + m.kick[0] * dt * a
     for s in range(m.stages):
         u = u + m.drift[s] * dt * v
-        a = accelerations(u, *args)
+        a = accelerations(u, *args, law=law)
         v = v + m.kick[s + 1] * dt * a
     return u, v, a
 
 
 def run(chain, u, v, dt, nsteps, wall_left=0.0, wall_right=0.0,
-        integrator: str | Integrator = "verlet"):
+        integrator: str | Integrator = "verlet", *, law=None):
     """Integrate ``nsteps`` steps of ``dt`` (s) from (u, v) in NumPy; returns (u, v)."""
     args = (chain.mass, chain.k, chain.delta0, wall_left, wall_right)
     u = np.array(u, dtype=float)
     v = np.array(v, dtype=float)
-    a = accelerations(u, *args)
+    a = accelerations(u, *args, law=law)
     for _ in range(int(nsteps)):
-        u, v, a = step(u, v, a, dt, *args, integrator=integrator)
+        u, v, a = step(u, v, a, dt, *args, integrator=integrator, law=law)
     return u, v

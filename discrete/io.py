@@ -2,12 +2,16 @@
 
 Layout: root attributes ``format``, ``package_version``, ``solver``, ``dt`` (s),
 ``steps``, ``t`` (s), ``t0`` (s), ``energy0`` (J), ``energy_drift``, ``wall_left``,
-``wall_right`` (m), ``chain_params`` and ``recording`` (JSON) and ``units`` (JSON:
-the unit of every dataset); groups ``chain`` (mass, k, delta0, diameter, section),
-``state`` (u, v, a; optional ``delta_expected``, the largest expected overlaps of the
-run's initial state, with the attribute ``dt_default``), ``record`` (series, energy
-grid, monitor, maxima) and ``snapshots/<i>`` (u, v, overlaps with attributes label, t,
-step).  Datasets of 64 or more entries are chunked, gzip-compressed and checksummed
+``wall_right`` (m), ``chain_params``, ``recording`` and ``contact_law`` (JSON,
+:meth:`discrete.laws.ContactLaw.to_dict`; absent means Hertz), ``drag`` (1/s) and
+``units`` (JSON: the unit of every dataset); groups ``chain`` (mass, k, delta0,
+diameter, section), ``state`` (u, v, a; optional ``dissipated``, the energy booked per
+contact, and ``delta_expected``, the largest expected overlaps of the run's initial
+state, with the attribute ``dt_default``), ``record`` (series, energy grid, monitor,
+maxima) and ``snapshots/<i>`` (u, v, overlaps with attributes label, t, step).  What is
+written is what :meth:`discrete.Simulation.saved` returns, and :func:`load` hands it to
+:meth:`discrete.Simulation.restore`: this module only maps it to and from HDF5.
+Datasets of 64 or more entries are chunked, gzip-compressed and checksummed
 (Fletcher-32: a corrupted chunk is an error on reading, not silently wrong numbers).
 Optional root attributes: ``integrator`` (the time stepper's name,
 :mod:`discrete.integrators`; absent means ``"verlet"``) and whatever the caller passes
@@ -23,7 +27,6 @@ that names the file and what is wrong, instead of an h5py traceback.
 
 from __future__ import annotations
 
-import dataclasses
 import importlib.metadata
 import json
 import os
@@ -35,8 +38,9 @@ import numpy as np
 
 from .chain import Chain
 from .integrators import get_integrator
-from .recording import AtTime, Record, Recording, Snapshot, WaveAt
-from .simulation import Simulation
+from .laws import HERTZ, law_from_dict
+from .recording import Record, Recording, Snapshot, event_from_dict, event_to_dict
+from .simulation import SavedSimulation, Simulation
 
 __all__ = ["save", "load", "UNITS", "FORMAT"]
 
@@ -46,7 +50,9 @@ UNITS = {
     "mass": "kg", "k": "N/m^(3/2)", "delta0": "m", "diameter": "m", "section": "1",
     "u": "m", "v": "m/s", "a": "m/s^2", "overlaps": "m", "series": "m, m/s, m, m",
     "series_t": "s", "energy_t": "s", "energy_kinetic": "J", "energy_potential": "J",
-    "monitor_t": "s", "monitor_energy": "J", "monitor_shadow": "J", "vmax": "m/s", "umax": "m",
+    "monitor_t": "s", "monitor_energy": "J", "monitor_shadow": "J", "monitor_dissipated": "J",
+    "vmax": "m/s", "umax": "m", "dissipated": "J", "delta_expected": "m", "drag": "1/s",
+    "dt_default": "s", "dissipation_rate0": "W",
 }
 
 
@@ -67,13 +73,6 @@ def _ds(group: h5py.Group, name: str, data, compress: bool = True) -> None:
         group.create_dataset(name, data=data)
     if name in UNITS:
         group[name].attrs["units"] = UNITS[name]
-
-
-def _events_json(rec: Recording) -> list:
-    out = []
-    for e in rec.events():
-        out.append({"type": type(e).__name__, **dataclasses.asdict(e)})
-    return out
 
 
 def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
@@ -104,54 +103,9 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
     os.close(fd)
     try:
         with h5py.File(tmp, "w") as f:
-            a = f.attrs
-            a["format"] = FORMAT
-            a["integrator"] = str(getattr(sim, "integrator", "verlet"))
-            a["package_version"] = _version()
-            method = get_integrator(str(getattr(sim, "integrator", "verlet")))
-            a["solver"] = f"discrete DEM, {method.name} ({method.reference})"
-            for key in ("dt", "steps", "t", "t0", "energy0", "wall_left", "wall_right",
-                        "drift_tolerance", "chunk"):
-                a[key] = getattr(sim, key)
-            a["active_window"] = sim.active_window
-            a["default_threshold"] = sim._default_threshold
-            a["energy_drift"] = sim.energy_drift
-            a["chain_params"] = json.dumps(sim.chain.params)
-            rec = sim.recording
-            a["recording"] = json.dumps({
-                "snapshots": _events_json(rec), "series_grains": [int(g) for g in
-                                                                  rec.series_grains],
-                "series_every": int(rec.series_every), "maxima": bool(rec.maxima),
-                "energy_every": rec.energy_every, "energy_coarsen": int(rec.energy_coarsen),
-                "monitor_every": int(rec.monitor_every)})
-            a["pending_events"] = json.dumps([{"type": type(e).__name__,
-                                               **dataclasses.asdict(e)}
-                                              for e in sim._pending])
-            a["units"] = json.dumps(UNITS)
-            g = f.create_group("chain")
-            for name in ("mass", "k", "delta0", "diameter", "section"):
-                _ds(g, name, getattr(sim.chain, name), compress)
-            g = f.create_group("state")
-            for name in ("u", "v", "a"):
-                _ds(g, name, getattr(sim, name), compress)
-            if hasattr(sim, "_delta_expected"):  # the run's start, for instability messages
-                _ds(g, "delta_expected", sim._delta_expected, compress)
-                a["dt_default"] = sim.dt_default
-            g = f.create_group("record")
-            for name, arr in sim.record.arrays().items():
-                _ds(g, name, arr, compress)
-            if sim.record.vmax is not None:
-                _ds(g, "vmax", sim.record.vmax, compress)
-                _ds(g, "umax", sim.record.umax, compress)
-            g.attrs["energy_coarsen"] = sim.record.energy_coarsen
-            sg = f.create_group("snapshots")
-            for i, s in enumerate(sim.record.snapshots):
-                h = sg.create_group(f"{i:05d}")
-                h.attrs["label"], h.attrs["t"], h.attrs["step"] = s.label, s.t, s.step
-                for name in ("u", "v", "overlaps"):
-                    _ds(h, name, getattr(s, name), compress)
+            _write(f, sim.saved(), compress)
             for key, value in (attrs or {}).items():
-                a[key] = value
+                f.attrs[key] = value
         _fsync(tmp)
         os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; a result is shared
         os.replace(tmp, path)
@@ -160,6 +114,50 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
             os.remove(tmp)
         raise
     return path
+
+
+_SCALARS = ("dt", "steps", "t", "t0", "energy0", "energy_drift", "wall_left", "wall_right",
+            "drift_tolerance", "chunk", "active_window", "default_threshold", "integrator",
+            "drag", "dissipation_rate0", "dt_default")
+"""Root attributes taken from :attr:`SavedSimulation.attrs`."""
+
+
+def _write(f: h5py.File, saved: SavedSimulation, compress: bool) -> None:
+    """Write a :class:`SavedSimulation` into the open file ``f`` (module docstring)."""
+    a = f.attrs
+    a["format"] = FORMAT
+    a["package_version"] = _version()
+    method = get_integrator(str(saved.attrs.get("integrator", "verlet")))
+    a["solver"] = f"discrete DEM, {method.name} ({method.reference})"
+    for key in _SCALARS:
+        if key in saved.attrs:
+            a[key] = saved.attrs[key]
+    a["contact_law"] = json.dumps(saved.law.to_dict())
+    a["contact_law_description"] = saved.law.describe()
+    a["chain_params"] = json.dumps(saved.chain.params)
+    a["recording"] = json.dumps(saved.recording.to_dict())
+    a["pending_events"] = json.dumps([event_to_dict(e) for e in saved.pending])
+    a["units"] = json.dumps(UNITS)
+    g = f.create_group("chain")
+    for name in ("mass", "k", "delta0", "diameter", "section"):
+        _ds(g, name, getattr(saved.chain, name), compress)
+    g = f.create_group("state")
+    for name, arr in saved.state.items():
+        _ds(g, name, arr, compress)
+    rec = saved.record
+    g = f.create_group("record")
+    for name, arr in rec.arrays().items():
+        _ds(g, name, arr, compress)
+    if rec.vmax is not None:
+        _ds(g, "vmax", rec.vmax, compress)
+        _ds(g, "umax", rec.umax, compress)
+    g.attrs["energy_coarsen"] = rec.energy_coarsen
+    sg = f.create_group("snapshots")
+    for i, s in enumerate(rec.snapshots):
+        h = sg.create_group(f"{i:05d}")
+        h.attrs["label"], h.attrs["t"], h.attrs["step"] = s.label, s.t, s.step
+        for name in ("u", "v", "overlaps"):
+            _ds(h, name, getattr(s, name), compress)
 
 
 def _umask() -> int:
@@ -183,14 +181,6 @@ def _fsync(path) -> None:
         os.fsync(fd)
     finally:
         os.close(fd)
-
-
-def _event(d: dict):
-    d = dict(d)
-    kind = d.pop("type")
-    if kind not in ("AtTime", "WaveAt"):
-        raise ValueError(f"unknown event type {kind!r}")
-    return AtTime(**d) if kind == "AtTime" else WaveAt(**d)
 
 
 class _Reader:
@@ -273,39 +263,23 @@ def _read(r: _Reader, threads: int | None) -> Simulation:
     c = r.group("chain")
     chain = Chain(r.data("mass", c), r.data("k", c), r.data("delta0", c),
                   r.data("diameter", c), r.data("section", c), r.json("chain_params"))
-    rj = r.json("recording")
-    recording = Recording(snapshots=[_event(e) for e in rj["snapshots"]],
-                          series_grains=rj["series_grains"], series_every=rj["series_every"],
-                          maxima=rj["maxima"], energy_every=rj["energy_every"],
-                          energy_coarsen=rj["energy_coarsen"],
-                          monitor_every=rj["monitor_every"])
+    recording = Recording.from_dict(r.json("recording"))
+    law = law_from_dict(r.json("contact_law")) if "contact_law" in r.f.attrs else None
     s = r.group("state")
-    u, v, acc = r.data("u", s), r.data("v", s), r.data("a", s)
-    kwargs = {} if threads is None else {"threads": threads}
-    integrator = str(r.f.attrs.get("integrator", "verlet"))
-    if integrator != "verlet":  # keyword only in versions that have other integrators
-        kwargs["integrator"] = integrator
-    r.where = "the state (root attributes dt, t0, walls, drift_tolerance, chunk)"
-    sim = Simulation(chain, u, v, dt=float(r.attr("dt")), wall_left=float(r.attr("wall_left")),
-                     wall_right=float(r.attr("wall_right")), record=recording,
-                     t=float(r.attr("t0")), active_window=bool(r.attr("active_window")),
-                     drift_tolerance=float(r.attr("drift_tolerance")),
-                     chunk=int(r.attr("chunk")), check_dt=False, **kwargs)
-    # (dt was checked against the stability bound when the run was created; the saved
-    # state's present overlaps are not the initial ones)
-    steps = int(r.attr("steps"))
-    if steps < 0:
-        raise ValueError(f"steps = {steps} must be >= 0")
-    sim.steps = steps
-    if acc.shape != sim.a.shape or not np.all(np.isfinite(acc)):
-        raise ValueError(f"state/a must be finite with shape {sim.a.shape} (got {acc.shape})")
-    sim.a[:] = acc
-    sim.energy0 = float(r.attr("energy0"))
-    if "delta_expected" in s and "dt_default" in r.f.attrs:  # optional (older files)
-        sim._delta_expected = r.data("delta_expected", s)
-        sim.dt_default = float(r.attr("dt_default"))
-    sim._default_threshold = float(r.attr("default_threshold"))
-    sim._pending = [_event(e) for e in r.json("pending_events")]
+    state = {name: r.data(name, s) for name in ("u", "v", "a")}
+    for name in ("dissipated", "delta_expected"):  # optional (older files)
+        if name in s:
+            state[name] = r.data(name, s)
+    attrs = {}
+    for key in _SCALARS:
+        if key in r.f.attrs:
+            value = r.attr(key)
+            attrs[key] = value.decode() if isinstance(value, bytes) else value
+    r.where = "the root attributes (dt, steps, t0, walls, drift_tolerance, chunk, ...)"
+    for key in ("dt", "steps", "t0", "energy0", "wall_left", "wall_right",
+                "drift_tolerance", "chunk", "active_window", "default_threshold"):
+        if key not in attrs:
+            raise KeyError(f"missing attribute {key!r} of /")
     g = r.group("record")
     rec = Record(series_grains=r.data("series_grains", g),
                  energy_coarsen=int(r.attr("energy_coarsen", g)))
@@ -318,15 +292,10 @@ def _read(r: _Reader, threads: int | None) -> Simulation:
     rec.monitor_t = list(r.data("monitor_t", g))
     rec.monitor_energy = list(r.data("monitor_energy", g))
     rec.monitor_shadow = list(r.data("monitor_shadow", g))
-    n = chain.n
-    if len(rec.series_t) != series.shape[0] or len(rec.energy_t) != len(rec.energy_kinetic) \
-            or len(rec.energy_kinetic) != len(rec.energy_potential) \
-            or not len(rec.monitor_t) == len(rec.monitor_energy) == len(rec.monitor_shadow):
-        raise ValueError("record arrays of inconsistent lengths")
+    rec.monitor_dissipated = (list(r.data("monitor_dissipated", g))
+                              if "monitor_dissipated" in g else [0.0] * len(rec.monitor_t))
     if recording.maxima or "vmax" in g:
         rec.vmax, rec.umax = r.data("vmax", g), r.data("umax", g)
-        if rec.vmax.shape != (n,) or rec.umax.shape != (n,):
-            raise ValueError(f"record/vmax and record/umax must have shape ({n},)")
     snaps = r.group("snapshots")
     for key in sorted(snaps):
         h = snaps[key]
@@ -334,5 +303,9 @@ def _read(r: _Reader, threads: int | None) -> Simulation:
         rec.snapshots.append(Snapshot(str(r.attr("label", h)), float(r.attr("t", h)),
                                       int(r.attr("step", h)), r.data("u", h), r.data("v", h),
                                       r.data("overlaps", h)))
-    sim.record = rec
-    return sim
+    pending = [event_from_dict(e) for e in r.json("pending_events")]
+    r.where = "the state (state/*, record/*, root attributes)"
+    saved = SavedSimulation(attrs, chain, law if law is not None else HERTZ, state,
+                            recording, rec, pending)
+    return Simulation.restore(saved, threads=threads)
+

@@ -24,7 +24,6 @@ import time
 
 from theory.jitcache import cache_is_warm
 
-from . import kernels as K
 from .recording import WaveAt, as_event
 
 __all__ = ["RunProgress", "COMPILE_NOTICE"]
@@ -83,7 +82,7 @@ class RunProgress:
             self._mode = "steps"
             self._s0 = sim.steps
             self._total = int(step_limit) - sim.steps
-        if self._mode is not None and not cache_is_warm(K.run_chunk):
+        if self._mode is not None and not cache_is_warm(sim.kernel):
             print(COMPILE_NOTICE + " ...", file=sys.stderr, flush=True)
             self._waiting_compile = True
             self._clock = time.perf_counter()

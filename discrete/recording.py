@@ -12,12 +12,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["AtTime", "WaveAt", "Event", "Recording", "Record", "Snapshot"]
+__all__ = ["AtTime", "WaveAt", "Event", "Recording", "Record", "Snapshot", "event_to_dict",
+           "event_from_dict"]
 
 
 @dataclass(frozen=True)
@@ -87,6 +89,23 @@ class Recording:
         """The snapshot events as :class:`AtTime` / :class:`WaveAt` objects."""
         return [as_event(e) for e in self.snapshots]
 
+    def to_dict(self) -> dict:
+        """JSON-able description (:meth:`from_dict` reads it back)."""
+        return {"snapshots": [event_to_dict(e) for e in self.events()],
+                "series_grains": [int(g) for g in self.series_grains],
+                "series_every": int(self.series_every), "maxima": bool(self.maxima),
+                "energy_every": None if self.energy_every is None else int(self.energy_every),
+                "energy_coarsen": int(self.energy_coarsen),
+                "monitor_every": int(self.monitor_every)}
+
+    @classmethod
+    def from_dict(cls, d: dict) -> Recording:
+        """The recording :meth:`to_dict` described."""
+        return cls(snapshots=[event_from_dict(e) for e in d["snapshots"]],
+                   series_grains=d["series_grains"], series_every=d["series_every"],
+                   maxima=d["maxima"], energy_every=d["energy_every"],
+                   energy_coarsen=d["energy_coarsen"], monitor_every=d["monitor_every"])
+
     def validate(self, n: int) -> None:
         """Raise ValueError for anything that cannot work on a chain of ``n`` grains."""
         for e in self.events():
@@ -115,6 +134,20 @@ def as_event(e) -> Event:
     if isinstance(e, float | np.floating):
         return AtTime(float(e))
     raise ValueError(f"not an event: {e!r} (use AtTime(t), WaveAt(grain), a float or an int)")
+
+
+def event_to_dict(e: Event) -> dict:
+    """JSON-able description of an event: its type and fields."""
+    return {"type": type(e).__name__, **dataclasses.asdict(e)}
+
+
+def event_from_dict(d: dict) -> Event:
+    """The event :func:`event_to_dict` described (ValueError for an unknown type)."""
+    d = dict(d)
+    kind = d.pop("type", None)
+    if kind not in ("AtTime", "WaveAt"):
+        raise ValueError(f"unknown event type {kind!r}")
+    return AtTime(**d) if kind == "AtTime" else WaveAt(**d)
 
 
 def check_event(e: Event, n: int) -> None:
@@ -158,8 +191,9 @@ class Record:
     energy_t : (T,) array, s
     energy_kinetic, energy_potential : (T, Nc) arrays, J
         Per-grain (or per-block of ``energy_coarsen`` grains) energies (Fig. 8).
-    monitor_t, monitor_energy, monitor_shadow : (M,) arrays
-        Total energy (J) and velocity Verlet's modified energy (J) at monitor times (s).
+    monitor_t, monitor_energy, monitor_shadow, monitor_dissipated : (M,) arrays
+        Total energy (J), velocity Verlet's modified energy (J) and the energy
+        dissipated since the start (J; 0 for conservative forces) at monitor times (s).
     """
 
     series_grains: np.ndarray
@@ -175,6 +209,35 @@ class Record:
     monitor_t: list = field(default_factory=list)
     monitor_energy: list = field(default_factory=list)
     monitor_shadow: list = field(default_factory=list)
+    monitor_dissipated: list = field(default_factory=list)
+
+    _MONITOR = ("monitor_t", "monitor_energy", "monitor_shadow", "monitor_dissipated")
+
+    def drop_monitor_sample_at(self, t: float) -> bool:
+        """Drop the last monitor sample if it was taken at time ``t`` (s); True if dropped.
+
+        (:meth:`Simulation.run <discrete.Simulation.run>` takes a sample when it returns
+        and another when it starts: a run cut into segments drops the first of the two to
+        stay bit for bit the uninterrupted run, ``hertzchain.checkpoint``.)
+        """
+        if not self.monitor_t or self.monitor_t[-1] != t:
+            return False
+        for name in self._MONITOR:
+            getattr(self, name).pop()
+        return True
+
+    def check(self, n: int, recording: Recording) -> None:
+        """ValueError if the record cannot belong to a chain of ``n`` grains recorded so."""
+        a = self.arrays()
+        if (len(self.series_t) != a["series"].shape[0]
+                or len(self.energy_t) != len(self.energy_kinetic)
+                or len(self.energy_kinetic) != len(self.energy_potential)
+                or len({len(getattr(self, name)) for name in self._MONITOR}) != 1):
+            raise ValueError("record arrays of inconsistent lengths")
+        if recording.maxima or self.vmax is not None:
+            if self.vmax is None or self.umax is None or self.vmax.shape != (n,) \
+                    or self.umax.shape != (n,):
+                raise ValueError(f"record/vmax and record/umax must have shape ({n},)")
 
     def arrays(self) -> dict[str, np.ndarray]:
         """The list-valued fields as stacked arrays."""
@@ -193,6 +256,7 @@ class Record:
             "monitor_t": np.asarray(self.monitor_t, dtype=float),
             "monitor_energy": np.asarray(self.monitor_energy, dtype=float),
             "monitor_shadow": np.asarray(self.monitor_shadow, dtype=float),
+            "monitor_dissipated": np.asarray(self.monitor_dissipated, dtype=float),
         }
 
     def snapshot(self, label: str) -> Snapshot:

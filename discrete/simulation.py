@@ -1,27 +1,17 @@
-r"""The :class:`Simulation` object: a chain, its state, the time step and the recording.
+r"""The :class:`Simulation` object: a chain, a contact law, its state, the time step, the recording.
 
-Default time step
------------------
-The linearised stiffness of contact j at overlap δ is :math:`K_j = \tfrac32 k_j
-\delta^{1/2}` (N/m, derivative of Eq. 1) and its two-body frequency
-:math:`\omega_j = \sqrt{K_j (1/m_{j-1} + 1/m_j)}` (rad/s; one mass at a wall).  With
-:math:`\delta` the *largest expected overlap* — the present overlap with the largest
-single-grain kinetic energy :math:`E_1 = \max_i \tfrac12 m_i v_i^2` added,
-:math:`\hat\delta_j = ([r_j]_+^{5/2} + \tfrac52 E_1/k_j)^{2/5}` (J, from the contact
-energy (2/5) k δ^{5/2}) — the default is
+The time step is chosen by :class:`discrete.timestep.TimeStep` (default, stability
+bound, expected overlaps: see that module).  The contact law (:mod:`discrete.laws`,
+Hertz by default) and an optional on-site drag select the compiled kernels
+(:func:`discrete.kernels.make_kernels`).
 
-.. math:: \Delta t = f\, \frac{2\pi}{\max_j \omega_j},\qquad f = 0.002 .
-
-Velocity Verlet is linearly stable for :math:`\Delta t < 2/\omega_{\rm lat}` with
-:math:`\omega_{\rm lat}^2 \le \max_i 2(K_i + K_{i+1})/m_i` (Gershgorin), i.e.
-f < 0.225 for a uniform chain.  The dt study (``tests/discrete/test_dt_study.py``):
-observables converge at second order (fitted slope ≈ 2).  The most dt-sensitive case
-is the impact on a precompressed chain (δ0/d = 1e-3): its settled v̄max/v0 is
-0.08241 / 0.08224 / 0.08220 at f = 0.01 / 0.005 / 0.0025 (relative error
-≈ 2.9e-3 (f/0.01)²); f = 0.002 makes it ~1e-4.  Without precompression (f = 0.01:
-error 7e-5) and for smooth solitary waves (cut or exact waves: energy conserved to
-~1e-11 at f = 0.01) much larger steps would do.  For the paper's steel grains
-(d = 5 mm, v0 = 1 m/s) f = 0.002 gives dt ≈ 4.4e-8 s, ~40× the paper's dt = 1e-9 s.
+Energy balance
+--------------
+The monitor checks :math:`E(t) + D(t) = E(0)` with E the wave energy (kinetic plus the
+elastic contact energies, docs/physics.md §6) and D the energy dissipated so far
+(0 for a conservative law; :meth:`Simulation.dissipated`): a relative violation beyond
+``drift_tolerance`` is an instability, with or without dissipation.  For velocity
+Verlet and a conservative law the modified energy replaces E (below).
 
 Energy: velocity Verlet conserves a modified energy :math:`\tilde H = H + O(\Delta t^2)`
 (Hairer, Lubich & Wanner 2006, §IX; :func:`discrete.kernels.shadow_correction`).  The
@@ -58,13 +48,21 @@ active window, temporally blocked and on several threads for large windows
 (``threads``; bitwise identical results).  Measured on the 2-core development machine
 (``benchmarks/kernel.py``, recording on): 2.4–2.5e9 grain-updates/s on one core at 1e4
 and 1e5 grains (10× the NumPy step), 4.0–4.7e9 on two cores at 5e4.
+Writing and reading
+-------------------
+:meth:`Simulation.saved` returns everything that continues the run bit for bit (chain,
+law, state, recording, record, pending events, the time step's bounds) as a
+:class:`SavedSimulation`; :meth:`Simulation.restore` rebuilds the simulation from one.
+:mod:`discrete.io` only maps that to and from HDF5.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numba
 import numpy as np
@@ -72,15 +70,15 @@ import numpy as np
 from . import kernels as K
 from .chain import Chain
 from .integrators import get_integrator
+from .laws import ContactLaw, as_law
 from .progress import RunProgress
 from .recording import AtTime, Record, Recording, Snapshot, WaveAt, as_event, check_event
 from .reference import overlaps as _overlaps
+from .timestep import DT_FRACTION, TimeStep, default_dt, expected_overlaps, stable_dt
 
-__all__ = ["Simulation", "State", "RunInfo", "InstabilityError", "default_dt", "stable_dt",
-           "expected_overlaps", "DT_FRACTION", "PARALLEL_MIN_GRAINS"]
-
-DT_FRACTION = 0.002
-"""Default dt as a fraction of the shortest linearised contact period (module docstring)."""
+__all__ = ["Simulation", "SavedSimulation", "State", "RunInfo", "InstabilityError",
+           "default_dt", "stable_dt", "expected_overlaps", "DT_FRACTION",
+           "PARALLEL_MIN_GRAINS"]
 
 BLOCK_SUBSTEPS = 256
 """Substeps (force evaluations) per block of the temporally blocked kernel
@@ -107,7 +105,7 @@ grains a substep takes a few microseconds and the fork/join of the parallel regi
 
 
 class InstabilityError(RuntimeError):
-    """The integration went unstable (NaN or energy drift beyond the tolerance)."""
+    """The integration went unstable (NaN or a violated energy balance)."""
 
 
 @dataclass
@@ -131,52 +129,45 @@ class RunInfo:
     """What ended the call: the stop event's label, ``"t_end"`` (the end time was
     reached) or ``"max_steps"`` (the step bound came first)."""
     energy_drift: float
-    """max |E - E(start of run)| / |E(start of run)| over the run's monitor samples."""
+    """max |(E + D) - (E + D)(start of run)| / |E(start of run)| over the run's monitor
+    samples (D the dissipated energy: 0 for a conservative law)."""
     shadow_drift: float
     """The same for velocity Verlet's modified energy (secular drift only)."""
 
 
-def expected_overlaps(chain: Chain, u, v, wall_left=0.0, wall_right=0.0) -> np.ndarray:
-    """Largest expected overlap of each contact, m (module docstring)."""
-    r = np.maximum(_overlaps(np.asarray(u, float), chain.delta0, wall_left, wall_right), 0.0)
-    e1 = float(np.max(0.5 * chain.mass * np.asarray(v, float) ** 2))
-    with np.errstate(divide="ignore"):
-        extra = np.where(chain.k > 0, 2.5 * e1 / np.where(chain.k > 0, chain.k, 1.0), 0.0)
-    return (r**2.5 + extra) ** 0.4
+@dataclass
+class SavedSimulation:
+    """Everything that continues a :class:`Simulation` bit for bit (:meth:`Simulation.saved`).
 
-
-def _contact_omega(chain: Chain, delta: np.ndarray) -> np.ndarray:
-    """ω_j = √(K_j (1/m_{j-1} + 1/m_j)), K_j = (3/2) k_j δ_j^{1/2}, rad/s."""
-    inv = np.zeros(chain.n + 1)
-    inv[:-1] += 1.0 / chain.mass
-    inv[1:] += 1.0 / chain.mass
-    return np.sqrt(1.5 * chain.k * np.sqrt(delta) * inv)
-
-
-def default_dt(chain: Chain, u=None, v=None, wall_left=0.0, wall_right=0.0, *,
-               fraction: float = DT_FRACTION) -> float:
-    """Default time step f·2π/max ω_j at the largest expected overlap, s (module docstring)."""
-    u = np.zeros(chain.n) if u is None else u
-    v = np.zeros(chain.n) if v is None else v
-    w = float(np.max(_contact_omega(chain, expected_overlaps(chain, u, v, wall_left, wall_right))))
-    if w == 0:
-        raise ValueError("cannot choose dt: no contact is loaded and nothing moves; give dt")
-    return fraction * 2.0 * math.pi / w
-
-
-def stable_dt(chain: Chain, delta) -> float:
-    """Largest linearly stable Verlet step 2/ω_lat at overlaps ``delta`` (m), s.
-
-    ω_lat² ≤ max_i (K_i + K_{i+1})·2/m_i (Gershgorin bound on M⁻¹K; exact for a
-    uniform chain, where ω_lat = 2√(K/m) is the zone-edge frequency).
+    Attributes
+    ----------
+    attrs : dict
+        Scalars (float, int, bool, str): ``dt``, ``steps``, ``t``, ``t0``, ``energy0``,
+        ``energy_drift``, ``wall_left``, ``wall_right``, ``drift_tolerance``, ``chunk``,
+        ``active_window``, ``default_threshold``, ``integrator``, ``drag`` (1/s),
+        ``dissipation_rate0`` (W), ``dt_default`` (s).
+    chain : Chain
+    law : ContactLaw
+    state : dict of arrays
+        ``u`` (m), ``v`` (m/s), ``a`` (m/s²), ``dissipated`` (J, booked per contact) and
+        ``delta_expected`` (m, the expected overlaps of the run's initial state).
+    recording : Recording
+    record : Record
+    pending : list of events
+        Snapshot events that have not happened yet.
     """
-    kk = 1.5 * chain.k * np.sqrt(np.maximum(delta, 0.0))
-    w2 = np.max(2.0 * (kk[:-1] + kk[1:]) / chain.mass)
-    return 2.0 / math.sqrt(w2) if w2 > 0 else math.inf
+
+    attrs: dict[str, Any]
+    chain: Chain
+    law: ContactLaw
+    state: dict[str, np.ndarray]
+    recording: Recording
+    record: Record
+    pending: list = field(default_factory=list)
 
 
 class Simulation:
-    """Velocity-Verlet integration of a :class:`Chain` (paper Eq. 2), pyro2 style.
+    """Integration of a :class:`Chain` (paper Eq. 2) with a contact law, pyro2 style.
 
     Parameters
     ----------
@@ -185,7 +176,7 @@ class Simulation:
     u, v : (N,) arrays, optional
         Initial displacements from static equilibrium (m) and velocities (m/s); zero.
     dt : float, optional
-        Time step, s (> 0); default :func:`default_dt`.
+        Time step, s (> 0); default :class:`~discrete.timestep.TimeStep`'s.
     wall_left, wall_right : float
         Wall displacements, m (fixed during the run).
     record : Recording, optional
@@ -197,14 +188,17 @@ class Simulation:
         results; False integrates every grain, one step at a time on one thread — for
         tests).
     drift_tolerance : float
-        Relative drift of velocity Verlet's modified energy (:func:`kernels.shadow_correction`)
-        that counts as an instability.  The modified energy has no O(dt²) oscillation, so
-        its drift measures only accumulated error (1e-8–1e-5 in sane runs).
+        Relative violation of the energy balance E + D = E(0) (for velocity Verlet with
+        a conservative law: of its modified energy, :func:`kernels` ``shadow_correction``,
+        which has no O(dt²) oscillation) that counts as an instability (1e-8–1e-5 in
+        sane runs).
     chunk : int
         Largest number of steps per kernel call.
     integrator : str
         Time-stepping method (:data:`discrete.integrators.INTEGRATORS`): ``"verlet"``
         (velocity Verlet, the paper's; default), ``"yoshida4"``, ``"blanes_moan4"``.
+        Velocity-dependent forces (a dissipative law, drag) take velocity Verlet with the
+        predicted velocity (:mod:`discrete.kernels`).
     threads : int, optional
         Threads for the kernel, used only while the active window has at least
         :data:`PARALLEL_MIN_GRAINS` grains.  None (default): all numba threads
@@ -212,11 +206,16 @@ class Simulation:
         (the machine may be busy; :meth:`_tune_choose`); n: n threads; 1: one.  Results
         are bitwise identical for every choice (:mod:`discrete.kernels`).  Threads work
         through the temporally blocked kernel, which is not used while a time-series
-        grain sampled in the block lies within reach of the active window.
+        grain sampled in the block lies within reach of the active window, nor for
+        velocity-dependent forces.
     check_dt : bool
-        Reject a ``dt`` above the largest linearly stable step :func:`stable_dt` at the
-        expected overlaps (ValueError naming the allowed range); False only for tests
-        of the run-time instability detection.
+        Reject a ``dt`` above the largest linearly stable step at the expected overlaps
+        (ValueError naming the allowed range); False only for tests of the run-time
+        instability detection.
+    law : ContactLaw, optional
+        The contact law (:mod:`discrete.laws`); default Hertz (paper Eq. 1).
+    drag : float
+        On-site viscous drag rate β, 1/s (>= 0): force -m_i β v_i on every grain.
     """
 
     def __init__(self, chain: Chain, u=None, v=None, *, dt: float | None = None,
@@ -224,11 +223,19 @@ class Simulation:
                  record: Recording | None = None, t: float = 0.0, active_window: bool = True,
                  drift_tolerance: float = 1e-4, chunk: int = 4096,
                  integrator: str = "verlet", threads: int | None = None,
-                 check_dt: bool = True) -> None:
+                 check_dt: bool = True, law: ContactLaw | dict | None = None,
+                 drag: float = 0.0) -> None:
         if not isinstance(chain, Chain):
             raise ValueError(f"chain must be a Chain (got {type(chain).__name__})")
         n = chain.n
         self.chain = chain
+        self.law = as_law(law)
+        try:
+            self.drag = float(drag)
+        except (TypeError, ValueError):
+            raise ValueError(f"drag must be a real number >= 0 1/s (got {drag!r})") from None
+        if not (math.isfinite(self.drag) and self.drag >= 0):
+            raise ValueError(f"drag must be finite and >= 0 1/s (got {drag!r})")
         self.u = self._vec("u", u, n)
         self.v = self._vec("v", v, n)
         for name, w in (("wall_left", wall_left), ("wall_right", wall_right), ("t", t)):
@@ -237,26 +244,16 @@ class Simulation:
         self.wall_left, self.wall_right = float(wall_left), float(wall_right)
         self.recording = Recording() if record is None else record
         self.recording.validate(n)
-        self._delta_expected = expected_overlaps(chain, self.u, self.v, self.wall_left,
-                                                 self.wall_right)
-        w = float(np.max(_contact_omega(chain, self._delta_expected)))
         method = get_integrator(integrator)
-        self.dt_default = method.dt_fraction * 2.0 * math.pi / w if w > 0 else math.inf
-        if dt is None:
-            dt = default_dt(chain, self.u, self.v, self.wall_left, self.wall_right,
-                            fraction=method.dt_fraction)
-        dt = float(dt) if isinstance(dt, int | float | np.floating) else dt
-        if not isinstance(dt, float) or not math.isfinite(dt) or dt <= 0:
-            raise ValueError(f"dt must be a finite number > 0 s (got {dt!r})")
-        if check_dt:
-            limit = stable_dt(chain, self._delta_expected)
-            if dt > limit:
-                raise ValueError(
-                    f"dt = {dt:.4g} s is above the largest linearly stable time step "
-                    f"{limit:.4g} s at the expected overlaps (Gershgorin bound 2/ω_lat of "
-                    f"velocity Verlet); allowed range (0, {limit:.4g}] s, default "
-                    f"{self.dt_default:.4g} s (check_dt=False skips this check)")
-        self.dt = dt
+        self.kernels = K.make_kernels(self.law, self.drag > 0)
+        if self.kernels.velocity_dependent and method.name != "verlet":
+            raise ValueError(f"integrator {method.name!r} needs forces that depend on "
+                             "positions only; a dissipative law or drag runs with 'verlet' "
+                             "(velocity Verlet with a predicted velocity, discrete.kernels)")
+        self.time_step = TimeStep.choose(chain, self.u, self.v, self.wall_left,
+                                         self.wall_right, dt=dt, integrator=method,
+                                         law=self.law, drag=self.drag, check=check_dt)
+        self.dt = self.time_step.dt
         if not (drift_tolerance > 0):
             raise ValueError(f"drift_tolerance must be > 0 (got {drift_tolerance!r})")
         self.drift_tolerance = float(drift_tolerance)
@@ -278,19 +275,23 @@ class Simulation:
             self.threads, self.min_parallel = int(threads), PARALLEL_MIN_GRAINS
         self._rates = {1: None, self.threads: None}
         self.active_window = bool(active_window)
-        # blocks shrink the window to the active grains: not with active_window=False
         # blocks shrink the window to the active grains, and carry the threads: not with
-        # active_window=False
-        self.block_steps = max(4, BLOCK_SUBSTEPS // method.stages) if active_window else 0
+        # active_window=False, nor for velocity-dependent forces (discrete.kernels)
+        self.block_steps = (max(4, BLOCK_SUBSTEPS // method.stages)
+                            if active_window and not self.kernels.velocity_dependent else 0)
         self.t0 = float(t)
         self.steps = 0
+        self._p = K.kernel_params(self.law, self.drag)
         self._inv_m = 1.0 / chain.mass
-        self._f0 = chain.f0
         self._k, self._d0 = chain.k, chain.delta0
+        self._f0 = self.kernels.static_forces(self._k, self._d0, self._p)
+        self._check_equilibrium()
         self._runs = K.chain_runs(self._inv_m, self._k, self._d0, self._f0)
+        self._dis = np.zeros(n + 1)  # dissipated energy booked per contact, J
         self.a = np.zeros(n)
-        K.accelerations(self.u, self.a, self._inv_m, self._k, self._d0, self._f0,
-                        self.wall_left, self.wall_right, 0, n - 1)
+        self.kernels.accelerations(self.u, self.v, self.a, self._constants(), self._p,
+                                   self.wall_left, self.wall_right, 0, n - 1)
+        self._p0 = self._dissipation_rate()
         self._lo, self._hi = 0, n - 1
         self._shrink()
         rec = self.recording
@@ -318,19 +319,46 @@ class Simulation:
             raise ValueError(f"{name} must be finite (got NaN or inf)")
         return a
 
+    def _check_equilibrium(self) -> None:
+        """ValueError unless the static forces f0 of the present contacts are equal.
+
+        The kernels subtract f0 per contact (:mod:`discrete.kernels`): that is Eq. 2
+        only if the static overlaps are in force equilibrium under this law (one F0).
+        """
+        f = self._f0[self._k > 0]
+        if f.size == 0 or not np.any(f > 0):
+            return
+        spread = float(np.max(f) - np.min(f)) / float(np.max(f))
+        if spread > 1e-9:
+            raise ValueError(
+                f"the chain's static overlaps are not in force equilibrium under the "
+                f"{self.law.describe()} (static forces differ by {spread:.3g} relatively; "
+                f"allowed 1e-9): build the chain with exponent={self.law.exponent:g} "
+                f"(it was built for exponent {self.chain.exponent:g})")
+
+    def _constants(self) -> tuple:
+        """(1/m, k, δ0, f0, run starts, run table): the kernels' chain constants."""
+        return (self._inv_m, self._k, self._d0, self._f0, *self._runs)
+
     def _shrink(self) -> None:
         if not self.active_window:
             self._lo, self._hi = 0, self.chain.n - 1
             return
         if self._lo < 0:
             return
-        self._lo, self._hi = K.active_window(self.u, self.v, self._k, self.wall_left,
-                                             self.wall_right, self._lo, self._hi)
+        self._lo, self._hi = K.active_window(self.u, self.v, self.a, self._k,
+                                             self.wall_left, self.wall_right, self._lo,
+                                             self._hi, self.kernels.velocity_dependent)
 
     @property
     def t(self) -> float:
         """Present time t0 + steps·dt, s."""
         return self.t0 + self.steps * self.dt
+
+    @property
+    def dt_default(self) -> float:
+        """The default time step of the run's initial state, s (:class:`TimeStep`)."""
+        return self.time_step.default
 
     @property
     def state(self) -> State:
@@ -342,18 +370,34 @@ class Simulation:
         """The active window (lo, hi); (-1, -1) when every grain is at rest in equilibrium."""
         return self._lo, self._hi
 
+    @property
+    def restart_period(self) -> int:
+        """Steps between the points where a run can be cut, bit for bit.
+
+        A run cut there into separate :meth:`run` calls (or saved and restored) gives
+        bit for bit the uninterrupted result.  The least common multiple of
+        ``Recording.monitor_every`` (chunks end there, and the monitor samples) and the
+        kernel's running-maximum period of u.
+        """
+        return math.lcm(int(self.recording.monitor_every), int(K.UMAX_EVERY))
+
+    def step_of(self, t: float) -> int:
+        """The first step whose time is >= t (to within 1e-9 dt), as :meth:`run` rounds."""
+        return max(0, math.ceil((t - self.t0) / self.dt - 1e-9))
+
     def overlaps(self) -> np.ndarray:
         """Present contact overlaps δ0_j + (u_{j-1} - u_j), m (Eq. 1)."""
         return _overlaps(self.u, self._d0, self.wall_left, self.wall_right)
 
     def energy(self) -> float:
-        """Total wave energy Σ ½mv² + Σ (2/5)k([r]_+^{5/2} - δ0^{5/2}), J (docs/physics.md §6)."""
+        """Total wave energy Σ ½mv² + Σ (U(r_j) - U(δ0_j)), J (docs/physics.md §6)."""
         if self._lo < 0:
             return 0.0
         ek = np.empty(self.chain.n)
         ep = np.empty(self.chain.n)
-        tk, tp = K.grain_energies(self.u, self.v, self.chain.mass, self._k, self._d0,
-                                  self.wall_left, self.wall_right, self._lo, self._hi, ek, ep)
+        tk, tp = self.kernels.grain_energies(self.u, self.v, self.chain.mass, self._k,
+                                             self._d0, self.wall_left, self.wall_right,
+                                             self._lo, self._hi, ek, ep)
         return tk + tp
 
     def grain_energy(self) -> tuple[np.ndarray, np.ndarray]:
@@ -361,23 +405,52 @@ class Simulation:
         ek = np.zeros(self.chain.n)
         ep = np.zeros(self.chain.n)
         if self._lo >= 0:
-            K.grain_energies(self.u, self.v, self.chain.mass, self._k, self._d0,
-                             self.wall_left, self.wall_right, self._lo, self._hi, ek, ep)
+            self.kernels.grain_energies(self.u, self.v, self.chain.mass, self._k, self._d0,
+                                        self.wall_left, self.wall_right, self._lo,
+                                        self._hi, ek, ep)
         return ek, ep
+
+    def _dissipation_rate(self) -> float:
+        if not self.kernels.velocity_dependent:
+            return 0.0
+        return float(self.kernels.dissipation_rate(self.u, self.v, self.chain.mass, self._k,
+                                                   self._d0, self._p, self.wall_left,
+                                                   self.wall_right))
+
+    def dissipated(self) -> float:
+        r"""Energy dissipated since the start of the run, J (0 for conservative forces).
+
+        The kernels book :math:`h P(t_k)` per step (P the dissipated power at the
+        predicted velocities, :mod:`discrete.kernels`); with the end correction
+        :math:`\tfrac h2 (P(t_0) - P(t))` this is the trapezoidal rule for
+        :math:`\int_{t_0}^t P\,dt`, second order like the integration itself.
+        """
+        if not self.kernels.velocity_dependent:
+            return 0.0
+        return float(np.sum(self._dis)) + 0.5 * self.dt * (self._p0 - self._dissipation_rate())
+
+    def dissipated_per_contact(self) -> np.ndarray:
+        """The dissipated energy booked per contact j (with the drag of grain j-1), J.
+
+        Without the end correction of :meth:`dissipated` (O(h P)).
+        """
+        return self._dis.copy()
 
     def _monitor(self) -> tuple[float, float]:
         e = self.energy()
         sh = 0.0
-        if self._lo >= 0 and self.integrator == "verlet":
-            sh = K.shadow_correction(self.u, self.v, self.a, self.chain.mass, self._k,
-                                     self._d0, self.wall_left, self.wall_right,
-                                     self._lo, self._hi)
+        if self._lo >= 0 and self.integrator == "verlet" and not self.kernels.velocity_dependent:
+            sh = self.kernels.shadow_correction(self.u, self.v, self.a, self.chain.mass,
+                                                self._k, self._d0, self.wall_left,
+                                                self.wall_right, self._lo, self._hi)
         es = e + self.dt**2 * sh
+        d = self.dissipated()
         r = self.record
         r.monitor_t.append(self.t)
         r.monitor_energy.append(e)
         r.monitor_shadow.append(es)
-        return e, es
+        r.monitor_dissipated.append(d)
+        return e + d, es + d
 
     def _energy_row(self) -> None:
         every = self.recording.energy_every
@@ -401,14 +474,80 @@ class Simulation:
     def _instability(self, cause: str) -> InstabilityError:
         # quote the bound at the expected overlaps of the initial state: after a blow-up
         # the present overlaps are meaningless (they gave ~1e-78 s)
-        dmax = self._delta_expected
         return InstabilityError(
             f"{cause} at t = {self.t:.6g} s (step {self.steps}) with dt = {self.dt:.4g} s; "
-            f"likely cause: dt too large for the contact stiffness. The largest linearly "
-            f"stable dt at the expected overlaps is about {stable_dt(self.chain, dmax):.4g} s "
-            f"(Gershgorin bound 2/ω_lat, velocity Verlet); the default "
-            f"{get_integrator(self.integrator).dt_fraction}·2π/ω_max is "
-            f"{self.dt_default:.4g} s")
+            f"likely cause: dt too large for the contact stiffness. "
+            f"{self.time_step.explain()}")
+
+    # ------------------------------------------------------------------ writing, reading
+    def saved(self) -> SavedSimulation:
+        """Everything that continues this simulation bit for bit (module docstring).
+
+        Arrays are the simulation's own (not copies): write them before running on.
+        """
+        a = {"dt": self.dt, "steps": self.steps, "t": self.t, "t0": self.t0,
+             "energy0": self.energy0, "energy_drift": self.energy_drift,
+             "wall_left": self.wall_left, "wall_right": self.wall_right,
+             "drift_tolerance": self.drift_tolerance, "chunk": self.chunk,
+             "active_window": self.active_window,
+             "default_threshold": self._default_threshold, "integrator": self.integrator,
+             "drag": self.drag, "dissipation_rate0": self._p0,
+             "dt_default": self.time_step.default}
+        state = {"u": self.u, "v": self.v, "a": self.a, "dissipated": self._dis,
+                 "delta_expected": self.time_step.delta_expected}
+        return SavedSimulation(a, self.chain, self.law, state, self.recording, self.record,
+                               list(self._pending))
+
+    @classmethod
+    def restore(cls, saved: SavedSimulation, *, threads: int | None = None) -> Simulation:
+        """The simulation :meth:`saved` described; continuing it gives the same bits.
+
+        ``saved.state`` needs ``u``, ``v``, ``a``; ``dissipated`` (zeros),
+        ``delta_expected`` and the attributes ``dt_default``, ``drag`` (0),
+        ``dissipation_rate0`` (0), ``integrator`` ("verlet") are optional (files of
+        older versions).  ValueError for inconsistent parts.
+        """
+        at, st = saved.attrs, saved.state
+        kwargs = {} if threads is None else {"threads": threads}
+        sim = cls(saved.chain, st["u"], st["v"], dt=float(at["dt"]),
+                  wall_left=float(at["wall_left"]), wall_right=float(at["wall_right"]),
+                  record=saved.recording, t=float(at["t0"]),
+                  active_window=bool(at["active_window"]),
+                  drift_tolerance=float(at["drift_tolerance"]), chunk=int(at["chunk"]),
+                  integrator=str(at.get("integrator", "verlet")), law=saved.law,
+                  drag=float(at.get("drag", 0.0)), check_dt=False, **kwargs)
+        # (dt was checked against the stability bound when the run was created; the
+        # saved state's present overlaps are not the initial ones)
+        steps = int(at["steps"])
+        if steps < 0:
+            raise ValueError(f"steps = {steps} must be >= 0")
+        sim.steps = steps
+        n = sim.chain.n
+        for name, shape in (("a", (n,)), ("dissipated", (n + 1,))):
+            if name not in st:
+                continue
+            x = np.asarray(st[name], float)
+            if x.shape != shape or not np.all(np.isfinite(x)):
+                raise ValueError(f"state/{name} must be finite with shape {shape} "
+                                 f"(got {x.shape})")
+        sim.a[:] = st["a"]
+        if "dissipated" in st:
+            sim._dis[:] = st["dissipated"]
+        sim._p0 = float(at.get("dissipation_rate0", 0.0))
+        sim.energy0 = float(at["energy0"])
+        if "delta_expected" in st and "dt_default" in at:
+            d = np.asarray(st["delta_expected"], float)
+            if d.shape != (n + 1,):
+                raise ValueError(f"state/delta_expected must have shape ({n + 1},)")
+            sim.time_step = dataclasses.replace(
+                sim.time_step, delta_expected=d, default=float(at["dt_default"]),
+                stable=stable_dt(sim.chain, d, law=sim.law, drag=sim.drag))
+        sim._default_threshold = float(at["default_threshold"])
+        sim._pending = list(saved.pending)
+        rec = saved.record
+        rec.check(n, saved.recording)
+        sim.record = rec
+        return sim
 
     # ------------------------------------------------------------------ running
     def run(self, t_end: float | None = None, *, until=None, max_steps: int | None = None,
@@ -454,7 +593,7 @@ class Simulation:
             if not math.isfinite(float(t_end)) or float(t_end) < self.t - 0.5 * self.dt:
                 raise ValueError(f"t_end must be finite and >= the present time {self.t} s "
                                  f"(got {t_end!r})")
-            limit = t_step = self._step_of(float(t_end))
+            limit = t_step = self.step_of(float(t_end))
         if max_steps is not None:
             if int(max_steps) != max_steps or max_steps < 0:
                 raise ValueError(f"max_steps must be an integer >= 0 (got {max_steps!r})")
@@ -481,7 +620,7 @@ class Simulation:
             while True:
                 # time events due now
                 for e in [e for e in events if isinstance(e, AtTime)]:
-                    if self.steps >= self._step_of(e.t):
+                    if self.steps >= self.step_of(e.t):
                         self._fire(e, events)
                         if e is stop_event:
                             stopped_by = e.label
@@ -492,7 +631,7 @@ class Simulation:
                 nsteps = int(min(self.chunk, limit - self.steps))
                 for e in events:
                     if isinstance(e, AtTime):
-                        nsteps = min(nsteps, max(self._step_of(e.t) - self.steps, 1))
+                        nsteps = min(nsteps, max(self.step_of(e.t) - self.steps, 1))
                 nsteps = min(nsteps, self._until_multiple(rec.monitor_every))
                 if rec.energy_every is not None:
                     nsteps = min(nsteps, self._until_multiple(rec.energy_every))
@@ -506,22 +645,8 @@ class Simulation:
                     if s_idx.size and self.steps % s_every == 0:
                         self._append_series(self._series_row(), self.steps)
                 else:
-                    lo, hi = self._lo, self._hi
-                    nthreads, nsteps = self._tune_choose(nsteps)
-                    clock = time.perf_counter()
-                    threads0 = numba.get_num_threads()
-                    numba.set_num_threads(nthreads)
-                    try:
-                        done, rows, fired, lo, hi = K.run_chunk(
-                            self.u, self.v, self.a, self._inv_m, self._k, self._d0,
-                            self._f0, *self._runs, self.wall_left, self.wall_right, self.dt,
-                            self._drift, self._kick, nsteps, lo, hi, vmax, umax, rec.maxima,
-                            watch, wmax, wthr, s_idx, s_every, self.steps, ts_buf, nthreads,
-                            self.min_parallel, self.block_steps, TILE_GRAINS,
-                            SERIAL_BLOCK_MIN_GRAINS)
-                    finally:
-                        numba.set_num_threads(threads0)
-                    self._tune_record(nthreads, nsteps, done, lo, hi, clock)
+                    done, rows, fired = self._chunk(nsteps, vmax, umax, watch, wmax, wthr,
+                                                    ts_buf)
                     phase = self.steps % s_every
                     if rows:
                         first = self.steps + (s_every - phase if phase else s_every)
@@ -529,9 +654,8 @@ class Simulation:
                         self.record.series_t.extend((self.t0 + steps_r * self.dt).tolist())
                         self.record.series.append(ts_buf[:rows].copy())
                     self.steps += done
-                    if not np.isfinite(self.v[lo:hi + 1]).all():
+                    if not np.isfinite(self.v[self._lo:self._hi + 1]).all():
                         raise self._instability("non-finite state (NaN/inf)")
-                    self._lo, self._hi = lo, hi
                     self._shrink()
                     if fired >= 0:
                         ev = waves[fired]
@@ -555,6 +679,43 @@ class Simulation:
             stopped_by = "t_end" if self.steps >= t_step else "max_steps"
         return RunInfo(self.steps - start_steps, self.t, stopped_by, drift[0], drift[1])
 
+    def _chunk(self, nsteps, vmax, umax, watch, wmax, wthr, ts_buf) -> tuple[int, int, int]:
+        """One kernel call of up to ``nsteps`` steps on the window; (steps, rows, fired)."""
+        rec = self.recording
+        nthreads, nsteps = self._tune_choose(nsteps)
+        clock = time.perf_counter()
+        threads0 = numba.get_num_threads()
+        numba.set_num_threads(nthreads)
+        try:
+            done, rows, fired, lo, hi = self._kernel(nthreads)(
+                (self.u, self.v, self.a, self._dis), self._constants(), self._p,
+                self.wall_left, self.wall_right, self.dt, self._drift, self._kick, nsteps,
+                self._lo, self._hi, vmax, umax, rec.maxima, watch, wmax, wthr,
+                self.record.series_grains, int(rec.series_every), self.steps, ts_buf,
+                (nthreads, self.min_parallel, self.block_steps, TILE_GRAINS,
+                 SERIAL_BLOCK_MIN_GRAINS))
+        finally:
+            numba.set_num_threads(threads0)
+        self._tune_record(nthreads, nsteps, done, lo, hi, clock)
+        self._lo, self._hi = lo, hi
+        return done, rows, fired
+
+    @property
+    def kernel(self):
+        """The compiled kernel (numba dispatcher) the next chunk will run on all threads."""
+        return self._kernel(self.threads)
+
+    def _kernel(self, nthreads: int):
+        """The blocked kernel if the chain is large enough to ever block, else the plain one.
+
+        (Bitwise the same results; the plain one compiles in a fraction of the time, so
+        a small run never compiles the blocked kernel, :mod:`discrete.kernels`.)
+        """
+        n = self.chain.n
+        can_block = self.block_steps > 0 and self.kernels.run_blocked is not None and (
+            (nthreads > 1 and n >= self.min_parallel) or n >= SERIAL_BLOCK_MIN_GRAINS)
+        return self.kernels.run_blocked if can_block else self.kernels.run_steps
+
     # ------------------------------------------------------------------ threads
     def _tune_choose(self, nsteps: int) -> tuple[int, int]:
         """Threads for the next chunk (and its length), measured where it pays.
@@ -566,7 +727,8 @@ class Simulation:
         core) switches back to one thread.  Results do not depend on the choice.
         """
         nt = self.threads
-        if nt == 1 or not self._auto_threads or self._hi - self._lo + 1 < self.min_parallel:
+        if (nt == 1 or not self._auto_threads or self.block_steps == 0
+                or self._hi - self._lo + 1 < self.min_parallel):
             return nt, nsteps
         rates = self._rates
         self._tune_count += 1
@@ -599,10 +761,6 @@ class Simulation:
         self.record.series_t.append(self.t0 + step * self.dt)
         self.record.series.append(row)
 
-    def _step_of(self, t: float) -> int:
-        """First step whose time is >= t (to within 1e-9 dt)."""
-        return max(0, math.ceil((t - self.t0) / self.dt - 1e-9))
-
     def _until_multiple(self, every: int) -> int:
         return every - self.steps % every
 
@@ -618,18 +776,22 @@ class Simulation:
         e, es = self._monitor()
         if not (math.isfinite(e) and math.isfinite(es)):
             raise self._instability("non-finite state (NaN/inf)")
-        scale = abs(e_start) if e_start != 0 else 1.0
-        scale_s = abs(es_start) if es_start != 0 else 1.0
-        drift[0] = max(drift[0], abs(e - e_start) / scale)
-        drift[1] = max(drift[1], abs(es - es_start) / scale_s)
-        es0 = self.record.monitor_shadow[0]
-        total = abs(es - es0) / (abs(es0) if es0 else 1.0)
+        r = self.record
+        e0 = abs(e_start) if e_start != 0 else 1.0
+        es0 = abs(es_start) if es_start != 0 else 1.0
+        drift[0] = max(drift[0], abs(e - e_start) / e0)
+        drift[1] = max(drift[1], abs(es - es_start) / es0)
+        first = r.monitor_shadow[0] + r.monitor_dissipated[0]
+        total = abs(es - first) / (abs(first) if first else 1.0)
         if total > self.drift_tolerance:
-            raise self._instability(f"relative drift {total:.3g} of the (modified) energy "
+            what = ("energy balance E + D = E(0)" if self.kernels.velocity_dependent
+                    else "(modified) energy")
+            raise self._instability(f"relative drift {total:.3g} of the {what} "
                                     f"beyond the tolerance {self.drift_tolerance:g}")
 
     @property
     def energy_drift(self) -> float:
-        """Max |E - E(0)|/|E(0)| over all monitor samples since the start."""
-        e = np.asarray(self.record.monitor_energy)
+        """Max |(E + D) - E(0)|/|E(0)| over all monitor samples since the start."""
+        r = self.record
+        e = np.asarray(r.monitor_energy) + np.asarray(r.monitor_dissipated)
         return float(np.max(np.abs(e - self.energy0)) / (abs(self.energy0) or 1.0))

@@ -52,7 +52,6 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import discrete
-from discrete import kernels as _kernels
 from discrete.io import load, save
 from discrete.progress import RunProgress
 
@@ -146,13 +145,13 @@ def run_key(params: dict) -> str:
 
 
 def segment_steps(sim: discrete.Simulation) -> int:
-    """Steps per segment: the least common multiple of the boundaries a run cuts at.
+    """Steps per segment: :attr:`discrete.Simulation.restart_period`.
 
-    ``Recording.monitor_every`` (the run's chunks end there, and the energy monitor
-    samples there) and ``kernels.UMAX_EVERY`` (the running maximum of u is sampled on
-    those steps, if the kernel has such a period).
+    The least common multiple of ``Recording.monitor_every`` (the run's chunks end there,
+    and the energy monitor samples there) and the kernel's period of the running maximum
+    of u.
     """
-    return math.lcm(int(sim.recording.monitor_every), int(getattr(_kernels, "UMAX_EVERY", 1)))
+    return sim.restart_period
 
 
 def write_checkpoint(path: str | Path, sim: discrete.Simulation, key: str,
@@ -237,11 +236,7 @@ def deferred_signals(enabled: bool = True) -> Iterator[list[int]]:
 
 def _drop_closing_sample(sim: discrete.Simulation) -> None:
     """Drop the monitor sample ``run`` appended on return; the next ``run`` re-takes it."""
-    rec = sim.record
-    if rec.monitor_t and rec.monitor_t[-1] == sim.t:
-        rec.monitor_t.pop()
-        rec.monitor_energy.pop()
-        rec.monitor_shadow.pop()
+    sim.record.drop_monitor_sample_at(sim.t)
 
 
 def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until=None,
@@ -297,7 +292,7 @@ def run_segmented(sim: discrete.Simulation, *, t_end: float | None = None, until
         raise ValueError("give t_end (s), until (event) or step_limit")
     end = math.inf
     if t_end is not None:
-        end = sim._step_of(float(t_end))  # Simulation.run's own rounding (private helper)
+        end = sim.step_of(float(t_end))  # Simulation.run's own rounding
     if step_limit is not None:
         end = min(end, int(step_limit))
     if sim.steps >= end:  # nothing to integrate: exactly what one call does

@@ -120,18 +120,15 @@ the same bound as ``[chain] delta0_over_d``)."""
 
 
 def _stable_and_auto_dt(init) -> tuple[float, float]:
-    """(largest linearly stable dt, default dt) of an initial state, s."""
-    delta = discrete.simulation.expected_overlaps(init.chain, init.u, init.v, init.wall_left,
-                                                  init.wall_right)
-    stable = discrete.stable_dt(init.chain, delta)
-    auto = discrete.default_dt(init.chain, init.u, init.v, init.wall_left, init.wall_right)
-    return stable, auto
+    """(largest linearly stable dt, default dt) of an initial state, s (discrete.TimeStep)."""
+    step = discrete.TimeStep.choose(init.chain, init.u, init.v, init.wall_left,
+                                    init.wall_right, check=False)
+    return step.stable, step.default
 
 
 def _check_amplitude(chain: discrete.Chain, init, key: str, value: float) -> None:
     """ScenarioError if the initial state's largest expected overlap exceeds the Hertz range."""
-    delta = discrete.simulation.expected_overlaps(chain, init.u, init.v, init.wall_left,
-                                                  init.wall_right)
+    delta = discrete.expected_overlaps(chain, init.u, init.v, init.wall_left, init.wall_right)
     d = np.r_[chain.diameter[0], chain.diameter]  # contact j: grain j-1's diameter (wall: 0)
     worst = float(np.max(delta / d))
     if not worst < MAX_OVERLAP_OVER_D:
@@ -227,8 +224,8 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
     if check:
         check_run(scenario, init)
     rec = scenario.record
-    dt = scenario.run.dt if scenario.run.dt is not None else discrete.default_dt(
-        init.chain, init.u, init.v, init.wall_left, init.wall_right)
+    dt = discrete.TimeStep.choose(init.chain, init.u, init.v, init.wall_left, init.wall_right,
+                                  dt=scenario.run.dt, check=False).dt
     speed = _wave_speed_estimate(init.chain, init.v)
     d = float(np.mean(init.chain.diameter))
     every = rec.energy_every or None

@@ -172,7 +172,7 @@ def test_loaded_simulation_continues_bit_for_bit(result, tmp_path):
     back = load(tmp_path / "copy.h5")
     assert sim.u.tobytes() == back.u.tobytes() and sim.a.tobytes() == back.a.tobytes()
     # the initial state's expected overlaps (instability messages) survive a reload
-    assert back._delta_expected.tobytes() == sim._delta_expected.tobytes()
+    assert back.time_step.delta_expected.tobytes() == sim.time_step.delta_expected.tobytes()
     assert back.dt_default == sim.dt_default
     t_end = sim.t + 5e-5
     sim.run(t_end, progress=False)

@@ -123,7 +123,9 @@ def cache_is_warm(dispatcher) -> bool:
     if not path:
         return False
     py = dispatcher.py_func
-    name = f"{Path(py.__code__.co_filename).stem}.{py.__qualname__}-"
+    # numba's file name drops '<' and '>' (closures: '<locals>')
+    qualname = py.__qualname__.replace("<", "").replace(">", "")
+    name = f"{Path(py.__code__.co_filename).stem}.{qualname}-"
     try:
         src = os.stat(py.__code__.co_filename).st_mtime
         return any(f.name.startswith(name) and f.suffix == ".nbi"

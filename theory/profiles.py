@@ -164,27 +164,33 @@ def compacton_motion(
     return _ret(u), _ret(sonic_vacuum_speed(c_mat_, amplitude) * strain)
 
 
-def _nonlinear(w, rho0):
-    """N(w) = (ρ0 + w)_+^{3/2} - ρ0^{3/2} - (3/2) ρ0^{1/2} w for ρ0 ∈ {0, 1}, no cancellation."""
+def _nonlinear(w, rho0, exponent=1.5):
+    """N(w) = (ρ0 + w)_+^{3/2} - ρ0^{3/2} - (3/2) ρ0^{1/2} w for ρ0 ∈ {0, 1}, no cancellation.
+
+    For ρ0 = 0 any exponent n: N(w) = w_+^n.
+    """
     if rho0 == 0.0:
-        return np.maximum(w, 0.0) ** 1.5
+        return np.maximum(w, 0.0) ** exponent
     wc = np.maximum(w, -1.0)
     e = wc / (1.0 + np.sqrt(1.0 + wc))  # √(1+w) - 1;  then N = e² (3/2 + e) exactly
     return np.where(w >= -1.0, e * e * (1.5 + e), -1.0 - 1.5 * w)
 
 
-def _petviashvili(sigma2, rho0, n_dom, ppg, w, tol, max_iter):
-    """Solve σ² w = Λ∗[(ρ0+w)_+^{3/2} - ρ0^{3/2}] on a periodic grid; return (w, history)."""
+def _petviashvili(sigma2, rho0, n_dom, ppg, w, tol, max_iter, exponent=1.5):
+    """Solve σ² w = Λ∗[(ρ0+w)_+^{3/2} - ρ0^{3/2}] on a periodic grid; return (w, history).
+
+    ρ0 = 0 takes any exponent n of the force law: σ² w = Λ∗w_+^n.
+    """
     n = n_dom * ppg
     q = 2.0 * np.pi * rfftfreq(n, d=1.0 / ppg)
     p_op = np.sinc(q / (2.0 * np.pi)) ** 2  # Λ̂(q) = [sin(q/2)/(q/2)]²
     lin = sigma2 - 1.5 * np.sqrt(rho0) * p_op  # > 0 iff σ² > (3/2) ρ0^{1/2}
     wt = np.where((q == 0) | ((n % 2 == 0) & (q == q[-1])), 1.0, 2.0)  # Parseval weights
-    gamma = 3.0 if rho0 == 0.0 else 2.0  # p/(p-1) for degree p = 3/2 resp. 2
+    gamma = exponent / (exponent - 1.0) if rho0 == 0.0 else 2.0  # p/(p-1), degree p = n or 2
     history, first, best = [], None, (w, np.inf, 0)
     for it in range(max_iter + 16):
         w_hat = rfft(w)
-        pn_hat = p_op * rfft(_nonlinear(w, rho0))
+        pn_hat = p_op * rfft(_nonlinear(w, rho0, exponent))
         res = irfft(lin * w_hat - pn_hat, n=n)
         history.append(float(np.max(np.abs(res)) / (sigma2 * np.max(np.abs(w)))))
         if history[-1] < best[1]:
@@ -233,12 +239,12 @@ def _velocity_profile(w, ppg):
 
 
 @lru_cache(maxsize=8)
-def _sonic_vacuum_wave(ppg, tol, max_iter):
-    """Normalised δ0 = 0 wave, σ = 1, w = Λ∗w_+^{3/2}: (w, history, w_max, ṽ_max)."""
+def _sonic_vacuum_wave(ppg, tol, max_iter, exponent=1.5):
+    """Normalised δ0 = 0 wave, σ = 1, w = Λ∗w_+^n: (w, history, w_max, ṽ_max)."""
     n_dom = 24  # doubly-exponential tail: w/w_max < 1e-15 at 5 grains from the peak
     theta = np.sqrt(10.0) / 5.0 * (np.arange(n_dom * ppg) - n_dom * ppg // 2) / ppg
     w0 = np.where(np.abs(theta) < np.pi / 2, np.cos(theta) ** 4, 0.0)  # compacton guess
-    w, hist = _petviashvili(1.0, 0.0, n_dom, ppg, w0, tol, max_iter)
+    w, hist = _petviashvili(1.0, 0.0, n_dom, ppg, w0, tol, max_iter, exponent)
     w.flags.writeable = hist.flags.writeable = False  # cached: shared between calls
     return w, hist, _trig_max(w, ppg), _trig_max(_velocity_profile(w, ppg), ppg)
 
@@ -407,6 +413,7 @@ def discrete_solitary_wave(
     k_n: float, mass: float, d: float, delta0: float = 0.0, *,
     amplitude: float | None = None, velocity_max: float | None = None,
     points_per_grain: int = 32, tol: float = 1e-13, max_iter: int = 500,
+    exponent: float = 1.5,
 ) -> DiscreteSolitaryWave:
     r"""Exact solitary wave of the Hertz chain, δ0 = 0 or δ0 > 0 (Petviashvili + FFT).
 
@@ -418,7 +425,11 @@ def discrete_solitary_wave(
     With R = λρ and s² = (k/m) λ^{1/2} σ²:
 
     * δ0 = 0 (σ = 1, λ free): ρ = Λ∗ρ_+^{3/2}, homogeneous of degree p = 3/2; solved once
-      and rescaled, A ∝ λ, V ∝ λ^{1/4} ∝ A^{1/4}, v_max ∝ λ^{5/4}.
+      and rescaled, A ∝ λ, V ∝ λ^{1/4} ∝ A^{1/4}, v_max ∝ λ^{5/4}.  For a power law
+      F = k[r]_+^n (``exponent``; Nesterenko 2001, *Dynamics of Heterogeneous
+      Materials*, §1.1; English & Pego, Proc. AMS 133 (2005) 1763) the same with
+      s² = (k/m) λ^{n-1}: ρ = Λ∗ρ_+^n, V ∝ λ^{(n-1)/2}, v_max ∝ λ^{(n+1)/2}, hence
+      V ∝ v_max^{(n-1)/(n+1)} (1/5 for Hertz) and γ = n/(n-1).
     * δ0 > 0 (λ = δ0, w = ρ - 1): σ² w = Λ∗(K w + N(w)), K = 3/2 (K = (3/2) k δ0^{1/2}
       in units), N = (1+w)^{3/2} - 1 - K w.  L = σ² - K sinc²(q/2) is positive iff
       σ² > 3/2, i.e. V > c0; σ is found by a secant search matching A (or v_max).
@@ -440,6 +451,9 @@ def discrete_solitary_wave(
     points_per_grain, tol, max_iter : int, float, int
         Grid points per grain, in [8, 256]; relative max-norm residual required, in
         (0, 1e-6]; maximum Petviashvili iterations per solve.
+    exponent : float
+        n of the contact law F = k[r]_+^n, in (1, 10]; n ≠ 3/2 needs δ0 = 0 (k_n is then
+        in N/m^n).
 
     Returns
     -------
@@ -458,10 +472,14 @@ def discrete_solitary_wave(
             raise ValueError(f"{name} must be an integer in [{lo}, {hi}] (got {val!r})")
     ppg, max_iter = int(points_per_grain), int(max_iter)
     tol = float(check_range("tol", tol, 0.0, 1e-6, closed=(False, True)))
-    rate = np.sqrt(k_n / mass)  # s² = rate² λ^{1/2} σ²;  v = s λ ṽ
+    n = float(check_range("exponent", exponent, 1.0, 10.0, closed=(False, True)))
+    if n != 1.5 and delta0 != 0.0:
+        raise ValueError(f"exponent = {n:g} needs delta0 = 0 (the precompressed wave is "
+                         "solved for Hertz, exponent 1.5, only)")
+    rate = np.sqrt(k_n / mass)  # s² = rate² λ^{(n-1)} σ²;  v = s λ ṽ
     if delta0 == 0.0:
-        w, hist, w_max, v_max = _sonic_vacuum_wave(ppg, tol, max_iter)
-        lam = target / w_max if use_amp else (target / (rate * v_max)) ** 0.8
+        w, hist, w_max, v_max = _sonic_vacuum_wave(ppg, tol, max_iter, n)
+        lam = target / w_max if use_amp else (target / (rate * v_max)) ** (2.0 / (n + 1.0))
         sigma, n_dom, total = 1.0, w.size // ppg, hist.size
     else:
         lam, kind = delta0, "amplitude" if use_amp else "velocity"
@@ -469,7 +487,7 @@ def discrete_solitary_wave(
         w, hist, total, n_dom, sigma2 = _precompressed_wave(target, kind, ppg, tol, max_iter)
         sigma = np.sqrt(sigma2)
         w_max, v_max = _trig_max(w, ppg), _trig_max(_velocity_profile(w, ppg), ppg)
-    s = rate * lam**0.25 * sigma
+    s = rate * lam ** (0.5 * (n - 1.0)) * sigma
     return DiscreteSolitaryWave(
         k_n=k_n, mass=mass, d=d, delta0=delta0, speed=float(s * d), grain_rate=float(s),
         amplitude=float(lam * w_max), velocity_max=float(s * lam * v_max),

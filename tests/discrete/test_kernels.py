@@ -35,7 +35,12 @@ def test_rest_in_equilibrium_has_exactly_zero_acceleration(rng, make_composite):
     ch = make_composite(rng, delta0=3e-6)
     u = np.full(ch.n, 1.3e-6)  # uniform shift with the walls: every contact at δ0 exactly
     a = np.full(ch.n, np.nan)
-    K.accelerations(u, a, 1 / ch.mass, ch.k, ch.delta0, ch.f0, 1.3e-6, 1.3e-6, 0, ch.n - 1)
+    kern = K.make_kernels()
+    p = K.kernel_params(kern.law)
+    f0 = kern.static_forces(ch.k, ch.delta0, p)
+    assert np.array_equal(f0, ch.f0)  # the chain's k δ0^{3/2} is the kernels' arithmetic
+    con = (1 / ch.mass, ch.k, ch.delta0, f0, *K.chain_runs(1 / ch.mass, ch.k, ch.delta0, f0))
+    kern.accelerations(u, np.zeros(ch.n), a, con, p, 1.3e-6, 1.3e-6, 0, ch.n - 1)
     assert np.all(a == 0.0)
 
 

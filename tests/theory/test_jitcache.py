@@ -29,7 +29,7 @@ def _run(code: str, env_update: dict, cwd=None) -> str:
 _PATHS = """
     import os, discrete.kernels as K, continuum._kernels as C
     print(os.environ["NUMBA_CACHE_DIR"])
-    print(K.run_chunk._cache.cache_path)
+    print(K.make_kernels().run_steps._cache.cache_path)
     print(C.face_strain._cache.cache_path)
 """
 
