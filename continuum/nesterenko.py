@@ -99,9 +99,9 @@ def saturated_kernel(n_faces: int, h: float, cap: float) -> np.ndarray:
     On the infinite lattice of spacing h (grains) the operator with Fourier multiplier
     :math:`\sigma(k) = -\min(k^2, C)` on the Brillouin zone :math:`|k| \le \pi/h` has
 
-    .. math:: c_j = rac{h}{2\pi}\int_{-\pi/h}^{\pi/h}\sigma(k)\,e^{ikjh}\,dk
-              = rac{h}{\pi}\Big[-rac{K^2\sin aK}{a} - rac{2K\cos aK}{a^2}
-              + rac{2\sin aK}{a^3} + rac{C\sin aK}{a}\Big],\quad a = jh,
+    .. math:: c_j = \frac{h}{2\pi}\int_{-\pi/h}^{\pi/h}\sigma(k)\,e^{ikjh}\,dk
+              = \frac{h}{\pi}\Big[-\frac{K^2\sin aK}{a} - \frac{2K\cos aK}{a^2}
+              + \frac{2\sin aK}{a^3} + \frac{C\sin aK}{a}\Big],\quad a = jh,
 
     with :math:`K = \min(\sqrt C, \pi/h)` (sin(jπ) = 0 removes the upper limit), and
     :math:`c_0 = (h/\pi)(-K^3/3 - C(\pi/h - K))`.  Without the cap (C → ∞) this is the

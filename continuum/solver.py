@@ -41,6 +41,8 @@ from pde.solvers import Controller
 from pde.solvers.base import SolverBase
 from pde.trackers.base import TrackerBase
 
+from theory import integrity
+
 __all__ = ["VerletSolver", "RK4Solver", "run", "RunResult", "InstabilityError",
            "DRIFT_TOLERANCE", "MAX_STEPS"]
 
@@ -397,7 +399,8 @@ def run(
     storage : path, optional
         HDF5 file (py-pde :class:`~pde.FileStorage`) receiving the frames, with the
         run's parameters (``pde.parameters``, dt, order, t_end, ``extra_info``) as
-        attributes.
+        attributes; sealed once complete (:func:`theory.integrity.seal_file`: py-pde
+        reads it as before, :func:`theory.integrity.verify` finds any change).
     extra_info : dict, optional
         More attributes for the storage (e.g. the scenario).
     trackers : list, optional
@@ -489,7 +492,7 @@ def run(
         final = controller.run(state.copy(), dt)
         if store is not None:
             store.close()
-            os.replace(tmp, target)
+            integrity.seal_file(tmp, target)  # sealed copy, atomically (theory.integrity)
     finally:
         if tmp is not None and tmp.exists():
             if store is not None:

@@ -15,14 +15,18 @@ displacement (≈ 0.1 δ0 at δ0/d = 1e-3) and launch a rarefaction wave.
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import os
-import tempfile
+import warnings
+import zipfile
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
+
+from theory import integrity
 
 from .chain import Chain
 from .recording import Recording, WaveAt
@@ -147,19 +151,30 @@ def _settled_memo(key: tuple) -> SettledWave:
 
 
 def _disk_cached(key: tuple, cache_dir: Path) -> SettledWave:
+    """The settled wave of ``key`` from its sealed ``.npz`` cache file, or computed.
+
+    The file is sealed and written atomically (:mod:`theory.integrity`); a damaged,
+    unsealed or foreign one is recomputed and replaced, with a warning naming it.
+    """
     h = hashlib.sha256(json.dumps(key).encode()).hexdigest()[:16]
     path = cache_dir / f"settled_wave_{h}.npz"
     if path.exists():
-        with np.load(path, allow_pickle=False) as f:
-            if json.loads(str(f["key"])) == list(key):
-                return SettledWave(f["u"], f["v"], *key[:4], json.loads(str(f["params"])))
+        try:
+            payload = integrity.read_sealed_bytes(path, what="settled-wave cache")
+            with np.load(io.BytesIO(payload), allow_pickle=False) as f:
+                if json.loads(str(f["key"])) == list(key):
+                    return SettledWave(f["u"], f["v"], *key[:4],
+                                       json.loads(str(f["params"])))
+            reason = "it holds another wave"
+        except (ValueError, OSError, KeyError, EOFError, zipfile.BadZipFile) as exc:
+            reason = str(exc)
+        warnings.warn(f"recomputing the settled wave cached in {path}: {reason}",
+                      RuntimeWarning, stacklevel=3)
     w = _settled_memo(key)
-    cache_dir.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=cache_dir, suffix=".npz")
-    os.close(fd)
-    np.savez_compressed(tmp, u=w.u, v=w.v, key=json.dumps(list(key)),
+    buf = io.BytesIO()
+    np.savez_compressed(buf, u=w.u, v=w.v, key=json.dumps(list(key)),
                         params=json.dumps(w.params))
-    os.replace(tmp, path)
+    integrity.write_sealed_bytes(path, buf.getvalue())
     return w
 
 

@@ -11,18 +11,21 @@ state, with the attribute ``dt_default``), ``record`` (series, energy grid, moni
 maxima) and ``snapshots/<i>`` (u, v, overlaps with attributes label, t, step).  What is
 written is what :meth:`discrete.Simulation.saved` returns, and :func:`load` hands it to
 :meth:`discrete.Simulation.restore`: this module only maps it to and from HDF5.
-Datasets of 64 or more entries are chunked, gzip-compressed and checksummed
-(Fletcher-32: a corrupted chunk is an error on reading, not silently wrong numbers).
-Optional root attributes: ``integrator`` (the time stepper's name,
-:mod:`discrete.integrators`; absent means ``"verlet"``) and whatever the caller passes
-as ``attrs`` (the runner adds the scenario and the summary, a checkpoint its key).
+Datasets of 64 or more entries are chunked and gzip-compressed.  Optional root
+attributes: ``integrator`` (the time stepper's name, :mod:`discrete.integrators`; absent
+means ``"verlet"``) and whatever the caller passes as ``attrs`` (the runner adds the
+scenario and the summary, a checkpoint its key).
 
-Robustness: the file is written to a hidden temporary file in the target directory,
-flushed to disk (``fsync``) and renamed when complete (``os.replace``), so a reader never
-sees a partial file and a crash leaves the old file or the new one.  :func:`load`
-turns every way a file can be unreadable — missing, not HDF5, truncated, a dataset or
-attribute removed, corrupted data, inconsistent shapes — into one :class:`ValueError`
-that names the file and what is wrong, instead of an h5py traceback.
+Integrity (:mod:`theory.integrity`): the file is written through
+:func:`theory.integrity.sealed_hdf5` — to a hidden temporary file in the target
+directory, sealed with the SHA-256 digest of every byte, flushed to disk and renamed
+when complete — and :func:`load` verifies the seal before reading anything, so a
+change of any attribute, dataset or byte since the file was written is an error, never
+a silently different run.  The seal is a file-level wrapper around what is written.
+:func:`load` turns every way a file can be unreadable — missing, not sealed, changed,
+not HDF5, a dataset or attribute missing, inconsistent shapes — into one
+:class:`ValueError` that names the file and what is wrong, instead of an h5py
+traceback.
 """
 
 from __future__ import annotations
@@ -30,11 +33,12 @@ from __future__ import annotations
 import importlib.metadata
 import json
 import os
-import tempfile
 from pathlib import Path
 
 import h5py
 import numpy as np
+
+from theory import integrity
 
 from .chain import Chain
 from .integrators import get_integrator
@@ -68,7 +72,7 @@ def _ds(group: h5py.Group, name: str, data, compress: bool = True) -> None:
     if data.size >= 64:
         kw = {"compression": "gzip", "compression_opts": 4, "shuffle": True} if compress \
             else {}
-        group.create_dataset(name, data=data, chunks=True, fletcher32=True, **kw)
+        group.create_dataset(name, data=data, chunks=True, **kw)
     else:
         group.create_dataset(name, data=data)
     if name in UNITS:
@@ -98,21 +102,10 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
     if not isinstance(sim, Simulation):
         raise ValueError(f"save() takes a Simulation (got {type(sim).__name__})")
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    os.close(fd)
-    try:
-        with h5py.File(tmp, "w") as f:
-            _write(f, sim.saved(), compress)
-            for key, value in (attrs or {}).items():
-                f.attrs[key] = value
-        _fsync(tmp)
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp creates 0600; a result is shared
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    with integrity.sealed_hdf5(path) as f:  # atomic and sealed (theory.integrity)
+        _write(f, sim.saved(), compress)
+        for key, value in (attrs or {}).items():
+            f.attrs[key] = value
     return path
 
 
@@ -158,29 +151,6 @@ def _write(f: h5py.File, saved: SavedSimulation, compress: bool) -> None:
         h.attrs["label"], h.attrs["t"], h.attrs["step"] = s.label, s.t, s.step
         for name in ("u", "v", "overlaps"):
             _ds(h, name, getattr(s, name), compress)
-
-
-def _umask() -> int:
-    """The process umask, read without changing it where possible (threads)."""
-    try:
-        with open("/proc/self/status") as fh:
-            for line in fh:
-                if line.startswith("Umask:"):
-                    return int(line.split()[1], 8)
-    except (OSError, ValueError):
-        pass
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
-def _fsync(path) -> None:
-    """Flush a written file to disk (before the rename that publishes it)."""
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
 
 
 class _Reader:
@@ -232,18 +202,12 @@ def load(path: str | os.PathLike, *, threads: int | None = None) -> Simulation:
     Raises
     ------
     ValueError
-        Naming ``path`` and the cause, if the file is missing, not HDF5, truncated, not
-        a :data:`FORMAT` file, or has a missing, corrupted or inconsistent part.
+        Naming ``path`` and the cause, if the file is missing, fails its integrity seal
+        (:class:`theory.integrity.IntegrityError`: changed, truncated, not sealed), is
+        not a :data:`FORMAT` file, or has a missing or inconsistent part.
     """
     path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{path}: no such file")
-    try:
-        f = h5py.File(path, "r")
-    except OSError as exc:
-        raise ValueError(f"{path}: not a readable HDF5 file (truncated or corrupted?): "
-                         f"{exc}") from None
-    with f:
+    with integrity.open_hdf5(path, what=f"result file ({FORMAT})") as f:
         fmt = f.attrs.get("format")
         if isinstance(fmt, bytes):
             fmt = fmt.decode()

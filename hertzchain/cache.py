@@ -3,21 +3,23 @@
 A result is identified by the canonical JSON of its parameters (sorted keys, floats
 in ``repr``) together with :data:`CACHE_SCHEMA`; its file name carries the first 12
 hex digits of the SHA-256 of that text.  Files are written to a temporary name in the
-target directory and renamed when complete (:func:`atomic_path`), so a reader never
-sees a half-written file and a crash leaves either the old file or none.
+target directory and renamed when complete (:func:`atomic_path`, the one implementation
+in :mod:`theory.integrity`), so a reader never sees a half-written file and a crash
+leaves either the old file or none; files read back are sealed
+(:func:`theory.integrity.sealed_hdf5`) and verified on read.
 """
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import os
-import tempfile
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
+
+from theory.integrity import atomic_path
 
 __all__ = ["CACHE_SCHEMA", "canonical_json", "param_hash", "cache_path", "atomic_path"]
 
@@ -51,26 +53,3 @@ def cache_path(directory: str | os.PathLike, stem: str, params: Mapping,
                suffix: str = ".h5") -> Path:
     """Path ``directory/<stem>-<hash><suffix>`` for a result with ``params``."""
     return Path(directory) / f"{stem}-{param_hash(params)}{suffix}"
-
-
-@contextlib.contextmanager
-def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
-    """Yield a temporary path beside ``path``; rename it onto ``path`` on success.
-
-    On an exception the temporary file is removed and ``path`` is left untouched.
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
-    tmp_path = Path(tmp)
-    # mkstemp creates 0600; give the result the permissions of a normally created file
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp_path, 0o666 & ~umask)
-    try:
-        yield tmp_path
-        os.replace(tmp_path, path)
-    finally:
-        if tmp_path.exists():
-            tmp_path.unlink()

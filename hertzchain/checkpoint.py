@@ -17,8 +17,10 @@ Why the result is bit for bit that of an uninterrupted run
 * The kernel's arithmetic per grain does not depend on where a run or a chunk starts or
   ends (:mod:`discrete.kernels`: the fused kick of a chunk's last step is split into the
   same two additions), and :func:`discrete.io.save` stores u, v, a, the running maxima
-  and every record array losslessly (float64, Fletcher-32 checksummed; checkpoints are
-  not compressed: gzip would triple the write time for ~15 % less space).
+  and every record array losslessly (float64; checkpoints are not compressed: gzip
+  would triple the write time for ~15 % less space), sealed with the SHA-256 of every
+  byte (:mod:`theory.integrity`): a checkpoint whose ``dt``, ``steps`` or any value
+  changed on disk is refused, never resumed into a different run.
 * Segments end on multiples of ``monitor_every`` (and of the kernel's ``UMAX_EVERY``):
   the uninterrupted run cuts its chunks there too, so the chunk sequence — and with it
   the step at which a :class:`~discrete.WaveAt` event is taken — is the same, and the
@@ -54,6 +56,7 @@ from pathlib import Path
 import discrete
 from discrete.io import load, save
 from discrete.progress import RunProgress
+from theory import integrity
 
 from .cache import CACHE_SCHEMA, canonical_json, param_hash
 
@@ -175,18 +178,15 @@ def read_checkpoint(path: str | Path, key: str, *, threads: int | None = None
     """
     import json
 
-    import h5py
-
     path = Path(path)
     if not path.exists():
         return None
-    try:
-        with h5py.File(path, "r") as f:
+    try:  # verified like every file the package reads (theory.integrity)
+        with integrity.open_hdf5(path, what="checkpoint") as f:
             found = f.attrs.get(f"{_PREFIX}key")
             extra = f.attrs.get(f"{_PREFIX}extra")
-    except OSError as exc:
-        raise CheckpointError(f"{path}: damaged checkpoint, not a readable HDF5 file "
-                              f"({exc}); delete it (or rerun with --restart) to start over"
+    except ValueError as exc:
+        raise CheckpointError(f"{exc}; delete it (or rerun with --restart) to start over"
                               ) from None
     if isinstance(found, bytes):
         found = found.decode()

@@ -1,10 +1,11 @@
 """Reading result files for ``hertzchain info`` and ``hertzchain plot``.
 
 Discrete runs are written by :func:`discrete.io.save` (attribute ``format``); the runner
-adds the scenario and the summary as JSON attributes.  A file that is missing, not
-HDF5, truncated, or damaged inside (an unreadable object, a missing dataset of a
-discrete run) gets a clear :class:`ValueError` naming the file rather than an h5py
-traceback.  The PNG of :func:`plot_file` is written atomically.
+adds the scenario and the summary as JSON attributes.  Every file the package writes
+is sealed (:mod:`theory.integrity`) and :func:`describe` verifies it exactly as
+:func:`discrete.io.load` does: a file that is missing, unsealed, changed in any byte,
+truncated, or damaged inside gets a clear :class:`ValueError` naming the file rather
+than an h5py traceback.  The PNG of :func:`plot_file` is written atomically.
 """
 
 from __future__ import annotations
@@ -14,6 +15,8 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+
+from theory import integrity
 
 from .cache import atomic_path
 
@@ -28,16 +31,14 @@ DISCRETE_DATASETS = ("chain/mass", "chain/k", "chain/delta0", "chain/diameter",
 """Datasets every file of :func:`discrete.io.save` has (checked by :func:`describe`)."""
 
 
-def open_result(path: str | Path) -> h5py.File:
-    """Open an HDF5 result read-only, with a clear error for bad files."""
-    path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"{path}: no such file")
-    try:
-        return h5py.File(path, "r")
-    except OSError as exc:
-        raise ValueError(f"{path}: not a readable HDF5 file (truncated or corrupted?): "
-                         f"{exc}") from None
+def open_result(path: str | Path):
+    """Verify a result file's seal and open it read-only (a context manager).
+
+    The same check as :func:`discrete.io.load` (:func:`theory.integrity.open_hdf5`):
+    :class:`theory.integrity.IntegrityError` (a ``ValueError``) naming the file if it
+    is missing, unsealed, changed, truncated or not HDF5.
+    """
+    return integrity.open_hdf5(path, what="result file")
 
 
 def _attr(value):
@@ -108,7 +109,6 @@ def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
     from .plotting import plot_grain_profile, plot_spacetime
 
     path = Path(path)
-    open_result(path).close()
     sim = load(path)
     arr = sim.record.arrays()
     has_grid = arr["energy_kinetic"].shape[0] > 1
@@ -127,16 +127,6 @@ def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
     try:
         with atomic_path(out) as tmp:
             fig.savefig(tmp, dpi=120, format="png")
-        _readable(out)
     finally:
         plt.close(fig)
     return out
-
-
-def _readable(path: Path) -> None:
-    """The usual permissions for a written file (atomic temporary files are 0600)."""
-    import os
-
-    from discrete.io import _umask
-
-    os.chmod(path, 0o666 & ~_umask())

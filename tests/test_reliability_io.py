@@ -23,6 +23,7 @@ from hertzchain.cli import main
 from hertzchain.files import describe, plot_file
 from hertzchain.runner import run_scenario
 from hertzchain.scenario import parse_scenario
+from theory import integrity
 
 SCENARIO = {"name": "io", "chain": {"delta0_over_d": 1e-3, "sections": [
     {"n": 150}, {"n": 200, "alpha_rho": 0.5, "alpha_kn": 2.0}]},
@@ -112,7 +113,13 @@ def test_missing_and_foreign_files(tmp_path):
     with pytest.raises(ValueError, match="no such file"):
         load(tmp_path / "none.h5")
     other = tmp_path / "other.h5"
-    with h5py.File(other, "w") as f:
+    with h5py.File(other, "w") as f:  # another program's file: cannot be verified
+        f.attrs["format"] = "something else"
+    with pytest.raises(ValueError, match=r"other.h5: no integrity seal, so its content "
+                                         r"cannot be verified: not a hertzchain result "
+                                         r"file \(hertzchain.discrete/1\)"):
+        load(other)
+    with integrity.sealed_hdf5(other) as f:  # sealed, but not a discrete run
         f.attrs["format"] = "something else"
     with pytest.raises(ValueError, match=r"other.h5 is not a hertzchain.discrete/1 file"):
         load(other)

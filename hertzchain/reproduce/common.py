@@ -28,11 +28,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import h5py
 import numpy as np
 
 import discrete
 import theory
+from theory import integrity
 
 from .. import checkpoint as C
 from ..cache import atomic_path, cache_path, canonical_json
@@ -182,8 +182,9 @@ def run_cached(ctx: Context, stem: str, params: dict, *,
     ckpt = C.checkpoint_path(path)
     if path.exists() and not ctx.force:
         try:
-            sim = discrete.load(path)
-        except (OSError, ValueError, KeyError):  # unreadable: recompute
+            sim = discrete.load(path)  # verified (theory.integrity)
+        except (OSError, ValueError, KeyError) as exc:  # damaged or stale: recompute
+            ctx.log(f"{stem}: recomputing the cached run: {exc}")
             sim = None
         if sim is not None:
             ctx.reused.append(path)
@@ -257,7 +258,8 @@ def run_scenario_cached(ctx: Context, stem: str, scenario: dict, *, full: bool =
     if path.exists() and not ctx.force:
         try:
             summary = read_summary(path)
-        except (OSError, ValueError, KeyError):
+        except (OSError, ValueError, KeyError) as exc:  # damaged or stale: recompute
+            ctx.log(f"{stem}: recomputing the cached run: {exc}")
             summary = None
         if summary is not None:
             ctx.reused.append(path)
@@ -283,7 +285,7 @@ def run_scenario_cached(ctx: Context, stem: str, scenario: dict, *, full: bool =
             note = f"this point is not saved, the {stem} points before it are"
         raise _retell(exc, ctx, note) from None
     if not full:
-        with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+        with integrity.sealed_hdf5(path) as f:
             f.attrs["scenario"] = canonical_json(params)
             f.attrs["summary"] = canonical_json(summary)
             f.attrs["format"] = "hertzchain.reproduce.summary/1"
@@ -292,8 +294,15 @@ def run_scenario_cached(ctx: Context, stem: str, scenario: dict, *, full: bool =
 
 
 def read_summary(path: str | Path) -> dict:
-    """The runner's summary stored in an HDF5 file."""
-    with h5py.File(path, "r") as f:
+    """The runner's summary stored in an HDF5 file (verified: :mod:`theory.integrity`).
+
+    Raises
+    ------
+    ValueError
+        Naming the file, if it is missing, unsealed or changed; KeyError without a
+        summary.
+    """
+    with integrity.open_hdf5(path, what="cached result") as f:
         return json.loads(f.attrs["summary"])
 
 

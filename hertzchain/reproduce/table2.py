@@ -29,14 +29,14 @@ import json
 import math
 from dataclasses import dataclass, field
 
-import h5py
 import numpy as np
 
 import discrete
 import theory
 from discrete import diagnostics as D
+from theory import integrity
 
-from ..cache import atomic_path, cache_path, canonical_json
+from ..cache import cache_path, canonical_json
 from ..paper import TABLE2, TABLE2_KEYS
 from .common import Context, run_scenario_cached
 
@@ -151,9 +151,13 @@ def _continuum(ctx: Context, point: str, s: dict) -> tuple[dict | None, str]:
               "model": "boussinesq"}
     path = cache_path(ctx.runs, "table2-continuum", params)
     if path.exists() and not ctx.force:
-        with h5py.File(path, "r") as f:
+        try:
+            with integrity.open_hdf5(path, what="cached result") as f:
+                result = json.loads(f.attrs["result"])
             ctx.reused.append(path)
-            return json.loads(f.attrs["result"]), ""
+            return result, ""
+        except (ValueError, KeyError) as exc:  # damaged or stale: recompute
+            ctx.log(f"table2-continuum: recomputing the cached run: {exc}")
     try:
         out = continuum.energy_ratios(ar, ak, delta0_over_d=DELTA0_OVER_D,
                                       distance=s["continuum_distance"], n=s["continuum_nodes"])
@@ -162,7 +166,7 @@ def _continuum(ctx: Context, point: str, s: dict) -> tuple[dict | None, str]:
     keep = {k: float(out[k]) for k in TABLE2_KEYS}
     keep["measured_past_interface"] = float(out.get("measured_past_interface", math.nan))
     keep["energy_drift"] = float(out.get("energy_drift", math.nan))
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as f:
+    with integrity.sealed_hdf5(path) as f:
         f.attrs["result"] = canonical_json(keep)
         f.attrs["reproduce_params"] = canonical_json(params)
     ctx.computed.append(path)

@@ -4,9 +4,11 @@ Layout of a sweep's output directory::
 
     DIR/records.jsonl   one JSON line per finished point, appended and fsync'ed as each
                         result arrives (the crash-safe source of truth; a torn last line
-                        from a crash is skipped; the latest record of an id wins)
+                        from a crash is skipped; the latest record of an id wins); each
+                        line ends with the SHA-256 of its own text
     DIR/results.h5      the consolidated table, rebuilt from the records and renamed
-                        into place atomically (periodically and at the end)
+                        into place atomically (periodically and at the end); sealed
+                        and verified on read (:mod:`theory.integrity`)
     DIR/spec.json       the sweep specification of the last run
     DIR/runs/<id>.h5    full per-run output (only with ``full_output``)
 
@@ -34,9 +36,13 @@ from typing import Any
 import h5py
 import numpy as np
 
+from theory import integrity
+
 from .. import __version__
-from ..cache import atomic_path
 from .spec import Point, SweepSpec
+
+_DAMAGED_ADVICE = ("Delete that line (its point is then computed again) or move the "
+                   "directory aside to start the sweep over")
 
 __all__ = [
     "FORMAT",
@@ -85,18 +91,46 @@ class RecordStore:
         self.path = Path(path)
 
     def load(self) -> dict[str, dict]:
-        """All records by point id; later lines supersede earlier ones, torn lines skipped."""
+        """All records by point id; later lines supersede earlier ones.
+
+        Every line carries the SHA-256 of its own text
+        (:func:`theory.integrity.dumps_sealed_json`).  A last line without its newline
+        was torn by a crash while being appended and is skipped (:meth:`append_many`
+        cuts it off); any other line that fails its digest is damage.
+
+        Raises
+        ------
+        theory.integrity.IntegrityError
+            (a ``ValueError``) naming the file and the line of a damaged record.
+        """
         records: dict[str, dict] = {}
         if not self.path.exists():
             return records
-        with self.path.open("r", encoding="utf-8") as fh:
-            for line in fh:
-                try:
-                    rec = json.loads(line)
-                except json.JSONDecodeError:
-                    continue  # a line torn by a crash
-                if isinstance(rec, dict) and isinstance(rec.get("id"), str):
-                    records[rec["id"]] = rec
+        lines = self.path.read_bytes().split(b"\n")
+        last = lines.pop()  # "" after a final newline, else a line torn by a crash ...
+        if last:  # ... unless it is a whole record whose newline was damaged
+            try:
+                integrity.loads_sealed_json(last[:-1].decode("utf-8"), where="")
+            except ValueError:  # (UnicodeDecodeError included) torn: skipped, point reruns
+                pass
+            else:
+                raise integrity.IntegrityError(
+                    f"{self.path} line {len(lines) + 1}: damaged (its final newline "
+                    f"changed). {_DAMAGED_ADVICE}")
+        for number, raw in enumerate(lines, start=1):
+            where = f"{self.path} line {number}"
+            try:
+                text = raw.decode("utf-8")
+            except UnicodeDecodeError:
+                raise integrity.IntegrityError(
+                    f"{where}: damaged (not UTF-8 text). {_DAMAGED_ADVICE}") from None
+            try:
+                rec = integrity.loads_sealed_json(text, where=where)
+            except integrity.IntegrityError as exc:
+                raise integrity.IntegrityError(f"{exc}. {_DAMAGED_ADVICE}") from None
+            if not isinstance(rec.get("id"), str):
+                raise integrity.IntegrityError(f"{where}: not a sweep record (no id)")
+            records[rec["id"]] = rec
         return records
 
     def append(self, record: Mapping) -> dict:
@@ -105,19 +139,33 @@ class RecordStore:
 
     def append_many(self, records: Sequence[Mapping]) -> list[dict]:
         """Append records with one write and one fsync; return them as read back."""
-        lines = [json.dumps(r, sort_keys=True, default=_json_default) for r in records]
+        lines = [integrity.dumps_sealed_json(r, default=_json_default) for r in records]
         if not lines:
             return []
         self.path.parent.mkdir(parents=True, exist_ok=True)
         with self.path.open("a+b") as fh:
-            if fh.tell() > 0:  # terminate a line torn by an earlier crash
-                fh.seek(-1, os.SEEK_END)
+            end = fh.seek(0, os.SEEK_END)
+            if end > 0:  # cut off a line torn by an earlier crash (its point reruns)
+                fh.seek(end - 1)
                 if fh.read(1) != b"\n":
-                    fh.write(b"\n")
+                    fh.truncate(_after_last_newline(fh, end))
             fh.write("".join(line + "\n" for line in lines).encode("utf-8"))
             fh.flush()
             os.fsync(fh.fileno())
-        return [json.loads(line) for line in lines]
+        return [integrity.loads_sealed_json(line, where=str(self.path)) for line in lines]
+
+
+def _after_last_newline(fh, end: int) -> int:
+    """Offset just after the last newline before ``end`` in ``fh`` (0 if there is none)."""
+    pos = end
+    while pos > 0:
+        start = max(0, pos - 65536)
+        fh.seek(start)
+        i = fh.read(pos - start).rfind(b"\n")
+        if i >= 0:
+            return start + i + 1
+        pos = start
+    return 0
 
 
 def _json_default(obj: Any) -> Any:
@@ -253,7 +301,7 @@ def write_table(path: str | os.PathLike, spec: SweepSpec, points: Sequence[Point
     status = arrays["status"]
     counts = {s: int(np.count_nonzero(status == s)) for s in ("ok", "failed", "pending")}
     axis_paths = {a.name: a.path for a in spec.axes}
-    with atomic_path(path) as tmp, h5py.File(tmp, "w") as fh:
+    with integrity.sealed_hdf5(path) as fh:
         fh.attrs["format"] = FORMAT
         fh.attrs["format_version"] = FORMAT_VERSION
         fh.attrs["hertzchain_version"] = __version__
@@ -350,7 +398,7 @@ def read_results(path: str | os.PathLike) -> SweepResults:
 
 
 def _read_results(path: Path) -> SweepResults:
-    with h5py.File(path, "r") as fh:
+    with integrity.open_hdf5(path, what="sweep results table") as fh:
         if fh.attrs.get("format") != FORMAT:
             raise ValueError(f"{path} is not a hertzchain sweep results table "
                              f"(format attribute {fh.attrs.get('format')!r})")

@@ -133,11 +133,9 @@ def synthetic_point(scenario: Scenario, *, out: Path | None = None, progress: bo
         "wall_time": time.perf_counter() - t0, "stopped_by": "t_end", "completed": True,
     }
     if out is not None:
-        import h5py
+        from theory.integrity import sealed_hdf5
 
-        from ..cache import atomic_path
-
-        with atomic_path(out) as tmp, h5py.File(tmp, "w") as fh:
+        with sealed_hdf5(out) as fh:
             for key, value in summary.items():
                 fh.attrs[key] = value
     return summary
