@@ -54,18 +54,20 @@ def _json_default(obj):
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    """Run a scenario TOML file with the discrete solver and print its summary.
+    """Run every model of a scenario TOML file (:func:`hertzchain.models.run`), print a summary.
 
-    With ``--out`` the run is checkpointed to ``OUT.ckpt`` every
+    With ``--out`` the discrete run is written there (checkpointed to ``OUT.ckpt`` every
     ``--checkpoint-interval`` seconds of wall time; rerunning the same command resumes
-    from it (bit for bit the same result), ``--restart`` discards it.
+    from it, bit for bit; ``--restart`` discards it) and a continuum beside it
+    (``OUT`` with the suffix ``.continuum.h5``).
 
-    Exit status 0 when the run completed; 2 on an error (invalid scenario, unreachable
-    stop, instability, I/O); :data:`EXIT_INCOMPLETE` (3) when it ended before the stop the
-    scenario asked for (``completed`` false: ``max_steps`` came first, or a snapshot was
-    never taken) — the summary is printed and written all the same.
+    Exit status 0 when every model completed; 2 on an error (invalid scenario,
+    unreachable stop, instability, I/O); :data:`EXIT_INCOMPLETE` (3) when a run ended
+    before the stop the scenario asked for (``completed`` false: ``max_steps`` came
+    first, a snapshot was never taken, or the continuum failed) — the summary is printed
+    and written all the same.
     """
-    from .runner import run_scenario
+    from .models import run
     from .scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
@@ -74,20 +76,67 @@ def cmd_run(args: argparse.Namespace) -> int:
     def log(message: str) -> None:
         print(f"hertzchain: {message}", file=sys.stderr, flush=True)
 
-    summary = run_scenario(scenario, out=out, progress=not args.json,
-                           checkpoint_interval=args.checkpoint_interval,
-                           resume=not args.restart, threads=args.threads, log=log)
+    result = run(scenario, out=out, progress=not args.json,
+                 checkpoint_interval=args.checkpoint_interval, resume=not args.restart,
+                 threads=args.threads, log=log)
+    summary = result.summary()
     if args.json:
         print(json.dumps(summary, default=_json_default, allow_nan=True))
     else:
-        print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains")
+        print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains; "
+              f"models: {', '.join(scenario.models.names)}")
         for key, value in summary.items():
             text = (f"{value:.6g}" if isinstance(value, float)
                     else "n/a" if value is None else str(value))
             print(f"  {key:<26} {text}")
-        if out:
-            print(f"written: {out}")
-    return _incomplete_status(summary, out)
+        for path in (out, getattr(result.continuum, "path", None)):
+            if path:
+                print(f"written: {path}")
+    status = _incomplete_status(summary, out)
+    failed = [m for m in result.models if m.name != "discrete" and not m.completed]
+    for m in failed:
+        print(f"hertzchain: error: the {m.name} model did not complete: {m.stopped_by}",
+              file=sys.stderr)
+    return EXIT_INCOMPLETE if failed else status
+
+
+def cmd_compare(args: argparse.Namespace) -> int:
+    """Run every model of a scenario and compare them (:mod:`hertzchain.compare`).
+
+    Writes ``OUT/compare.h5``, the figures and ``OUT/report.md``/``.html`` (the runs are
+    cached in ``OUT/runs``); prints the verdict and the differences, or with ``--json``
+    every number.  Exit status :data:`EXIT_INCOMPLETE` (3) if a model did not complete
+    (it is not compared).
+    """
+    from .compare import compare
+    from .reproduce.command import jsonable
+    from .scenario import load_scenario
+
+    scenario = load_scenario(args.scenario)
+    if args.continuum is not None:
+        scenario = scenario.with_values(
+            {"models.continuum": False if args.continuum == "off" else args.continuum})
+
+    def log(message: str) -> None:
+        print(f"hertzchain: {message}", file=sys.stderr, flush=True)
+
+    cmp = compare(scenario, out=args.out, force=args.force, progress=not args.json,
+                  checkpoint_interval=args.checkpoint_interval, threads=args.threads,
+                  log=log)
+    if args.json:
+        print(json.dumps(jsonable(cmp.to_dict()), allow_nan=False))
+    else:
+        from .compare_output import difference_rows
+
+        print(cmp.verdict())
+        for row in difference_rows(cmp):
+            print("  " + " | ".join(row))
+        print(f"written: {args.out}/compare.h5, figures, report.md, report.html")
+    failed = [m for m in cmp.run.models if not m.completed]
+    for m in failed:
+        print(f"hertzchain: error: the {m.name} model did not complete ({m.stopped_by}); "
+              "it is not compared", file=sys.stderr)
+    return EXIT_INCOMPLETE if failed else 0
 
 
 EXIT_INCOMPLETE = 3
@@ -151,7 +200,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_theory)
 
-    p = sub.add_parser("run", help="run a scenario TOML file (discrete solver)")
+    p = sub.add_parser("run", help="run a scenario TOML file (the models of its [models] "
+                       "table)")
     p.add_argument("scenario", help="scenario file (see hertzchain/scenarios/*.toml)")
     p.add_argument("--out", default=None, help="write the full run to this HDF5 file "
                    "(atomically; checkpoints go to OUT.ckpt)")
@@ -165,6 +215,25 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--threads", type=positive_int, default=None, metavar="N",
                    help="kernel threads (>= 1; default: numba's; results are identical)")
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("compare", help="run the discrete chain, the continuum and the "
+                       "theory of a scenario side by side and compare them")
+    p.add_argument("scenario", help="scenario file (or the name of a shipped one, see "
+                   "hertzchain/scenarios/)")
+    p.add_argument("--out", default="hertzchain-compare",
+                   help="output directory (compare.h5, figures, report.md, runs/)")
+    p.add_argument("--json", action="store_true", help="print every number as JSON")
+    p.add_argument("--continuum", default=None,
+                   choices=("auto", "eq4", "eq7", "kdv", "off"),
+                   help="override [models] continuum (default: the scenario's)")
+    p.add_argument("--force", action="store_true",
+                   help="recompute the runs even if cached in OUT/runs")
+    p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
+                   metavar="SECONDS", help="wall time between checkpoints of the discrete "
+                   "run, s (>= 0; default 300); rerunning resumes from the last one")
+    p.add_argument("--threads", type=positive_int, default=None, metavar="N",
+                   help="kernel threads of the discrete solver (>= 1)")
+    p.set_defaults(func=cmd_compare)
 
     from .reproduce.command import add_arguments as reproduce_arguments
 

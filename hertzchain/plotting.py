@@ -17,6 +17,10 @@ __all__ = [
     "plot_spacetime",
     "plot_theory_lines",
     "mark_interface",
+    "plot_profiles",
+    "plot_profile_difference",
+    "plot_fronts",
+    "plot_energy_partition",
 ]
 
 
@@ -142,3 +146,115 @@ def plot_theory_lines(ax, *, lim=(0.2, 5.0), regions: bool = True):
             name = theory.region(theory.gamma_c0(ar, ak), theory.gamma_rg(ar, ak))
             ax.text(ar, ak, name, ha="center", va="center", fontsize=12, weight="bold",
                     color="0.3")
+
+
+# -- models side by side (hertzchain.compare) -------------------------------------------
+_MODEL_STYLE = ({"color": "k", "lw": 1.2}, {"color": "C1", "lw": 1.0, "ls": "--"},
+                {"color": "C2", "lw": 1.0, "ls": "-."})
+
+
+def plot_profiles(ax, profiles: dict, *, interface: int | None = None, v_ref: float = 1.0,
+                  title: str = "", ylabel: str = r"$v_i / v_{in}$") -> None:
+    """Per-grain profiles of several models overlaid (e.g. grain velocity / v_ref).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    profiles : dict
+        Label → one value per grain (the first is drawn solid black: the reference).
+    interface : int, optional
+        Grains left of the interface.
+    v_ref : float
+        Divisor of the values (e.g. the incident peak velocity, m/s).
+    """
+    for (label, values), style in zip(profiles.items(), _MODEL_STYLE, strict=False):
+        plot_grain_profile(ax, np.asarray(values) / v_ref, interface=interface, label=label,
+                           ylabel=ylabel, **style)
+    ax.axhline(0, color="0.8", lw=0.4)
+    if title:
+        ax.set_title(title, fontsize="medium")
+    ax.legend(fontsize="x-small", loc="upper left")
+
+
+def plot_profile_difference(ax, differences: dict, *, interface: int | None = None,
+                            v_ref: float = 1.0) -> None:
+    """Model − reference of a per-grain profile, over ``v_ref`` (one line per model)."""
+    for (label, values), style in zip(differences.items(), _MODEL_STYLE[1:], strict=False):
+        plot_grain_profile(ax, np.asarray(values) / v_ref, interface=interface,
+                           label=f"{label} − discrete", ylabel=r"$\Delta v_i / v_{in}$",
+                           **style)
+    ax.axhline(0, color="0.8", lw=0.4)
+    if differences:
+        ax.legend(fontsize="x-small", loc="upper left")
+
+
+_WAVE_MARK = {"incident": "o", "transmitted": "^", "reflected": "v"}
+
+
+def plot_fronts(ax, fronts: dict, *, theory=None, theory_speeds: dict | None = None,
+                interface: int | None = None) -> None:
+    """Front trajectories x(t) of the incident, transmitted and reflected waves.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    fronts : dict
+        Label → (times (s), {wave: grain positions}) per model (markers).
+    theory : (times, {wave: positions}), optional
+        The theory's trajectories (lines).
+    theory_speeds : dict, optional
+        Wave → speed (m/s) for the legend.
+    interface : int, optional
+        Grains left of the interface (dotted line).
+    """
+    for (label, (t, fr)), style in zip(fronts.items(), _MODEL_STYLE, strict=False):
+        for wave, x in fr.items():
+            x = np.asarray(x)
+            if np.isfinite(x).any():
+                ax.plot(np.asarray(t) * 1e3, x + 1, _WAVE_MARK[wave], ms=4, mfc="none",
+                        color=style["color"], label=f"{label}: {wave}")
+    if theory is not None:
+        t, fr = theory
+        for wave, x in fr.items():
+            x = np.asarray(x)
+            if np.isfinite(x).any():
+                sp = (theory_speeds or {}).get(wave)
+                ax.plot(np.asarray(t) * 1e3, x + 1, "-", color="C3", lw=0.9,
+                        label=f"theory: {wave}" + (f" ({sp:.1f} m/s)" if sp else ""))
+    if interface is not None:
+        ax.axhline(interface + 0.5, color="0.4", ls=":", lw=1.0)
+    ax.set_xlabel("t (ms)")
+    ax.set_ylabel("front position (grain number)")
+    ax.legend(fontsize="xx-small", ncol=2)
+
+
+def plot_energy_partition(ax, series: dict, *, theory=None, t_compare: float | None = None
+                          ) -> None:
+    """Energy left and right of the interface over the incident energy, against time.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    series : dict
+        Label → (times (s), left fraction, right fraction) per model.
+    theory : (times, left, right), optional
+        The linear-acoustic prediction (dashed).
+    t_compare : float, optional
+        The comparison time, s (vertical line).
+    """
+    for (label, (t, left, right)), style in zip(series.items(), _MODEL_STYLE, strict=False):
+        t = np.asarray(t) * 1e3
+        ax.plot(t, right, label=f"{label}: right (transmitted)", **style)
+        ax.plot(t, left, label=f"{label}: left (incident/reflected)",
+                **(style | {"alpha": 0.6}))
+    if theory is not None:
+        t, left, right = theory
+        ax.plot(np.asarray(t) * 1e3, right, color="C3", ls=":", lw=1.2,
+                label="theory (Eqs. 9–13): right")
+        ax.plot(np.asarray(t) * 1e3, left, color="C3", ls=":", lw=1.2, alpha=0.6,
+                label="theory: left")
+    if t_compare is not None:
+        ax.axvline(t_compare * 1e3, color="0.6", lw=0.6)
+    ax.set_xlabel("t (ms)")
+    ax.set_ylabel(r"$E / E_{in}$")
+    ax.legend(fontsize="x-small")

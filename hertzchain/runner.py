@@ -48,9 +48,9 @@ from discrete.initial import cut_wave, exact_wave, impact
 from .cache import canonical_json
 from .scenario import ChainSpec, Scenario, ScenarioError
 
-__all__ = ["build_chain", "build_initial", "build_initial_checked", "build_simulation",
-           "check_run", "check_stop", "run_outcome", "run_scenario", "summarise",
-           "incident_amplitude", "partial_path", "STOPPED_BY",
+__all__ = ["build_chain", "build_initial", "interfaces", "build_initial_checked",
+           "build_simulation", "check_run", "check_stop", "run_outcome", "run_scenario",
+           "run_simulation", "summarise", "incident_amplitude", "partial_path", "STOPPED_BY",
            "GRID_ROWS_PER_GRAIN", "SEPARATION_FRACTIONS", "MAX_OVERLAP_OVER_D"]
 
 GRID_ROWS_PER_GRAIN = 0.5
@@ -92,15 +92,32 @@ def build_chain(spec: ChainSpec) -> discrete.Chain:
          "delta0_over_d": spec.delta0_over_d, "material": spec.material}, )))
 
 
-def build_initial(scenario: Scenario, chain: discrete.Chain):
-    """The initial state (:class:`discrete.initial.Initial`) of a scenario."""
+def build_initial(scenario: Scenario, chain: discrete.Chain, *, cache_dir=None):
+    """The initial state (:class:`discrete.initial.Initial`) of a scenario.
+
+    ``cache_dir``: where the settled wave of a ``cut_wave`` is cached (an ``.npz`` file,
+    :func:`discrete.settled_wave`); None: in memory only.
+    """
     ini = scenario.initial
     if ini.kind == "impact":
         ms = None if ini.striker_mass == 1.0 else ini.striker_mass * float(chain.mass[0])
         return impact(chain, ini.v0, striker_mass=ms)
     if ini.kind == "cut_wave":
-        return cut_wave(chain, ini.center, v0=ini.v0, half_width=ini.half_width)
-    return exact_wave(chain, ini.center, velocity_max=ini.velocity_max)
+        return cut_wave(chain, ini.center, v0=ini.v0, half_width=ini.half_width,
+                        cache_dir=cache_dir)
+    return exact_wave(chain, ini.center, velocity_max=ini.velocity_max,
+                      strain_max=ini.strain_max)
+
+
+def interfaces(chain: discrete.Chain) -> list[int]:
+    """First grain of every section after the first: the interfaces of ``chain``.
+
+    The one place the interface position comes from (grain ``i`` right of contact ``i``);
+    a striker grain prepended by :func:`discrete.initial.impact` (section -1) is not a
+    section.  Empty for a monodisperse chain.
+    """
+    slices = [s for s in chain.section_slices() if chain.section[s.start] >= 0]
+    return [s.start for s in slices[1:]]
 
 
 def _wave_speed_estimate(chain: discrete.Chain, v: np.ndarray) -> float:
@@ -133,13 +150,14 @@ def _check_amplitude(chain: discrete.Chain, init, key: str, value: float) -> Non
     worst = float(np.max(delta / d))
     if not worst < MAX_OVERLAP_OVER_D:
         raise ScenarioError(
-            f"[initial] {key} = {value!r} m/s is non-physical: the contacts would overlap by "
+            f"[initial] {key} = {value!r}{'' if key == 'strain_max' else ' m/s'} is "
+            f"non-physical: the contacts would overlap by "
             f"{worst:.3g} grain diameters (allowed < {MAX_OVERLAP_OVER_D:g}, the Hertz "
             f"small-strain range); lower {key} (or stiffen the contacts: alpha_kn, "
             "material)")
 
 
-def build_initial_checked(scenario: Scenario, chain: discrete.Chain):
+def build_initial_checked(scenario: Scenario, chain: discrete.Chain, *, cache_dir=None):
     """:func:`build_initial` with every failure named by its scenario key (ScenarioError).
 
     Also rejects a non-physical amplitude (:data:`MAX_OVERLAP_OVER_D`), checked on the
@@ -149,7 +167,7 @@ def build_initial_checked(scenario: Scenario, chain: discrete.Chain):
     if ini.kind in ("impact", "cut_wave"):
         _check_amplitude(chain, impact(chain, ini.v0), "v0", ini.v0)
     try:
-        init = build_initial(scenario, chain)
+        init = build_initial(scenario, chain, cache_dir=cache_dir)
     except ValueError as exc:
         if ini.kind == "impact":
             raise ScenarioError(f"[initial] kind = 'impact': {exc}") from None
@@ -157,7 +175,8 @@ def build_initial_checked(scenario: Scenario, chain: discrete.Chain):
             f"[initial] center = {ini.center} (kind = {ini.kind!r}): the requested wave does "
             f"not fit in the chain or in one section: {exc}") from None
     if ini.kind == "exact_wave":
-        _check_amplitude(init.chain, init, "velocity_max", ini.velocity_max)
+        key = "velocity_max" if ini.strain_max is None else "strain_max"
+        _check_amplitude(init.chain, init, key, getattr(ini, key))
     return init
 
 
@@ -188,7 +207,7 @@ def check_run(scenario: Scenario, init) -> None:
 
 
 def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
-                     threads: int | None = None, check: bool = True):
+                     threads: int | None = None, check: bool = True, cache_dir=None):
     """Chain, initial state and a ready :class:`discrete.Simulation` for ``scenario``.
 
     The energy space-time grid (needed for the energy ratios and front speeds) gets a
@@ -208,6 +227,8 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
     check : bool
         Run the checks that need the built chain (:func:`build_initial_checked`,
         :func:`check_run`): False only to provoke an instability on purpose.
+    cache_dir : path, optional
+        Cache of settled waves (:func:`build_initial`).
 
     Raises
     ------
@@ -220,17 +241,19 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         raise ScenarioError(
             f"[chain] non-physical chain: {exc} (each section's static overlap is "
             "delta0_over_d·d·alpha_kn^(-2/3), from force equilibrium)") from None
-    init = build_initial_checked(scenario, chain) if check else build_initial(scenario, chain)
+    init = (build_initial_checked(scenario, chain, cache_dir=cache_dir) if check
+            else build_initial(scenario, chain, cache_dir=cache_dir))
     if check:
         check_run(scenario, init)
-    rec = scenario.record
+    rec, run = scenario.record, scenario.run
     dt = discrete.TimeStep.choose(init.chain, init.u, init.v, init.wall_left, init.wall_right,
-                                  dt=scenario.run.dt, check=False).dt
+                                  dt=run.dt, integrator=run.integrator,
+                                  fraction=run.dt_fraction, check=False).dt
     speed = _wave_speed_estimate(init.chain, init.v)
     d = float(np.mean(init.chain.diameter))
     every = rec.energy_every or None
     coarsen = 1
-    if energy_grid and every is None:
+    if energy_grid and rec.energy_grid and every is None:
         every = max(1, int(GRID_ROWS_PER_GRAIN * d / (speed * dt)))
     if every:
         # (never beyond max_steps: t_end = 1e300 with max_steps = 10 is refused by
@@ -241,10 +264,13 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         while rows * init.chain.n / coarsen > _MAX_GRID and coarsen < init.chain.n:
             coarsen *= 2
     recording = discrete.Recording(
-        snapshots=list(rec.snapshot_times), series_grains=list(rec.time_series_grains),
+        snapshots=[discrete.AtTime(t) for t in rec.snapshot_times]
+        + [discrete.WaveAt(g) for g in rec.snapshot_grains],
+        series_grains=list(rec.time_series_grains), series_every=rec.series_every,
         maxima=rec.running_max, energy_every=every, energy_coarsen=coarsen)
     kwargs = {} if threads is None else {"threads": threads}
-    sim = init.simulation(dt=dt, record=recording, check_dt=check, **kwargs)
+    sim = init.simulation(dt=dt, record=recording, check_dt=check,
+                          integrator=run.integrator, **kwargs)
     return init.chain, init, sim
 
 
@@ -316,8 +342,9 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     coarsen = sim.record.energy_coarsen
     s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain, if any
     d = float(chain.diameter[s0])
-    n_left = s0 + int(np.count_nonzero(chain.section == chain.section[s0]))
-    two = n_left < chain.n
+    ifaces = interfaces(chain)
+    n_left = ifaces[0] if ifaces else chain.n
+    two = bool(ifaces)
     if ek.shape[0] == 0:
         return out
     block_section = chain.section[::coarsen][: ek.shape[1]]
@@ -486,11 +513,19 @@ def run_outcome(scenario: Scenario, sim: discrete.Simulation, stopped_by: str) -
     return {"stopped_by": key, "completed": not why, "incomplete_reason": "; ".join(why)}
 
 
-def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
-                 progress: bool = False, checkpoint_interval: float | None = None,
-                 resume: bool = True, threads: int | None = None, check: bool = True,
-                 log=None) -> dict:
+def run_scenario(scenario: Scenario, **kwargs) -> dict:
     """Run ``scenario`` with the discrete solver; return its summary dict.
+
+    :func:`run_simulation` without the Simulation (the keyword arguments are its own).
+    """
+    return run_simulation(scenario, **kwargs)[0]
+
+
+def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
+                   progress: bool = False, checkpoint_interval: float | None = None,
+                   resume: bool = True, threads: int | None = None, check: bool = True,
+                   log=None, cache_dir=None) -> tuple[dict, discrete.Simulation]:
+    """Run ``scenario`` with the discrete solver; return its summary and the Simulation.
 
     Parameters
     ----------
@@ -519,10 +554,12 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
         (:func:`build_simulation`); False only to provoke an instability on purpose.
     log : callable, optional
         Receives one-line messages (resuming, checkpoint removed); default: silent.
+    cache_dir : path, optional
+        Cache of settled waves (:func:`build_initial`).
 
     Returns
     -------
-    dict
+    summary : dict
         Keys ``Ek_tr, Ek_re, Ep_tr, Ep_re, Et_tr, Et_re`` (NaN unless ``separated``),
         ``front_speed_tr, front_speed_re`` (m/s; NaN if fewer than 5 grains gave an
         arrival time or the wave never reached the interface), ``front_speed_tr_over_c0L``
@@ -534,6 +571,8 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
         ``energy_drift``, ``steps``, ``t`` (s), ``dt`` (s), ``n_grains``, ``wall_time``
         (s; summed over resumed sessions).  Every key but ``wall_time`` is bit for bit
         the same whether the run was checkpointed, interrupted and resumed, or not.
+    sim : discrete.Simulation
+        The finished simulation (state and record).
 
     Raises
     ------
@@ -573,7 +612,8 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
         chain, amp, elapsed = sim.chain, extra["incident_amplitude"], extra["wall_time"]
         say(f"resuming from {ckpt}: t = {sim.t:.6g} s, step {sim.steps}")
     else:
-        chain, init, sim = build_simulation(scenario, threads=threads, check=check)
+        chain, init, sim = build_simulation(scenario, threads=threads, check=check,
+                                            cache_dir=cache_dir)
         check_stop(scenario, sim.dt)
         amp = incident_amplitude(chain, init.u, init.v, init.wall_left, init.wall_right)
         elapsed = 0.0
@@ -613,4 +653,4 @@ def run_scenario(scenario: Scenario, *, out: str | Path | None = None,
         done = f"the run had finished: results written to {out}" if out is not None \
             else "the run had finished (no output file)"
         raise C.Interrupted(late_signal[0], None, sim.t, sim.steps, note=done)
-    return summary
+    return summary, sim

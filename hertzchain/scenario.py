@@ -1,64 +1,63 @@
-"""Scenarios: a documented TOML description of one simulation, validated strictly.
+"""Scenarios: one TOML file describes a chain, its initial state, the run and the models.
 
-A scenario file has four tables (every key optional unless marked *required*)::
+A scenario is the problem format of hertzchain (pyro2's ``problems/`` idea): the
+commands ``hertzchain run``, ``hertzchain compare`` and ``hertzchain sweep``, and every
+item of ``hertzchain reproduce``, read the same file and run it through one path
+(:func:`hertzchain.models.run`).  It is validated strictly: unknown keys are errors (they
+are usually typos) and every error names the key, the value and the allowed range.
 
-    name = "M"                        # free label
+Grain indices are 0-based (the paper's grain 201 is index 200).  Lengths are in m, times
+in s, velocities in m/s.
 
-    [chain]
-    diameter = 5e-3                   # grain diameter d, m (> 0)
-    delta0_over_d = 1e-3              # static overlap of the first section / d (>= 0, < 0.1)
-    material = "paper"                # "paper" (Hertz, nu=0.30), "table1" (nu=0.25) or
-                                      # {density=, youngs_modulus=, poisson_ratio=}
-    left_wall = "paper"               # "paper" (as grain-grain), "hertz" (rigid flat), "free"
-    right_wall = "paper"
-    [[chain.sections]]                # *required*, one or more, left to right
-    n = 200                           # grains (>= 1); sum over sections >= 2
-    alpha_rho = 1.0                   # density / first section's (> 0), or material = ...
-    alpha_kn = 1.0                    # contact stiffness / first section's (> 0)
+{schema}
 
-    [initial]
-    kind = "cut_wave"                 # "impact", "cut_wave" or "exact_wave"
-    v0 = 1.0                          # impact velocity, m/s (impact, cut_wave)
-    striker_mass = 1.0                # impact: striker mass / first grain's (> 0)
-    center = 100                      # cut_wave, exact_wave: grain of the wave's peak
-    half_width = 40                   # cut_wave: grains kept on each side (>= 30)
-    velocity_max = 0.0822             # exact_wave: peak grain velocity, m/s
+Models
+------
+``[models]`` names the models run side by side from the *same* initial grain state:
+the discrete chain (paper Eq. 2, the reference), a long-wave continuum and the
+closed-form theory.  ``continuum = "auto"`` picks the corrected Eq. 4 (its Rosenau
+form, :class:`continuum.BoussinesqPDE`) under precompression and the corrected,
+regularised Eq. 7 (:class:`continuum.NesterenkoPDE`) at δ0 = 0 (docs/physics.md §2–4);
+a model that does not fit the regime (Eq. 4 or KdV at δ0 = 0; KdV, which is
+unidirectional, on more than one section) is an error naming ``[models] continuum``.
 
-    [run]
-    t_end = 0.01                      # s (> 0), and/or
-    until_front_at = 550              # stop when the leading wave's centre reaches this grain
-    dt = "auto"                       # "auto" or a time step in s (> 0)
-    max_steps = 100000000
-
-    [record]
-    snapshot_times = [0.001, 0.002]   # s
-    time_series_grains = [395, 396]   # grain indices (0-based)
-    energy_every = 50                 # steps between energy-grid rows (0 = off)
-    running_max = true
-
-Grain indices are 0-based (the paper's grain 201 is index 200).  Unknown keys are
-errors (they are usually typos); every error names the key, the value and the allowed
-range.
+Extending the format
+--------------------
+Every key is declared once, in :data:`SCHEMA` (type, default, range, unit, help), and
+read by the one generic reader; this docstring's tables are generated from it
+(:func:`schema_markdown`).  A new key is a :class:`Key` in its table plus a field of the
+same name in the table's dataclass (``tests/hertzchain/test_scenario.py`` checks that the
+two agree); checks that involve several keys live in the table's ``_check_*`` function.
 """
 
 from __future__ import annotations
 
 import math
 import tomllib
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
 __all__ = [
     "ScenarioError",
+    "Key",
+    "SCHEMA",
+    "TABLE_DOCS",
+    "CONTINUUM_MODELS",
+    "INTEGRATORS",
     "SectionSpec",
     "ChainSpec",
     "InitialSpec",
     "RunSpec",
     "RecordSpec",
+    "ModelsSpec",
     "Scenario",
     "load_scenario",
     "parse_scenario",
+    "read_toml",
+    "schema_markdown",
+    "set_path",
+    "shipped_scenarios",
 ]
 
 
@@ -66,79 +65,292 @@ class ScenarioError(ValueError):
     """A scenario file or table is invalid; the message names the key and allowed range."""
 
 
-# -- small typed readers ------------------------------------------------------------
-def _check_keys(table: dict, allowed: set[str], where: str) -> None:
-    unknown = set(table) - allowed
+# -- the schema -------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Key:
+    """One scenario key: how it is read, validated and documented.
+
+    Parameters
+    ----------
+    name : str
+        The TOML key (and the field of the table's dataclass).
+    kind : str
+        ``"number"``, ``"integer"``, ``"bool"``, ``"string"``, ``"choice"``, ``"numbers"``
+        (list of numbers), ``"integers"`` (list of integers), ``"material"`` (a name or a
+        table), ``"auto_number"`` (``"auto"`` or a number), ``"auto_integer"``,
+        ``"continuum"`` (a model name or ``false``).
+    default : object
+        Value when the key is absent (None: no value).
+    doc : str
+        One-line help (the docs are generated from it).
+    unit : str
+        Unit for the docs ("" if dimensionless).
+    low, high : float, optional
+        Bounds of numbers (and list entries); ``low_open``/``high_open`` exclude them.
+    choices : tuple
+        Allowed values of a ``"choice"`` key.
+    required : bool
+        The key must be given.
+    example : object
+        Value shown in the generated example (default: ``default``).
+    """
+
+    name: str
+    kind: str
+    default: Any = None
+    doc: str = ""
+    unit: str = ""
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = True
+    high_open: bool = True
+    choices: tuple = ()
+    required: bool = False
+    example: Any = None
+
+    def range_text(self) -> str:
+        """The allowed values, for messages and docs."""
+        if self.kind == "choice":
+            return ", ".join(repr(c) for c in self.choices)
+        if self.low is None and self.high is None:
+            return ""
+        lo = "-inf" if self.low is None else f"{self.low:g}"
+        hi = "inf" if self.high is None else f"{self.high:g}"
+        return ("(" if self.low_open else "[") + f"{lo}, {hi}" + (")" if self.high_open else "]")
+
+
+CONTINUUM_MODELS = ("auto", "eq4", "eq7", "kdv")
+"""Values of ``[models] continuum`` besides ``false``."""
+
+INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4")
+"""Time integrators of the discrete solver (:data:`discrete.integrators.INTEGRATORS`)."""
+
+MATERIAL_KEYS = ("density", "youngs_modulus", "poisson_ratio")
+
+SCHEMA: dict[str, tuple[Key, ...]] = {
+    "": (
+        Key("name", "string", "", "free label", example="my-chain"),
+    ),
+    "chain": (
+        Key("diameter", "number", 5e-3, "grain diameter d", "m", low=0),
+        Key("delta0_over_d", "number", 0.0, "static overlap of the first section's "
+            "contacts / d (each section's follows from force equilibrium)", low=0,
+            low_open=False, high=0.1, example=1e-3),
+        Key("material", "material", "paper", "first section's material: \"paper\" (Hertz "
+            "constant, ν = 0.30, reproduces the paper), \"table1\" (ν = 0.25) or a table "
+            "{density, youngs_modulus, poisson_ratio}"),
+        Key("left_wall", "choice", "paper", "left end: \"paper\" (as a grain–grain "
+            "contact), \"hertz\" (rigid flat) or \"free\" (only at δ0 = 0)",
+            choices=("paper", "hertz", "free")),
+        Key("right_wall", "choice", "paper", "right end (as left_wall)",
+            choices=("paper", "hertz", "free")),
+    ),
+    "chain.sections": (
+        Key("n", "integer", None, "grains of this section (sum over sections >= 2)", low=1,
+            required=True, example=200),
+        Key("alpha_rho", "number", 1.0, "density / the first section's", low=0),
+        Key("alpha_kn", "number", 1.0, "contact stiffness k_n / the first section's", low=0),
+        Key("material", "material", None, "instead of alpha_rho/alpha_kn: a material name "
+            "or table"),
+    ),
+    "initial": (
+        Key("kind", "choice", "impact", "\"impact\" (grain 0 at v0), \"cut_wave\" (the "
+            "settled impact wave, cut and placed: paper Section 2) or \"exact_wave\" (the "
+            "exact discrete solitary wave, docs/physics.md §7)",
+            choices=("impact", "cut_wave", "exact_wave"), example="cut_wave"),
+        Key("v0", "number", 1.0, "impact velocity (impact, cut_wave)", "m/s", low=0),
+        Key("striker_mass", "number", 1.0, "impact: striker mass / the first grain's", low=0),
+        Key("center", "integer", None, "cut_wave, exact_wave: grain of the wave's peak",
+            low=0, example=100),
+        Key("half_width", "integer", 40, "cut_wave: grains kept on each side of the peak",
+            low=30),
+        Key("velocity_max", "number", None, "exact_wave: peak grain velocity", "m/s", low=0),
+        Key("strain_max", "number", None, "exact_wave, instead of velocity_max: peak "
+            "dynamic overlap (r - δ0)/d", low=0),
+    ),
+    "run": (
+        Key("t_end", "number", None, "end time (give t_end and/or until_front_at)", "s",
+            low=0, example=2.4e-3),
+        Key("until_front_at", "integer", None, "stop when the leading wave's velocity peak "
+            "passes this grain", low=0),
+        Key("dt", "auto_number", None, "time step: \"auto\" (a fraction dt_fraction of the "
+            "shortest contact period) or a value", "s", low=0, example="auto"),
+        Key("dt_fraction", "number", None, "\"auto\" dt as a fraction of the shortest "
+            "contact period (default: the integrator's, 0.002 for verlet)", low=0,
+            high=1, high_open=False),
+        Key("integrator", "choice", "verlet", "discrete time integrator",
+            choices=INTEGRATORS),
+        Key("max_steps", "integer", 100_000_000, "step limit", low=1),
+    ),
+    "record": (
+        Key("snapshot_times", "numbers", (), "times of full snapshots (u, v, overlaps)", "s",
+            low=0, low_open=False, example=[0.0]),
+        Key("snapshot_grains", "integers", (), "full snapshots when the leading wave's peak "
+            "passes these grains", low=0),
+        Key("time_series_grains", "integers", (), "grains whose u, v and contact overlaps "
+            "are recorded every series_every steps", low=0),
+        Key("series_every", "integer", 1, "steps between time-series samples", low=1),
+        Key("energy_every", "integer", 0, "steps between rows of the per-grain energy "
+            "space–time grid (0: automatic, every half grain transit, if energy_grid)",
+            low=0),
+        Key("energy_grid", "bool", True, "record the energy grid (the runner's energy ratios "
+            "and front speeds need it)"),
+        Key("running_max", "bool", True, "per-grain running maxima of v and u"),
+    ),
+    "models": (
+        Key("discrete", "bool", True, "the discrete chain (paper Eq. 2; the reference)"),
+        Key("continuum", "continuum", False, "long-wave continuum: \"auto\" (Eq. 4 if δ0 > 0, "
+            "Eq. 7 at δ0 = 0), \"eq4\", \"eq7\", \"kdv\" (one precompressed section) or false",
+            example="auto"),
+        Key("theory", "bool", True, "closed-form theory: wave speeds (Eq. 5, 8, Nesterenko), "
+            "linear-acoustic interface (Eqs. 9–13)"),
+        Key("nodes_per_grain", "integer", 5, "continuum grid nodes per grain (odd)", low=1),
+        Key("order", "integer", 4, "order of the continuum's symplectic stepper (2 or 4)",
+            low=2),
+        Key("nonlinearity", "choice", "quadratic", "Eq. 4 flux: Eq. 4's quadratic expansion "
+            "or the full Hertz law", choices=("quadratic", "hertz")),
+        Key("delta_floor", "number", 1e-2, "Eq. 7 regularisation: δ^{1/4} continued "
+            "linearly below this fraction of the incident peak overlap (docs/physics.md §4)",
+            low=0, high=1),
+        Key("dispersion_cap", "number", 10.0, "Eq. 7 regularisation: dispersion multiplier "
+            "-min(k², cap), grains⁻² (<= 10 keeps the energy bounded below)", low=0,
+            high=10, high_open=False),
+        Key("samples", "integer", 40, "common sample times of the comparison (profiles, "
+            "fronts, energy partition); the discrete run stores a snapshot at each", low=2),
+        Key("compare_times", "numbers", (), "times of the profile panels (default: before, "
+            "during and after the interface)", "s", low=0, low_open=False),
+    ),
+}
+"""Every key of every table (``""`` is the top level, ``"chain.sections"`` one entry of
+``[[chain.sections]]``)."""
+
+TABLE_DOCS = {
+    "": "An optional label (default: the file name).",
+    "chain": "The chain: sections left to right, walls, precompression.",
+    "chain.sections": "One or more ``[[chain.sections]]`` tables, left to right "
+                      "(*required*).",
+    "initial": "Initial grain state (shared by every model).",
+    "run": "Stop condition and the discrete solver's time step.",
+    "record": "What the discrete solver records.",
+    "models": "Which models run side by side, and the continuum's settings.",
+}
+
+
+# -- generic reading -----------------------------------------------------------------
+def _where(table: str) -> str:
+    return "top level" if table == "" else table
+
+
+def _check_keys(data: dict, allowed, where: str) -> None:
+    unknown = set(data) - set(allowed)
     if unknown:
         raise ScenarioError(
             f"unknown key(s) {sorted(unknown)} in [{where}]; allowed: {sorted(allowed)}")
 
 
-def _number(table: dict, key: str, where: str, default=None, *, low=None, high=None,
-            low_open=True, high_open=True, required=False) -> float | None:
-    if key not in table:
-        if required:
-            raise ScenarioError(f"[{where}] {key} is required")
-        return default
-    val = table[key]
+def _read_number(key: Key, val, where: str, name: str | None = None) -> float:
+    name = name or key.name
     if isinstance(val, bool) or not isinstance(val, int | float):
-        raise ScenarioError(f"[{where}] {key} must be a number (got {val!r})")
+        raise ScenarioError(f"[{where}] {name} must be a number (got {val!r})")
     val = float(val)
     if not math.isfinite(val):
-        raise ScenarioError(f"[{where}] {key} must be finite (got {val!r})")
-    bad_low = low is not None and (val <= low if low_open else val < low)
-    bad_high = high is not None and (val >= high if high_open else val > high)
+        raise ScenarioError(f"[{where}] {name} must be finite (got {val!r})")
+    bad_low = key.low is not None and (val <= key.low if key.low_open else val < key.low)
+    bad_high = key.high is not None and (val >= key.high if key.high_open else val > key.high)
     if bad_low or bad_high:
-        lo = "-inf" if low is None else f"{low:g}"
-        hi = "inf" if high is None else f"{high:g}"
-        br = ("(" if low_open else "[") + f"{lo}, {hi}" + (")" if high_open else "]")
-        raise ScenarioError(f"[{where}] {key} = {val!r} is outside the allowed range {br}")
+        raise ScenarioError(f"[{where}] {name} = {val!r} is outside the allowed range "
+                            f"{key.range_text()}")
     return val
 
 
-def _integer(table: dict, key: str, where: str, default=None, *, low=None,
-             required=False) -> int | None:
-    if key not in table:
-        if required:
-            raise ScenarioError(f"[{where}] {key} is required")
-        return default
-    val = table[key]
+def _read_integer(key: Key, val, where: str, name: str | None = None) -> int:
+    name = name or key.name
     if isinstance(val, bool) or not isinstance(val, int):
-        raise ScenarioError(f"[{where}] {key} must be an integer (got {val!r})")
-    if low is not None and val < low:
-        raise ScenarioError(f"[{where}] {key} = {val} must be >= {low}")
+        raise ScenarioError(f"[{where}] {name} must be an integer (got {val!r})")
+    if key.low is not None and val < key.low:
+        raise ScenarioError(f"[{where}] {name} = {val} must be >= {key.low:g}")
     return val
 
 
-def _choice(table: dict, key: str, where: str, choices: tuple[str, ...], default: str) -> str:
-    val = table.get(key, default)
-    if val not in choices:
-        raise ScenarioError(f"[{where}] {key} = {val!r}; allowed: {list(choices)}")
-    return val
+def _read_material(val, where: str):
+    if isinstance(val, str):
+        if val not in ("paper", "table1"):
+            raise ScenarioError(f"[{where}] material = {val!r}; allowed: 'paper', 'table1' "
+                                "or a table {density, youngs_modulus, poisson_ratio}")
+        return val
+    if not isinstance(val, dict):
+        raise ScenarioError(f"[{where}] material must be a name or a table (got {val!r})")
+    w = f"{where}.material"
+    _check_keys(val, MATERIAL_KEYS, w)
+    out = {}
+    for name, low, high in (("density", 0, None), ("youngs_modulus", 0, None),
+                            ("poisson_ratio", -1, 0.5)):
+        if name not in val:
+            raise ScenarioError(f"[{w}] {name} is required")
+        out[name] = _read_number(Key(name, "number", low=low, high=high), val[name], w)
+    return out
+
+
+def _read_value(key: Key, val, where: str):
+    """One value of ``key`` validated (ScenarioError naming the key otherwise)."""
+    k = key.kind
+    if k == "number":
+        return _read_number(key, val, where)
+    if k == "integer":
+        return _read_integer(key, val, where)
+    if k == "bool":
+        if not isinstance(val, bool):
+            raise ScenarioError(f"[{where}] {key.name} must be true or false (got {val!r})")
+        return val
+    if k == "string":
+        if not isinstance(val, str):
+            raise ScenarioError(f"[{where}] {key.name} must be a string (got {val!r})")
+        return val
+    if k == "choice":
+        if val not in key.choices:
+            raise ScenarioError(f"[{where}] {key.name} = {val!r}; allowed: "
+                                f"{list(key.choices)}")
+        return val
+    if k in ("numbers", "integers"):
+        if not isinstance(val, list):
+            raise ScenarioError(f"[{where}] {key.name} must be a list (got {val!r})")
+        read = _read_number if k == "numbers" else _read_integer
+        return tuple(read(key, x, where, f"{key.name}[{i}]") for i, x in enumerate(val))
+    if k == "material":
+        return _read_material(val, where)
+    if k == "auto_number":
+        return None if val == "auto" else _read_number(key, val, where)
+    if k == "continuum":
+        if val is False:
+            return False
+        if val is True:
+            return "auto"
+        if val not in CONTINUUM_MODELS:
+            raise ScenarioError(f"[{where}] {key.name} = {val!r}; allowed: "
+                                f"{list(CONTINUUM_MODELS)} or false")
+        return val
+    raise AssertionError(f"unknown key kind {k!r}")  # pragma: no cover - schema bug
+
+
+def _read_table(data, table: str) -> dict[str, Any]:
+    """Values of every key of ``table`` (defaults filled in), validated one by one."""
+    where = _where(table)
+    if not isinstance(data, dict):
+        raise ScenarioError(f"[{where}] must be a table (got {data!r})")
+    keys = SCHEMA[table]
+    _check_keys(data, [k.name for k in keys], where)
+    out = {}
+    for key in keys:
+        if key.name in data:
+            out[key.name] = _read_value(key, data[key.name], where)
+        elif key.required:
+            raise ScenarioError(f"[{where}] {key.name} is required")
+        else:
+            out[key.name] = key.default
+    return out
 
 
 # -- the specs ------------------------------------------------------------------------
-MATERIAL_KEYS = {"density", "youngs_modulus", "poisson_ratio"}
-
-
-def _material(value, where: str):
-    if isinstance(value, str):
-        if value not in ("paper", "table1"):
-            raise ScenarioError(f"[{where}] material = {value!r}; allowed: 'paper', 'table1' "
-                                "or a table {density, youngs_modulus, poisson_ratio}")
-        return value
-    if not isinstance(value, dict):
-        raise ScenarioError(f"[{where}] material must be a name or a table (got {value!r})")
-    _check_keys(value, MATERIAL_KEYS, f"{where}.material")
-    return {
-        "density": _number(value, "density", f"{where}.material", low=0, required=True),
-        "youngs_modulus": _number(value, "youngs_modulus", f"{where}.material", low=0,
-                                  required=True),
-        "poisson_ratio": _number(value, "poisson_ratio", f"{where}.material", low=-1,
-                                 high=0.5, required=True),
-    }
-
-
 @dataclass(frozen=True)
 class SectionSpec:
     """One section of the chain: ``n`` grains, ratios to the first section or a material."""
@@ -168,7 +380,7 @@ class ChainSpec:
 
 @dataclass(frozen=True)
 class InitialSpec:
-    """Initial condition (see module docstring)."""
+    """Initial grain state (see :data:`SCHEMA` ``["initial"]``)."""
 
     kind: str = "impact"
     v0: float = 1.0
@@ -176,26 +388,67 @@ class InitialSpec:
     center: int | None = None
     half_width: int = 40
     velocity_max: float | None = None
+    strain_max: float | None = None
 
 
 @dataclass(frozen=True)
 class RunSpec:
-    """Stop condition and time step."""
+    """Stop condition and the discrete time step."""
 
     t_end: float | None = None
     until_front_at: int | None = None
     dt: float | None = None
+    dt_fraction: float | None = None
+    integrator: str = "verlet"
     max_steps: int = 100_000_000
 
 
 @dataclass(frozen=True)
 class RecordSpec:
-    """What to record."""
+    """What the discrete solver records."""
 
     snapshot_times: tuple[float, ...] = ()
+    snapshot_grains: tuple[int, ...] = ()
     time_series_grains: tuple[int, ...] = ()
+    series_every: int = 1
     energy_every: int = 0
+    energy_grid: bool = True
     running_max: bool = True
+
+
+@dataclass(frozen=True)
+class ModelsSpec:
+    """The models run side by side and the continuum's settings.
+
+    ``continuum`` is ``False`` or one of :data:`CONTINUUM_MODELS`; :meth:`continuum_model`
+    resolves ``"auto"`` for a chain.
+    """
+
+    discrete: bool = True
+    continuum: str | bool = False
+    theory: bool = True
+    nodes_per_grain: int = 5
+    order: int = 4
+    nonlinearity: str = "quadratic"
+    delta_floor: float = 1e-2
+    dispersion_cap: float = 10.0
+    samples: int = 40
+    compare_times: tuple[float, ...] = ()
+
+    def continuum_model(self, delta0_over_d: float) -> str | None:
+        """The continuum equation run for precompression δ0/d: "eq4", "eq7", "kdv" or None."""
+        if not self.continuum:
+            return None
+        if self.continuum == "auto":
+            return "eq4" if delta0_over_d > 0 else "eq7"
+        return str(self.continuum)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The models run, in order ("discrete", "continuum", "theory")."""
+        return tuple(n for n, on in (("discrete", self.discrete),
+                                     ("continuum", bool(self.continuum)),
+                                     ("theory", self.theory)) if on)
 
 
 @dataclass(frozen=True)
@@ -206,64 +459,76 @@ class Scenario:
     initial: InitialSpec = field(default_factory=InitialSpec)
     run: RunSpec = field(default_factory=RunSpec)
     record: RecordSpec = field(default_factory=RecordSpec)
+    models: ModelsSpec = field(default_factory=ModelsSpec)
     name: str = ""
 
     def to_dict(self) -> dict:
-        """Plain nested dict (JSON-able; the cache key and the HDF5 attributes)."""
+        """Plain nested dict (JSON-able; HDF5 attributes, sweep point ids)."""
         return asdict(self)
 
+    def discrete_dict(self) -> dict:
+        """What the discrete run depends on: everything but ``name`` and ``[models]``.
 
-def _parse_chain(t: dict) -> ChainSpec:
-    w = "chain"
-    _check_keys(t, {"sections", "diameter", "delta0_over_d", "material", "left_wall",
-                    "right_wall"}, w)
-    raw = t.get("sections")
-    if not isinstance(raw, list) or not raw:
-        raise ScenarioError("[chain] sections is required: a list of [[chain.sections]] "
-                            "tables with at least one entry")
-    sections = []
-    for i, s in enumerate(raw):
-        ws = f"chain.sections[{i}]"
-        if not isinstance(s, dict):
-            raise ScenarioError(f"[{ws}] must be a table (got {s!r})")
-        _check_keys(s, {"n", "alpha_rho", "alpha_kn", "material"}, ws)
-        mat = _material(s["material"], ws) if "material" in s else None
-        if mat is not None and ("alpha_rho" in s or "alpha_kn" in s):
-            raise ScenarioError(f"[{ws}] give either material or alpha_rho/alpha_kn, not both")
-        sections.append(SectionSpec(
-            n=_integer(s, "n", ws, low=1, required=True),
-            alpha_rho=_number(s, "alpha_rho", ws, 1.0, low=0),
-            alpha_kn=_number(s, "alpha_kn", ws, 1.0, low=0),
-            material=mat,
-        ))
-    spec = ChainSpec(
-        sections=tuple(sections),
-        diameter=_number(t, "diameter", w, 5e-3, low=0),
-        delta0_over_d=_number(t, "delta0_over_d", w, 0.0, low=0, low_open=False, high=0.1),
-        material=_material(t.get("material", "paper"), w),
-        left_wall=_choice(t, "left_wall", w, ("paper", "hertz", "free"), "paper"),
-        right_wall=_choice(t, "right_wall", w, ("paper", "hertz", "free"), "paper"),
-    )
+        The cache and checkpoint key of the discrete run (:mod:`hertzchain.models`), so
+        that scenarios differing only in their label or in the other models share it.
+        """
+        d = self.to_dict()
+        d.pop("name")
+        d.pop("models")
+        return d
+
+    def replace(self, **tables) -> Scenario:
+        """A copy with whole tables replaced (``record=RecordSpec(...)``), not re-validated."""
+        return replace(self, **tables)
+
+    def to_input(self) -> dict:
+        """The TOML-like input that parses back to this scenario (:func:`parse_scenario`)."""
+        def clean(x):
+            if isinstance(x, dict):
+                return {k: clean(v) for k, v in x.items() if v is not None}
+            if isinstance(x, tuple | list):
+                return [clean(v) for v in x]
+            return x
+
+        out = clean(self.to_dict())
+        for sec in out["chain"]["sections"]:
+            if "material" in sec:
+                sec.pop("alpha_rho", None)
+                sec.pop("alpha_kn", None)
+        return out
+
+    def with_values(self, values: dict[str, Any]) -> Scenario:
+        """A validated copy with keys set by dotted path (``"chain.sections.1.alpha_rho"``).
+
+        List entries are addressed by their 0-based index (as sweep axes do); every
+        value is validated as if it had been written in the file.
+        """
+        data = self.to_input()
+        for path, value in values.items():
+            set_path(data, path, value)
+        return parse_scenario(data)
+
+
+_SPECS = {"chain": ChainSpec, "chain.sections": SectionSpec, "initial": InitialSpec,
+          "run": RunSpec, "record": RecordSpec, "models": ModelsSpec}
+
+
+# -- cross-key checks, one function per table --------------------------------------------
+def _check_sections(values: dict, where: str, raw: dict) -> None:
+    if values["material"] is not None and ("alpha_rho" in raw or "alpha_kn" in raw):
+        raise ScenarioError(f"[{where}] give either material or alpha_rho/alpha_kn, not both")
+
+
+def _check_chain(spec: ChainSpec) -> None:
     if spec.n < 2:
         raise ScenarioError(f"[chain] the chain needs >= 2 grains (got {spec.n})")
     if spec.delta0_over_d > 0 and "free" in (spec.left_wall, spec.right_wall):
         raise ScenarioError("[chain] a precompressed chain (delta0_over_d > 0) needs two "
                             "walls; left_wall/right_wall = 'free' is only allowed at 0")
-    return spec
 
 
-def _parse_initial(t: dict, n: int) -> InitialSpec:
-    w = "initial"
-    _check_keys(t, {"kind", "v0", "striker_mass", "center", "half_width", "velocity_max"}, w)
-    kind = _choice(t, "kind", w, ("impact", "cut_wave", "exact_wave"), "impact")
-    spec = InitialSpec(
-        kind=kind,
-        v0=_number(t, "v0", w, 1.0, low=0),
-        striker_mass=_number(t, "striker_mass", w, 1.0, low=0),
-        center=_integer(t, "center", w, None, low=0),
-        half_width=_integer(t, "half_width", w, 40, low=30),
-        velocity_max=_number(t, "velocity_max", w, None, low=0),
-    )
+def _check_initial(spec: InitialSpec, n: int) -> None:
+    kind = spec.kind
     if kind in ("cut_wave", "exact_wave"):
         if spec.center is None:
             raise ScenarioError(f"[initial] center is required for kind = {kind!r}")
@@ -272,87 +537,129 @@ def _parse_initial(t: dict, n: int) -> InitialSpec:
             raise ScenarioError(
                 f"[initial] center = {spec.center} places the wave outside the chain; "
                 f"allowed range [{margin}, {n - margin - 1}] for {n} grains")
-    if kind == "exact_wave" and spec.velocity_max is None:
-        raise ScenarioError("[initial] velocity_max (m/s, > 0) is required for 'exact_wave'")
-    return spec
+    if kind == "exact_wave":
+        if (spec.velocity_max is None) == (spec.strain_max is None):
+            raise ScenarioError("[initial] give exactly one of velocity_max (m/s, > 0) or "
+                                "strain_max (> 0) for kind = 'exact_wave'")
+    elif spec.strain_max is not None:
+        raise ScenarioError(f"[initial] strain_max applies to kind = 'exact_wave' only "
+                            f"(kind = {kind!r})")
 
 
-def _parse_run(t: dict, n: int) -> RunSpec:
-    w = "run"
-    _check_keys(t, {"t_end", "until_front_at", "dt", "max_steps"}, w)
-    dt = t.get("dt", "auto")
-    if dt == "auto":
-        dt_val = None
-    else:
-        dt_val = _number(t, "dt", w, low=0)
-    spec = RunSpec(
-        t_end=_number(t, "t_end", w, None, low=0),
-        until_front_at=_integer(t, "until_front_at", w, None, low=0),
-        dt=dt_val,
-        max_steps=_integer(t, "max_steps", w, 100_000_000, low=1),
-    )
+def _check_run(spec: RunSpec, n: int) -> None:
     if spec.t_end is None and spec.until_front_at is None:
         raise ScenarioError("[run] give t_end (s, > 0) and/or until_front_at (grain index)")
     if spec.until_front_at is not None and spec.until_front_at >= n:
         raise ScenarioError(f"[run] until_front_at = {spec.until_front_at} can never be "
                             f"reached: allowed range [0, {n - 1}] for {n} grains")
-    return spec
+    if spec.dt is not None and spec.dt_fraction is not None:
+        raise ScenarioError("[run] give dt or dt_fraction, not both (dt_fraction sets the "
+                            "'auto' dt)")
 
 
-def _parse_record(t: dict, n: int, t_end: float | None) -> RecordSpec:
-    w = "record"
-    _check_keys(t, {"snapshot_times", "time_series_grains", "energy_every", "running_max"}, w)
-    times = t.get("snapshot_times", [])
-    grains = t.get("time_series_grains", [])
-    if not isinstance(times, list) or not isinstance(grains, list):
-        raise ScenarioError("[record] snapshot_times and time_series_grains must be lists")
-    times_v = tuple(_number({"t": x}, "t", "record.snapshot_times", low=0, low_open=False)
-                    for x in times)
-    if t_end is not None and any(x > t_end for x in times_v):
+def _check_record(spec: RecordSpec, n: int, t_end: float | None) -> None:
+    if t_end is not None and any(x > t_end for x in spec.snapshot_times):
         raise ScenarioError(f"[record] snapshot_times must be <= run.t_end = {t_end}")
-    grains_v = tuple(_integer({"g": g}, "g", "record.time_series_grains", low=0)
-                     for g in grains)
-    if any(g >= n for g in grains_v):
-        raise ScenarioError(f"[record] time_series_grains must lie in [0, {n - 1}]")
-    running_max = t.get("running_max", True)
-    if not isinstance(running_max, bool):
-        raise ScenarioError(f"[record] running_max must be true or false (got {running_max!r})")
-    return RecordSpec(
-        snapshot_times=times_v,
-        time_series_grains=grains_v,
-        energy_every=_integer(t, "energy_every", w, 0, low=0),
-        running_max=running_max,
-    )
+    for name in ("time_series_grains", "snapshot_grains"):
+        if any(g >= n for g in getattr(spec, name)):
+            raise ScenarioError(f"[record] {name} must lie in [0, {n - 1}]")
+
+
+def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
+    if not (spec.discrete or spec.continuum or spec.theory):
+        raise ScenarioError("[models] every model is off: set discrete, continuum or theory")
+    if spec.nodes_per_grain % 2 == 0:
+        raise ScenarioError(f"[models] nodes_per_grain = {spec.nodes_per_grain} must be odd "
+                            "(a node on every grain centre)")
+    if spec.order not in (2, 4):
+        raise ScenarioError(f"[models] order = {spec.order}; allowed: 2, 4")
+    d0 = chain.delta0_over_d
+    model = spec.continuum_model(d0)
+    if model in ("eq4", "kdv") and d0 == 0:
+        raise ScenarioError(
+            f"[models] continuum = {spec.continuum!r} needs a precompressed chain "
+            f"([chain] delta0_over_d > 0): {'Eq. 4' if model == 'eq4' else 'KdV'} "
+            "linearises about δ0 and has no sonic vacuum; use \"eq7\" or \"auto\"")
+    if model == "kdv" and len(chain.sections) != 1:
+        raise ScenarioError(
+            f"[models] continuum = 'kdv' is unidirectional and needs one section (got "
+            f"{len(chain.sections)}); use \"eq4\" or \"auto\" for an interface")
 
 
 def parse_scenario(data: dict) -> Scenario:
     """Validate a scenario given as nested dicts (the parsed TOML)."""
     if not isinstance(data, dict):
         raise ScenarioError("a scenario must be a table")
-    _check_keys(data, {"name", "chain", "initial", "run", "record"}, "top level")
-    for key in ("chain", "initial", "run", "record"):
+    top = {k: v for k, v in data.items() if k not in _TABLES}
+    values = _read_table(top, "")
+    for key in _TABLES:
         if key in data and not isinstance(data[key], dict):
             raise ScenarioError(f"[{key}] must be a table")
     if "chain" not in data:
         raise ScenarioError("[chain] table is required")
-    chain = _parse_chain(data["chain"])
-    run = _parse_run(data.get("run", {}), chain.n)
-    name = data.get("name", "")
-    if not isinstance(name, str):
-        raise ScenarioError(f"name must be a string (got {name!r})")
-    return Scenario(
-        chain=chain,
-        initial=_parse_initial(data.get("initial", {}), chain.n),
-        run=run,
-        record=_parse_record(data.get("record", {}), chain.n, run.t_end),
-        name=name,
-    )
+    raw_chain = dict(data["chain"])
+    raw_sections = raw_chain.pop("sections", None)
+    if not isinstance(raw_sections, list) or not raw_sections:
+        raise ScenarioError("[chain] sections is required: a list of [[chain.sections]] "
+                            "tables with at least one entry")
+    sections = []
+    for i, s in enumerate(raw_sections):
+        where = f"chain.sections[{i}]"
+        if not isinstance(s, dict):
+            raise ScenarioError(f"[{where}] must be a table (got {s!r})")
+        try:
+            v = _read_table(s, "chain.sections")
+        except ScenarioError as exc:
+            raise ScenarioError(str(exc).replace("[chain.sections]", f"[{where}]")) from None
+        _check_sections(v, where, s)
+        sections.append(SectionSpec(**v))
+    chain = ChainSpec(sections=tuple(sections), **_read_table(raw_chain, "chain"))
+    _check_chain(chain)
+    n = chain.n
+    initial = InitialSpec(**_read_table(data.get("initial", {}), "initial"))
+    _check_initial(initial, n)
+    run = RunSpec(**_read_table(data.get("run", {}), "run"))
+    _check_run(run, n)
+    record = RecordSpec(**_read_table(data.get("record", {}), "record"))
+    _check_record(record, n, run.t_end)
+    raw_models = data.get("models", {})
+    models = ModelsSpec(**_read_table(raw_models, "models"))
+    _check_models(models, chain)
+    return Scenario(chain=chain, initial=initial, run=run, record=record, models=models,
+                    name=values["name"])
+
+
+_TABLES = ("chain", "initial", "run", "record", "models")
+
+
+def set_path(data: dict, path: str, value) -> None:
+    """Set ``value`` at a dotted ``path`` of nested tables/lists (ScenarioError if absent)."""
+    keys = path.split(".")
+    node = data
+    for i, key in enumerate(keys[:-1]):
+        if isinstance(node, list):
+            if not key.isdigit() or int(key) >= len(node):
+                raise ScenarioError(f"{path}: no entry {key} in {'.'.join(keys[:i])}")
+            node = node[int(key)]
+        else:
+            node = node.setdefault(key, {})
+        if not isinstance(node, dict | list):
+            raise ScenarioError(f"{path}: {'.'.join(keys[:i + 1])} is not a table or list")
+    last = keys[-1]
+    if isinstance(node, list):
+        if not last.isdigit() or int(last) >= len(node):
+            raise ScenarioError(f"{path}: no entry {last} in {'.'.join(keys[:-1])}")
+        node[int(last)] = value
+    elif value is None:
+        node.pop(last, None)
+    else:
+        node[last] = value
 
 
 def read_toml(path: Path, error: type[ValueError] = ValueError, what: str = "file") -> dict:
     """Parse a TOML file; a missing or malformed file raises ``error`` naming the path."""
     try:
-        with path.open("rb") as fh:
+        with Path(path).open("rb") as fh:
             return tomllib.load(fh)
     except FileNotFoundError as exc:
         raise error(f"{what} not found: {path}") from exc
@@ -361,10 +668,96 @@ def read_toml(path: Path, error: type[ValueError] = ValueError, what: str = "fil
 
 
 def load_scenario(path: str | Path) -> Scenario:
-    """Read and validate a scenario TOML file."""
+    """Read and validate a scenario TOML file (a name without a path: a shipped one)."""
     path = Path(path)
+    if not path.exists() and path.parent == Path(".") and path.stem in shipped_scenarios():
+        path = shipped_scenarios()[path.stem]
     data = read_toml(path, ScenarioError, "scenario file")
     try:
-        return parse_scenario(data)
+        sc = parse_scenario(data)
     except ScenarioError as exc:
         raise ScenarioError(f"{path}: {exc}") from None
+    return sc if sc.name else replace(sc, name=path.stem)
+
+
+def shipped_scenarios() -> dict[str, Path]:
+    """The scenario files shipped in ``hertzchain/scenarios/`` (incl. ``paper/``), by stem."""
+    root = Path(__file__).resolve().parent / "scenarios"
+    return {p.stem: p for p in sorted(root.rglob("*.toml"))}
+
+
+# -- docs -------------------------------------------------------------------------------
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return f'"{v}"'
+    if isinstance(v, list | tuple):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    return repr(v)
+
+
+def schema_markdown() -> str:
+    """The scenario schema as Markdown: one table of keys per TOML table (from :data:`SCHEMA`)."""
+    out = []
+    for table, keys in SCHEMA.items():
+        head = "Top level" if table == "" else (
+            "``[[chain.sections]]``" if table == "chain.sections" else f"``[{table}]``")
+        out.append(f"{head} — {TABLE_DOCS[table]}\n")
+        out.append("=" * 18 + "  " + "=" * 16 + "  " + "=" * 60)
+        out.append(f"{'key':18}  {'default':16}  meaning")
+        out.append("=" * 18 + "  " + "=" * 16 + "  " + "=" * 60)
+        for k in keys:
+            default = "*required*" if k.required else (
+                "—" if k.default is None else _toml_value(k.default))
+            extra = []
+            if k.unit:
+                extra.append(k.unit)
+            if k.kind != "choice" and k.range_text():
+                extra.append(f"range {k.range_text()}")
+            doc = k.doc + (f" ({'; '.join(extra)})" if extra else "")
+            out.append(f"{k.name:18}  {default:16}  {doc}")
+        out.append("=" * 18 + "  " + "=" * 16 + "  " + "=" * 60 + "\n")
+    return "\n".join(out)
+
+
+def _example() -> str:
+    """A complete example scenario built from the schema's examples and defaults."""
+    lines = []
+
+    def emit(table: str, indent: str = "") -> None:
+        for k in SCHEMA[table]:
+            v = k.example if k.example is not None else k.default
+            if v is None or (table == "chain.sections" and k.name == "material"):
+                continue
+            lines.append(f"{indent}{k.name} = {_toml_value(v)}")
+
+    emit("")
+    for table in ("chain", "initial", "run", "record", "models"):
+        lines.append(f"\n[{table}]")
+        emit(table)
+        if table == "chain":
+            lines.append("[[chain.sections]]")
+            emit("chain.sections")
+            lines.append("[[chain.sections]]\nn = 800\nalpha_rho = 0.5\nalpha_kn = 2.0")
+    return "\n".join(lines)
+
+
+def _schema_doc() -> str:
+    return ("Example (every key shown; all are optional except ``[chain]`` with at least "
+            "one section)::\n\n" + "\n".join("    " + ln if ln else ""
+                                             for ln in _example().splitlines())
+            + "\n\nKeys\n----\n" + schema_markdown())
+
+
+def _check_schema_matches_specs() -> None:
+    for table, spec in _SPECS.items():
+        names = {k.name for k in SCHEMA[table]}
+        have = {f.name for f in fields(spec)} - {"sections"}
+        if names != have:  # pragma: no cover - a schema edit without the dataclass
+            raise AssertionError(f"SCHEMA[{table!r}] and {spec.__name__} disagree: "
+                                 f"{sorted(names ^ have)}")
+
+
+_check_schema_matches_specs()
+__doc__ = (__doc__ or "").replace("{schema}", _schema_doc())

@@ -1,0 +1,538 @@
+r"""Discrete, continuum and theory side by side: the comparison of one scenario.
+
+:func:`compare` runs every model of a scenario through the one run path
+(:func:`hertzchain.models.run`) and analyses them at their common sample times
+(:class:`Comparison`); :meth:`Comparison.write` writes ``compare.h5`` (a group per
+model plus the comparison, written atomically, carrying the scenario and every
+parameter), the figures and a short report.  ``hertzchain compare SCENARIO.toml --out
+DIR [--json]`` is the command line.
+
+What is measured, on every sampled model, with the discrete chain's definitions
+------------------------------------------------------------------------------------
+* **Energy partition**: kinetic, potential (contact energy minus static energy,
+  docs/physics.md §6) and total energy left and right of the first interface (its
+  contact split half and half), over the incident energies (everything left of the
+  interface at t = 0; the same for every model, which starts from the same grains) —
+  the paper's Table 2 definition, at every sample time.
+* **Fronts**: the peak positions (grains, parabola-refined) of the leading pulses of the
+  grain kinetic energy ½mv² above :data:`hertzchain.models.FRONT_THRESHOLD` of the
+  incident wave's peak: the incident wave (right-most pulse left of the interface,
+  until the crossing), the transmitted wave (right-most pulse right of it) and the
+  reflected wave (left-most pulse left of it, after the crossing).  The crossing time
+  is the theory's arrival time of the incident peak at the interface plus
+  :data:`CROSSING_GRAINS` grains at its speed.  Front speeds are straight-line fits of
+  these positions over the samples up to the comparison time whose front is
+  ≥ :data:`FIT_FROM` grains from the interface.
+* **Differences** to the discrete chain (the reference): E_T and E_R (kinetic,
+  potential, total) at the comparison time; front positions, speeds, leading-pulse
+  peaks (parabola-refined between grains) and arrival times at
+  :data:`ARRIVAL_DISTANCE` grains past the interface; L2
+  (relative) and L∞ (over the incident peak velocity) of v at every display time.
+* **Theory**: its fronts and energy partition (:class:`hertzchain.models.TheoryModel`),
+  and the speeds of Nesterenko's relation (Eq. 5 / Eq. 8 limits) at each model's
+  measured transmitted and reflected amplitudes.
+
+The comparison time is the last common sample at which no wave has reached a chain end
+where the continuum's end condition differs from the discrete chain's
+(:attr:`hertzchain.models.ModelRun.valid_until`).
+
+Validity (:data:`THRESHOLDS`)
+-----------------------------
+A model's error is the largest of |ΔE_T| and |ΔE_R| (total energy, in units of the
+incident energy) and the relative error of the transmitted front speed.  Within
+**1 %** it is quantitatively interchangeable with the discrete chain for these
+observables (the paper's own numbers differ from the linear theory by ~1e-3–1e-2,
+its Table 2 reports five digits); within **10 %** it gets the physics right (which
+waves, how fast, where the energy goes) but not the numbers; beyond 10 % it does not
+hold.  A model that did not complete is not compared (its row says so).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from discrete import diagnostics as D
+
+from .models import FRONT_THRESHOLD, ModelRun, Run, grain_energies, run
+from .scenario import Scenario, load_scenario
+
+__all__ = ["Comparison", "ModelSeries", "compare", "analyse", "compare_point", "THRESHOLDS",
+           "ARRIVAL_DISTANCE", "FIT_FROM", "FORMAT", "validity_word"]
+
+FORMAT = "hertzchain.compare/1"
+THRESHOLDS = (0.01, 0.10)
+"""Error levels of the validity statements (module docstring): within 1 %, within 10 %."""
+ARRIVAL_DISTANCE = 100
+"""Grains past the interface at which arrival times and front positions are compared
+(fewer if the run ends earlier: 80 % of the discrete front's final distance)."""
+FIT_FROM = 10
+"""Fronts closer than this to the interface (grains) are left out of the speed fits."""
+_TABLE2 = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
+
+
+def validity_word(error: float) -> str:
+    """"within 1 %", "within 10 %", "off by X %" or "not compared" for an error."""
+    if not math.isfinite(error):
+        return "not compared"
+    if error <= THRESHOLDS[0]:
+        return "within 1 %"
+    if error <= THRESHOLDS[1]:
+        return "within 10 %"
+    return f"off by {100 * error:.0f} %"
+
+
+# -- per-model series ------------------------------------------------------------------
+@dataclass
+class ModelSeries:
+    """What is measured on one sampled model at the common times (module docstring).
+
+    ``energy`` has keys ``"<kind>_<side>"`` (kind kinetic/potential/total, side
+    left/right): energy over the incident energy of that kind.  ``fronts`` has keys
+    incident/transmitted/reflected (grain positions, NaN where none), ``peaks`` the
+    leading pulses' peak velocities (m/s) and ``strains`` their peak dynamic strain.
+    """
+
+    name: str
+    label: str
+    times: np.ndarray
+    energy: dict[str, np.ndarray]
+    fronts: dict[str, np.ndarray]
+    peaks: dict[str, np.ndarray]
+    strains: dict[str, np.ndarray]
+    speeds: dict[str, float] = field(default_factory=dict)
+    completed: bool = True
+    stopped_by: str = ""
+
+
+def _partition(chain, mrun: ModelRun, iface: int | None, incident: dict) -> dict:
+    kin, pot = grain_energies(chain, mrun.v, mrun.strain)
+    n = chain.n
+    i = n if iface is None else iface
+    gw = (np.arange(n) < i).astype(float)
+    cw = (np.arange(n + 1) < i).astype(float)
+    if iface is not None:
+        cw[i] = 0.5
+    out = {}
+    for side, g, c in (("left", gw, cw), ("right", 1 - gw, 1 - cw)):
+        k, p = kin @ g, pot @ c
+        out[f"kinetic_{side}"] = k / incident["kinetic"]
+        out[f"potential_{side}"] = p / incident["potential"] if incident["potential"] else \
+            np.full(k.shape, np.nan)
+        out[f"total_{side}"] = (k + p) / incident["total"]
+    return out
+
+
+def _incident_energies(chain, first: ModelRun, iface: int | None) -> dict[str, float]:
+    kin, pot = grain_energies(chain, first.v[:1], first.strain[:1])
+    i = chain.n if iface is None else iface
+    k = float(kin[0, :i].sum())
+    p = float(pot[0, :i].sum() + (0.5 * pot[0, i] if iface is not None else pot[0, i]))
+    return {"kinetic": k, "potential": p, "total": k + p}
+
+
+def _fronts(chain, mrun: ModelRun, iface: int | None, ref_ek: float, i_cross: int) -> tuple:
+    kin, _ = grain_energies(chain, mrun.v, mrun.strain)
+    k = mrun.times.size
+    n = chain.n
+    fronts = {w: np.full(k, np.nan) for w in ("incident", "transmitted", "reflected")}
+    peaks = {w: np.full(k, np.nan) for w in fronts}
+    strains = {w: np.full(k, np.nan) for w in fronts}
+    i = n if iface is None else iface
+    d = float(chain.diameter[0])
+
+    def peak(signal, lo, hi) -> float:
+        """Parabola-refined extreme of ``signal`` in [lo, hi) (its value between samples)."""
+        found = D.find_pulses(signal, threshold=0.0, lo=lo, hi=hi)
+        return max((q.amplitude for q in found), key=abs) if found else math.nan
+
+    def put(which, s, p):
+        fronts[which][s] = p.position
+        lo, hi = max(p.start - 1, 0), min(p.stop + 1, n)
+        peaks[which][s] = peak(mrun.v[s], lo, hi)
+        strains[which][s] = abs(peak(mrun.strain[s], lo, min(hi + 1, n + 1))) / d
+
+    for s in range(k):
+        ek = kin[s]
+        if s < i_cross:
+            p = D.leading_pulse(ek, lo=0, hi=i, threshold=FRONT_THRESHOLD, reference=ref_ek)
+            if p is not None:
+                put("incident", s, p)
+        else:
+            if i > 1:
+                p = D.leading_pulse(ek, direction=-1, lo=0, hi=i, threshold=FRONT_THRESHOLD,
+                                    reference=ref_ek)
+                if p is not None:
+                    put("reflected", s, p)
+        if iface is not None and i < n - 1:
+            p = D.leading_pulse(ek, lo=i, hi=n, threshold=FRONT_THRESHOLD, reference=ref_ek)
+            if p is not None:
+                put("transmitted", s, p)
+    return fronts, peaks, strains
+
+
+def _fit_speed(t, x, iface: float | None, d: float, sign: int) -> float:
+    """Speed (m/s) of a front from samples ≥ FIT_FROM grains from the interface."""
+    ok = np.isfinite(x)
+    if iface is not None:
+        ok &= np.abs(x - iface) >= FIT_FROM
+    if ok.sum() < 3:
+        return math.nan
+    slope = np.polyfit(t[ok], x[ok], 1)[0]
+    return float(sign * slope * d)
+
+
+CROSSING_GRAINS = 5.0
+"""The incident wave has crossed the interface this many grains (at its speed) after its
+peak reached it (the half-width of the paper's precompressed wave; the compacton at
+δ0 = 0 is narrower)."""
+
+
+def _crossing(times: np.ndarray, result: Run) -> int:
+    """First sample after the incident wave has crossed the interface."""
+    est = result.estimates
+    if est is None or not est.has_interface:
+        return times.size
+    t = est.t_hit + CROSSING_GRAINS * est.left["d"] / est.speed_in
+    after = np.flatnonzero(times > t)
+    return int(after[0]) if after.size else times.size
+
+
+# -- the comparison ---------------------------------------------------------------------
+@dataclass
+class Comparison:
+    """All models of one scenario analysed at their common times (module docstring).
+
+    Attributes
+    ----------
+    run : hertzchain.models.Run
+        The models' results.
+    series : dict
+        :class:`ModelSeries` by model name ("discrete", "continuum").
+    incident : dict
+        Incident kinetic, potential and total energy, J.
+    i_cross : int
+        First sample after the crossing of the interface.
+    i_compare : int
+        Sample of the comparison time.
+    display : list of int
+        Samples of the profile panels (before, during and after the interface).
+    differences : dict
+        Per model (besides the discrete chain): quantity → (discrete, model, difference).
+    errors : dict
+        Per model: ``energy``, ``speed``, ``error`` (the larger), ``profile_l2``.
+    """
+
+    run: Run
+    series: dict[str, ModelSeries]
+    incident: dict[str, float]
+    i_cross: int
+    i_compare: int
+    display: list[int]
+    differences: dict[str, dict[str, tuple]] = field(default_factory=dict)
+    errors: dict[str, dict[str, float]] = field(default_factory=dict)
+    profile_errors: dict[str, list[dict]] = field(default_factory=dict)
+    arrival_distance: float = math.nan
+
+    # ------------------------------------------------------------------ numbers
+    @property
+    def scenario(self) -> Scenario:
+        """The scenario."""
+        return self.run.scenario
+
+    @property
+    def times(self) -> np.ndarray:
+        """The common sample times, s."""
+        ref = self.series.get("discrete") or next(iter(self.series.values()))
+        return ref.times
+
+    @property
+    def t_compare(self) -> float:
+        """The comparison time, s."""
+        return float(self.times[self.i_compare])
+
+    def verdict(self) -> str:
+        """One sentence: where the continuum and the theory hold for this scenario."""
+        parts = []
+        for name in ("continuum", "theory"):
+            if name not in self.errors:
+                if name == "continuum" and self.run.continuum is not None:
+                    parts.append(f"the continuum did not complete "
+                                 f"({self.run.continuum.stopped_by}) and is not compared")
+                continue
+            e = self.errors[name]
+            label = self.series[name].label if name in self.series else \
+                "the theory (Nesterenko speeds, Eqs. 9–13)"
+            what = (f"energy {e['energy']:.1e}, transmitted speed {e['speed']:.1%}"
+                    if self.run.interface is not None else f"front speed {e['speed']:.1%}")
+            parts.append(f"{label} is {validity_word(e['error'])} of the discrete chain "
+                         f"({what})")
+        if not parts:
+            return "Only the discrete chain ran: nothing to compare."
+        when = f"up to t = {self.t_compare * 1e3:.4g} ms"
+        if math.isfinite(self.run.continuum.valid_until if self.run.continuum else math.inf):
+            when += " (later a wave reaches a chain end, where the continuum's end differs)"
+        return f"For this scenario, {when}, " + "; ".join(parts) + "."
+
+    def summary(self) -> dict[str, Any]:
+        """Flat numbers (a sweep row): the run's summary, then differences and errors."""
+        out = self.run.summary()
+        for name, errs in self.errors.items():
+            for key, val in errs.items():
+                out[f"{name}_{key}"] = val
+        for name, diffs in self.differences.items():
+            for key, (_, _, diff) in diffs.items():
+                if isinstance(diff, float | int):
+                    out[f"{name}_d_{key}"] = float(diff)
+        out["t_compare"] = self.t_compare
+        out["verdict"] = self.verdict()
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """Everything but the arrays (JSON-able)."""
+        return {"scenario": self.scenario.to_dict(), "summary": self.summary(),
+                "incident": self.incident, "t_compare": self.t_compare,
+                "display_times": [float(self.times[i]) for i in self.display],
+                "differences": {m: {k: list(v) for k, v in d.items()}
+                                for m, d in self.differences.items()},
+                "errors": self.errors, "profile_errors": self.profile_errors,
+                "speeds": {m: s.speeds for m, s in self.series.items()},
+                "theory": self.run.theory.to_dict() if self.run.theory else None,
+                "verdict": self.verdict()}
+
+    # ------------------------------------------------------------------ output
+    def write(self, out: str | Path, *, figures: bool = True, report: bool = True
+              ) -> dict[str, Any]:
+        """Write ``compare.h5``, the figures (PNG) and ``report.md``/``.html`` into ``out``."""
+        from .compare_output import write_all
+
+        return write_all(self, Path(out), figures=figures, report=report)
+
+
+def analyse(result: Run) -> Comparison:
+    """Measure and compare the models of a finished :func:`hertzchain.models.run`."""
+    chain, iface = result.chain, result.interface
+    sampled = [m for m in result.models if m.completed and m.times.size]
+    ref = result.discrete if result.discrete is not None and result.discrete.completed \
+        else (sampled[0] if sampled else None)
+    series: dict[str, ModelSeries] = {}
+    if ref is None:
+        raise ValueError("no model produced samples to analyse (the discrete chain did "
+                         "not run or did not complete)")
+    incident = _incident_energies(chain, ref, iface)
+    m_left = float(chain.mass[max(0, (iface or chain.n) // 2)])
+    ref_ek = 0.5 * m_left * result.incident.velocity ** 2
+    i_cross = _crossing(ref.times, result)
+    d = float(chain.diameter[0])
+    x_if = None if iface is None else iface - 0.5
+    # comparison time: the last sample before a wave reaches an end where models differ
+    until = min((m.valid_until for m in sampled), default=math.inf)
+    ok = np.flatnonzero(ref.times < until * (1 - 1e-12))
+    i_compare = int(ok[-1]) if ok.size else ref.times.size - 1
+    for m in sampled:
+        part = _partition(chain, m, iface, incident)
+        fr, pk, st = _fronts(chain, m, iface, ref_ek, i_cross)
+        w = slice(0, i_compare + 1)
+        speeds = {"incident": _fit_speed(m.times[w], fr["incident"][w], None, d, 1),
+                  "transmitted": _fit_speed(m.times[w], fr["transmitted"][w], x_if, d, 1),
+                  "reflected": _fit_speed(m.times[w], fr["reflected"][w], x_if, d, -1)}
+        series[m.name] = ModelSeries(m.name, m.label, m.times, part, fr, pk, st, speeds,
+                                     m.completed, m.stopped_by)
+    cmp = Comparison(result, series, incident, i_cross, i_compare,
+                     _display(result, ref.times, i_cross, i_compare))
+    _differences(cmp)
+    return cmp
+
+
+def _display(result: Run, times: np.ndarray, i_cross: int, i_compare: int) -> list[int]:
+    """Samples of the profile panels: before, during and after the interface."""
+    asked = result.scenario.models.compare_times
+    if asked:
+        return sorted({int(np.argmin(np.abs(times - t))) for t in asked})
+    if result.interface is None:
+        return sorted({i_compare // 3, (2 * i_compare) // 3, i_compare})
+    before = max(0, min(i_cross - 2, i_cross // 2))
+    during = min(i_cross, i_compare)
+    return sorted({before, during, i_compare})
+
+
+def _at_distance(times, x, target) -> float:
+    """First time a front trajectory passes ``target`` (linear interpolation), s."""
+    ok = np.isfinite(x)
+    t, x = times[ok], x[ok]
+    above = np.flatnonzero(x >= target)
+    if not above.size:
+        return math.nan
+    j = int(above[0])
+    if j == 0:
+        return float(t[0])
+    return float(t[j - 1] + (target - x[j - 1]) * (t[j] - t[j - 1]) / (x[j] - x[j - 1]))
+
+
+def _interp(times, x, t) -> float:
+    ok = np.isfinite(x)
+    if ok.sum() < 2 or not math.isfinite(t) or not times[ok][0] <= t <= times[ok][-1]:
+        return math.nan
+    return float(np.interp(t, times[ok], x[ok]))
+
+
+def _differences(cmp: Comparison) -> None:
+    """Fill ``differences``, ``errors`` and ``profile_errors`` against the discrete chain."""
+    result = cmp.run
+    disc = cmp.series.get("discrete")
+    if disc is None:
+        return
+    iface = result.interface
+    i = cmp.i_compare
+    v_in = result.incident.velocity
+    dv = result.discrete.v
+    # arrival distance: ARRIVAL_DISTANCE grains past the interface, or 80 % of the way
+    x_tr = disc.fronts["transmitted"]
+    if iface is not None and np.isfinite(x_tr[: i + 1]).any():
+        reach = float(np.nanmax(x_tr[: i + 1]) - (iface - 0.5))
+        dist = min(ARRIVAL_DISTANCE, 0.8 * reach)
+        cmp.arrival_distance = dist
+        t_arr = _at_distance(disc.times[: i + 1], x_tr[: i + 1], iface - 0.5 + dist)
+    else:
+        t_arr = math.nan
+    for name, s in cmp.series.items():
+        if name == "discrete":
+            continue
+        m = result.continuum
+        rows: dict[str, tuple] = {}
+        for key in _TABLE2:
+            kind = {"k": "kinetic", "p": "potential", "t": "total"}[key[1]]
+            side = "right" if key.endswith("tr") else "left"
+            a, b = disc.energy[f"{kind}_{side}"][i], s.energy[f"{kind}_{side}"][i]
+            rows[key] = (float(a), float(b), float(b - a))
+        for w in ("transmitted", "reflected"):
+            a, b = disc.speeds[w], s.speeds[w]
+            rows[f"speed_{w}"] = (a, b, (b - a) / a if a else math.nan)
+            a, b = disc.peaks[w][i], s.peaks[w][i]
+            rows[f"peak_{w}"] = (float(a), float(b), float(b - a) / v_in)
+            a, b = disc.fronts[w][i], s.fronts[w][i]
+            rows[f"front_{w}"] = (float(a), float(b), float(b - a))
+        if math.isfinite(t_arr):
+            t_b = _at_distance(s.times[: i + 1], s.fronts["transmitted"][: i + 1],
+                               iface - 0.5 + cmp.arrival_distance)
+            rows["arrival_time"] = (t_arr, t_b, t_b - t_arr)
+            rows["front_at_arrival"] = (iface - 0.5 + cmp.arrival_distance,
+                                        _interp(s.times, s.fronts["transmitted"], t_arr),
+                                        _interp(s.times, s.fronts["transmitted"], t_arr)
+                                        - (iface - 0.5 + cmp.arrival_distance))
+        cmp.differences[name] = rows
+        prof = []
+        for j in cmp.display:
+            diff = m.v[j] - dv[j]
+            norm = float(np.linalg.norm(dv[j]))
+            prof.append({"t": float(cmp.times[j]),
+                         "l2": float(np.linalg.norm(diff)) / norm if norm else math.nan,
+                         "linf": float(np.max(np.abs(diff))) / v_in})
+        cmp.profile_errors[name] = prof
+        energy = max(abs(rows["Et_tr"][2]), abs(rows["Et_re"][2])) if iface is not None \
+            else math.nan
+        speed_key = "speed_transmitted" if iface is not None else None
+        speed = abs(rows[speed_key][2]) if speed_key else abs(
+            (s.speeds["incident"] - disc.speeds["incident"]) / disc.speeds["incident"])
+        cmp.errors[name] = {"energy": energy, "speed": speed,
+                            "error": float(np.nanmax([energy, speed])),
+                            "profile_l2": prof[-1]["l2"]}
+    th = result.theory
+    if th is not None:
+        rows = {}
+        i_t = cmp.i_compare
+        if th.has_interface:
+            for key in _TABLE2:
+                kind = {"k": "kinetic", "p": "potential", "t": "total"}[key[1]]
+                side = "right" if key.endswith("tr") else "left"
+                a = float(disc.energy[f"{kind}_{side}"][i_t])
+                b = float(th.ratios[key])
+                rows[key] = (a, b, b - a)
+            for w, sp in (("transmitted", th.speed_tr), ("reflected", th.speed_re)):
+                a = disc.speeds[w]
+                rows[f"speed_{w}"] = (a, sp, (sp - a) / a if a else math.nan)
+                # Nesterenko's relation at the measured amplitude of the discrete wave
+                xi = disc.strains[w][i_t]
+                at = th.speed("right" if w == "transmitted" else "left", xi)
+                rows[f"speed_{w}_at_measured_amplitude"] = (a, at, (at - a) / a if a
+                                                            else math.nan)
+            a = disc.speeds["incident"]
+            rows["speed_incident"] = (a, th.speed_in, (th.speed_in - a) / a if a
+                                      else math.nan)
+            if math.isfinite(t_arr):
+                x_th = th.fronts(np.array([t_arr]))["transmitted"][0]
+                rows["front_at_arrival"] = (iface - 0.5 + cmp.arrival_distance, float(x_th),
+                                            float(x_th) - (iface - 0.5 + cmp.arrival_distance))
+            energy = max(abs(rows["Et_tr"][2]), abs(rows["Et_re"][2]))
+            speed = abs(rows["speed_transmitted"][2])
+        else:
+            a = disc.speeds["incident"]
+            rows["speed_incident"] = (a, th.speed_in, (th.speed_in - a) / a if a
+                                      else math.nan)
+            energy, speed = math.nan, abs(rows["speed_incident"][2])
+        cmp.differences["theory"] = rows
+        cmp.errors["theory"] = {"energy": energy, "speed": speed,
+                                "error": float(np.nanmax([energy, speed]))
+                                if math.isfinite(energy) or math.isfinite(speed)
+                                else math.nan}
+
+
+def compare(scenario: Scenario | str | Path, *, cache: str | Path | None = None,
+            out: str | Path | None = None, **kwargs) -> Comparison:
+    """Run every model of ``scenario`` and compare them (:class:`Comparison`).
+
+    Parameters
+    ----------
+    scenario : Scenario or path
+        A scenario, or its TOML file (a bare name: a shipped scenario).
+    cache : path, optional
+        Directory of cached runs (default: ``out/runs`` if ``out`` is given).
+    out : path, optional
+        Also write the comparison there (:meth:`Comparison.write`).
+    **kwargs
+        Passed to :func:`hertzchain.models.run` (``force``, ``checkpoint_interval``,
+        ``progress``, ``threads``, ``log``).
+
+    Examples
+    --------
+    >>> from hertzchain.compare import compare
+    >>> cmp = compare("table2_M")                        # doctest: +SKIP
+    >>> cmp.errors["continuum"]["error"] < 0.01          # doctest: +SKIP
+    True
+    """
+    sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    if cache is None and out is not None:
+        cache = Path(out) / "runs"
+    cmp = analyse(run(sc, cache=cache, **kwargs))
+    if out is not None:
+        cmp.write(out)
+    return cmp
+
+
+def compare_point(scenario: Scenario, *, out: str | Path | None = None,
+                  progress: bool = False) -> dict[str, Any]:
+    """Sweep point function: every model of the point, compared; a flat summary.
+
+    The signature of :data:`hertzchain.sweep.engine.DEFAULT_POINT_FUNCTION`; ``out``
+    (a file name) writes the discrete run there.
+    """
+    result = run(scenario, out=out, progress=progress)
+    if result.discrete is None or not result.discrete.completed:
+        return result.summary()
+    return analyse(result).summary()
+
+
+def read_comparison(path: str | Path) -> dict[str, Any]:
+    """The numbers of a ``compare.h5`` file (JSON attribute ``comparison``)."""
+    from theory import integrity
+
+    with integrity.open_hdf5(path, what="comparison") as f:
+        if f.attrs.get("format") != FORMAT:
+            raise ValueError(f"{path}: not a comparison file ({FORMAT})")
+        return json.loads(f.attrs["comparison"])
+

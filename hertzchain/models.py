@@ -1,0 +1,1073 @@
+r"""The one run path: every model of a scenario, from the same initial grain state.
+
+:func:`run` is what ``hertzchain run``, ``hertzchain compare``, ``hertzchain sweep`` and
+every item of ``hertzchain reproduce`` call.  For a :class:`~hertzchain.scenario.Scenario`
+it
+
+1. builds the chain and the initial grain state once (:func:`hertzchain.runner.build_chain`,
+   :func:`~hertzchain.runner.build_initial_checked`);
+2. runs the **discrete** chain (paper Eq. 2, the reference) with
+   :func:`hertzchain.runner.run_simulation` — cached by its parameters and checkpointed;
+3. runs the **continuum** (``[models] continuum``: corrected Eq. 4, Eq. 7 or KdV,
+   :mod:`continuum`) from the same grain state interpolated onto its grid
+   (:func:`continuum.from_grains`), to the discrete run's end time — cached too;
+4. evaluates the **theory** (:class:`TheoryModel`: wave speeds of Eq. 5, Eq. 8 and
+   Nesterenko's general relation, the linear-acoustic interface of Eqs. 9–13).
+
+Common sample times
+-------------------
+The models are compared at the same times: ``[models] samples`` times evenly spaced from
+0 to ``[run] t_end`` or, for a run that stops on ``until_front_at``, spaced by the
+theory's estimate of that time / (samples − 1) (the samples after the stop are not
+taken).  The discrete run stores a snapshot at each (taken at the first step at or
+after it: within one discrete step, ~5e-8 s); the continuum is stepped with a time step
+that divides the spacing, so its samples fall on the same times, and it is then stepped
+on to the discrete run's exact end time.  Both are read grain by grain: the velocity
+v_i (m/s) and the dynamic overlap δ_j − δ0_j (m) of every contact, from which every
+energy is computed with the discrete formulas (docs/physics.md §6).
+
+Ends of the continuum
+---------------------
+The continuum solvers have the same condition at both ends: a rigid wall at rest or a
+constant-force ("free") end (:data:`continuum.medium.BOUNDARY_CONDITIONS`).  An initial
+state at rest in displacement (an impact) uses walls; a placed wave, whose passed grains
+and left wall are shifted (paper Section 2, :func:`discrete.place_wave`), uses free
+ends, equivalent to the discrete walls until a wave reaches an end.  Past that time
+(:attr:`ModelRun.valid_until`) the continuum is not compared.
+
+Caching: with ``cache=DIR`` the discrete run is ``DIR/<stem>-<hash>.h5`` (its key is
+:meth:`Scenario.discrete_dict` with the sample times), the continuum
+``DIR/<stem>-continuum-<hash>.h5``; an existing complete file is reused, an interrupted
+discrete run resumes from its checkpoint (``.ckpt``) bit for bit.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+import discrete
+import theory
+from discrete import diagnostics as D
+from theory import integrity
+
+from . import checkpoint as C
+from .cache import cache_path, canonical_json
+from .runner import build_chain, build_initial_checked, interfaces, run_simulation
+from .scenario import ModelsSpec, Scenario, ScenarioError
+
+__all__ = ["ModelRun", "IncidentWave", "TheoryModel", "Run", "run", "sample_grid",
+           "incident_wave", "strain_from_velocity", "grain_energies", "FRONT_THRESHOLD",
+           "END_FRACTION", "FORMAT"]
+
+FORMAT = "hertzchain.continuum-samples/1"
+"""``format`` attribute of a continuum result file."""
+
+FRONT_THRESHOLD = 0.05
+"""A pulse of grain kinetic energy counts as a wave front if its peak exceeds this
+fraction of the incident wave's peak grain kinetic energy (≈ 22 % in velocity)."""
+
+END_FRACTION = 1e-4
+"""A wave has reached a chain end when the energy of the :data:`END_GRAINS` grains there
+exceeds this fraction of the total (:attr:`ModelRun.valid_until`)."""
+END_GRAINS = 10
+
+_ESTIMATE_MARGIN = 4
+"""Sample times are requested up to this many times the estimated run time."""
+
+
+# -- results ----------------------------------------------------------------------------
+@dataclass
+class ModelRun:
+    """One model's samples, grain by grain, at the common times.
+
+    Attributes
+    ----------
+    name : str
+        ``"discrete"`` or ``"continuum"``.
+    label : str
+        For legends, e.g. ``"continuum (Eq. 4, 5 nodes/grain)"``.
+    times : ndarray, shape (K,)
+        Sample times, s.
+    v : ndarray, shape (K, N)
+        Grain velocities, m/s.
+    strain : ndarray, shape (K, N+1)
+        Dynamic overlap δ_j − δ0_j of every contact (0 and N: the walls), m.
+    t_final : float
+        End time of the run, s (the last sample is taken there).
+    completed : bool
+        The run reached what was asked (False: see ``stopped_by``).
+    stopped_by : str
+        ``"t_end"``, ``"until_front_at"`` or what stopped it early (an error).
+    valid_until : float
+        Samples after this time are not compared (a wave reached a chain end where the
+        model's end condition differs from the discrete chain's), s.
+    summary : dict
+        The model's own numbers (the discrete runner's summary; the continuum's energy
+        drift, time step, cost).
+    params : dict
+        Everything the result depends on.
+    path : Path or None
+        Its HDF5 file.
+    cached : bool
+        Read from ``path`` rather than computed.
+    """
+
+    name: str
+    label: str
+    times: np.ndarray
+    v: np.ndarray
+    strain: np.ndarray
+    t_final: float
+    completed: bool = True
+    stopped_by: str = "t_end"
+    valid_until: float = math.inf
+    summary: dict = field(default_factory=dict)
+    params: dict = field(default_factory=dict)
+    path: Path | None = None
+    cached: bool = False
+
+    @property
+    def final_v(self) -> np.ndarray:
+        """Grain velocities at ``t_final`` (the last sample), m/s."""
+        return self.v[-1]
+
+
+@dataclass(frozen=True)
+class IncidentWave:
+    """The incident wave as all models start it: where, how strong.
+
+    ``x0`` is the grain position of its peak at t = 0 (grains; 0 for an impact),
+    ``velocity`` its peak grain velocity (m/s), ``strain`` its peak dynamic overlap
+    (r − δ0)/d and ``measured_at`` the time it was measured (0: the initial state; an
+    impact's wave is measured on the discrete run once formed).
+    """
+
+    x0: float
+    velocity: float
+    strain: float
+    measured_at: float = 0.0
+
+
+def grain_energies(chain: discrete.Chain, v: np.ndarray, strain: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """Kinetic energy per grain and potential energy per contact, J (docs/physics.md §6).
+
+    ``v`` (…, N) m/s and ``strain`` (…, N+1) m (δ − δ0); the potential energy is the
+    contact energy minus the static energy of the same contact,
+    (2/5) k ([δ]_+^{5/2} − δ0^{5/2}) (:func:`theory.wave_contact_energy`).
+    """
+    kin = 0.5 * chain.mass * np.asarray(v) ** 2
+    pot = theory.wave_contact_energy(chain.delta0 + np.asarray(strain), chain.k, chain.delta0)
+    return kin, pot
+
+
+# -- theory --------------------------------------------------------------------------
+def _side(chain: discrete.Chain, grain: int, contact: int) -> dict[str, float]:
+    d = float(chain.diameter[grain])
+    m, k, d0 = float(chain.mass[grain]), float(chain.k[contact]), float(chain.delta0[contact])
+    return {"mass": m, "k": k, "delta0": d0, "d": d, "xi0": d0 / d,
+            "c_mat": float(theory.c_mat(k, m, d)),
+            "c0": float(theory.c0(k, m, d, d0)) if d0 > 0 else 0.0}
+
+
+def _speed(side: dict, xi: float) -> float:
+    """Nesterenko's solitary-wave speed (Nesterenko 2001, Eq. 1.4.28) at strain ξ, m/s."""
+    if not (xi > 0 and math.isfinite(xi)):
+        return side["c0"] if side["c0"] > 0 else math.nan
+    return float(theory.nesterenko_speed(side["c_mat"], side["xi0"], xi))
+
+
+def _strain_of_force(side: dict, force_change: float) -> float:
+    """Dynamic strain of a contact whose force changes by ``force_change`` (N), Eq. 1."""
+    f0 = side["k"] * side["delta0"] ** 1.5
+    f = max(f0 + force_change, 0.0)
+    return ((f / side["k"]) ** (2.0 / 3.0) - side["delta0"]) / side["d"]
+
+
+@dataclass
+class TheoryModel:
+    """Closed-form predictions for the first interface a right-going wave meets.
+
+    From the chain (masses, contact constants and static overlaps either side; α_ρ and
+    α_kn are read off the built chain, so swapped or explicit materials work) and the
+    incident wave (:class:`IncidentWave`):
+
+    * speeds: Nesterenko's general relation (Nesterenko 2001, Eq. 1.4.28;
+      :func:`theory.nesterenko_speed`), which is Eq. 5 to first order under
+      precompression and Eq. 8 at δ0 = 0, at the incident amplitude; the transmitted
+      and reflected amplitudes follow from the force transmission 2/(1 + γ_RG⁻¹) and
+      reflection (γ_RG − 1)/(γ_RG + 1) of Eq. 12 applied to the peak contact force
+      (Hertz law, Eq. 1, either side).  An expansive reflected wave (force decrease) is
+      no solitary wave: it travels at the sound speed c0 (Eq. 4) and not at all at δ0 = 0;
+    * trajectories: the incident peak moves at its speed to the interface contact
+      (x = i − ½) and the transmitted and reflected peaks leave it at theirs;
+    * energy partition: :func:`theory.table2_prediction` (Eqs. 9–13 with the incident
+      kinetic, linear and quadratic potential energy) applied at the crossing time;
+    * classes: :func:`theory.predict` (Fig. 7 regions) and the fission parameter.
+
+    Without an interface only the incident wave is predicted.  At δ0 = 0 the linear
+    acoustics behind Eqs. 9–13 has no basis (no sound speed); the formulas are applied
+    formally and the comparison shows how far they hold.
+    """
+
+    incident: IncidentWave
+    left: dict
+    interface: int | None = None
+    right: dict | None = None
+    energies_in: dict = field(default_factory=dict)
+    alpha_rho: float = 1.0
+    alpha_kn: float = 1.0
+
+    # derived ------------------------------------------------------------------------
+    @property
+    def has_interface(self) -> bool:
+        """Whether a second section follows the first."""
+        return self.interface is not None and self.right is not None
+
+    @property
+    def gamma_c0(self) -> float:
+        """c0^R/c0^L = α_ρ^{-1/2} α_kn^{1/3} (Eq. 9)."""
+        return float(theory.gamma_c0(self.alpha_rho, self.alpha_kn))
+
+    @property
+    def gamma_rg(self) -> float:
+        """Impedance ratio γ_RG = α_ρ^{1/2} α_kn^{1/3} (Eq. 13)."""
+        return float(theory.gamma_rg(self.alpha_rho, self.alpha_kn))
+
+    @property
+    def x_interface(self) -> float:
+        """Position of the interface contact, grains (contact i sits at i − ½)."""
+        return math.nan if self.interface is None else self.interface - 0.5
+
+    @property
+    def force_in(self) -> float:
+        """Peak dynamic contact force of the incident wave, N (Eq. 1)."""
+        s = self.left
+        d = s["delta0"] + self.incident.strain * s["d"]
+        return s["k"] * (d**1.5 - s["delta0"] ** 1.5)
+
+    @property
+    def strain_tr(self) -> float:
+        """Predicted peak dynamic strain of the transmitted wave (Eq. 12, Eq. 1)."""
+        if not self.has_interface:
+            return math.nan
+        g = self.gamma_rg
+        return _strain_of_force(self.right, 2.0 * g / (1.0 + g) * self.force_in)
+
+    @property
+    def strain_re(self) -> float:
+        """Predicted peak dynamic strain of the reflected wave (negative: expansive)."""
+        if not self.has_interface:
+            return math.nan
+        g = self.gamma_rg
+        return _strain_of_force(self.left, (g - 1.0) / (g + 1.0) * self.force_in)
+
+    @property
+    def speed_in(self) -> float:
+        """Incident wave speed at its amplitude, m/s (Nesterenko; Eq. 5/8 limits)."""
+        return _speed(self.left, self.incident.strain)
+
+    @property
+    def speed_tr(self) -> float:
+        """Transmitted wave speed at the predicted amplitude, m/s."""
+        return _speed(self.right, self.strain_tr) if self.has_interface else math.nan
+
+    @property
+    def reflects(self) -> bool:
+        """Whether a reflected wave is predicted (γ_RG ≠ 1, Eq. 12)."""
+        return self.has_interface and abs(self.gamma_rg - 1.0) > 1e-9
+
+    @property
+    def speed_re(self) -> float:
+        """Reflected wave speed, m/s (sound speed c0 for an expansive wave; NaN if none)."""
+        if not self.reflects:
+            return math.nan
+        xi = self.strain_re
+        if xi > 0:
+            return _speed(self.left, xi)
+        return self.left["c0"] if self.left["c0"] > 0 else math.nan
+
+    def speed(self, where: str, strain: float) -> float:
+        """Nesterenko's speed in the ``"left"`` or ``"right"`` section at ``strain``, m/s."""
+        side = self.left if where == "left" else self.right
+        return math.nan if side is None else _speed(side, strain)
+
+    @property
+    def t_hit(self) -> float:
+        """Time the incident peak reaches the interface contact, s."""
+        if not self.has_interface:
+            return math.inf
+        return self.incident.measured_at + (self.x_interface - self.incident.x0) \
+            * self.left["d"] / self.speed_in
+
+    @property
+    def ratios(self) -> dict[str, float]:
+        """Table-2 energy ratios (Eqs. 9–13, :func:`theory.table2_prediction`)."""
+        if not self.has_interface or not self.energies_in:
+            return {}
+        e = self.energies_in
+        if e["linear"] + e["quadratic"] <= 0:  # no potential energy (an impact at t = 0)
+            te, re = (float(theory.energy_transmission(self.gamma_rg)),
+                      float(theory.energy_reflection(self.gamma_rg)))
+            return {"Ek_tr": te, "Ek_re": re, "Ep_tr": math.nan, "Ep_re": math.nan,
+                    "Et_tr": te, "Et_re": re}
+        return theory.table2_prediction(self.gamma_rg, e["kinetic"], e["linear"],
+                                        e["quadratic"])
+
+    def fronts(self, t) -> dict[str, np.ndarray]:
+        """Peak positions (grains) of the incident, transmitted and reflected waves at ``t``.
+
+        NaN where the wave does not exist (before or after the crossing).
+        """
+        t = np.asarray(t, dtype=float)
+        d = self.left["d"]
+        x_in = self.incident.x0 + self.speed_in * (t - self.incident.measured_at) / d
+        out = {"incident": np.where(t <= self.t_hit, x_in, np.nan),
+               "transmitted": np.full(t.shape, np.nan), "reflected": np.full(t.shape, np.nan)}
+        if self.has_interface:
+            after = t > self.t_hit
+            dt = t - self.t_hit
+            out["transmitted"] = np.where(after, self.x_interface + self.speed_tr * dt / d,
+                                          np.nan)
+            out["reflected"] = np.where(after & np.isfinite(self.speed_re),
+                                        self.x_interface - np.nan_to_num(self.speed_re)
+                                        * dt / d, np.nan)
+        return out
+
+    def partition(self, t) -> dict[str, np.ndarray]:
+        """Total energy left and right of the interface / incident energy, at ``t``.
+
+        A step at :attr:`t_hit` from (1, 0) to (Et_re, Et_tr) — linear acoustics has no
+        duration of the crossing.  Keys ``left``, ``right``.
+        """
+        t = np.asarray(t, dtype=float)
+        r = self.ratios
+        if not r:
+            return {"left": np.ones(t.shape), "right": np.zeros(t.shape)}
+        after = t > self.t_hit
+        return {"left": np.where(after, r["Et_re"], 1.0),
+                "right": np.where(after, r["Et_tr"], 0.0)}
+
+    def classes(self) -> dict[str, Any]:
+        """Predicted classes (Fig. 7 region, fracture/squeeze, reflected wave)."""
+        if not self.has_interface:
+            return {}
+        pred = theory.predict(self.alpha_rho, self.alpha_kn)
+        return {"region": pred.region,
+                "transmitted": "fracture" if pred.gamma_c0 > 1 else "squeeze",
+                "reflected": "compressive" if pred.gamma_RG > 1 else (
+                    "expansive" if pred.gamma_RG < 1 else "none"),
+                "fission_parameter": float(theory.fission_parameter(self.alpha_rho,
+                                                                    self.alpha_kn))}
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain numbers (JSON-able)."""
+        out = {"incident": dataclasses.asdict(self.incident), "interface": self.interface,
+               "alpha_rho": self.alpha_rho, "alpha_kn": self.alpha_kn,
+               "speed_in": self.speed_in, "left": self.left, "right": self.right,
+               "energies_in": self.energies_in}
+        if self.has_interface:
+            out.update(gamma_c0=self.gamma_c0, gamma_rg=self.gamma_rg,
+                       strain_tr=self.strain_tr, strain_re=self.strain_re,
+                       speed_tr=self.speed_tr, speed_re=self.speed_re, t_hit=self.t_hit,
+                       ratios=self.ratios, classes=self.classes())
+        return out
+
+
+def strain_from_velocity(side: dict, velocity: float) -> float:
+    """Peak strain ξ of the solitary wave with peak grain velocity ``velocity`` (m/s).
+
+    Solves v = V(ξ) ξ (v = V ξ for any right-going travelling wave, with Nesterenko's
+    speed V, :func:`theory.nesterenko_speed`).  The peak grain velocity is what a
+    settled wave is known by (the paper's v̄max, Fig. 2); a peak strain read off the
+    contacts of a wave a few grains wide depends on where the wave sits between them.
+    """
+    from scipy.optimize import brentq
+
+    if not velocity > 0:
+        return math.nan
+    hi = 1e-12
+    while _speed(side, hi) * hi < velocity:
+        hi *= 4.0
+        if hi > 1.0:
+            return math.nan
+    return float(brentq(lambda x: (_speed(side, x) * x if x > 0 else 0.0) - velocity,
+                        0.0, hi, xtol=1e-16, rtol=1e-12))
+
+
+def _left(chain: discrete.Chain, ifaces: list[int]) -> dict[str, float]:
+    """Grain and contact parameters of the first section (past a striker)."""
+    s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain
+    n_first = ifaces[0] if ifaces else chain.n
+    mid = s0 + (n_first - s0) // 2
+    return _side(chain, mid, max(mid, 1))
+
+
+def incident_wave(chain: discrete.Chain, init, kind: str, left: dict) -> IncidentWave:
+    """The incident wave of an initial state (an impact's: estimated, see :func:`run`).
+
+    Position: the peak of the grain kinetic energy (parabola-refined).  Amplitude: the
+    peak grain velocity (an exact wave's own; a cut, settled wave's as measured when it
+    was cut) and the theory's strain for it, :func:`strain_from_velocity` (at δ0 = 0
+    the compacton's peak strain is ~8 % above the exact discrete wave's at the same
+    peak velocity; under precompression they agree to ~1e-3).
+    """
+    v = np.asarray(init.v)
+    params = init.params or {}
+    if kind == "impact":
+        vel = 0.68 * float(np.max(np.abs(v)))  # v̄max/v0 at δ0 = 0 (paper Fig. 2)
+        xi = strain_from_velocity(left, vel)
+        return IncidentWave(0.0, vel, xi)
+    kin = 0.5 * chain.mass * v**2
+    p = D.leading_pulse(kin, threshold=0.5)
+    x0 = float(p.position) if p is not None else float(np.argmax(kin))
+    vel = float(params["velocity_max"] if kind == "exact_wave" else
+                params.get("v_peak", np.max(np.abs(v))))
+    return IncidentWave(x0, vel, strain_from_velocity(left, vel))
+
+
+def _theory(chain: discrete.Chain, init, incident: IncidentWave, ifaces: list[int],
+            left: dict) -> TheoryModel:
+    """The theory of the first interface, from the built chain and the initial state."""
+    en = D.chain_energies_of(chain, np.asarray(init.v), u=np.asarray(init.u),
+                             wall_left=init.wall_left, wall_right=init.wall_right)
+    if ifaces:  # the incident wave's energy: everything left of the interface
+        en_left = D.section_sums(en, np.where(np.arange(chain.n) < ifaces[0], 0, 1))
+        energies = {k: float(en_left[k][0]) for k in ("kinetic", "linear", "quadratic")}
+    else:
+        energies = {k: float(np.sum(getattr(en, k))) for k in ("kinetic", "linear")}
+        energies["quadratic"] = float(np.sum(en.contact) - energies["linear"])
+    if not ifaces:
+        return TheoryModel(incident, left, energies_in=energies)
+    i = ifaces[0]
+    n_second = (ifaces[1] if len(ifaces) > 1 else chain.n) - i
+    right = _side(chain, i + n_second // 2, i + max(n_second // 2, 1))
+    return TheoryModel(incident, left, i, right, energies,
+                       alpha_rho=right["mass"] / left["mass"],
+                       alpha_kn=right["k"] / left["k"])
+
+
+# -- sample times ---------------------------------------------------------------------
+def sample_grid(scenario: Scenario, theory_model: TheoryModel, chain: discrete.Chain
+                ) -> tuple[np.ndarray, float]:
+    """Sample times (s) to request and their spacing (s).
+
+    ``[run] t_end`` alone: ``samples`` times from 0 to t_end.  With ``until_front_at``:
+    spaced by the theory's estimate of the stop time / (samples − 1), requested up to
+    :data:`_ESTIMATE_MARGIN` × the estimate (later ones are not taken); ``samples = 2``:
+    t = 0 only (the final state, at the stop event, is always the last sample).
+    """
+    k = scenario.models.samples
+    run = scenario.run
+    if run.until_front_at is None:
+        return np.linspace(0.0, run.t_end, k), run.t_end / (k - 1)
+    if k == 2:  # the initial state and the final one (the stop event)
+        return np.zeros(1), math.inf
+    est = estimate_arrival(theory_model, chain, run.until_front_at)
+    if run.t_end is not None:
+        est = min(est, run.t_end)
+    step = est / (k - 1)
+    n = k * _ESTIMATE_MARGIN
+    times = step * np.arange(n)
+    if run.t_end is not None:
+        times = times[times <= run.t_end * (1 + 1e-12)]
+    return times, step
+
+
+def estimate_arrival(tm: TheoryModel, chain: discrete.Chain, grain: int) -> float:
+    """Theory's estimate of when the leading wave's peak reaches ``grain``, s."""
+    d = float(chain.diameter[0])
+    v_in = tm.speed_in
+    if not (v_in > 0 and math.isfinite(v_in)):
+        raise ScenarioError("[run] until_front_at: the theory cannot estimate the wave "
+                            "speed of this initial state; give t_end")
+    if not tm.has_interface or grain <= tm.x_interface:
+        return tm.incident.measured_at + max(grain - tm.incident.x0, 1.0) * d / v_in
+    return tm.t_hit + (grain - tm.x_interface) * d / tm.speed_tr
+
+
+# -- discrete -------------------------------------------------------------------------
+def _discrete_label(scenario: Scenario) -> str:
+    integ = scenario.run.integrator
+    return "discrete" + ("" if integ == "verlet" else f" ({integ})")
+
+
+def _effective(scenario: Scenario, times: np.ndarray, *, keep_name: bool = False
+               ) -> Scenario:
+    """The scenario the discrete solver runs: sample times added to its snapshots.
+
+    ``[models]`` is reset (and ``name`` unless ``keep_name``): they do not change the
+    discrete run, whose cached file and checkpoint are then shared.
+    """
+    rec = scenario.record
+    snaps = tuple(sorted(set(rec.snapshot_times) | {float(t) for t in times}))
+    return scenario.replace(record=dataclasses.replace(rec, snapshot_times=snaps),
+                            models=ModelsSpec(), name=scenario.name if keep_name else "")
+
+
+def _samples_from_sim(sim: discrete.Simulation, times: np.ndarray, init
+                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(times, v, strain) of the snapshots taken at the sample times, then the final state.
+
+    Without sample times: the initial state and the final state.
+    """
+    by_label = {sn.label: sn for sn in sim.record.snapshots}
+    chain = sim.chain
+    ts, vs, ss = [], [], []
+    last = -math.inf
+    if not len(times):
+        ts.append(0.0)
+        vs.append(np.asarray(init.v))
+        ss.append(D.overlaps_from_displacements(init.u, chain.delta0, init.wall_left,
+                                                init.wall_right) - chain.delta0)
+        last = 0.0
+    for t in times:
+        sn = by_label.get(discrete.AtTime(float(t)).label)
+        if sn is None or sn.t > sim.t:
+            continue
+        ts.append(float(t))
+        vs.append(np.asarray(sn.v))
+        ss.append(np.asarray(sn.overlaps) - chain.delta0)
+        last = sn.t
+    if sim.t > last:  # the final state (a stop event between two sample times)
+        ts.append(float(sim.t))
+        vs.append(np.asarray(sim.v).copy())
+        ss.append(np.asarray(sim.overlaps()) - chain.delta0)
+    return np.array(ts), np.array(vs), np.array(ss)
+
+
+def _outcome(scenario: Scenario, summary: dict, sim: discrete.Simulation) -> dict:
+    """``stopped_by``, ``completed``, ``incomplete_reason`` of the discrete run.
+
+    :func:`hertzchain.runner.run_outcome` for the scenario's own snapshots: the common
+    sample times requested past a stop event (:func:`sample_grid`) are not required.
+    """
+    from types import SimpleNamespace
+
+    from .runner import run_outcome
+
+    user = discrete.Recording(
+        snapshots=[discrete.AtTime(t) for t in scenario.record.snapshot_times]
+        + [discrete.WaveAt(g) for g in scenario.record.snapshot_grains])
+    view = SimpleNamespace(t=sim.t, steps=sim.steps, recording=user, record=sim.record)
+    return run_outcome(scenario, view, summary.get("stopped_by", "t_end"))
+
+
+def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, force,
+                  checkpoint_interval, resume, progress, threads, log, check,
+                  wave_cache, init) -> tuple[ModelRun, discrete.Simulation]:
+    eff = _effective(scenario, times, keep_name=out is not None)
+    key = eff.discrete_dict()
+    path = Path(out) if out is not None else (
+        cache_path(cache, stem, key) if cache is not None else None)
+    time.perf_counter()
+    sim = summary = None
+    cached = False
+    if path is not None and out is None and path.exists() and not force:
+        try:
+            sim = discrete.load(path)  # verified (theory.integrity)
+            with integrity.open_hdf5(path, what="cached result") as f:
+                summary = json.loads(f.attrs["summary"])
+            cached = True
+        except (OSError, ValueError, KeyError):  # unreadable or unfinished: recompute
+            sim = summary = None
+    if sim is None:
+        if path is not None and force:
+            ckpt = C.checkpoint_path(path)
+            if ckpt.exists():
+                ckpt.unlink()
+        summary, sim = run_simulation(
+            eff, out=path, progress=progress,
+            checkpoint_interval=checkpoint_interval if path is not None else None,
+            resume=resume and not force, threads=threads, check=check, log=log,
+            cache_dir=wave_cache)
+    ts, vs, ss = _samples_from_sim(sim, times, init)
+    summary = {**summary, **_outcome(scenario, summary, sim)}
+    completed, stopped = bool(summary["completed"]), str(summary["stopped_by"])
+    params = {"scenario": key, "dt": float(sim.dt), "integrator": scenario.run.integrator}
+    return ModelRun("discrete", _discrete_label(scenario), ts, vs, ss, float(sim.t),
+                    completed=completed, stopped_by=stopped, summary=dict(summary),
+                    params=params, path=path, cached=cached), sim
+
+
+# -- continuum -------------------------------------------------------------------------
+def _medium(chain: discrete.Chain):
+    import continuum
+
+    d = np.unique(chain.diameter)
+    if d.size != 1:
+        raise ScenarioError("[models] continuum: the continuum needs grains of one diameter "
+                            f"(got {d.size} diameters)")
+    k, d0 = chain.k.copy(), chain.delta0.copy()
+    for end, nb in ((0, 1), (-1, -2)):  # a free end: the neighbour contact's constants
+        if k[end] == 0:
+            k[end], d0[end] = k[nb], d0[nb]
+    return continuum.Medium(chain.mass, k, d0, diameter=float(d[0]))
+
+
+def continuum_label(model: str, models: ModelsSpec) -> str:
+    """Legend text of a continuum model."""
+    name = {"eq4": "Eq. 4", "eq7": "Eq. 7", "kdv": "KdV"}[model]
+    return f"continuum ({name}, {models.nodes_per_grain} nodes/grain)"
+
+
+def _ends(scenario: Scenario, init) -> str:
+    """The continuum's end condition for this initial state (module docstring)."""
+    walls = "free" not in (scenario.chain.left_wall, scenario.chain.right_wall)
+    at_rest = not np.any(init.u) and init.wall_left == 0 and init.wall_right == 0
+    return "wall" if walls and at_rest else "free"
+
+
+def _valid_until(chain: discrete.Chain, run_: ModelRun, ends: str, walls: tuple[str, str]
+                 ) -> float:
+    """First sample time at which a wave arrives at an end where the models differ."""
+    if ends == "wall" and "free" not in walls:
+        return math.inf
+    kin, pot = grain_energies(chain, run_.v, run_.strain)
+    e = np.abs(kin) + 0.5 * np.abs(pot[:, :-1] + pot[:, 1:])
+    total = e.sum(axis=1)
+    out = math.inf
+    for sl in (slice(0, END_GRAINS), slice(-END_GRAINS, None)):
+        frac = e[:, sl].sum(axis=1) / np.where(total > 0, total, 1.0)
+        quiet = frac < END_FRACTION
+        was_quiet = np.maximum.accumulate(quiet)
+        arrived = np.flatnonzero(was_quiet & ~quiet)
+        if arrived.size:
+            out = min(out, float(run_.times[arrived[0]]))
+    return out
+
+
+def _continuum_key(scenario: Scenario, model: str, times: np.ndarray, t_final: float,
+                   discrete_key: dict) -> dict:
+    m = scenario.models
+    return {"discrete": discrete_key, "model": model, "nodes_per_grain": m.nodes_per_grain,
+            "order": m.order, "nonlinearity": m.nonlinearity, "delta_floor": m.delta_floor,
+            "dispersion_cap": m.dispersion_cap,
+            "times": [float(t) for t in times], "t_final": float(t_final)}
+
+
+def _read_continuum(path: Path) -> ModelRun:
+    with integrity.open_hdf5(path, what="continuum result") as f:
+        if f.attrs.get("format") != FORMAT:
+            raise ValueError(f"{path}: not a continuum result ({FORMAT})")
+        g = f["samples"]
+        run_ = ModelRun("continuum", str(f.attrs["label"]), g["t"][()], g["v"][()],
+                        g["strain"][()], float(f.attrs["t_final"]),
+                        completed=bool(f.attrs["completed"]),
+                        stopped_by=str(f.attrs["stopped_by"]),
+                        summary={**json.loads(f.attrs["summary"]),
+                                 "wall_time": float(f.attrs["wall_time"])},
+                        params=json.loads(f.attrs["params"]), path=path, cached=True)
+    return run_
+
+
+def _write_continuum(path: Path, run_: ModelRun, scenario: Scenario) -> None:
+    with integrity.sealed_hdf5(path) as f:
+        f.attrs["format"] = FORMAT
+        f.attrs["label"] = run_.label
+        f.attrs["t_final"] = run_.t_final
+        f.attrs["completed"] = run_.completed
+        f.attrs["stopped_by"] = run_.stopped_by
+        summary = dict(run_.summary)
+        f.attrs["wall_time"] = float(summary.pop("wall_time", math.nan))
+        f.attrs["summary"] = canonical_json(summary)
+        f.attrs["params"] = canonical_json(run_.params)
+        f.attrs["scenario"] = canonical_json(scenario.to_dict())
+        f.attrs["units"] = canonical_json({"t": "s", "v": "m/s", "strain": "m"})
+        g = f.create_group("samples")
+        for name, data in (("t", run_.times), ("v", run_.v), ("strain", run_.strain)):
+            g.create_dataset(name, data=data, compression="gzip" if data.size > 64 else None,
+                             fletcher32=data.size > 64)
+
+
+def _pde(model: str, med, models: ModelsSpec, bc: str, incident: IncidentWave, d: float):
+    import continuum
+
+    n = models.nodes_per_grain
+    if model == "eq4":
+        return continuum.BoussinesqPDE(med, n, bc=bc, nonlinearity=models.nonlinearity)
+    if model == "eq7":
+        return continuum.NesterenkoPDE(med, n, bc=bc, cap=models.dispersion_cap,
+                                       delta_floor=models.delta_floor * incident.strain * d)
+    raise AssertionError(model)  # pragma: no cover
+
+
+def _kdv_run(med, models, init, chain, times, t_final, d):
+    """KdV (one precompressed section, periodic): (times, v, strain, summary)."""
+    from scipy.interpolate import CubicSpline
+
+    import continuum
+
+    pde = continuum.KdVPDE.for_medium(med, med.n_grains // 2)
+    n = models.nodes_per_grain
+    grid = continuum.KdVPDE.grid(med.n_grains, n)
+    strain = D.overlaps_from_displacements(init.u, chain.delta0, init.wall_left,
+                                           init.wall_right) - chain.delta0
+    xc = np.arange(1, chain.n) - 0.5  # inner contacts
+    x = grid.axes_coords[0]
+    from pde import ScalarField
+
+    s0 = ScalarField(grid, CubicSpline(xc, strain[1:-1])(np.clip(x, xc[0], xc[-1])))
+    centres = (np.arange(chain.n) * n + (n - 1) // 2)
+
+    def sample(s):
+        data = np.asarray(s.data)
+        v = pde.speed * data[centres]
+        st = np.zeros(chain.n + 1)
+        st[1:-1] = 0.5 * (data[centres[:-1]] + data[centres[1:]])
+        return v, st
+
+    return _stepped(pde, s0, times, t_final, sample, pde.stable_dt(s0), rk=True)
+
+
+def _stepped(pde, state, times, t_final, sample, dt_max, *, order=4, rk=False):
+    """Run to the sample times (exactly, dt dividing their spacing) and on to t_final."""
+    from pde.trackers import CallbackTracker
+
+    import continuum
+
+    ts, vs, ss = [], [], []
+    inner = times[(times > 0) & (times <= t_final * (1 + 1e-12))]
+    spacing = float(times[1] - times[0]) if times.size > 1 else t_final
+    t_last = float(inner[-1]) if inner.size else 0.0
+    m = max(1, math.ceil(spacing / dt_max))
+    dt = spacing / m
+    v0, s0 = sample(state)
+    ts.append(0.0)
+    vs.append(v0)
+    ss.append(s0)
+
+    def track(s, t):
+        if t > 0.5 * dt:
+            v, st = sample(s)
+            ts.append(float(times[len(ts)]) if len(ts) < times.size else float(t))
+            vs.append(v)
+            ss.append(st)
+
+    info: dict[str, Any] = {"dt": dt, "steps": 0}
+    drift = math.nan
+    if t_last > 0:
+        tracker = CallbackTracker(track, interrupts=spacing)
+        if rk:
+            state = pde.solve(state, t_range=t_last, dt=dt, solver="runge-kutta",
+                              tracker=[tracker], backend="numba", ret_info=False)
+        else:
+            res = continuum.run(pde, state, t_last, dt=dt, order=order, interval=spacing,
+                                trackers=[tracker])
+            state, drift = res["state"], res.energy_drift
+        info["steps"] += int(round(t_last / dt))
+    rest = t_final - t_last
+    if rest > 1e-9 * max(t_final, 1e-300):
+        m2 = max(1, math.ceil(rest / dt_max))
+        dt2 = rest / m2
+        if rk:
+            state = pde.solve(state, t_range=rest, dt=dt2, solver="runge-kutta",
+                              backend="numba", ret_info=False)
+        else:
+            res = continuum.run(pde, state, rest, dt=dt2, order=order, interval=rest)
+            state = res["state"]
+            drift = max(drift, res.energy_drift) if math.isfinite(drift) else res.energy_drift
+        info["steps"] += m2
+        v, st = sample(state)
+        ts.append(float(t_final))
+        vs.append(v)
+        ss.append(st)
+    info["energy_drift"] = drift
+    return np.array(ts), np.array(vs), np.array(ss), info
+
+
+def _dt_max(pde, state, strain_ref: float) -> float:
+    """Largest continuum time step: stable for ``state`` and for a strain ``strain_ref`` (m).
+
+    The stability limit of the nonlinear equations depends on the strain; an impact
+    starts with none (its limit would be infinite), a transmitted wave may be stronger
+    than the incident one, so the limit is also taken at a uniform strain
+    ``strain_ref`` (:func:`run`: 1.5 × the largest expected wave strain).
+    """
+    x = pde.disc.x_nodes
+    ref = pde.get_initial_condition(-strain_ref * (x - x[0]))
+    return float(min(pde.stable_dt(state), pde.stable_dt(ref)))
+
+
+def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, times, t_final,
+                   *, cache, stem, out, force, discrete_key, progress, log,
+                   strain_ref: float) -> ModelRun:
+    import continuum
+
+    models = scenario.models
+    model = models.continuum_model(scenario.chain.delta0_over_d)
+    label = continuum_label(model, models)
+    times = np.asarray(times)
+    times = times[times <= t_final * (1 + 1e-12)]
+    key = _continuum_key(scenario, model, times, t_final, discrete_key)
+    path = Path(out) if out is not None else (
+        cache_path(cache, f"{stem}-continuum", key) if cache is not None else None)
+    if path is not None and path.exists() and not force:
+        try:
+            found = _read_continuum(path)
+            if found.params.get("times") == key["times"] and \
+                    found.params.get("t_final") == key["t_final"]:
+                return found
+        except (OSError, ValueError, KeyError):
+            pass
+    start = time.perf_counter()
+    d = float(chain.diameter[0])
+    med = _medium(chain)
+    ends = "free" if model == "kdv" else _ends(scenario, init)
+    params = {**key, "ends": ends, "label": label}
+    summary: dict[str, Any] = {"model": model, "ends": ends}
+    if log:
+        log(f"continuum: {label}, {chain.n} grains, to t = {t_final:.4g} s")
+    try:
+        with np.errstate(over="raise", invalid="raise", divide="ignore"):
+            if model == "kdv":
+                ts, vs, ss, info = _kdv_run(med, models, init, chain, times, t_final, d)
+            else:
+                pde = _pde(model, med, models, ends, incident, d)
+                state = continuum.from_grains(pde, init.u, init.v)
+
+                def sample(s):
+                    g = continuum.sample_grains(pde, s)
+                    return g.v, g.strain
+
+                ts, vs, ss, info = _stepped(pde, state, times, t_final, sample,
+                                            _dt_max(pde, state, strain_ref),
+                                            order=models.order)
+        if not (np.all(np.isfinite(vs)) and np.all(np.isfinite(ss))):
+            raise FloatingPointError("the continuum solution is not finite (unstable)")
+        completed, stopped = True, "t_end"
+        summary.update(dt=info["dt"], steps=info["steps"], energy_drift=info["energy_drift"])
+    except (FloatingPointError, ValueError, ArithmeticError,
+            continuum.InstabilityError) as exc:
+        ts, vs = np.zeros(0), np.zeros((0, chain.n))
+        ss = np.zeros((0, chain.n + 1))
+        completed, stopped = False, f"error: {type(exc).__name__}: {exc}"
+        summary.update(error=stopped)
+    summary["wall_time"] = time.perf_counter() - start
+    run_ = ModelRun("continuum", label, ts, vs, ss, float(t_final), completed=completed,
+                    stopped_by=stopped, summary=summary, params=params, path=path)
+    if path is not None and completed:
+        _write_continuum(path, run_, scenario)
+    return run_
+
+
+# -- the run ----------------------------------------------------------------------------
+@dataclass
+class Run:
+    """What :func:`run` returns: every model of a scenario, from one initial grain state.
+
+    Attributes
+    ----------
+    scenario : Scenario
+    chain : discrete.Chain
+        The built chain (with a striker grain, if any).
+    initial : discrete.Initial
+        The shared initial grain state.
+    interfaces : list of int
+        First grain of every section after the first (:func:`hertzchain.runner.interfaces`).
+    incident : IncidentWave
+    discrete, continuum : ModelRun or None
+    theory : TheoryModel or None
+    simulation : discrete.Simulation or None
+        The finished discrete simulation (record, final state).
+    estimates : TheoryModel
+        The theory's numbers even if ``[models] theory`` is off (arrival times, speeds:
+        used to place samples and to tell incident from reflected waves).
+    """
+
+    scenario: Scenario
+    chain: discrete.Chain
+    initial: Any
+    interfaces: list[int]
+    incident: IncidentWave
+    discrete: ModelRun | None = None
+    continuum: ModelRun | None = None
+    theory: TheoryModel | None = None
+    simulation: discrete.Simulation | None = None
+    wall_time: float = 0.0
+    estimates: TheoryModel | None = None
+
+    @property
+    def interface(self) -> int | None:
+        """The first interface (grain index), or None."""
+        return self.interfaces[0] if self.interfaces else None
+
+    @property
+    def models(self) -> list[ModelRun]:
+        """The sampled models (discrete, continuum) that ran."""
+        return [m for m in (self.discrete, self.continuum) if m is not None]
+
+    @property
+    def completed(self) -> bool:
+        """Every model reached what was asked."""
+        return all(m.completed for m in self.models)
+
+    def summary(self) -> dict[str, Any]:
+        """Flat, JSON-able numbers: the discrete runner's summary, then per-model keys."""
+        out: dict[str, Any] = {}
+        if self.discrete is not None:
+            out.update(self.discrete.summary)
+            out.setdefault("completed", self.discrete.completed)
+            out.setdefault("stopped_by", self.discrete.stopped_by)
+        out["models"] = ",".join(self.scenario.models.names)
+        if self.continuum is not None:
+            c = self.continuum
+            out["continuum_model"] = c.summary.get("model", "")
+            out["continuum_completed"] = c.completed
+            out["continuum_stopped_by"] = c.stopped_by
+            out["continuum_energy_drift"] = float(c.summary.get("energy_drift", math.nan))
+            out["continuum_wall_time"] = float(c.summary.get("wall_time", math.nan))
+        if self.theory is not None and self.theory.has_interface:
+            th = self.theory
+            out["theory_gamma_c0"] = th.gamma_c0
+            out["theory_gamma_rg"] = th.gamma_rg
+            for k, v in th.ratios.items():
+                out[f"theory_{k}"] = v
+            out["theory_speed_tr"] = th.speed_tr
+            out["theory_speed_re"] = th.speed_re
+            out["theory_region"] = th.classes()["region"]
+        out["wall_time_all"] = self.wall_time
+        return out
+
+
+def _measure_impact_wave(run_: ModelRun, chain, iface: int | None, left: dict
+                         ) -> IncidentWave | None:
+    """An impact's incident wave, measured on the discrete samples once it has formed."""
+    kin, _ = grain_energies(chain, run_.v, run_.strain)
+    stop = iface if iface is not None else chain.n
+    best = None
+    for i in range(1, run_.times.size):
+        p = D.leading_pulse(kin[i], lo=0, hi=stop, threshold=0.5)
+        if p is None or p.position > 0.8 * stop:
+            break
+        if p.position > 20:
+            best = (i, p)
+    if best is None:
+        return None
+    i, p = best
+    # the formed wave's peak velocity: the largest (parabola-refined) pulse peak over the
+    # samples since it left the impact (its grain-sampled peak depends on its phase)
+    vel = 0.0
+    for k in range(1, i + 1):
+        q = D.leading_pulse(run_.v[k], lo=0, hi=stop, threshold=0.5)
+        if q is not None and q.position > 20:
+            vel = max(vel, abs(float(q.amplitude)))
+    return IncidentWave(float(p.position), vel, strain_from_velocity(left, vel),
+                        float(run_.times[i]))
+
+
+def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None = None,
+        out: str | Path | None = None, force: bool = False,
+        checkpoint_interval: float | None = None, resume: bool = True,
+        progress: bool = False, threads: int | None = None, check: bool = True,
+        log=None, wave_cache: str | Path | None = None, samples: bool | None = None) -> Run:
+    """Run every model of ``scenario`` from one initial grain state (module docstring).
+
+    Parameters
+    ----------
+    scenario : Scenario
+        A validated scenario (its ``[models]`` table says which models run).
+    cache : path, optional
+        Directory of cached results (reused when complete; ``force`` recomputes).
+    stem : str, optional
+        File-name stem in ``cache`` (default: the scenario's name or ``"run"``).
+    out : path, optional
+        Write the discrete run to this HDF5 file (always run, resuming from its
+        checkpoint); overrides ``cache`` for the discrete run.
+    force : bool
+        Recompute even if a cached file exists (and discard its checkpoint).
+    checkpoint_interval : float, optional
+        Wall time between checkpoints of the discrete run, s (with a file); None: none.
+    resume : bool
+        Resume the discrete run from its checkpoint.
+    progress : bool
+        Progress bars.
+    threads : int, optional
+        Kernel threads of the discrete solver.
+    check : bool
+        Validate the scenario against the built chain (False only to provoke failures).
+    log : callable, optional
+        One-line messages.
+    wave_cache : path, optional
+        Cache of settled waves (``cut_wave``); default: ``cache`` if given.
+    samples : bool, optional
+        Sample the discrete run at the common times (:func:`sample_grid`); default: only
+        if a continuum runs (otherwise the discrete run is the plain scenario's, with
+        the initial and final states as its samples).
+
+    Returns
+    -------
+    Run
+
+    Raises
+    ------
+    ScenarioError
+        The scenario cannot work with the built chain (names the key).
+    discrete.InstabilityError, hertzchain.checkpoint.Interrupted,
+    hertzchain.checkpoint.CheckpointError
+        From the discrete run (:func:`hertzchain.runner.run_simulation`).
+    """
+    t0 = time.perf_counter()
+    stem = stem or scenario.name or "run"
+    cache = None if cache is None else Path(cache)
+    wave_cache = wave_cache if wave_cache is not None else cache
+    try:
+        chain = build_chain(scenario.chain)
+    except ValueError as exc:
+        raise ScenarioError(f"[chain] non-physical chain: {exc}") from None
+    init = build_initial_checked(scenario, chain, cache_dir=wave_cache)
+    chain = init.chain
+    ifaces = interfaces(chain)
+    left = _left(chain, ifaces)
+    # an impact's wave forms on the way: estimated here (only the sample spacing
+    # depends on it), measured on the discrete run below
+    incident = incident_wave(chain, init, scenario.initial.kind, left)
+    tm = _theory(chain, init, incident, ifaces, left)
+    models = scenario.models
+    sampled = bool(models.continuum) if samples is None else samples
+    times = sample_grid(scenario, tm, chain)[0] if sampled or not models.discrete \
+        else np.zeros(0)
+    result = Run(scenario, chain, init, ifaces, tm.incident)
+    d_run = None
+    if models.discrete:
+        d_run, sim = _run_discrete(
+            scenario, times, cache=cache, stem=stem, out=out, force=force,
+            checkpoint_interval=checkpoint_interval, resume=resume, progress=progress,
+            threads=threads, log=log, check=check, wave_cache=wave_cache, init=init)
+        result.discrete, result.simulation = d_run, sim
+        t_final = float(d_run.times[-1])  # the last sample (t_end, or the stop event)
+        if scenario.initial.kind == "impact":
+            measured = _measure_impact_wave(d_run, chain, result.interface, left)
+            if measured is not None:
+                tm.incident = measured
+                result.incident = measured
+    else:
+        t_final = float(times[-1]) if scenario.run.t_end is None else scenario.run.t_end
+    result.estimates = tm
+    if models.theory:
+        result.theory = tm
+    if models.continuum:
+        key = _effective(scenario, times).discrete_dict()
+        c_out = None if out is None else Path(out).with_suffix(".continuum.h5")
+        expected = [result.incident.strain, tm.strain_tr, abs(tm.strain_re),
+                    strain_from_velocity(left, float(np.max(np.abs(init.v))))]
+        strain_ref = 1.5 * max(x for x in expected if math.isfinite(x)) * left["d"]
+        c_run = _run_continuum(scenario, chain, init, result.incident, times, t_final,
+                               cache=cache, stem=stem, out=c_out, force=force,
+                               discrete_key=key, progress=progress, log=log,
+                               strain_ref=strain_ref)
+        if d_run is not None and c_run.completed:
+            c_run.valid_until = _valid_until(
+                chain, d_run, c_run.params.get("ends", "free"),
+                (scenario.chain.left_wall, scenario.chain.right_wall))
+        result.continuum = c_run
+    result.wall_time = time.perf_counter() - t0
+    return result

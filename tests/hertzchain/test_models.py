@@ -1,0 +1,224 @@
+"""The [models] table and the one run path (hertzchain.models.run)."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+import theory
+from hertzchain import models as M
+from hertzchain.runner import run_scenario
+from hertzchain.scenario import (
+    SCHEMA,
+    ScenarioError,
+    load_scenario,
+    parse_scenario,
+    schema_markdown,
+    shipped_scenarios,
+)
+
+
+def scenario(ar=0.5, ak=2.0, *, models=None, n=(150, 250), t_end=6e-4, d0=1e-3, center=75,
+             **extra):
+    data = {"name": "models-test",
+            "chain": {"delta0_over_d": d0, "sections": [{"n": n[0]},
+                                                        {"n": n[1], "alpha_rho": ar,
+                                                         "alpha_kn": ak}]},
+            "initial": {"kind": "exact_wave", "center": center,
+                        "velocity_max": 0.0822 if d0 else 0.6},
+            "run": {"t_end": t_end}, "models": models or {}, **extra}
+    return parse_scenario(data)
+
+
+# -- [models] ---------------------------------------------------------------------------
+def test_models_defaults_and_auto():
+    sc = scenario()
+    assert sc.models.names == ("discrete", "theory")
+    assert sc.models.continuum_model(1e-3) is None
+    auto = scenario(models={"continuum": "auto"}).models
+    assert auto.continuum_model(1e-3) == "eq4" and auto.continuum_model(0.0) == "eq7"
+    assert scenario(models={"continuum": True}).models.continuum == "auto"
+    assert scenario(d0=0.0, models={"continuum": "auto"}).models.continuum_model(0) == "eq7"
+
+
+@pytest.mark.parametrize(("models", "extra", "match"), [
+    ({"continuum": "eq4"}, {"d0": 0.0}, r"\[models\] continuum = 'eq4' needs a precompressed"),
+    ({"continuum": "kdv"}, {"d0": 0.0}, r"\[models\] continuum = 'kdv' needs a precompressed"),
+    ({"continuum": "kdv"}, {}, r"\[models\] continuum = 'kdv' is unidirectional"),
+    ({"continuum": "eq5"}, {}, r"\[models\] continuum = 'eq5'; allowed"),
+    ({"continuum": "auto", "nodes_per_grain": 4}, {}, r"nodes_per_grain = 4 must be odd"),
+    ({"continuum": "auto", "nodes_per_grain": 0}, {}, r"nodes_per_grain = 0 must be >= 1"),
+    ({"continuum": "auto", "order": 3}, {}, r"order = 3; allowed: 2, 4"),
+    ({"continuum": "auto", "dispersion_cap": 11.0}, {}, r"dispersion_cap = 11.0 is outside"),
+    ({"discrete": False, "theory": False}, {}, r"every model is off"),
+    ({"samples": 1}, {}, r"samples = 1 must be >= 2"),
+    ({"contiuum": "auto"}, {}, r"unknown key.*contiuum.*\[models\]"),
+])
+def test_models_errors_name_the_key(models, extra, match):
+    with pytest.raises(ScenarioError, match=match):
+        scenario(models=models, **extra)
+
+
+@pytest.mark.parametrize(("initial", "run", "record", "match"), [
+    ({"kind": "impact", "strain_max": 1e-4}, {}, {}, r"strain_max applies to kind"),
+    ({"kind": "exact_wave", "center": 75}, {}, {}, r"exactly one of velocity_max .* strain_max"),
+    ({"kind": "exact_wave", "center": 75, "velocity_max": 0.08, "strain_max": 1e-4}, {}, {},
+     r"exactly one of"),
+    ({}, {"dt": 1e-8, "dt_fraction": 0.01}, {}, r"\[run\] give dt or dt_fraction"),
+    ({}, {"integrator": "rk4"}, {}, r"integrator = 'rk4'; allowed"),
+    ({}, {"dt_fraction": 2.0}, {}, r"dt_fraction = 2.0 is outside"),
+    ({}, {}, {"snapshot_grains": [400]}, r"snapshot_grains must lie in \[0, 399\]"),
+    ({}, {}, {"series_every": 0}, r"series_every = 0 must be >= 1"),
+    ({}, {}, {"energy_grid": 1}, r"energy_grid must be true or false"),
+])
+def test_new_keys_are_validated(initial, run, record, match):
+    data = {"chain": {"delta0_over_d": 1e-3, "sections": [{"n": 150}, {"n": 250}]},
+            "initial": initial or {"kind": "impact"}, "run": {"t_end": 1e-4, **run},
+            "record": record}
+    with pytest.raises(ScenarioError, match=match):
+        parse_scenario(data)
+
+
+def test_schema_is_documented_and_complete():
+    text = schema_markdown()
+    for table, keys in SCHEMA.items():
+        for key in keys:
+            assert f"\n{key.name} " in text, (table, key.name)
+            assert key.doc, key.name
+    import hertzchain.scenario as S
+
+    assert "[models]" in S.__doc__ and "continuum = \"auto\"" in S.__doc__
+    example = S.__doc__.split("::\n\n", 1)[1].split("\n\nKeys", 1)[0]
+    import tomllib
+
+    parsed = parse_scenario(tomllib.loads("\n".join(ln[4:] for ln in example.splitlines())))
+    assert parsed.models.continuum == "auto"
+
+
+def test_every_shipped_scenario_is_valid_and_round_trips():
+    found = shipped_scenarios()
+    assert {"table2_M", "mass_mismatch", "impact_sonic_vacuum"} <= set(found)
+    for path in found.values():
+        sc = load_scenario(path)
+        assert sc.chain.n >= 2
+        assert sc.with_values({}) == sc
+        assert sc.with_values({"models.continuum": "auto"}).models.continuum == "auto"
+    with pytest.raises(ScenarioError, match="no entry 5"):
+        sc.with_values({"chain.sections.5.n": 3})
+
+
+# -- the run path -----------------------------------------------------------------------
+def test_discrete_summary_is_the_runner_s():
+    sc = scenario()
+    res = M.run(sc, samples=True)
+    direct = run_scenario(sc)
+    assert res.discrete is not None and res.continuum is None
+    for key, value in direct.items():
+        if key != "wall_time":
+            got = res.discrete.summary[key]
+            assert got == value or (isinstance(value, float) and math.isnan(value)
+                                    and math.isnan(got)), key
+    # the samples: K times from 0 to t_end, the last one the final state
+    assert res.discrete.times.size == sc.models.samples
+    assert res.discrete.times[-1] == pytest.approx(sc.run.t_end)
+    np.testing.assert_array_equal(res.discrete.v[-1], res.simulation.v)
+    np.testing.assert_array_equal(res.discrete.v[0], res.initial.v)
+    assert res.interfaces == [150]
+    # without samples (no continuum): the plain scenario's run, initial and final states
+    plain = M.run(sc)
+    assert plain.discrete.times.size == 2 and plain.discrete.times[-1] == plain.simulation.t
+    assert not plain.simulation.record.snapshots
+
+
+@pytest.fixture(scope="module")
+def with_continuum(tmp_path_factory):
+    cache = tmp_path_factory.mktemp("cache")
+    sc = scenario(models={"continuum": "auto", "nodes_per_grain": 3, "samples": 13})
+    return sc, cache, M.run(sc, cache=cache, stem="shared")
+
+
+def test_continuum_shares_the_initial_state_and_times(with_continuum):
+    sc, _, res = with_continuum
+    d, c = res.discrete, res.continuum
+    assert c.completed and c.stopped_by == "t_end" and c.label.startswith("continuum (Eq. 4")
+    np.testing.assert_array_equal(c.times, d.times)
+    # same grain state at t = 0 (nodes sit on the grain centres)
+    np.testing.assert_allclose(c.v[0], d.v[0], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(c.strain[0, 1:-1], d.strain[0, 1:-1], rtol=0, atol=1e-18)
+    # the exact discrete wave is a long wave here: the continuum follows it to a few %
+    peak = np.max(np.abs(d.v[0]))
+    assert np.max(np.abs(c.v[-1] - d.v[-1])) < 0.1 * peak
+    assert c.summary["energy_drift"] < 1e-4
+
+
+def test_cache_is_reused(with_continuum):
+    sc, cache, first = with_continuum
+    again = M.run(sc, cache=cache, stem="shared")
+    assert again.discrete.cached and again.continuum.cached
+    np.testing.assert_array_equal(again.continuum.v, first.continuum.v)
+    np.testing.assert_array_equal(again.discrete.v, first.discrete.v)
+    # another name and other [models] settings share the discrete run (same stem)
+    other = dataclasses.replace(sc, name="renamed",
+                                models=dataclasses.replace(sc.models, continuum=False))
+    assert M.run(other, cache=cache, stem="shared", samples=True).discrete.cached
+
+
+def test_until_front_at_samples_end_at_the_event(tmp_path):
+    sc = parse_scenario({
+        "chain": {"delta0_over_d": 1e-3, "sections": [{"n": 150}, {"n": 250, "alpha_kn": 2}]},
+        "initial": {"kind": "exact_wave", "center": 75, "velocity_max": 0.0822},
+        "run": {"until_front_at": 260}, "models": {"samples": 10}})
+    res = M.run(sc, samples=True)
+    d = res.discrete
+    assert d.stopped_by == "until_front_at" and d.completed
+    assert d.times[-1] == res.simulation.t
+    # the theory's estimate of the stop time set the spacing: ~10 samples before it
+    assert 7 <= d.times.size <= 14
+    assert np.all(np.diff(d.times) > 0)
+
+
+def test_failed_continuum_is_reported_not_compared(monkeypatch):
+    import continuum
+
+    def boom(*args, **kwargs):
+        raise FloatingPointError("overflow in the stepper (test)")
+
+    monkeypatch.setattr(continuum, "run", boom)
+    res = M.run(scenario(models={"continuum": "eq4", "nodes_per_grain": 1, "samples": 4},
+                         t_end=1e-4))
+    c = res.continuum
+    assert not c.completed and "overflow in the stepper" in c.stopped_by
+    assert not res.completed
+    assert res.summary()["continuum_completed"] is False
+
+
+# -- the theory ---------------------------------------------------------------------------
+def test_theory_reads_the_chain_and_is_mirrored_by_a_swap():
+    ar, ak = theory.PAPER_POINTS["a"]
+    res = M.run(scenario(ar, ak, models={"discrete": False}, n=(300, 250), center=150))
+    th = res.theory
+    assert th.alpha_rho == pytest.approx(ar) and th.alpha_kn == pytest.approx(ak, rel=1e-12)
+    pred = theory.predict(ar, ak)
+    assert th.gamma_rg == pytest.approx(pred.gamma_RG)
+    # swap: the right section's material on the left, the left's on the right
+    right = theory.PAPER_MATERIAL.scaled(ar, ak)
+    swapped = parse_scenario({
+        "chain": {"delta0_over_d": 1e-3 * ak ** (-2 / 3),
+                  "material": {"density": right.density, "youngs_modulus": right.youngs_modulus,
+                               "poisson_ratio": right.poisson_ratio},
+                  "sections": [{"n": 300}, {"n": 250, "alpha_rho": 1 / ar,
+                                            "alpha_kn": 1 / ak}]},
+        "initial": {"kind": "exact_wave", "center": 150, "velocity_max": 0.0822},
+        "run": {"t_end": 6e-4}, "models": {"discrete": False}})
+    ts = M.run(swapped).theory
+    assert ts.gamma_rg == pytest.approx(1 / th.gamma_rg, rel=1e-9)
+    assert ts.gamma_c0 == pytest.approx(1 / th.gamma_c0, rel=1e-9)
+    # the same energy transmission, the opposite sign of the reflected wave
+    te = theory.energy_transmission(th.gamma_rg)
+    assert theory.energy_transmission(ts.gamma_rg) == pytest.approx(te, rel=1e-12)
+    assert ts.ratios["Ek_tr"] == pytest.approx(th.ratios["Ek_tr"], rel=1e-12)
+    assert np.sign(ts.strain_re) == -np.sign(th.strain_re)
+    mirror = {"I": "III", "II": "IV", "III": "I", "IV": "II"}
+    assert ts.classes()["region"] == mirror[th.classes()["region"]]
+    assert ts.classes()["transmitted"] != th.classes()["transmitted"]
