@@ -1,16 +1,37 @@
-"""Cost of the continuum solvers on a 1,000-d chain, and the ratio to the discrete solver.
+"""Cost and accuracy of the continuum solvers, as ratios to the discrete solver in one run.
 
 Scenario (the same for every solver): a uniform chain of 1,000 paper grains; the
 paper's solitary wave starts at grain 100 and travels 800 grain diameters.
-* precompressed, δ0/d = 1e-3, v_max = 0.0822 m/s: BoussinesqPDE (regularised Eq. 4,
-  orders 2 and 4), KdVPDE (co-moving frame, RK4) and the discrete solver (exact discrete
-  wave, default dt);
+
+* precompressed, δ0/d = 1e-3, v_max = 0.0822 m/s: BoussinesqPDE (Eq. 4, Rosenau form),
+  KdVPDE (co-moving frame, RK4) and the discrete solver (exact discrete wave, default dt);
 * sonic vacuum, δ0 = 0, v_max = 0.68 m/s: NesterenkoPDE (regularised Eq. 7) and the
   discrete solver.
-Times exclude numba compilation (a short warm-up run first).  Prints one line per solver
-and the continuum/discrete wall-time ratios.  Usage: ``python benchmarks/continuum.py``.
+
+Rows marked "before" run the old path in the same process: py-pde's generic compiled
+loop over single steps of the PDE's ``make_evolution_rate`` (``fused=False``; KdV: py-pde's
+``runge-kutta`` solver) at the old default settings (5 nodes per grain, stable_dt(0.5)).
+Rows marked "after" run the fused compiled chunks (:mod:`continuum._stepper`) at the
+settings chosen for accuracy (see ``--accuracy``).  Times exclude numba compilation (a
+short warm-up first) and are the best of ``--repeats``; ratios are wall-time ratios to
+the discrete solver of the same regime measured in the same run (CPU-time ratios
+beside them: the machine is shared).  node-updates/s = nodes swept × force
+evaluations (RK4: stages) per CPU second of this single-threaded process.
+
+``--accuracy`` also runs converged references (Eq. 4: 15 nodes/grain, Yoshida-4 at
+stable_dt(0.125); Eq. 7: 11 nodes/grain, Yoshida-4 at stable_dt(0.25); KdV: 12 points
+per grain, RK4 at stable_dt(0.25)) and prints each "after" run's error: shift of the
+velocity peak (grains, after 800 d), L2 of the grain velocities and the peak velocity,
+relative.  ``--table2`` prints the error of the Table-2 energy ratios
+(:func:`continuum.energy_ratios`, points M, N, P, Q) and of the transmitted peak's
+position against 11 nodes/grain at stable_dt(0.125).
+
+Usage: ``python benchmarks/continuum.py [--accuracy] [--table2] [--repeats 3]``.
 """
 
+import argparse
+import os
+import platform
 import sys
 import time
 from pathlib import Path
@@ -29,62 +50,125 @@ from continuum import (  # noqa: E402
     NesterenkoPDE,
     compacton,
     compacton_parameters,
+    energy_ratios,
     run,
     solitary_wave,
     solitary_wave_parameters,
 )
 
-N_GRAINS, START, DIST, NODES = 1000, 100.0, 800.0, 5
+N_GRAINS, START, DIST = 1000, 100.0, 800.0
 D = theory.PAPER_DIAMETER
+V_PRE, V_VAC = 0.0822, 0.68
+
+# chosen settings (README "continuum"): nodes per grain, order, stable_dt safety
+AFTER = {
+    "eq4": {"n": 3, "order": 4, "safety": 0.5},
+    "eq4-verlet": {"n": 3, "order": 2, "safety": 0.5},
+    "kdv": {"n": 2, "safety": 0.5},
+    "eq7": {"n": 3, "order": 2, "safety": 1.25},
+}
+BEFORE = {
+    "eq4": {"n": 5, "order": 2, "safety": 0.5},
+    "eq4-y4": {"n": 5, "order": 4, "safety": 0.5},
+    "kdv": {"n": 5, "safety": 0.5},
+    "eq7": {"n": 5, "order": 2, "safety": 0.5, "space_order": 2},
+}
 
 
-def timed(fn, warm):
+def cpu_name() -> str:
+    name = platform.processor() or "?"
+    family = avx512 = "?"
+    try:
+        info = Path("/proc/cpuinfo").read_text()
+        for line in info.splitlines():
+            if line.startswith("model name"):
+                name = line.split(":", 1)[1].strip()
+            elif line.startswith("cpu family"):
+                family = line.split(":", 1)[1].strip()
+        avx512 = "yes" if " avx512f" in info else "no"
+    except OSError:
+        pass
+    return f"{name} (family {family}, AVX-512: {avx512})"
+
+
+def timed(fn, warm, repeats):
     warm()
-    t0 = time.perf_counter()
-    out = fn()
-    return time.perf_counter() - t0, out
+    best = None
+    for _ in range(repeats):
+        c0, t0 = time.process_time(), time.perf_counter()
+        out = fn()
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        if best is None or wall < best[0]:
+            best = (wall, cpu, out)
+    return best
 
 
-def boussinesq(order):
-    med = Medium.uniform(N_GRAINS, 1e-3 * D)
-    pde = BoussinesqPDE(med, NODES)
-    state = solitary_wave(pde, START, velocity_max=0.0822)
-    t_end = DIST / solitary_wave_parameters(pde, START, velocity_max=0.0822)["speed"]
-    dt = pde.stable_dt(state)
-    sec, res = timed(lambda: run(pde, state, t_end, dt=dt, order=order, interval=t_end),
-                     lambda: run(pde, state, 10 * dt, dt=dt, order=order, interval=10 * dt))
-    return sec, int(round(t_end / dt)), res.energy_drift
+# ------------------------------------------------------------------------------ runs
+def _pre_medium():
+    return Medium.uniform(N_GRAINS, 1e-3 * D)
 
 
-def kdv():
-    med = Medium.uniform(N_GRAINS, 1e-3 * D)
+def _vac_medium():
+    return Medium.uniform(N_GRAINS, 0.0)
+
+
+def eq4(cfg, fused=True, repeats=1):
+    med = _pre_medium()
+    pde = BoussinesqPDE(med, cfg["n"])
+    state = solitary_wave(pde, START, velocity_max=V_PRE)
+    t_end = DIST / solitary_wave_parameters(pde, START, velocity_max=V_PRE)["speed"]
+    dt = pde.stable_dt(state, safety=cfg["safety"])
+    dt = t_end / np.ceil(t_end / dt)
+    kw = {"dt": dt, "order": cfg["order"], "interval": t_end, "fused": fused}
+    wall, cpu, res = timed(lambda: run(pde, state, t_end, **kw),
+                           lambda: run(pde, state, 10 * dt, **kw), repeats)
+    return wall, cpu, res, pde
+
+
+def eq7(cfg, fused=True, repeats=1):
+    med = _vac_medium()
+    par0 = compacton_parameters(NesterenkoPDE(med, 1, delta_floor=0.0), velocity_max=V_VAC)
+    pde = NesterenkoPDE(med, cfg["n"], delta_floor=1e-2 * par0["amplitude"],
+                        space_order=cfg.get("space_order", 4))
+    state = compacton(pde, START, velocity_max=V_VAC)
+    t_end = DIST / par0["speed"]
+    dt = pde.stable_dt(state, safety=cfg["safety"])
+    dt = t_end / np.ceil(t_end / dt)
+    kw = {"dt": dt, "order": cfg["order"], "interval": t_end, "fused": fused}
+    wall, cpu, res = timed(lambda: run(pde, state, t_end, **kw),
+                           lambda: run(pde, state, 10 * dt, **kw), repeats)
+    return wall, cpu, res, pde
+
+
+def kdv(cfg, fused=True, repeats=1):
+    med = _pre_medium()
     pde = KdVPDE.for_medium(med)
     pde.frame_speed = pde.speed
     amp = solitary_wave_parameters(BoussinesqPDE(med, 1), START,
-                                   velocity_max=0.0822)["amplitude"]
-    grid = KdVPDE.grid(N_GRAINS, NODES)
+                                   velocity_max=V_PRE)["amplitude"]
+    grid = KdVPDE.grid(N_GRAINS, cfg["n"])
     s0 = pde.soliton(grid, amp, START)
     t_end = DIST / pde.soliton_speed(amp)
-    dt = pde.stable_dt(s0)
-    kw = dict(solver="runge-kutta", adaptive=False, tracker=None, backend="numba")
-    sec, _ = timed(lambda: pde.solve(s0, t_range=t_end, dt=dt, **kw),
-                   lambda: pde.solve(s0, t_range=10 * dt, dt=dt, **kw))
-    return sec, int(round(t_end / dt)), float("nan")
+    dt = pde.stable_dt(s0, safety=cfg["safety"])
+    dt = t_end / np.ceil(t_end / dt)
+    if fused:
+        kw = {"dt": dt, "interval": t_end}
+        wall, cpu, res = timed(lambda: run(pde, s0, t_end, **kw),
+                               lambda: run(pde, s0, 10 * dt, **kw), repeats)
+        return wall, cpu, res, pde
+    # before: py-pde's own fixed-step Runge-Kutta solver, compiled per step
+    kw = {"solver": "runge-kutta", "adaptive": False, "tracker": None, "backend": "numba"}
+    wall, cpu, final = timed(lambda: pde.solve(s0, t_range=t_end, dt=dt, **kw),
+                             lambda: pde.solve(s0, t_range=10 * dt, dt=dt, **kw), repeats)
+    steps = int(round(t_end / dt))
+    e0, e1 = pde.invariants(s0)[0], pde.invariants(final)[0]
+    res = {"state": final, "info": {"steps": steps, "node_updates": 4 * steps * grid.shape[0],
+                                    "fused": False},
+           "drift": abs(e1 - e0) / e0}
+    return wall, cpu, res, pde
 
 
-def nesterenko():
-    med = Medium.uniform(N_GRAINS, 0.0)
-    par0 = compacton_parameters(NesterenkoPDE(med, 1, delta_floor=0.0), velocity_max=0.68)
-    pde = NesterenkoPDE(med, NODES, delta_floor=1e-2 * par0["amplitude"])
-    state = compacton(pde, START, velocity_max=0.68)
-    t_end = DIST / par0["speed"]
-    dt = pde.stable_dt(state)
-    sec, res = timed(lambda: run(pde, state, t_end, dt=dt, interval=t_end),
-                     lambda: run(pde, state, 10 * dt, dt=dt, interval=10 * dt))
-    return sec, int(round(t_end / dt)), res.energy_drift
-
-
-def discrete(delta0_over_d, vmax, speed):
+def discrete(delta0_over_d, vmax, speed, repeats):
     import discrete as dm
 
     chain = dm.Chain.two_section(N_GRAINS, 0, 1.0, 1.0, delta0_over_d)
@@ -96,42 +180,127 @@ def discrete(delta0_over_d, vmax, speed):
         info = sim.run(t, progress=False)
         return sim, info
 
-    sec, (sim, info) = timed(lambda: go(t_end), lambda: go(t_end / 100))
-    return sec, int(sim.steps), float(info.energy_drift)
+    wall, cpu, (sim, info) = timed(lambda: go(t_end), lambda: go(t_end / 100), repeats)
+    return wall, cpu, int(sim.steps), float(info.energy_drift)
 
 
-def main():
-    rows = {}
-    rows["boussinesq (Eq. 4, Verlet-2)"] = boussinesq(2)
-    rows["boussinesq (Eq. 4, Yoshida-4)"] = boussinesq(4)
-    rows["kdv (RK4, co-moving)"] = kdv()
-    rows["nesterenko (Eq. 7, Verlet-2)"] = nesterenko()
-    med = Medium.uniform(N_GRAINS, 1e-3 * D)
-    v_pre = solitary_wave_parameters(BoussinesqPDE(med, 1), START,
-                                     velocity_max=0.0822)["speed"]
-    v_vac = compacton_parameters(NesterenkoPDE(Medium.uniform(N_GRAINS, 0.0), 1,
-                                               delta_floor=0.0), velocity_max=0.68)["speed"]
-    try:
-        rows["discrete (δ0/d = 1e-3)"] = discrete(1e-3, 0.0822, v_pre)
-        rows["discrete (δ0 = 0)"] = discrete(0.0, 0.68, v_vac)
-    except ImportError:  # pragma: no cover - discrete package absent
-        pass
-    print(f"{N_GRAINS} grains, wave travels {DIST:g} d; continuum: {NODES} nodes per grain")
-    print(f"{'solver':34s} {'wall s':>8s} {'steps':>9s} {'energy drift':>13s}")
-    for name, (sec, steps, drift) in rows.items():
-        print(f"{name:34s} {sec:8.2f} {steps:9d} {drift:13.1e}")
-    pre = rows.get("discrete (δ0/d = 1e-3)")
-    vac = rows.get("discrete (δ0 = 0)")
-    if pre and vac:
-        print("ratios continuum / discrete (wall time):")
-        for name, (sec, _, _) in rows.items():
-            if name.startswith("discrete"):
-                continue
-            ref = vac if "nesterenko" in name else pre
-            print(f"  {name:32s} {sec / ref[0]:8.2f}")
-    return rows
+# ------------------------------------------------------------------------------ accuracy
+def _profile(pde, res):
+    """Node positions (grains) and the wave's node values (v; KdV: s)."""
+    if isinstance(pde, KdVPDE):
+        return res["state"].grid.axes_coords[0], np.asarray(res["state"].data)
+    return pde.disc.x_nodes, np.asarray(res["state"][1].data)
+
+
+def _peak(x, f):
+    """Position and value of the maximum, by a parabola through the three largest nodes."""
+    i = int(np.argmax(f))
+    a, b, c = f[i - 1], f[i], f[i + 1]
+    den = a - 2 * b + c
+    off = 0.5 * (a - c) / den
+    return x[i] + off * (x[1] - x[0]), b - 0.25 * (a - c) * off
+
+
+def accuracy(rows, runs):
+    from scipy.interpolate import CubicSpline
+
+    refs = {
+        "eq4": eq4({"n": 15, "order": 4, "safety": 0.125}),
+        "eq7": eq7({"n": 11, "order": 4, "safety": 0.25}),
+        "kdv": kdv({"n": 12, "safety": 0.25}),
+    }
+    print("\naccuracy after 800 d against the converged reference "
+          "(Eq. 4: n=15 Y4 safety 0.125; Eq. 7: n=11 Y4 0.25; KdV: n=12 RK4 0.25):")
+    print("  peak shift (grains), peak value and shape (L2 over ±15 grains of the peak after "
+          "the shift is removed), relative")
+    print(f"  {'run':28s} {'peak shift':>11s} {'peak value':>11s} {'shape L2':>9s}")
+    for name, (_, _, res, pde) in runs.items():
+        model = name.split()[0]
+        xr, fr = _profile(refs[model][3], refs[model][2])
+        x, f = _profile(pde, res)
+        (pr, vr), (p, v) = _peak(xr, fr), _peak(x, f)
+        ref = CubicSpline(xr, fr)(x - (p - pr))
+        m = np.abs(x - p) <= 15.0
+        shape = np.linalg.norm((f - ref)[m]) / np.linalg.norm(ref[m])
+        print(f"  {name:28s} {p - pr:+11.4f} {v / vr - 1:+11.2e} {shape:9.2e}")
+
+
+def table2_accuracy():
+    keys = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
+    cfg = AFTER["eq4"]
+    print("\nTable 2 (energy_ratios, Eq. 4): |after - converged| "
+          f"(after: n={cfg['n']}, order {cfg['order']}; converged: n=11, order 4, safety 0.125)")
+    print(f"  {'point':6s} " + " ".join(f"{k:>8s}" for k in keys) + f" {'peak':>8s} {'wall s':>7s}")
+    for point in ("M", "N", "P", "Q"):
+        ar, ak = theory.PAPER_POINTS[point]
+        t0 = time.perf_counter()
+        a = energy_ratios(ar, ak, n=cfg["n"], order=cfg["order"], safety=cfg["safety"])
+        wall = time.perf_counter() - t0
+        r = energy_ratios(ar, ak, n=11, order=4, safety=0.125)
+        errs = [abs(a[k] - r[k]) for k in keys]
+        dpk = a["peak_past_interface"] - r["peak_past_interface"]  # grains
+        print(f"  {point:6s} " + " ".join(f"{e:8.1e}" for e in errs) + f" {dpk:+8.3f} {wall:7.2f}")
+
+
+# ------------------------------------------------------------------------------ main
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--accuracy", action="store_true")
+    ap.add_argument("--table2", action="store_true")
+    ap.add_argument("--no-before", action="store_true", help="skip the old-path rows")
+    args = ap.parse_args(argv)
+    np.seterr(all="ignore")
+    rep = args.repeats
+
+    med = _pre_medium()
+    v_pre = solitary_wave_parameters(BoussinesqPDE(med, 1), START, velocity_max=V_PRE)["speed"]
+    v_vac = compacton_parameters(NesterenkoPDE(_vac_medium(), 1, delta_floor=0.0),
+                                 velocity_max=V_VAC)["speed"]
+    disc = {"pre": discrete(1e-3, V_PRE, v_pre, rep), "vac": discrete(0.0, V_VAC, v_vac, rep)}
+
+    runs = {}
+    if not args.no_before:
+        runs["eq4 Verlet-2 (before)"] = eq4(BEFORE["eq4"], fused=False, repeats=1)
+        runs["eq4 Yoshida-4 (before)"] = eq4(BEFORE["eq4-y4"], fused=False, repeats=1)
+        runs["kdv RK4 (before)"] = kdv(BEFORE["kdv"], fused=False, repeats=1)
+        runs["eq7 Verlet-2 (before)"] = eq7(BEFORE["eq7"], fused=False, repeats=1)
+    runs["eq4 Yoshida-4 (after)"] = eq4(AFTER["eq4"], repeats=rep)
+    runs["eq4 Verlet-2 (after)"] = eq4(AFTER["eq4-verlet"], repeats=rep)
+    runs["kdv RK4 (after)"] = kdv(AFTER["kdv"], repeats=rep)
+    runs["eq7 Verlet-2 (after)"] = eq7(AFTER["eq7"], repeats=rep)
+    # the discrete baselines again, so that load changes during the run show
+    disc2 = {"pre": discrete(1e-3, V_PRE, v_pre, rep), "vac": discrete(0.0, V_VAC, v_vac, rep)}
+    for key in disc:
+        if disc2[key][0] < disc[key][0]:
+            disc[key] = disc2[key]
+
+    print(f"CPU: {cpu_name()}; load average {os.getloadavg()[0]:.2f} (1 min); "
+          f"best of {rep} (before rows: 1)")
+    print(f"{N_GRAINS} grains, the wave travels {DIST:g} d")
+    hdr = (f"{'solver':28s} {'n':>3s} {'wall s':>8s} {'cpu s':>7s} {'steps':>7s} "
+           f"{'node-upd/s':>11s} {'drift':>8s} {'ratio wall':>10s} {'ratio cpu':>9s}")
+    print(hdr)
+    for label, key in (("discrete (δ0/d = 1e-3)", "pre"), ("discrete (δ0 = 0)", "vac")):
+        wall, cpu, steps, drift = disc[key]
+        print(f"{label:28s} {'-':>3s} {wall:8.3f} {cpu:7.3f} {steps:7d} {'':>11s} "
+              f"{drift:8.1e} {1.0:10.2f} {1.0:9.2f}")
+    for name, (wall, cpu, res, pde) in runs.items():
+        ref = disc["vac" if name.startswith("eq7") else "pre"]
+        info = res["info"]
+        drift = res["drift"] if "drift" in res else res.energy_drift
+        n = pde.n if hasattr(pde, "n") else res["state"].grid.shape[0] // N_GRAINS
+        rate = info["node_updates"] / cpu if cpu > 0 else float("nan")
+        print(f"{name:28s} {n:3d} {wall:8.3f} {cpu:7.3f} {info['steps']:7d} {rate:11.3g} "
+              f"{drift:8.1e} {wall / ref[0]:10.2f} {cpu / ref[1]:9.2f}")
+    print("targets: Eq. 4, Eq. 7 and KdV ≤ 3× the discrete wall time; ≥ 3e8 node-updates/s "
+          "per core")
+    if args.accuracy:
+        accuracy(runs, {k: v for k, v in runs.items() if "after" in k})
+    if args.table2:
+        table2_accuracy()
+    return runs
 
 
 if __name__ == "__main__":
-    np.seterr(all="ignore")
     main()

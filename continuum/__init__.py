@@ -9,10 +9,14 @@
 Both chain equations take a :class:`Medium` (piecewise mass, contact stiffness and
 static overlap, as plain arrays) in flux form on a staggered grid whose unit of length
 is the grain diameter, so fields line up with grain numbers.  :func:`run` integrates
-with the symplectic :class:`VerletSolver`, monitors energy and momentum and writes HDF5
-through py-pde's ``FileStorage``.  :func:`sample_grains` reads a state grain by grain
-with the discrete solver's energy definitions; :func:`energy_ratios` computes the
-paper's Table 2 for one interface.  This package imports :mod:`theory` only.
+with the symplectic :class:`VerletSolver` (KdV: :class:`RK4Solver`), whose numba path is
+one fused compiled loop per chunk (:mod:`continuum._stepper`: stepping, right-hand side,
+tridiagonal solve, active window; the PDE's NumPy ``evolution_rate`` is the reference),
+monitors energy and momentum, raises :class:`InstabilityError` on a NaN state or an
+energy drift, and writes HDF5 through py-pde's ``FileStorage``.
+:func:`sample_grains` reads a state grain by grain with the discrete solver's energy
+definitions; :func:`energy_ratios` computes the paper's Table 2 for one interface.
+This package imports :mod:`theory` only.
 """
 
 from .boussinesq import BoussinesqPDE
@@ -28,7 +32,7 @@ from .medium import Discretisation, Medium
 from .nesterenko import NesterenkoPDE
 from .sampling import GrainSample, sample_grains, section_energies
 from .scattering import PAPER_VELOCITY_MAX, energy_ratios
-from .solver import InstabilityError, RunResult, VerletSolver, run
+from .solver import InstabilityError, RK4Solver, RunResult, VerletSolver, run
 
 __all__ = [
     "BoussinesqPDE",
@@ -39,6 +43,7 @@ __all__ = [
     "Medium",
     "NesterenkoPDE",
     "PAPER_VELOCITY_MAX",
+    "RK4Solver",
     "RunResult",
     "VerletSolver",
     "compacton",

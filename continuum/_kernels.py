@@ -126,3 +126,43 @@ def tridiag_solve(den, cp, off, z, vfac, r, x):
         f = (x[0] + vfac[0] * x[-1]) / vfac[1]
         for i in range(x.size):
             x[i] -= f * z[i]
+
+
+def staggered_gradient(n_nodes: int, h: float, bc: int, order: int):
+    r"""Stencil of the face strain s = -u_X of order 2 or 4 on the staggered grid.
+
+    Face q lies between nodes q-1 and q.  Order 2: :math:`s_q = (u_{q-1} - u_q)/h`;
+    order 4: :math:`s_q = (27(u_{q-1} - u_q) - (u_{q-2} - u_{q+1}))/(24h)` (Fornberg,
+    Math. Comp. 51 (1988) 699, staggered weights 27/24 and -1/24).  Ghost nodes beyond
+    the ends follow the boundary condition: wall (u = 0 at the end face) odd
+    reflection u_{-1-j} = -u_j, free (no dynamic strain) even reflection u_{-1-j} = u_j
+    — the strain of a free end face is set to exactly zero; periodic chains wrap.
+
+    Returns ``(idx, coef)`` of shape (faces, width) with s_q = Σ_j coef[q, j] u[idx[q, j]]
+    (m per grain for u in m, h in grains).  The matching node force density of face
+    forces F is -Σ_q coef[q, j] F_q scattered to idx[q, j] (the exact transpose: the
+    semi-discrete equations stay conservative and variational).
+    """
+    if order == 2:
+        offs, wts = np.array([-1, 0]), np.array([1.0, -1.0]) / h
+    elif order == 4:
+        offs, wts = np.array([-2, -1, 0, 1]), np.array([-1.0, 27.0, -27.0, 1.0]) / (24 * h)
+    else:
+        raise ValueError(f"order must be 2 or 4 (got {order!r})")
+    n = int(n_nodes)
+    nf = n if bc == PERIODIC else n + 1
+    q = np.arange(nf)[:, None]
+    j = q + offs[None, :]
+    coef = np.broadcast_to(wts, j.shape).copy()
+    if bc == PERIODIC:
+        idx = j % n
+    else:
+        sign = -1.0 if bc == WALL else 1.0
+        left, right = j < 0, j >= n
+        idx = np.where(left, -1 - j, np.where(right, 2 * n - 1 - j, j))
+        coef = np.where(left | right, sign * coef, coef)
+        if bc == FREE:
+            coef[0] = coef[-1] = 0.0
+    if np.any((idx < 0) | (idx >= n)):
+        raise ValueError(f"{n} nodes are too few for the order-{order} stencil")
+    return np.ascontiguousarray(idx, dtype=np.int64), np.ascontiguousarray(coef)

@@ -455,10 +455,8 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
                 acc += c[d] * y[p]
             hy[q] = acc
         return
-    if need > m or 4 * need < m:
-        m = good_size(need + need // 4, True)
-        if m > fft_re.size:
-            m = good_size(need, True)
+    if need > m or 5 * need < 4 * m:
+        m = good_size(need, True)
         fstate[0] = m
         # spectrum of the circulant of length m holding the Toeplitz matrix
         for i in range(m):
@@ -499,19 +497,36 @@ def _face_strain(u, q, ih, bc):
 
 
 @nb.njit(**_JIT)
-def _nesterenko_faces(u, L, R, h, bc, k, d0, f0, sk, z0, mask, eps, dl, fh, ph, y, comp):
+def _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl, fh, ph, y,
+                      comp):
     """Overlap δ, Hertz flux k δ^{3/2} - f0, φ and y = mask √k (ζ(δ) - ζ0) per face.
 
-    Faces of the nodes [L, R].  Returns (qa, qb, ncomp): the face range and how many
-    faces (listed in ``comp``) carry a nonzero y or φ.
+    Faces [qa, qb]; the strain is s_q = Σ_j gcoef[q, j] u[gidx[q, j]]
+    (:func:`continuum._kernels.staggered_gradient`), with the plain weights (1/h, or
+    27/24h and 1/24h) written out for the interior faces.  Returns how many faces (listed in
+    ``comp``) carry a nonzero y or φ.
     """
-    ih = 1.0 / h
-    qa = L
-    qb = R if bc == PERIODIC else R + 1
+    width = gidx.shape[1]
+    n = u.size
     ncomp = 0
     e4 = np.sqrt(np.sqrt(eps))
+    # interior faces (whose stencil is the plain one): no index table
+    half = width // 2
+    if width == 4:
+        c1, c3 = 27.0 / (24.0 * h), 1.0 / (24.0 * h)
+    else:
+        c1, c3 = 1.0 / h, 0.0
     for q in range(qa, qb + 1):
-        x = d0[q] + _face_strain(u, q, ih, bc)
+        if half <= q <= n - half and gidx[q, 0] == q - half:
+            if width == 4:
+                sq_ = c1 * (u[q - 1] - u[q]) - c3 * (u[q - 2] - u[q + 1])
+            else:
+                sq_ = c1 * (u[q - 1] - u[q])
+        else:
+            sq_ = 0.0
+            for j in range(width):
+                sq_ += gcoef[q, j] * u[gidx[q, j]]
+        x = d0[q] + sq_
         if x < 0.0:
             x = 0.0
         dl[q] = x
@@ -532,55 +547,71 @@ def _nesterenko_faces(u, L, R, h, bc, k, d0, f0, sk, z0, mask, eps, dl, fh, ph, 
         if yq != 0.0 or pq != 0.0:
             comp[ncomp] = q
             ncomp += 1
-    return qa, qb, ncomp
+    return ncomp
 
 
 @nb.njit(**_JIT)
-def _nesterenko_pass(u, v, L, R, alpha, beta, h, bc, k, d0, f0, sk, z0, mask, eps, disp,
-                     inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
+def _nesterenko_pass(u, v, L, R, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
+                     mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
+                     comp, fn):
     """One drift (α Δt) and one kick (β Δt) of the regularised Eq. 7 over nodes [L, R].
 
-    Sweeps: drift; faces (δ, Hertz flux, φ, y); the saturated operator H y; flux
-    F = k δ^{3/2} - f0 + disp √k φ H y fused with the kick v_i += β Δt (F_i - F_{i+1})/(h m_i).
+    Sweeps: drift; faces (δ, Hertz flux, φ, y); the saturated operator H y; face forces
+    F = w k(δ^{3/2} - δ0^{3/2}) + disp √k φ H y scattered by the transpose of the strain
+    stencil (node force density -Gᵀ F) and the kick v_i += β Δt fn_i/m_i.
     """
     n = u.size
-    ih = 1.0 / h
+    width = gidx.shape[1]
     for i in range(L, R + 1):
         u[i] += alpha * v[i]
-    qa, qb, ncomp = _nesterenko_faces(u, L, R, h, bc, k, d0, f0, sk, z0, mask, eps, dl, fh,
-                                      ph, y, comp)
+    qa = L
+    qb = R if bc == PERIODIC else R + 1
+    ncomp = _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl,
+                              fh, ph, y, comp)
     _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
                      bc == PERIODIC)
-    if bc == PERIODIC:
-        f_first = fh[0] + disp * sk[0] * ph[0] * hy[0]
-        f_l = f_first
-        for i in range(n):
-            if i < n - 1:
-                f_r = fh[i + 1] + disp * sk[i + 1] * ph[i + 1] * hy[i + 1]
+    # face forces F (zero outside [qa, qb]: there δ = 0, see nesterenko_chunk) into fh
+    for q in range(qa, qb + 1):
+        fh[q] = w[q] * fh[q] + disp * sk[q] * ph[q] * hy[q]
+    nf = fh.size
+    half = width // 2
+    for i in range(L, R + 1):
+        # node force density -Gᵀ F: the plain weights where faces i-half+1 .. i+half are
+        # interior faces inside [qa, qb], else the scatter of the stencil table
+        if (i - half + 1 >= max(qa, half) and i + half <= min(qb, n - half)
+                and gidx[i - half + 1, 0] == i - 2 * half + 1
+                and gidx[i + half, 0] == i):
+            if width == 4:
+                f = (27.0 * (fh[i] - fh[i + 1]) - (fh[i - 1] - fh[i + 2])) / (24.0 * h)
             else:
-                f_r = f_first
-            v[i] += beta * (f_l - f_r) * ih * inv_m[i]
-            f_l = f_r
-    else:
-        f_l = fh[L] + disp * sk[L] * ph[L] * hy[L]
-        for i in range(L, R + 1):
-            f_r = fh[i + 1] + disp * sk[i + 1] * ph[i + 1] * hy[i + 1]
-            v[i] += beta * (f_l - f_r) * ih * inv_m[i]
-            f_l = f_r
+                f = (fh[i] - fh[i + 1]) / h
+        else:
+            f = 0.0
+            for d in range(1 - half, half + 1):
+                q = i + d
+                if bc == PERIODIC:
+                    q = q % nf
+                elif q < qa or q > qb:
+                    continue
+                for j in range(width):
+                    if gidx[q, j] == i:
+                        f -= gcoef[q, j] * fh[q]
+        v[i] += beta * f * inv_m[i]
 
 
 @nb.njit(**_JIT)
-def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, h, bc, k, d0, f0, sk, z0, mask, eps,
-                     disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp, win,
-                     windowed, tau_v, tau_d):
+def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
+                     mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
+                     comp, fn, win, windowed, margin, tau_v, tau_d):
     """Advance the regularised Eq. 7 by ``nsteps`` steps of ``dt`` (s), in place.
 
-    With ``windowed`` (sonic vacuum, non-periodic) only nodes [lo - 1, hi + 1] are
-    swept, ``win`` = [lo, hi] being the nodes that move (|v| > tau_v) or touch a
+    With ``windowed`` (sonic vacuum, non-periodic) only nodes [lo - margin, hi + margin]
+    are swept, ``win`` = [lo, hi] being the nodes that move (|v| > tau_v) or touch a
     compressed face (δ > tau_d): outside, δ = 0 and v = 0 (to 2^-52 of the wave's
-    values), so the flux (Hertz and dispersive, the latter ∝ φ(δ) = 0) vanishes and one
-    node per force evaluation is the farthest a disturbance can reach.  Otherwise the
-    whole chain is swept.  Returns the node-updates performed.
+    values), so the flux (Hertz and dispersive, the latter ∝ φ(δ) = 0) vanishes, and a
+    disturbance reaches at most ``margin`` nodes per force evaluation (1 for the
+    second-order stencil, 3 for the fourth-order one).  Otherwise the whole chain is
+    swept.  Returns the node-updates performed.
     """
     n = u.size
     nsub = beta.size
@@ -594,13 +625,14 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, h, bc, k, d0, f0, sk, z0, ma
             if windowed:
                 if win[0] < 0:
                     continue
-                lo = max(win[0] - 1, 0)
-                hi = min(win[1] + 1, n - 1)
+                lo = max(win[0] - margin, 0)
+                hi = min(win[1] + margin, n - 1)
             else:
                 lo = 0
                 hi = n - 1
-            _nesterenko_pass(u, v, lo, hi, a, b, h, bc, k, d0, f0, sk, z0, mask, eps, disp,
-                             inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp)
+            _nesterenko_pass(u, v, lo, hi, a, b, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
+                             mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y,
+                             hy, comp, fn)
             work += hi - lo + 1
             if windowed:
                 new_lo = -1
@@ -623,7 +655,7 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, h, bc, k, d0, f0, sk, z0, ma
         a = alpha[nsub] * dt
         if windowed:
             if win[0] >= 0:
-                for i in range(max(win[0] - 1, 0), min(win[1] + 1, n - 1) + 1):
+                for i in range(max(win[0] - margin, 0), min(win[1] + margin, n - 1) + 1):
                     u[i] += a * v[i]
         else:
             for i in range(n):
@@ -632,12 +664,12 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, h, bc, k, d0, f0, sk, z0, ma
 
 
 @nb.njit(**_JIT)
-def nesterenko_monitor(u, v, h, bc, k, d0, f0, sk, z0, mask, eps, disp, mass, w, c, spec,
-                       fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
+def nesterenko_monitor(u, v, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps, disp, mass,
+                       c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
     """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
 
-    E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q) + y_q (Hy)_q/25]
-    (NesterenkoPDE.energy_density), P = h Σ m v.
+    E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q)
+    + (disp/2.5) y_q (Hy)_q] (NesterenkoPDE.energy_density), P = h Σ m v.
     """
     n = u.size
     ek = 0.0
@@ -645,15 +677,19 @@ def nesterenko_monitor(u, v, h, bc, k, d0, f0, sk, z0, mask, eps, disp, mass, w,
     for i in range(n):
         ek += mass[i] * v[i] * v[i]
         mom += mass[i] * v[i]
-    qa, qb, ncomp = _nesterenko_faces(u, 0, n - 1, h, bc, k, d0, f0, sk, z0, mask, eps, dl,
-                                      fh, ph, y, comp)
+    qa = 0
+    qb = n - 1 if bc == PERIODIC else n
+    ncomp = _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl,
+                              fh, ph, y, comp)
     _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
                      bc == PERIODIC)
     ep = 0.0
-    ih = 1.0 / h
+    width = gidx.shape[1]
     for q in range(qa, qb + 1):
         x = dl[q]
-        s = _face_strain(u, q, ih, bc)
+        s = 0.0
+        for j in range(width):
+            s += gcoef[q, j] * u[gidx[q, j]]
         pot = k[q] * (0.4 * (x * x * np.sqrt(x) - d0[q] * d0[q] * np.sqrt(d0[q]))
                       - d0[q] * np.sqrt(d0[q]) * s)
         ep += w[q] * pot + (disp / 2.5) * y[q] * hy[q]

@@ -143,7 +143,9 @@ class _CheckedSolver(SolverBase):
             evals = self._evaluations_per_step()
 
             def advance(st, t0, nsteps):
+                steps_before = self.info["steps"]
                 inner(st, t0, t0 + nsteps * dt)
+                self.info["steps"] = steps_before  # py-pde's loop counts too: count once
                 self.info["node_updates"] += nsteps * evals * st.data.shape[-1]
 
             def monitor(st):
@@ -384,7 +386,9 @@ def run(
     t_end : float
         Final time, s (finite, >= 0).
     dt : float, optional
-        Time step, s (finite, > 0; default ``pde.stable_dt(state)``).
+        Time step, s (finite, > 0; default ``pde.stable_dt(state)``); shortened to
+        t_end/ceil(t_end/dt) so that a whole number of steps ends at t_end (recorded as
+        ``info["dt_s"]``).
     order : {2, 4}, optional
         Order of the symplectic stepper of a chain PDE (default 2); KdV: 4 (RK4) only.
     backend : {"numba", "numpy"}
@@ -456,6 +460,10 @@ def run(
         raise ValueError(f"dt = {dt:.4g} s needs {t_end / dt:.3g} steps to t_end = "
                          f"{t_end:.4g} s; dt must be >= t_end/{MAX_STEPS:.0e} "
                          f"= {t_end / MAX_STEPS:.4g} s")
+    if t_end > 0:
+        # a whole number of steps to t_end, so that the run ends at t_end exactly (not
+        # within ±dt/2): the step is shortened by less than one part in t_end/dt
+        dt = t_end / math.ceil(t_end / dt * (1 - 1e-12))
     if interval is None:
         interval = t_end / 20 if t_end > 0 else 1.0
     interval = _check_positive("interval", interval, "s")
