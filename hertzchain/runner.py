@@ -246,9 +246,11 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
     if check:
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
-    dt = discrete.TimeStep.choose(init.chain, init.u, init.v, init.wall_left, init.wall_right,
-                                  dt=run.dt, integrator=run.integrator,
-                                  fraction=run.dt_fraction, check=False).dt
+    step = discrete.TimeStep.choose(
+        init.chain, init.u, init.v, init.wall_left, init.wall_right, dt=run.dt,
+        integrator=None if run.integrator == "auto" else run.integrator,
+        fraction=run.dt_fraction, check=False, rtol=run.rtol, horizon=run.t_end)
+    dt = step.dt
     speed = _wave_speed_estimate(init.chain, init.v)
     d = float(np.mean(init.chain.diameter))
     every = rec.energy_every or None
@@ -269,8 +271,7 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         series_grains=list(rec.time_series_grains), series_every=rec.series_every,
         maxima=rec.running_max, energy_every=every, energy_coarsen=coarsen)
     kwargs = {} if threads is None else {"threads": threads}
-    sim = init.simulation(dt=dt, record=recording, check_dt=check,
-                          integrator=run.integrator, **kwargs)
+    sim = init.simulation(dt=step, record=recording, check_dt=check, **kwargs)
     return init.chain, init, sim
 
 
@@ -642,6 +643,9 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
                 text += f"; the last checkpoint {ckpt} is kept"
             raise discrete.InstabilityError(text) from exc
         summary = {**run_outcome(scenario, sim, stopped_by), **summarise(chain, sim, amp)}
+        ts = sim.time_step  # how dt was chosen, and the accuracy estimate of an rtol run
+        summary.update(integrator=sim.integrator, dt_source=ts.source,
+                       rtol=ts.rtol, rtol_estimate=ts.error_estimate)
         summary["wall_time"] = elapsed + time.perf_counter() - start
         if out is not None:
             discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
