@@ -14,7 +14,10 @@ result (:mod:`hertzchain.checkpoint`), and on an instability writes the partial 
 beside the output before re-raising.
 
 Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, ``dt``,
-``energy_drift``, ``n_grains`` and ``wall_time`` are always finite; the six energy
+``energy_drift``, ``n_grains`` and ``wall_time`` are always finite; ``integrator``,
+``dt_source`` (``"default"``, ``"explicit"`` or ``"rtol"``), ``rtol`` (None unless
+given) and ``rtol_estimate`` (the estimated relative error of an rtol run, NaN
+otherwise; :mod:`discrete.timestep`) say how the step was chosen; the six energy
 ratios are finite exactly when ``separated`` is True (False: the waves did not leave
 the interface region on the recorded grid, the incident wave was already at the
 interface at t = 0, or the chain has one section); the front speeds are NaN when fewer
