@@ -79,7 +79,7 @@ def impact(chain: Chain, v0: float = 1.0, *, striker_mass: float | None = None,
         d0 = 0.0 if not np.any(chain.delta0 > 0) else float(chain.delta0[1])
         chain = Chain.from_arrays(np.r_[ms, chain.mass], k, d0,
                                   diameter=np.r_[ds, chain.diameter],
-                                  section=np.r_[-1, chain.section],
+                                  section=np.r_[-1, chain.section], exponent=chain.exponent,
                                   params={**chain.params, "striker_mass": ms, "striker_k": ks})
     v = np.zeros(chain.n)
     v[0] = v0

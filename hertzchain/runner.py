@@ -49,9 +49,10 @@ from discrete import diagnostics as D
 from discrete.initial import cut_wave, exact_wave, impact
 
 from .cache import canonical_json
-from .scenario import ChainSpec, Scenario, ScenarioError
+from .scenario import ChainSpec, Scenario, ScenarioError, SectionSpec
 
-__all__ = ["build_chain", "build_initial", "interfaces", "build_initial_checked",
+__all__ = ["build_chain", "build_law", "build_section", "build_initial", "interfaces",
+           "build_initial_checked",
            "build_simulation", "check_run", "check_stop", "run_outcome", "run_scenario",
            "run_simulation", "summarise", "incident_amplitude", "partial_path", "STOPPED_BY",
            "GRID_ROWS_PER_GRAIN", "SEPARATION_FRACTIONS", "MAX_OVERLAP_OVER_D"]
@@ -78,18 +79,62 @@ def _material(spec) -> theory.Material:
     return theory.Material(**spec)
 
 
+def build_section(spec: SectionSpec, base: theory.Material, diameter: float
+                  ) -> discrete.Section:
+    """The :class:`discrete.Section` of one ``[[chain.sections]]`` table.
+
+    ``base`` is the first section's material, ``diameter`` the chain's (m).  The profile
+    keys map to :class:`discrete.Tapered` (``mass_ratio``), :class:`discrete.Periodic`
+    (``cell_*``: each cell grain's material is the section's scaled by its
+    ``cell_alpha_rho``/``cell_alpha_kn``) and the disorder keys to
+    :class:`discrete.Disorder`.
+    """
+    mat = _material(spec.material) if spec.material is not None \
+        else base.scaled(spec.alpha_rho, spec.alpha_kn)
+    profile = None
+    if spec.profile == "tapered":
+        profile = discrete.Tapered(spec.mass_ratio)
+    elif spec.profile == "periodic":
+        m = len(spec.cell_diameters)
+        rho = spec.cell_alpha_rho or (1.0,) * m
+        kn = spec.cell_alpha_kn or (1.0,) * m
+        profile = discrete.Periodic(tuple(
+            (f, None if (a, b) == (1.0, 1.0) else mat.scaled(a, b))
+            for f, a, b in zip(spec.cell_diameters, rho, kn, strict=True)))
+    disorder = None
+    if spec.disorder_mass or spec.disorder_stiffness or spec.disorder_diameter:
+        disorder = discrete.Disorder(mass=spec.disorder_mass,
+                                     stiffness=spec.disorder_stiffness,
+                                     diameter=spec.disorder_diameter, seed=spec.seed)
+    d = diameter if spec.diameter is None else spec.diameter
+    return discrete.Section(spec.n, d, mat, profile=profile, disorder=disorder)
+
+
+def build_law(spec: ChainSpec) -> tuple[discrete.ContactLaw, float]:
+    """The contact law (:mod:`discrete.laws`) and on-site drag rate (1/s) of a chain spec."""
+    if spec.law == "viscoelastic_hertz":
+        return discrete.ViscoelasticHertz(spec.damping_time), spec.drag
+    return discrete.PowerLaw(spec.exponent), spec.drag
+
+
 def build_chain(spec: ChainSpec) -> discrete.Chain:
-    """The :class:`discrete.Chain` of a chain spec (sections, walls, δ0 of section 0)."""
+    """The :class:`discrete.Chain` of a chain spec: the one mapping of ``[chain]``.
+
+    Sections (:func:`build_section`: profiles, disorder, own diameters), walls, the
+    static overlaps from force equilibrium for the law's exponent n: δ0 of section 0
+    (``delta0_over_d`` × its diameter) or, with ``gravity``, the weight of the grains
+    above each contact plus ``top_force`` (:meth:`discrete.Chain.from_sections`).  The
+    law and drag are :func:`build_law`'s; :func:`build_simulation` uses both.
+    """
     base = _material(spec.material)
-    sections = [
-        discrete.Section(s.n, spec.diameter, _material(s.material) if s.material is not None
-                         else base.scaled(s.alpha_rho, s.alpha_kn))
-        for s in spec.sections
-    ]
+    sections = [build_section(s, base, spec.diameter) for s in spec.sections]
     walls = {"paper": "paper", "hertz": "hertz", "free": None}
+    law, _ = build_law(spec)
+    kwargs = ({"gravity": spec.gravity, "wall_force": spec.top_force} if spec.gravity > 0
+              else {"delta0": spec.delta0_over_d * float(sections[0].diameter)})
     chain = discrete.Chain.from_sections(
-        sections, delta0=spec.delta0_over_d * spec.diameter,
-        left_wall=walls[spec.left_wall], right_wall=walls[spec.right_wall])
+        sections, left_wall=walls[spec.left_wall], right_wall=walls[spec.right_wall],
+        exponent=law.exponent, **kwargs)
     return chain.with_params(scenario_chain=json.loads(canonical_json(
         {"sections": [vars(s) for s in spec.sections], "diameter": spec.diameter,
          "delta0_over_d": spec.delta0_over_d, "material": spec.material}, )))
@@ -109,7 +154,7 @@ def build_initial(scenario: Scenario, chain: discrete.Chain, *, cache_dir=None):
         return cut_wave(chain, ini.center, v0=ini.v0, half_width=ini.half_width,
                         cache_dir=cache_dir)
     return exact_wave(chain, ini.center, velocity_max=ini.velocity_max,
-                      strain_max=ini.strain_max)
+                      strain_max=ini.strain_max, law=build_law(scenario.chain)[0])
 
 
 def interfaces(chain: discrete.Chain) -> list[int]:
@@ -139,16 +184,19 @@ MAX_OVERLAP_OVER_D = 0.1
 the same bound as ``[chain] delta0_over_d``)."""
 
 
-def _stable_and_auto_dt(init) -> tuple[float, float]:
+def _stable_and_auto_dt(init, spec: ChainSpec) -> tuple[float, float]:
     """(largest linearly stable dt, default dt) of an initial state, s (discrete.TimeStep)."""
+    law, drag = build_law(spec)
     step = discrete.TimeStep.choose(init.chain, init.u, init.v, init.wall_left,
-                                    init.wall_right, check=False)
+                                    init.wall_right, law=law, drag=drag, check=False)
     return step.stable, step.default
 
 
-def _check_amplitude(chain: discrete.Chain, init, key: str, value: float) -> None:
+def _check_amplitude(chain: discrete.Chain, init, key: str, value: float,
+                     law: discrete.ContactLaw | None = None) -> None:
     """ScenarioError if the initial state's largest expected overlap exceeds the Hertz range."""
-    delta = discrete.expected_overlaps(chain, init.u, init.v, init.wall_left, init.wall_right)
+    delta = discrete.expected_overlaps(chain, init.u, init.v, init.wall_left, init.wall_right,
+                                       law=law)
     d = np.r_[chain.diameter[0], chain.diameter]  # contact j: grain j-1's diameter (wall: 0)
     worst = float(np.max(delta / d))
     if not worst < MAX_OVERLAP_OVER_D:
@@ -167,8 +215,9 @@ def build_initial_checked(scenario: Scenario, chain: discrete.Chain, *, cache_di
     cheap impact state before a cut wave is settled.
     """
     ini = scenario.initial
+    law = build_law(scenario.chain)[0]
     if ini.kind in ("impact", "cut_wave"):
-        _check_amplitude(chain, impact(chain, ini.v0), "v0", ini.v0)
+        _check_amplitude(chain, impact(chain, ini.v0), "v0", ini.v0, law)
     try:
         init = build_initial(scenario, chain, cache_dir=cache_dir)
     except ValueError as exc:
@@ -179,7 +228,7 @@ def build_initial_checked(scenario: Scenario, chain: discrete.Chain, *, cache_di
             f"not fit in the chain or in one section: {exc}") from None
     if ini.kind == "exact_wave":
         key = "velocity_max" if ini.strain_max is None else "strain_max"
-        _check_amplitude(init.chain, init, key, getattr(ini, key))
+        _check_amplitude(init.chain, init, key, getattr(ini, key), law)
     return init
 
 
@@ -194,7 +243,7 @@ def check_run(scenario: Scenario, init) -> None:
     """
     run, ini = scenario.run, scenario.initial
     if run.dt is not None:
-        stable, auto = _stable_and_auto_dt(init)
+        stable, auto = _stable_and_auto_dt(init, scenario.chain)
         if run.dt > stable:
             raise ScenarioError(
                 f"[run] dt = {run.dt!r} s is above the largest linearly stable time step "
@@ -249,10 +298,11 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
     if check:
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
+    law, drag = build_law(scenario.chain)
     step = discrete.TimeStep.choose(
         init.chain, init.u, init.v, init.wall_left, init.wall_right, dt=run.dt,
-        integrator=None if run.integrator == "auto" else run.integrator,
-        fraction=run.dt_fraction, check=False, rtol=run.rtol, horizon=run.t_end)
+        integrator=None if run.integrator == "auto" else run.integrator, law=law,
+        drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol, horizon=run.t_end)
     dt = step.dt
     speed = _wave_speed_estimate(init.chain, init.v)
     d = float(np.mean(init.chain.diameter))
@@ -272,9 +322,12 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         snapshots=[discrete.AtTime(t) for t in rec.snapshot_times]
         + [discrete.WaveAt(g) for g in rec.snapshot_grains],
         series_grains=list(rec.time_series_grains), series_every=rec.series_every,
-        maxima=rec.running_max, energy_every=every, energy_coarsen=coarsen)
+        maxima=rec.running_max, energy_every=every, energy_coarsen=coarsen,
+        sensors=list(rec.sensors), wall_forces=rec.wall_forces,
+        strain_maxima=rec.strain_maxima)
     kwargs = {} if threads is None else {"threads": threads}
-    sim = init.simulation(dt=step, record=recording, check_dt=check, **kwargs)
+    sim = init.simulation(dt=step, record=recording, check_dt=check, law=law, drag=drag,
+                          **kwargs)
     return init.chain, init, sim
 
 

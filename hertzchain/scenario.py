@@ -20,6 +20,21 @@ form, :class:`continuum.BoussinesqPDE`) under precompression and the corrected,
 regularised Eq. 7 (:class:`continuum.NesterenkoPDE`) at δ0 = 0 (docs/physics.md §2–4);
 a model that does not fit the regime (Eq. 4 or KdV at δ0 = 0; KdV, which is
 unidirectional, on more than one section) is an error naming ``[models] continuum``.
+Both the continuum and the theory are derived for the paper's chain — the lossless Hertz
+law in uniform sections of one diameter without gravity — and are refused (naming the
+model's key and the chain keys that leave that chain) for another law, drag, gravity, a
+tapered or periodic profile, disorder or a section of another diameter; the discrete
+chain runs all of them (examples: ``hertzchain/scenarios/examples/``).
+
+Chains beyond the paper
+-----------------------
+``[chain] law``/``exponent``/``damping_time``/``drag`` choose the contact law
+(:mod:`discrete.laws`), ``gravity``/``top_force`` a vertical chain; each
+``[[chain.sections]]`` may have its own ``diameter`` and a per-grain ``profile``
+(tapered, periodic unit cell) and seeded disorder; ``[record] sensors``, ``wall_forces``
+and ``strain_maxima`` record what experiments measure.  They map to :mod:`discrete`
+objects in one place, :func:`hertzchain.runner.build_chain` and
+:func:`hertzchain.runner.build_law`.
 
 Extending the format
 --------------------
@@ -127,6 +142,12 @@ INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4")
 
 MATERIAL_KEYS = ("density", "youngs_modulus", "poisson_ratio")
 
+LAWS = ("power", "viscoelastic_hertz")
+"""Values of ``[chain] law`` (the names of :data:`discrete.laws.LAWS`)."""
+
+PROFILES = ("uniform", "tapered", "periodic")
+"""Values of ``[[chain.sections]] profile``."""
+
 SCHEMA: dict[str, tuple[Key, ...]] = {
     "": (
         Key("name", "string", "", "free label", example="my-chain"),
@@ -144,6 +165,23 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             choices=("paper", "hertz", "free")),
         Key("right_wall", "choice", "paper", "right end (as left_wall)",
             choices=("paper", "hertz", "free")),
+        Key("law", "choice", "power", "contact law (discrete.laws): \"power\" F = k δ^n "
+            "(n = exponent; 3/2 is Hertz, paper Eq. 1) or \"viscoelastic_hertz\" F = "
+            "max(0, k (δ^{3/2} + A δ^{1/2} dδ/dt)) (Kuwabara & Kono 1987)",
+            choices=LAWS),
+        Key("exponent", "number", 1.5, "law = \"power\": the exponent n (1 linear springs "
+            "or cylinders, 3/2 spheres, 2 cones); the static overlaps balance k δ0^n", low=1,
+            low_open=False, high=10, high_open=False),
+        Key("damping_time", "number", 0.0, "law = \"viscoelastic_hertz\": the dissipative "
+            "constant A of Brilliantov et al. (1996) Eq. 18", "s", low=0, low_open=False),
+        Key("drag", "number", 0.0, "on-site viscous drag rate β: force -m_i β v_i on every "
+            "grain", "1/s", low=0, low_open=False),
+        Key("gravity", "number", 0.0, "vertical chain, grain 0 on top, standing on the "
+            "right wall: acceleration of gravity along the chain (9.81 on Earth); the static "
+            "overlaps grow with depth from force equilibrium (then delta0_over_d must be 0: "
+            "give top_force)", "m/s²", low=0, low_open=False),
+        Key("top_force", "number", 0.0, "with gravity: static force on the top (left) wall "
+            "(0: nothing presses from above)", "N", low=0, low_open=False),
     ),
     "chain.sections": (
         Key("n", "integer", None, "grains of this section (sum over sections >= 2)", low=1,
@@ -152,6 +190,29 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("alpha_kn", "number", 1.0, "contact stiffness k_n / the first section's", low=0),
         Key("material", "material", None, "instead of alpha_rho/alpha_kn: a material name "
             "or table"),
+        Key("diameter", "number", None, "this section's grain diameter (default: [chain] "
+            "diameter)", "m", low=0),
+        Key("profile", "choice", "uniform", "per-grain profile: \"uniform\", \"tapered\" "
+            "(mass ratio per grain, mass_ratio) or \"periodic\" (a repeated unit cell: "
+            "cell_diameters, cell_alpha_rho, cell_alpha_kn)", choices=PROFILES),
+        Key("mass_ratio", "number", None, "tapered: m_{i+1}/m_i at fixed material (< 1: "
+            "forward taper, large to small grains; > 1 backward)", low=0),
+        Key("cell_diameters", "numbers", (), "periodic: diameter / the section's of each "
+            "grain of the unit cell (a dimer of mass ratio ε: [1.0, ε^{1/3}])", low=0),
+        Key("cell_alpha_rho", "numbers", (), "periodic: density factor of each cell grain "
+            "(default all 1)", low=0),
+        Key("cell_alpha_kn", "numbers", (), "periodic: k_n factor of each cell grain "
+            "(default all 1)", low=0),
+        Key("disorder_mass", "number", 0.0, "seeded disorder: relative standard deviation "
+            "of the grain masses (factor 1 + σ√3 U, U uniform in [-1, 1])", low=0,
+            low_open=False, high=0.5, high_open=False),
+        Key("disorder_stiffness", "number", 0.0, "seeded disorder: relative standard "
+            "deviation of the grain–grain contact constants", low=0, low_open=False,
+            high=0.5, high_open=False),
+        Key("disorder_diameter", "number", 0.0, "seeded disorder: relative standard "
+            "deviation of the diameters (masses and contact constants follow)", low=0,
+            low_open=False, high=0.5, high_open=False),
+        Key("seed", "integer", 0, "seed of the disorder's random numbers", low=0),
     ),
     "initial": (
         Key("kind", "choice", "impact", "\"impact\" (grain 0 at v0), \"cut_wave\" (the "
@@ -159,7 +220,9 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "exact discrete solitary wave, docs/physics.md §7)",
             choices=("impact", "cut_wave", "exact_wave"), example="cut_wave"),
         Key("v0", "number", 1.0, "impact velocity (impact, cut_wave)", "m/s", low=0),
-        Key("striker_mass", "number", 1.0, "impact: striker mass / the first grain's", low=0),
+        Key("striker_mass", "number", 1.0, "impact: striker mass / the first grain's; "
+            "other than 1 the striker is an extra grain prepended as grain 0 of the run "
+            "(so the run's grain i + 1 is the chain's grain i)", low=0),
         Key("center", "integer", None, "cut_wave, exact_wave: grain of the wave's peak",
             low=0, example=100),
         Key("half_width", "integer", 40, "cut_wave: grains kept on each side of the peak",
@@ -199,6 +262,12 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("energy_grid", "bool", True, "record the energy grid (the runner's energy ratios "
             "and front speeds need it)"),
         Key("running_max", "bool", True, "per-grain running maxima of v and u"),
+        Key("sensors", "integers", (), "grains read as embedded force sensors (the mean of "
+            "their two contact forces, N), sampled every series_every steps", low=0),
+        Key("wall_forces", "bool", False, "record the force on each wall (N), sampled "
+            "every series_every steps"),
+        Key("strain_maxima", "bool", False, "running maximum of every contact's overlap "
+            "(the strain maxima (max δ - δ0)/d; needs running_max)"),
     ),
     "models": (
         Key("discrete", "bool", True, "the discrete chain (paper Eq. 2; the reference)"),
@@ -362,6 +431,22 @@ class SectionSpec:
     alpha_rho: float = 1.0
     alpha_kn: float = 1.0
     material: Any = None
+    diameter: float | None = None
+    profile: str = "uniform"
+    mass_ratio: float | None = None
+    cell_diameters: tuple[float, ...] = ()
+    cell_alpha_rho: tuple[float, ...] = ()
+    cell_alpha_kn: tuple[float, ...] = ()
+    disorder_mass: float = 0.0
+    disorder_stiffness: float = 0.0
+    disorder_diameter: float = 0.0
+    seed: int = 0
+
+    @property
+    def uniform(self) -> bool:
+        """Identical grains: no profile and no disorder."""
+        return self.profile == "uniform" and not (
+            self.disorder_mass or self.disorder_stiffness or self.disorder_diameter)
 
 
 @dataclass(frozen=True)
@@ -374,11 +459,46 @@ class ChainSpec:
     material: Any = "paper"
     left_wall: str = "paper"
     right_wall: str = "paper"
+    law: str = "power"
+    exponent: float = 1.5
+    damping_time: float = 0.0
+    drag: float = 0.0
+    gravity: float = 0.0
+    top_force: float = 0.0
 
     @property
     def n(self) -> int:
         """Total number of grains."""
         return sum(s.n for s in self.sections)
+
+    @property
+    def hertz(self) -> bool:
+        """The paper's lossless Hertz law (power law, n = 3/2, no drag)."""
+        return self.law == "power" and self.exponent == 1.5 and self.drag == 0
+
+    def beyond_paper(self) -> list[str]:
+        """The keys that take this chain outside the paper's, as ``"[table] key = value"``.
+
+        The paper's chain: the lossless Hertz law, uniform sections of one diameter, no
+        gravity (where the continuum and the closed-form theory apply).
+        """
+        out = []
+        if self.law != "power":
+            out.append(f"[chain] law = {self.law!r}")
+        elif self.exponent != 1.5:
+            out.append(f"[chain] exponent = {self.exponent!r}")
+        for name in ("drag", "gravity"):
+            if getattr(self, name):
+                out.append(f"[chain] {name} = {getattr(self, name)!r}")
+        for i, s in enumerate(self.sections):
+            if s.profile != "uniform":
+                out.append(f"[chain.sections[{i}]] profile = {s.profile!r}")
+            for name in ("disorder_mass", "disorder_stiffness", "disorder_diameter"):
+                if getattr(s, name):
+                    out.append(f"[chain.sections[{i}]] {name} = {getattr(s, name)!r}")
+            if s.diameter is not None and s.diameter != self.diameter:
+                out.append(f"[chain.sections[{i}]] diameter = {s.diameter!r}")
+        return out
 
 
 @dataclass(frozen=True)
@@ -418,6 +538,9 @@ class RecordSpec:
     energy_every: int = 0
     energy_grid: bool = True
     running_max: bool = True
+    sensors: tuple[int, ...] = ()
+    wall_forces: bool = False
+    strain_maxima: bool = False
 
 
 @dataclass(frozen=True)
@@ -521,6 +644,28 @@ _SPECS = {"chain": ChainSpec, "chain.sections": SectionSpec, "initial": InitialS
 def _check_sections(values: dict, where: str, raw: dict) -> None:
     if values["material"] is not None and ("alpha_rho" in raw or "alpha_kn" in raw):
         raise ScenarioError(f"[{where}] give either material or alpha_rho/alpha_kn, not both")
+    profile = values["profile"]
+    if profile == "tapered" and values["mass_ratio"] is None:
+        raise ScenarioError(f"[{where}] profile = 'tapered' needs mass_ratio (m_(i+1)/m_i, "
+                            "> 0)")
+    if profile != "tapered" and values["mass_ratio"] is not None:
+        raise ScenarioError(f"[{where}] mass_ratio applies to profile = 'tapered' only "
+                            f"(profile = {profile!r})")
+    cells = ("cell_diameters", "cell_alpha_rho", "cell_alpha_kn")
+    if profile == "periodic":
+        m = len(values["cell_diameters"])
+        if m == 0:
+            raise ScenarioError(f"[{where}] profile = 'periodic' needs cell_diameters (a "
+                                "list of diameter factors > 0, one per grain of the cell)")
+        for name in cells[1:]:
+            if values[name] and len(values[name]) != m:
+                raise ScenarioError(f"[{where}] {name} must have one entry per grain of the "
+                                    f"cell: {m} (the length of cell_diameters)")
+    else:
+        for name in cells:
+            if values[name]:
+                raise ScenarioError(f"[{where}] {name} applies to profile = 'periodic' only "
+                                    f"(profile = {profile!r})")
 
 
 def _check_chain(spec: ChainSpec) -> None:
@@ -529,6 +674,27 @@ def _check_chain(spec: ChainSpec) -> None:
     if spec.delta0_over_d > 0 and "free" in (spec.left_wall, spec.right_wall):
         raise ScenarioError("[chain] a precompressed chain (delta0_over_d > 0) needs two "
                             "walls; left_wall/right_wall = 'free' is only allowed at 0")
+    if spec.law == "viscoelastic_hertz" and spec.exponent != 1.5:
+        raise ScenarioError(f"[chain] exponent = {spec.exponent!r}: law = "
+                            "'viscoelastic_hertz' is Hertzian (exponent 1.5); use law = "
+                            "'power' for another exponent")
+    if spec.law != "viscoelastic_hertz" and spec.damping_time != 0:
+        raise ScenarioError(f"[chain] damping_time = {spec.damping_time!r} s applies to "
+                            f"law = 'viscoelastic_hertz' only (law = {spec.law!r})")
+    if spec.gravity > 0:
+        if spec.delta0_over_d > 0:
+            raise ScenarioError("[chain] delta0_over_d must be 0 with gravity > 0: the "
+                                "overlaps grow with depth from force equilibrium; press from "
+                                "above with top_force (N)")
+        if spec.right_wall == "free":
+            raise ScenarioError("[chain] gravity > 0 needs a floor: right_wall = 'paper' or "
+                                "'hertz' (not 'free')")
+        if spec.top_force > 0 and spec.left_wall == "free":
+            raise ScenarioError("[chain] top_force > 0 needs a top wall: left_wall = 'paper' "
+                                "or 'hertz' (not 'free')")
+    elif spec.top_force != 0:
+        raise ScenarioError(f"[chain] top_force = {spec.top_force!r} N applies with gravity "
+                            "> 0 only (without gravity set delta0_over_d)")
 
 
 def _check_initial(spec: InitialSpec, n: int) -> None:
@@ -548,6 +714,24 @@ def _check_initial(spec: InitialSpec, n: int) -> None:
     elif spec.strain_max is not None:
         raise ScenarioError(f"[initial] strain_max applies to kind = 'exact_wave' only "
                             f"(kind = {kind!r})")
+
+
+def _check_initial_law(spec: InitialSpec, chain: ChainSpec) -> None:
+    if spec.kind == "cut_wave" and chain.exponent != 1.5:
+        raise ScenarioError(f"[initial] kind = 'cut_wave' is a settled Hertz wave; [chain] "
+                            f"exponent = {chain.exponent!r} needs kind = 'impact' or "
+                            "'exact_wave'")
+    if spec.kind == "exact_wave" and chain.exponent != 1.5 and chain.delta0_over_d > 0:
+        raise ScenarioError(f"[initial] kind = 'exact_wave' with [chain] exponent = "
+                            f"{chain.exponent!r} needs delta0_over_d = 0 (the exact wave of "
+                            "a power law other than Hertz is solved without precompression)")
+    if spec.kind == "impact" and spec.striker_mass != 1.0 and chain.gravity > 0:
+        raise ScenarioError("[initial] striker_mass != 1 with [chain] gravity > 0: a striker "
+                            "grain is not part of the chain's static equilibrium; give "
+                            "striker_mass = 1 (grain 0 is struck)")
+    if spec.kind in ("cut_wave", "exact_wave") and chain.gravity > 0:
+        raise ScenarioError(f"[initial] kind = {spec.kind!r} needs a uniform precompression;"
+                            " with [chain] gravity > 0 use kind = 'impact'")
 
 
 def _check_run(spec: RunSpec, n: int) -> None:
@@ -571,9 +755,11 @@ def _check_run(spec: RunSpec, n: int) -> None:
 def _check_record(spec: RecordSpec, n: int, t_end: float | None) -> None:
     if t_end is not None and any(x > t_end for x in spec.snapshot_times):
         raise ScenarioError(f"[record] snapshot_times must be <= run.t_end = {t_end}")
-    for name in ("time_series_grains", "snapshot_grains"):
+    for name in ("time_series_grains", "snapshot_grains", "sensors"):
         if any(g >= n for g in getattr(spec, name)):
             raise ScenarioError(f"[record] {name} must lie in [0, {n - 1}]")
+    if spec.strain_maxima and not spec.running_max:
+        raise ScenarioError("[record] strain_maxima = true needs running_max = true")
 
 
 def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
@@ -584,6 +770,18 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
                             "(a node on every grain centre)")
     if spec.order not in (2, 4):
         raise ScenarioError(f"[models] order = {spec.order}; allowed: 2, 4")
+    beyond = chain.beyond_paper()
+    if spec.continuum and beyond:
+        raise ScenarioError(
+            f"[models] continuum = {spec.continuum!r} does not apply to this chain: the "
+            "long-wave equations are derived for the lossless Hertz law in uniform sections "
+            f"of one diameter without gravity, and {', '.join(beyond)}; set [models] "
+            "continuum = false")
+    if spec.theory and beyond:
+        raise ScenarioError(
+            "[models] theory = true does not apply to this chain: the closed-form wave "
+            "speeds and interface coefficients are the lossless Hertz chain's, and "
+            f"{', '.join(beyond)}; set [models] theory = false")
     d0 = chain.delta0_over_d
     model = spec.continuum_model(d0)
     if model in ("eq4", "kdv") and d0 == 0:
@@ -629,6 +827,7 @@ def parse_scenario(data: dict) -> Scenario:
     n = chain.n
     initial = InitialSpec(**_read_table(data.get("initial", {}), "initial"))
     _check_initial(initial, n)
+    _check_initial_law(initial, chain)
     run = RunSpec(**_read_table(data.get("run", {}), "run"))
     _check_run(run, n)
     record = RecordSpec(**_read_table(data.get("record", {}), "record"))
