@@ -409,6 +409,8 @@ class TimeStep:
                      drag, horizon, check) -> TimeStep:
         """The step (and method) meeting ``rtol`` from :func:`probe_error` (module docstring)."""
         names = RTOL_CANDIDATES if integrator is None else (get_integrator(integrator).name,)
+        if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
+            names = ("verlet",)
         best = None
         steps = 0
         for name in names:

@@ -147,3 +147,12 @@ def test_cli_rtol(tmp_path, capsys):
     assert main(["run", str(path), "--json", "--rtol", "1e-3"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["dt_source"] == "rtol" and out["rtol"] == 1e-3
+
+
+def test_rtol_with_damping_takes_verlet():
+    from discrete import ViscoelasticHertz
+
+    init, _ = _impact()
+    law = ViscoelasticHertz(damping_time=1e-7)
+    step = TimeStep.choose(init.chain, init.u, init.v, rtol=1e-3, integrator=None, law=law)
+    assert step.integrator == "verlet" and step.error_estimate <= 1e-3 * (1 + 1e-9)
