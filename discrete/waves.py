@@ -12,9 +12,16 @@ difference of their arrival times.
 Wave trains
 -----------
 :func:`split_train` cuts a snapshot's velocity profile into its pulses
-(:func:`discrete.diagnostics.find_pulses`) and gives for each its position, peak
-velocity, peak dynamic overlap, energy (the grain energies over its extent) and the speed
-of the exact lattice wave of that peak velocity on the local grains.
+(:func:`discrete.diagnostics.find_pulses`) and gives for each its position (the peak
+grain velocity's, refined by a parabola), energy (the grain energies over its extent),
+and the peak velocity, peak dynamic overlap (amplitude) and speed of the exact lattice
+wave that carries that energy on the local grains (docs/physics.md §7).  A Hertz wave
+is about five grains wide, so the peak values *sampled* at grains and contacts depend on
+where the wave stands between them — by up to 24 % (velocity) and 21 % (overlap) for the
+exact wave, and a parabola through the top three samples still leaves 16 % and 12 % —
+while its energy does not (the exact wave's is conserved, 7e-15): the wave of equal
+energy gives phase-independent amplitudes and speeds (measured within 2e-3 of a placed
+exact wave at every phase, ``tests/discrete/test_chains_sensors.py``).
 
 Damped solitary wave (first-order estimate)
 -------------------------------------------
@@ -48,6 +55,7 @@ chain in ``tests/discrete/test_physics_laws.py``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -135,16 +143,20 @@ class TrainWave:
         Grain index of its velocity peak (parabola through the peak grain and its
         neighbours).
     velocity_max : float
-        Peak grain velocity, m/s (signed: < 0 for a left-going compression).
+        Peak grain velocity of the exact lattice wave of the same energy, m/s (signed:
+        < 0 for a left-going compression; the sampled peak where there is no exact wave).
     amplitude : float
-        Largest dynamic overlap r - δ0 of its contacts, m.
+        Peak dynamic overlap r - δ0 of that exact wave, m (the sampled one, refined by a
+        parabola, where there is none).
     energy : float
         Sum of the grain energies (kinetic + potential) over its extent, J.
     speed : float
-        Speed of the exact lattice wave of that peak velocity on the grains at the peak,
-        m/s (NaN where the theory has none: n ≠ 3/2 with δ0 > 0).
+        Speed of that exact wave, m/s (NaN where the theory has none: n ≠ 3/2 with
+        δ0 > 0).
     start, stop : int
         Its grains: ``start … stop - 1``.
+    sampled_velocity : float
+        The peak grain velocity of the snapshot (parabola-refined), m/s: phase-dependent.
     """
 
     position: float
@@ -154,6 +166,22 @@ class TrainWave:
     speed: float
     start: int
     stop: int
+    sampled_velocity: float = float("nan")
+
+
+def _peak(y: np.ndarray) -> float:
+    """Largest value of samples ``y``, refined by the parabola through the top three.
+
+    A wave a few grains wide sampled at the contacts shows a peak that depends on its
+    phase between them (up to ~20 % for Hertz); the parabola's vertex removes most of it.
+    """
+    j = int(np.argmax(y))
+    if 0 < j < y.size - 1:
+        y0, y1, y2 = float(y[j - 1]), float(y[j]), float(y[j + 1])
+        den = y0 - 2.0 * y1 + y2
+        if den < 0:
+            return y1 - (y0 - y2) ** 2 / (8.0 * den)
+    return float(y[j])
 
 
 def split_train(sim, *, threshold: float = 0.05, valley: float = 0.5, lo: int = 0,
@@ -172,18 +200,56 @@ def split_train(sim, *, threshold: float = 0.05, valley: float = 0.5, lo: int = 
     out = []
     for p in find_pulses(v, threshold=threshold, valley=valley, lo=lo, hi=hi):
         g = p.index
-        amp = float(np.max(r[p.start:p.stop + 1] - ch.delta0[p.start:p.stop + 1]))
+        amp = _peak(r[p.start:p.stop + 1] - ch.delta0[p.start:p.stop + 1])
+        energy = float(np.sum(et[p.start:p.stop]))
         j = min(max(g, 1), ch.n - 1)
+        vm, speed = p.amplitude, float("nan")
         try:
-            w = discrete_solitary_wave(ch.k[j], ch.mass[g], ch.diameter[g], ch.delta0[j],
-                                       velocity_max=abs(p.amplitude),
-                                       exponent=sim.law.exponent)
-            speed = w.speed
+            w = _wave_of_energy(ch.k[j], ch.mass[g], ch.diameter[g], ch.delta0[j],
+                                sim.law.exponent, energy, abs(p.amplitude))
+            vm, amp, speed = float(np.copysign(w.velocity_max, p.amplitude)), w.amplitude, \
+                w.speed
         except (ValueError, RuntimeError):
-            speed = float("nan")
-        out.append(TrainWave(p.position, p.amplitude, amp, float(np.sum(et[p.start:p.stop])),
-                             float(speed), p.start, p.stop))
+            pass
+        out.append(TrainWave(p.position, vm, amp, energy, float(speed), p.start, p.stop,
+                             p.amplitude))
     return out
+
+
+def _wave_of_energy(k: float, mass: float, d: float, delta0: float, exponent: float,
+                    energy: float, guess: float) -> DiscreteSolitaryWave:
+    """The exact lattice wave of ``energy`` (J) on these grains, from a peak-velocity guess.
+
+    E(v_max) increases monotonically; the root of ln E(v) - ln E is bracketed around
+    ``guess`` (m/s; the sampled peak is within ~25 % of the wave's) and refined by Brent's
+    method to 1e-10 in ln v.  ValueError if there is no exact wave or no root.
+    """
+    from scipy.optimize import brentq
+
+    if not (energy > 0 and guess > 0):
+        raise ValueError("no wave: zero energy or velocity")
+
+    def wave(lv):
+        return discrete_solitary_wave(k, mass, d, delta0, velocity_max=math.exp(lv),
+                                      exponent=exponent)
+
+    def f(lv):
+        return math.log(wave(lv).energy() / energy)
+
+    lo, hi = math.log(guess) - 0.2, math.log(guess) + 0.6
+    flo, fhi = f(lo), f(hi)
+    for _ in range(10):  # widen until bracketed
+        if flo < 0 < fhi:
+            break
+        if flo >= 0:
+            lo -= 0.5
+            flo = f(lo)
+        if fhi <= 0:
+            hi += 0.5
+            fhi = f(hi)
+    else:
+        raise ValueError("no exact wave of this energy near the sampled peak")
+    return wave(brentq(f, lo, hi, xtol=1e-10))
 
 
 def wave_dissipation(wave: DiscreteSolitaryWave, law: ContactLaw, *, phases: int = 16

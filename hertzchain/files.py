@@ -98,7 +98,11 @@ def _describe(f: h5py.File, lines: list[str]) -> None:
 
 
 def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
-    """Plot a discrete run: final velocity profile and, if recorded, the energy map."""
+    """Plot a discrete run: velocity profile; if recorded energy map, forces, strain maxima.
+
+    Panels: the final grain velocities; the energy space–time grid, the wall and sensor
+    forces and the per-contact strain maxima when they were recorded.
+    """
     import matplotlib
 
     matplotlib.use("agg")
@@ -106,14 +110,15 @@ def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
 
     from discrete.io import load
 
-    from .plotting import plot_forces, plot_grain_profile, plot_spacetime
+    from .plotting import plot_forces, plot_grain_profile, plot_spacetime, plot_strain_maxima
 
     path = Path(path)
     sim = load(path)
     arr = sim.record.arrays()
     has_grid = arr["energy_kinetic"].shape[0] > 1
     has_forces = arr["sensor_force"].size > 0 or arr["wall_force"].size > 0
-    ncol = 1 + has_grid + has_forces
+    has_strain = sim.record.overlap_max is not None
+    ncol = 1 + has_grid + has_forces + has_strain
     fig, axes = plt.subplots(1, ncol, figsize=(5.5 * ncol, 4), squeeze=False)
     n_left = int(np.count_nonzero(sim.chain.section == sim.chain.section[0]))
     iface = n_left if n_left < sim.chain.n else None
@@ -131,7 +136,11 @@ def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
         for q, g in enumerate(arr["sensor_grains"]):
             cols.append(arr["sensor_force"][:, q])
             labels.append(f"sensor at grain {int(g)}")
-        plot_forces(axes[0, -1], arr["series_t"], np.stack(cols, axis=1), labels)
+        plot_forces(axes[0, 1 + has_grid], arr["series_t"], np.stack(cols, axis=1), labels)
+    if has_strain:  # per-contact strain maxima (discrete.Recording strain_maxima)
+        d = np.r_[sim.chain.diameter[0], sim.chain.diameter]  # contact j: grain j-1's (wall: 0)
+        plot_strain_maxima(axes[0, -1], (sim.record.overlap_max - sim.chain.delta0) / d,
+                           interface=iface)
     fig.tight_layout()
     out = Path(out) if out is not None else path.with_suffix(".png")
     try:

@@ -17,6 +17,7 @@ __all__ = [
     "plot_spacetime",
     "plot_theory_lines",
     "plot_forces",
+    "plot_strain_maxima",
     "mark_interface",
     "plot_profiles",
     "plot_profile_difference",
@@ -161,6 +162,22 @@ def plot_forces(ax, t, forces, labels, *, time_unit: float = 1e-3):
     ax.set_ylabel("force (N)")
     if labels:
         ax.legend(fontsize=8)
+
+
+def plot_strain_maxima(ax, strain_max, *, interface: int | None = None) -> None:
+    """Per-contact strain maxima (max δ_j − δ0_j)/d vs contact index j (0: left wall).
+
+    ``interface``: the first grain of the second section (0-based; its left contact is
+    marked).  ``strain_max`` (N+1,): the running overlap maxima of a run
+    (:class:`discrete.Recording` ``strain_maxima``) minus the static overlaps, over the
+    grain diameter (dimensionless).
+    """
+    strain_max = np.asarray(strain_max, dtype=float)
+    ax.plot(np.arange(strain_max.size), strain_max, lw=1.0, color="C3")
+    if interface is not None:  # the interface contact j = interface (0-based grains)
+        ax.axvline(interface, color="0.4", ls=":", lw=1.0)
+    ax.set_xlabel("contact $j$")
+    ax.set_ylabel(r"strain maximum $(\max\delta_j - \delta_{0,j})/d$")
 
 
 # -- models side by side (hertzchain.compare) -------------------------------------------

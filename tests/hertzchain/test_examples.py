@@ -114,9 +114,9 @@ def python_striker():
 
 
 def python_measure_wall_force():
-    chain = discrete.Chain.from_sections([discrete.Section(80, D, P)], delta0=0.0,
-                                         right_wall="hertz")
-    return discrete.exact_wave(chain, 30, velocity_max=0.5), None, 0.0
+    chain = discrete.Chain.from_sections([discrete.Section(200, D, P)], delta0=1e-4 * D,
+                                         left_wall="hertz", right_wall="hertz")
+    return discrete.exact_wave(chain, 100, velocity_max=0.02), None, 0.0
 
 
 def python_measure_sensors():
@@ -191,18 +191,43 @@ def test_example_runs_from_toml_and_matches_python(stem):
 
 
 def test_example_records_are_written_and_plotted(tmp_path):
-    from hertzchain.files import plot_file
+    # `hertzchain run <example name>` finds the shipped file; the HDF5 file holds the
+    # sensor and wall forces and the strain maxima; `hertzchain plot` draws them
+    from hertzchain.cli import main
 
-    sc = load_scenario(EXAMPLES["chain_sections"])
     out = tmp_path / "run.h5"
-    summary, sim = run_simulation(sc, out=out)
+    assert main(["run", "chain_sections", "--out", str(out)]) == 0
+    sc = load_scenario(EXAMPLES["chain_sections"])
+    _, sim = run_simulation(sc)
     back = discrete.load(out)
     a, b = back.record.arrays(), sim.record.arrays()
     for name in ("sensor_grains", "sensor_force", "wall_force"):
         np.testing.assert_array_equal(a[name], b[name])
+    np.testing.assert_array_equal(back.record.overlap_max, sim.record.overlap_max)
     assert back.law == sim.law
-    png = plot_file(out, tmp_path / "run.png")
-    assert png.stat().st_size > 10_000
+    assert main(["plot", str(out), "--out", str(tmp_path / "run.png")]) == 0
+    assert (tmp_path / "run.png").stat().st_size > 10_000
+
+
+def test_wall_force_example_impulse_is_twice_the_momentum():
+    # The physics of measure_wall_force.toml, from the TOML run: the right wall's impulse
+    # ∫(F - F0) dt (trapezoid of the force sampled every step, which for velocity Verlet
+    # is exactly the sum of the kicks) equals the momentum the chain lost, to round-off
+    # (measured 3.9e-15; tolerance 1e-12), and twice the incident wave's momentum, the
+    # reflected wave being its mirror image (measured 2.4e-7; tolerance 1e-5: the wave's
+    # O(dt²) reshaping and its 1e-12 tails); the left wall feels nothing (4e-13 N s).
+    sc = load_scenario(EXAMPLES["measure_wall_force"])
+    _, sim = run_simulation(sc)
+    ini = discrete.exact_wave(sim.chain, sc.initial.center,
+                              velocity_max=sc.initial.velocity_max)
+    p0 = float(np.sum(sim.chain.mass * ini.v))
+    r = sim.record.arrays()
+    f = r["wall_force"] - sim.chain.f0[[0, -1]]
+    imp = np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(r["series_t"])[:, None], axis=0)
+    p1 = float(np.sum(sim.chain.mass * sim.v))
+    assert abs((imp[1] - imp[0]) / (p0 - p1) - 1) < 1e-12
+    assert abs(imp[1] / (2 * p0) - 1) < 1e-5
+    assert abs(imp[0]) < 1e-6 * imp[1]
 
 
 def _base(**chain):
