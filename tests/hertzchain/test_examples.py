@@ -318,3 +318,21 @@ def test_example_through_the_models_run_path():
     assert res.continuum is None and res.theory is None
     assert res.simulation.record.arrays()["wall_force"].shape[1] == 2
     assert res.discrete.summary["completed"]
+
+
+def test_scenario_laws_are_discrete_laws():
+    # [chain] law offers the registered laws of discrete.laws by their names, and each
+    # maps to an instance of its class (hertzchain.runner.build_law)
+    from discrete.laws import LAWS
+    from hertzchain.runner import build_law
+    from hertzchain.scenario import LAWS as SCENARIO_LAWS
+
+    assert set(SCENARIO_LAWS) <= set(LAWS)
+    assert {discrete.PowerLaw.name, discrete.ViscoelasticHertz.name} <= set(SCENARIO_LAWS)
+    for name in SCENARIO_LAWS:
+        law, drag = build_law(parse_scenario(_base(law=name)).chain)
+        assert isinstance(law, LAWS[name]) and drag == 0.0
+    law, drag = build_law(parse_scenario(_base(law="viscoelastic_hertz", damping_time=3e-7,
+                                               drag=5.0)).chain)
+    assert law == discrete.ViscoelasticHertz(3e-7) and drag == 5.0
+    assert build_law(parse_scenario(_base(exponent=2.5)).chain)[0] == discrete.PowerLaw(2.5)
