@@ -175,8 +175,10 @@ class Simulation:
         The chain.
     u, v : (N,) arrays, optional
         Initial displacements from static equilibrium (m) and velocities (m/s); zero.
-    dt : float, optional
-        Time step, s (> 0); default :class:`~discrete.timestep.TimeStep`'s.
+    dt : float or TimeStep, optional
+        Time step, s (> 0), or one chosen by :meth:`TimeStep.choose
+        <discrete.timestep.TimeStep.choose>` (its integrator then wins); default
+        :class:`~discrete.timestep.TimeStep`'s.
     wall_left, wall_right : float
         Wall displacements, m (fixed during the run).
     record : Recording, optional
@@ -216,6 +218,11 @@ class Simulation:
         The contact law (:mod:`discrete.laws`); default Hertz (paper Eq. 1).
     drag : float
         On-site viscous drag rate β, 1/s (>= 0): force -m_i β v_i on every grain.
+    rtol : float, optional
+        Relative accuracy of the recorded quantities, in (0, 1): dt is chosen from a
+        step-doubling probe (:mod:`discrete.timestep`; ``integrator="auto"``: the method
+        too) and the estimate kept in ``time_step.error_estimate``.  An explicit ``dt``
+        wins.
     """
 
     def __init__(self, chain: Chain, u=None, v=None, *, dt: float | None = None,
@@ -224,7 +231,7 @@ class Simulation:
                  drift_tolerance: float = 1e-4, chunk: int = 4096,
                  integrator: str = "verlet", threads: int | None = None,
                  check_dt: bool = True, law: ContactLaw | dict | None = None,
-                 drag: float = 0.0) -> None:
+                 drag: float = 0.0, rtol: float | None = None) -> None:
         if not isinstance(chain, Chain):
             raise ValueError(f"chain must be a Chain (got {type(chain).__name__})")
         n = chain.n
@@ -244,15 +251,28 @@ class Simulation:
         self.wall_left, self.wall_right = float(wall_left), float(wall_right)
         self.recording = Recording() if record is None else record
         self.recording.validate(n)
+        if isinstance(dt, TimeStep):  # chosen beforehand (a runner's rtol probe)
+            integrator = dt.integrator
+        elif rtol is not None and dt is None:
+            dt = TimeStep.choose(chain, self.u, self.v, self.wall_left, self.wall_right,
+                                 rtol=rtol, integrator=None if integrator == "auto"
+                                 else integrator, law=self.law, drag=self.drag,
+                                 check=check_dt)
+            integrator = dt.integrator
         method = get_integrator(integrator)
         self.kernels = K.make_kernels(self.law, self.drag > 0, self.recording.strain_maxima)
         if self.kernels.velocity_dependent and method.name != "verlet":
             raise ValueError(f"integrator {method.name!r} needs forces that depend on "
                              "positions only; a dissipative law or drag runs with 'verlet' "
                              "(velocity Verlet with a predicted velocity, discrete.kernels)")
-        self.time_step = TimeStep.choose(chain, self.u, self.v, self.wall_left,
-                                         self.wall_right, dt=dt, integrator=method,
-                                         law=self.law, drag=self.drag, check=check_dt)
+        if isinstance(dt, TimeStep):
+            self.time_step = dt
+            if check_dt:
+                dt.check()
+        else:
+            self.time_step = TimeStep.choose(chain, self.u, self.v, self.wall_left,
+                                             self.wall_right, dt=dt, integrator=method,
+                                             law=self.law, drag=self.drag, check=check_dt)
         self.dt = self.time_step.dt
         if not (drift_tolerance > 0):
             raise ValueError(f"drift_tolerance must be > 0 (got {drift_tolerance!r})")
@@ -508,7 +528,9 @@ class Simulation:
              "active_window": self.active_window,
              "default_threshold": self._default_threshold, "integrator": self.integrator,
              "drag": self.drag, "dissipation_rate0": self._p0,
-             "dt_default": self.time_step.default}
+             "dt_default": self.time_step.default,
+             **{k: v for k, v in self.time_step.to_dict().items() if k.startswith("rtol")},
+             "dt_source": self.time_step.source}
         state = {"u": self.u, "v": self.v, "a": self.a, "dissipated": self._dis,
                  "delta_expected": self.time_step.delta_expected}
         return SavedSimulation(a, self.chain, self.law, state, self.recording, self.record,
@@ -558,6 +580,12 @@ class Simulation:
             sim.time_step = dataclasses.replace(
                 sim.time_step, delta_expected=d, default=float(at["dt_default"]),
                 stable=stable_dt(sim.chain, d, law=sim.law, drag=sim.drag))
+        if "dt_source" in at:  # how dt was chosen (and the estimate of an rtol run)
+            sim.time_step = dataclasses.replace(sim.time_step, source=str(at["dt_source"]))
+        if "rtol" in at and math.isfinite(float(at["rtol"])):
+            sim.time_step = dataclasses.replace(
+                sim.time_step, rtol=float(at["rtol"]), error_estimate=float(at["rtol_estimate"]),
+                order=float(at["rtol_order"]), probe_steps=int(at["rtol_probe_steps"]))
         sim._default_threshold = float(at["default_threshold"])
         sim._pending = list(saved.pending)
         rec = saved.record

@@ -53,6 +53,19 @@ def _json_default(obj):
     raise TypeError(type(obj).__name__)
 
 
+def _with_rtol(scenario, rtol: float | None):
+    """The scenario with ``[run] rtol`` set from ``--rtol`` (None: unchanged)."""
+    return scenario if rtol is None else scenario.with_values({"run.rtol": rtol})
+
+
+def add_rtol_argument(p: argparse.ArgumentParser) -> None:
+    """``--rtol``: the relative accuracy of the discrete run (``[run] rtol``)."""
+    p.add_argument("--rtol", type=positive_float, default=None, metavar="R",
+                   help="relative accuracy of the recorded quantities, in (0, 1): dt chosen "
+                   "from a step-doubling probe (overrides [run] rtol; an explicit [run] dt "
+                   "wins)")
+
+
 def cmd_run(args: argparse.Namespace) -> int:
     """Run every model of a scenario TOML file (:func:`hertzchain.models.run`), print a summary.
 
@@ -70,7 +83,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from .models import run
     from .scenario import load_scenario
 
-    scenario = load_scenario(args.scenario)
+    scenario = _with_rtol(load_scenario(args.scenario), args.rtol)
     out = args.out
 
     def log(message: str) -> None:
@@ -112,7 +125,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
     from .reproduce.command import jsonable
     from .scenario import load_scenario
 
-    scenario = load_scenario(args.scenario)
+    scenario = _with_rtol(load_scenario(args.scenario), args.rtol)
     if args.continuum is not None:
         scenario = scenario.with_values(
             {"models.continuum": False if args.continuum == "off" else args.continuum})
@@ -212,6 +225,7 @@ def build_parser() -> argparse.ArgumentParser:
                    "checkpoint, bit for bit; Ctrl-C stops with a checkpoint")
     p.add_argument("--restart", action="store_true",
                    help="discard an existing checkpoint of --out and start over")
+    add_rtol_argument(p)
     p.add_argument("--threads", type=positive_int, default=None, metavar="N",
                    help="kernel threads (>= 1; default: numba's; results are identical)")
     p.set_defaults(func=cmd_run)
@@ -231,6 +245,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
                    metavar="SECONDS", help="wall time between checkpoints of the discrete "
                    "run, s (>= 0; default 300); rerunning resumes from the last one")
+    add_rtol_argument(p)
     p.add_argument("--threads", type=positive_int, default=None, metavar="N",
                    help="kernel threads of the discrete solver (>= 1)")
     p.set_defaults(func=cmd_compare)

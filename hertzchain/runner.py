@@ -14,7 +14,10 @@ result (:mod:`hertzchain.checkpoint`), and on an instability writes the partial 
 beside the output before re-raising.
 
 Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, ``dt``,
-``energy_drift``, ``n_grains`` and ``wall_time`` are always finite; the six energy
+``energy_drift``, ``n_grains`` and ``wall_time`` are always finite; ``integrator``,
+``dt_source`` (``"default"``, ``"explicit"`` or ``"rtol"``), ``rtol`` (None unless
+given) and ``rtol_estimate`` (the estimated relative error of an rtol run, NaN
+otherwise; :mod:`discrete.timestep`) say how the step was chosen; the six energy
 ratios are finite exactly when ``separated`` is True (False: the waves did not leave
 the interface region on the recorded grid, the incident wave was already at the
 interface at t = 0, or the chain has one section); the front speeds are NaN when fewer
@@ -296,9 +299,11 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
     law, drag = build_law(scenario.chain)
-    dt = discrete.TimeStep.choose(init.chain, init.u, init.v, init.wall_left, init.wall_right,
-                                  dt=run.dt, integrator=run.integrator, law=law, drag=drag,
-                                  fraction=run.dt_fraction, check=False).dt
+    step = discrete.TimeStep.choose(
+        init.chain, init.u, init.v, init.wall_left, init.wall_right, dt=run.dt,
+        integrator=None if run.integrator == "auto" else run.integrator, law=law,
+        drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol, horizon=run.t_end)
+    dt = step.dt
     speed = _wave_speed_estimate(init.chain, init.v)
     d = float(np.mean(init.chain.diameter))
     every = rec.energy_every or None
@@ -321,8 +326,8 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         sensors=list(rec.sensors), wall_forces=rec.wall_forces,
         strain_maxima=rec.strain_maxima)
     kwargs = {} if threads is None else {"threads": threads}
-    sim = init.simulation(dt=dt, record=recording, check_dt=check,
-                          integrator=run.integrator, law=law, drag=drag, **kwargs)
+    sim = init.simulation(dt=step, record=recording, check_dt=check, law=law, drag=drag,
+                          **kwargs)
     return init.chain, init, sim
 
 
@@ -694,6 +699,9 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
                 text += f"; the last checkpoint {ckpt} is kept"
             raise discrete.InstabilityError(text) from exc
         summary = {**run_outcome(scenario, sim, stopped_by), **summarise(chain, sim, amp)}
+        ts = sim.time_step  # how dt was chosen, and the accuracy estimate of an rtol run
+        summary.update(integrator=sim.integrator, dt_source=ts.source,
+                       rtol=ts.rtol, rtol_estimate=ts.error_estimate)
         summary["wall_time"] = elapsed + time.perf_counter() - start
         if out is not None:
             discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),

@@ -241,8 +241,11 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("dt_fraction", "number", None, "\"auto\" dt as a fraction of the shortest "
             "contact period (default: the integrator's, 0.002 for verlet)", low=0,
             high=1, high_open=False),
-        Key("integrator", "choice", "verlet", "discrete time integrator",
-            choices=INTEGRATORS),
+        Key("integrator", "choice", "verlet", "discrete time integrator (\"auto\": the "
+            "cheapest for rtol; needs rtol)", choices=(*INTEGRATORS, "auto")),
+        Key("rtol", "number", None, "relative accuracy of the recorded quantities: dt (and "
+            "with integrator = \"auto\" the method) chosen from a step-doubling probe "
+            "(discrete.timestep); default none: dt_fraction", low=0, high=1),
         Key("max_steps", "integer", 100_000_000, "step limit", low=1),
     ),
     "record": (
@@ -521,6 +524,7 @@ class RunSpec:
     dt_fraction: float | None = None
     integrator: str = "verlet"
     max_steps: int = 100_000_000
+    rtol: float | None = None
 
 
 @dataclass(frozen=True)
@@ -739,6 +743,13 @@ def _check_run(spec: RunSpec, n: int) -> None:
     if spec.dt is not None and spec.dt_fraction is not None:
         raise ScenarioError("[run] give dt or dt_fraction, not both (dt_fraction sets the "
                             "'auto' dt)")
+    if spec.rtol is not None and spec.dt_fraction is not None:
+        raise ScenarioError("[run] give rtol or dt_fraction, not both (both set the 'auto' "
+                            "dt; an explicit dt wins over rtol)")
+    if spec.integrator == "auto" and spec.rtol is None:
+        raise ScenarioError("[run] integrator = 'auto' needs rtol (the method is chosen for "
+                            "that accuracy); allowed without rtol: "
+                            f"{', '.join(INTEGRATORS)}")
 
 
 def _check_record(spec: RecordSpec, n: int, t_end: float | None) -> None:

@@ -7,6 +7,8 @@
 from __future__ import annotations
 
 import argparse
+import copy
+import dataclasses
 import json
 import sys
 from collections.abc import Sequence
@@ -45,7 +47,11 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from .spec import SweepError, load_sweep_spec
     from .store import RecordStore
 
-    spec = load_sweep_spec(args.spec)
+    spec = load_sweep_spec(args.spec, validate_points=args.rtol is None)
+    if args.rtol is not None:  # --rtol: [run] rtol of every point (validated by points())
+        base = copy.deepcopy(spec.base)
+        base.setdefault("run", {})["rtol"] = args.rtol
+        spec = dataclasses.replace(spec, base=base, _points=[])
     points = spec.points()
     out = args.out if args.out is not None else Path.cwd() / f"{spec.name}-sweep"
     records = RecordStore(out / "records.jsonl").load()
@@ -162,6 +168,9 @@ def add_sweep_parsers(subparsers) -> None:
                    help="function run per point (default hertzchain.runner:run_scenario)")
     p.add_argument("--consolidate-every", type=positive_float, default=30.0, metavar="S",
                    help="seconds between rewrites of results.h5 while running (default 30)")
+    from ..cli import add_rtol_argument
+
+    add_rtol_argument(p)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--dry-run", action="store_true",
                    help="validate every point and report what would run")
