@@ -830,6 +830,13 @@ def parse_scenario(data: dict) -> Scenario:
     _check_initial_law(initial, chain)
     run = RunSpec(**_read_table(data.get("run", {}), "run"))
     _check_run(run, n)
+    if run.integrator not in ("verlet", "auto") and (chain.law == "viscoelastic_hertz"
+                                                     or chain.drag > 0):
+        cause = "drag > 0" if chain.drag > 0 else "law = 'viscoelastic_hertz'"
+        raise ScenarioError(
+            f"[run] integrator = {run.integrator!r} needs forces that depend on positions "
+            f"only; with [chain] {cause} the forces depend on velocities: use integrator = "
+            "'verlet' (velocity Verlet with a predicted velocity, discrete.kernels)")
     record = RecordSpec(**_read_table(data.get("record", {}), "record"))
     _check_record(record, n, run.t_end)
     raw_models = data.get("models", {})
