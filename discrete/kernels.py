@@ -304,6 +304,8 @@ class Kernels(NamedTuple):
     shadow_correction: object
     static_forces: object
     dissipation_rate: object
+    grid_row: object
+    """A row of the energy grid (blocks of grains), the arithmetic of ``run_chunk``'s rows."""
 
 
 _BUILT: dict[tuple, Kernels] = {}
@@ -640,7 +642,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                       none, vsp2, nsub)
 
     @jit(**_INLINE)
-    def block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, lo, hi, mx, umax, track,
+    def block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax, track,
               events, series, rows, cfg, work):
         """Try one temporal block of ``nb`` steps from step ``s`` (section above).
 
@@ -689,7 +691,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             final = st_ == ns - 1
             dcs[tau] = drift[st_]
             c1s[tau] = kick[st_ + 1]
-            c2s[tau] = kick[0] if final and sidx != nsteps else 0.0
+            c2s[tau] = kick[0] if final and sidx != nsteps and not (
+                close and sidx == s + nb) else 0.0  # ``close``: synchronous v at the end
             trks[tau] = final and track
             umxs[tau] = final and track and (step0 + sidx) % UMAX_EVERY == 0
             fins[tau] = final
@@ -742,11 +745,32 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         return 1, rows, hit_q, lo, hi
 
     @jit(**_INLINE)
-    def no_block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, lo, hi, mx, umax, track,
-                 events, series, rows, cfg, work):
+    def no_block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
+                 track, events, series, rows, cfg, work):
         """Take every step one by one (status 0): the kernel without blocking."""
         return 0, rows, -1, lo, hi
 
+
+    # ------------------------------------------------------------ energy rows
+    @jit(**_INLINE)
+    def energy_row(u, v, mass, k, d0, wl, wr, lo, hi, c, ek_out, ep_out):
+        """One row of the per-grain energy grid, summed over blocks of ``c`` grains, J.
+
+        Kinetic ½ m v² and potential (half of each contact's U(r) - U(δ0); a wall
+        contact wholly its grain's) of grains lo..hi, added into the zeroed rows
+        ``ek_out``, ``ep_out`` (block i // c); grains outside the window are inert and
+        hold no wave energy.  Needs the synchronous v (a chunk-end state).
+        """
+        n = u.size
+        ul = wl if lo == 0 else u[lo - 1]
+        e_l = energy(d0[lo] + (ul - u[lo]), k[lo], d0[lo])
+        for i in range(lo, hi + 1):
+            ur = wr if i == n - 1 else u[i + 1]
+            e_r = energy(d0[i + 1] + (u[i] - ur), k[i + 1], d0[i + 1])
+            b = i // c
+            ek_out[b] += 0.5 * mass[i] * v[i] * v[i]
+            ep_out[b] += (e_l if i == 0 else 0.5 * e_l) + (e_r if i == n - 1 else 0.5 * e_r)
+            e_l = e_r
 
     # ------------------------------------------------------------------ one step
     @jit(**_INLINE)
@@ -793,7 +817,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         """``run_chunk`` with temporal blocking (``block``) or without (``no_block``)."""
 
         def run_chunk(st, con, p, wl, wr, dt, drift, kick, nsteps, lo, hi, vmax, umax, rmax,
-                      track, track_r, watch, wmax, wthr, ts_idx, ts_every, step0, ts_out, cfg):
+                      track, track_r, watch, wmax, wthr, ts_idx, ts_every, step0, ts_out, cfg,
+                      erow):
             """Advance ``nsteps`` steps on the window ``lo..hi`` in place.
 
             Parameters
@@ -832,12 +857,21 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 blocks of up to ``block_steps`` steps on tiles of about ``tile`` grains (with
                 threads, or on one thread for windows of at least ``min_serial_block``
                 grains; ``block_steps = 0``: never).  Bitwise identical results either way.
+            erow : tuple
+                ``(e_every, coarsen, e_out, mass)``: after every step whose global number is
+                a multiple of ``e_every`` (> 0; 0: none) a row of the per-grain energy grid
+                (``energy_row``, blocks of ``coarsen`` grains) goes to ``e_out[row, 0]``
+                (kinetic) and ``e_out[row, 1]`` (potential), J; ``mass`` in kg.  Such a step
+                closes like the last step of a chunk (synchronous v, a recomputed) and the
+                next one opens with its kick: bitwise the arithmetic of ending the chunk
+                there, so the grid costs no kernel call per row.
 
             Returns
             -------
-            steps, rows, fired, lo, hi : int
+            steps, rows, fired, lo, hi, erows : int
                 Steps taken (< nsteps if an event fired), time-series rows written, the index
-                q of the watched grain whose event fired (-1: none), and the final window.
+                q of the watched grain whose event fired (-1: none), the final window, and
+                the energy rows written.
             """
             u, v, a = st[0], st[1], st[2]
             nthreads, min_parallel, block_steps, tile, min_serial_block = cfg
@@ -870,30 +904,42 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             mx = (vmax, rmax, track_r)
             bcfg = (nt_max, min_parallel, tile, min_serial_block)
             no_block_before = 0
+            e_every, e_coarsen, e_out, mass = erow
+            erows = 0
             # opening kick of the first step: v^{n+1/2} (or the first stage velocity)
             for i in range(lo, hi + 1):
                 v[i] = v[i] + kick[0] * a[i]
             s = 0
             while s < nsteps:
                 nb = min(block_steps, nsteps - s)
+                if e_every > 0:  # a block never spans an energy row
+                    nb = min(nb, e_every - (step0 + s) % e_every)
                 if nb >= 4 and fired < 0 and s >= no_block_before:
+                    close = e_every > 0 and (step0 + s + nb) % e_every == 0
                     status, rows, hit, lo_b, hi_b = try_block(
-                        st, con, p, wl, wr, drift, kick, nsteps, s, nb, lo, hi, mx, umax, track,
-                        events, (ts_idx, ts_every, step0, ts_out), rows, bcfg, work)
+                        st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
+                        track, events, (ts_idx, ts_every, step0, ts_out), rows, bcfg, work)
                     if status == 1:
                         s += nb
                         fired = hit
                         lo, hi = lo_b, hi_b
+                        if e_every > 0 and (step0 + s) % e_every == 0 and s < nsteps:
+                            erows = take_row(st, con, p, wl, wr, kick, lo, hi, e_coarsen,
+                                             e_out, erows, mass)
                         continue
                     if status == 2:
                         no_block_before = s + nb
                         continue
                 s += 1
                 last = s == nsteps
+                erow_now = e_every > 0 and (step0 + s) % e_every == 0 and not last
                 sample = ts_idx.size > 0 and (step0 + s) % ts_every == 0
-                lo, hi = step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, mx, umax,
-                              track, (step0 + s) % UMAX_EVERY == 0, sp_ws if sample else sp_w,
-                              vsp)
+                lo, hi = step(st, con, p, wl, wr, drift, kick, dt, last or erow_now, lo, hi,
+                              mx, umax, track, (step0 + s) % UMAX_EVERY == 0,
+                              sp_ws if sample else sp_w, vsp)
+                if erow_now:
+                    erows = take_row(st, con, p, wl, wr, kick, lo, hi, e_coarsen, e_out,
+                                     erows, mass)
                 # time series and events use the synchronous velocities of the special grains
                 if sample:
                     _series_row(ts_out, rows, ts_idx, vsp, pos_ws_s, True, u, con[2], wl, wr)
@@ -904,9 +950,28 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                         nsteps = s + 1  # one closing step, then return
             if not VD:  # a^n of the final state (bitwise the values the closing pass used)
                 accelerations(u, v, a, con, p, wl, wr, lo, hi)
-            return nsteps, rows, fired, lo, hi
+            return nsteps, rows, fired, lo, hi, erows
 
         return run_chunk
+
+    @jit(**_INLINE)
+    def take_row(st, con, p, wl, wr, kick, lo, hi, c, e_out, erows, mass):
+        """An energy row inside a chunk (``run_chunk``'s ``erow``); returns the row count.
+
+        The step just taken closed like a chunk's last (synchronous v): a is recomputed
+        as at a chunk end, the row taken, and the next step's opening kick applied.
+        """
+        u, v, a = st[0], st[1], st[2]
+        if not VD:
+            accelerations(u, v, a, con, p, wl, wr, lo, hi)
+        for b in range(e_out.shape[2]):
+            e_out[erows, 0, b] = 0.0
+            e_out[erows, 1, b] = 0.0
+        energy_row(u, v, mass, con[1], con[2], wl, wr, lo, hi, c, e_out[erows, 0],
+                   e_out[erows, 1])
+        for i in range(lo, hi + 1):
+            v[i] = v[i] + kick[0] * a[i]
+        return erows + 1
 
     # ----------------------------------------------------- other entry points
     def accelerations(u, v, a, con, p, wl, wr, lo, hi):
@@ -1005,6 +1070,13 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 s += mass[i] * p[NP] * v[i] * v[i]
         return s
 
+    def grid_row(u, v, mass, k, d0, wl, wr, lo, hi, c, ek_out, ep_out):
+        """``energy_row`` as an entry point: a chunk-end row of the energy grid, J."""
+        ek_out[:] = 0.0
+        ep_out[:] = 0.0
+        if lo >= 0:
+            energy_row(u, v, mass, k, d0, wl, wr, lo, hi, c, ek_out, ep_out)
+
     def entry(func, suffix="", **options):
         func.__qualname__ = f"{func.__qualname__}{suffix}_{tag}"
         return _entry(func, ckey + suffix, **options)
@@ -1014,4 +1086,4 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     run_blocked = None if VD else entry(make_run_chunk(block, True), "_blocked")
     return Kernels(law, DRAG, RMAX, VD, run_steps, run_blocked, accelerations,
                    entry(contact_energies), entry(grain_energies), entry(shadow_correction),
-                   entry(static_forces), entry(dissipation_rate))
+                   entry(static_forces), entry(dissipation_rate), entry(grid_row))

@@ -492,8 +492,18 @@ class Simulation:
         every = self.recording.energy_every
         if every is None or self.steps % every:
             return
-        ek, ep = self.grain_energy()
         c = self.record.energy_coarsen
+        if not self.chain.gravity:  # the arithmetic of the kernel's rows inside chunks
+            m = -(-self.chain.n // c)
+            ek, ep = np.empty(m), np.empty(m)
+            self.kernels.grid_row(self.u, self.v, self.chain.mass, self._k, self._d0,
+                                  self.wall_left, self.wall_right, self._lo, self._hi, c,
+                                  ek, ep)
+            self.record.energy_t.append(self.t)
+            self.record.energy_kinetic.append(ek)
+            self.record.energy_potential.append(ep)
+            return
+        ek, ep = self.grain_energy()
         if c > 1:
             starts = np.arange(0, ek.size, c)
             ek, ep = np.add.reduceat(ek, starts), np.add.reduceat(ep, starts)
@@ -649,6 +659,14 @@ class Simulation:
         s_idx = self._ts_grains
         s_every = int(rec.series_every)
         ts_buf = np.zeros((self.chunk // s_every + 1, s_idx.size, 4))
+        # energy-grid rows inside a chunk are the kernel's (no kernel call per row); a
+        # vertical chain's rows carry the body-force energy of every grain: per chunk
+        e_every = int(rec.energy_every or 0)
+        e_kernel = e_every > 0 and not self.chain.gravity
+        c = int(self.record.energy_coarsen)
+        e_buf = np.zeros((self.chunk // e_every + 1 if e_kernel else 0, 2,
+                          -(-n // c) if e_kernel else 1))
+        erow = (e_every if e_kernel else 0, c, e_buf, self.chain.mass)
         vmax = self.record.vmax if rec.maxima else np.zeros(n)
         umax = self.record.umax if rec.maxima else np.zeros(n)
         rmax = self.record.overlap_max if rec.strain_maxima else np.zeros(n + 1)
@@ -678,8 +696,8 @@ class Simulation:
                     if isinstance(e, AtTime):
                         nsteps = min(nsteps, max(self.step_of(e.t) - self.steps, 1))
                 nsteps = min(nsteps, self._until_multiple(rec.monitor_every))
-                if rec.energy_every is not None:
-                    nsteps = min(nsteps, self._until_multiple(rec.energy_every))
+                if e_every and (not e_kernel or self._lo < 0):
+                    nsteps = min(nsteps, self._until_multiple(e_every))
                 if self._lo < 0:
                     if waves:
                         raise RuntimeError("every grain is at rest in equilibrium: the "
@@ -691,8 +709,15 @@ class Simulation:
                         self._append_rows(self._series_row(),
                                           np.array([self.t0 + self.steps * self.dt]))
                 else:
-                    done, rows, fired = self._chunk(nsteps, vmax, umax, rmax, watch, wmax,
-                                                    wthr, ts_buf)
+                    done, rows, fired, erows = self._chunk(nsteps, vmax, umax, rmax, watch,
+                                                           wmax, wthr, ts_buf, erow)
+                    if erows:  # the rows at the multiples of e_every inside the chunk
+                        first = (self.steps // e_every + 1) * e_every
+                        r = self.record
+                        r.energy_t.extend((self.t0 + (first + e_every * np.arange(erows))
+                                           * self.dt).tolist())
+                        r.energy_kinetic.extend(e_buf[:erows, 0].copy())
+                        r.energy_potential.extend(e_buf[:erows, 1].copy())
                     phase = self.steps % s_every
                     if rows:
                         first = self.steps + (s_every - phase if phase else s_every)
@@ -724,27 +749,32 @@ class Simulation:
             stopped_by = "t_end" if self.steps >= t_step else "max_steps"
         return RunInfo(self.steps - start_steps, self.t, stopped_by, drift[0], drift[1])
 
-    def _chunk(self, nsteps, vmax, umax, rmax, watch, wmax, wthr, ts_buf
-               ) -> tuple[int, int, int]:
-        """One kernel call of up to ``nsteps`` steps on the window; (steps, rows, fired)."""
+    def _chunk(self, nsteps, vmax, umax, rmax, watch, wmax, wthr, ts_buf, erow
+               ) -> tuple[int, int, int, int]:
+        """One kernel call of up to ``nsteps`` steps on the window.
+
+        Returns (steps, series rows, fired, energy rows written into ``erow``'s buffer).
+        """
         rec = self.recording
         nthreads, nsteps = self._tune_choose(nsteps)
         clock = time.perf_counter()
         threads0 = numba.get_num_threads()
-        numba.set_num_threads(nthreads)
+        if nthreads != threads0:  # (setting it costs ~15 µs per call)
+            numba.set_num_threads(nthreads)
         try:
-            done, rows, fired, lo, hi = self._kernel(nthreads)(
+            done, rows, fired, lo, hi, erows = self._kernel(nthreads)(
                 (self.u, self.v, self.a, self._dis), self._constants(), self._p,
                 self.wall_left, self.wall_right, self.dt, self._drift, self._kick, nsteps,
                 self._lo, self._hi, vmax, umax, rmax, rec.maxima, rec.strain_maxima, watch,
                 wmax, wthr, self._ts_grains, int(rec.series_every), self.steps, ts_buf,
                 (nthreads, self.min_parallel, self.block_steps, TILE_GRAINS,
-                 SERIAL_BLOCK_MIN_GRAINS))
+                 SERIAL_BLOCK_MIN_GRAINS), erow)
         finally:
-            numba.set_num_threads(threads0)
+            if nthreads != threads0:
+                numba.set_num_threads(threads0)
         self._tune_record(nthreads, nsteps, done, lo, hi, clock)
         self._lo, self._hi = lo, hi
-        return done, rows, fired
+        return done, rows, fired, erows
 
     @property
     def kernel(self):

@@ -830,7 +830,8 @@ def parse_scenario(data: dict) -> Scenario:
     _check_initial_law(initial, chain)
     run = RunSpec(**_read_table(data.get("run", {}), "run"))
     _check_run(run, n)
-    if run.integrator != "verlet" and (chain.law == "viscoelastic_hertz" or chain.drag > 0):
+    if run.integrator not in ("verlet", "auto") and (chain.law == "viscoelastic_hertz"
+                                                     or chain.drag > 0):
         cause = "drag > 0" if chain.drag > 0 else "law = 'viscoelastic_hertz'"
         raise ScenarioError(
             f"[run] integrator = {run.integrator!r} needs forces that depend on positions "

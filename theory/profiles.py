@@ -19,8 +19,6 @@ from functools import lru_cache
 import numpy as np
 from numpy.fft import irfft, rfft, rfftfreq
 from numpy.typing import ArrayLike
-from scipy.fft import next_fast_len
-from scipy.optimize import brentq
 
 from ._validate import check_finite, check_nonnegative, check_positive, check_range
 from .speeds import kdv_speed_exact, nesterenko_speed, sonic_vacuum_speed
@@ -258,6 +256,9 @@ def _precompressed_wave(target, kind, ppg, tol, max_iter):
     if kind == "velocity":  # long-wave estimate v ≈ V ξ  →  σ ε ≈ target
         for _ in range(30):
             eps = target / nesterenko_speed(1.0, 1.0, eps)
+    from scipy.fft import next_fast_len  # lazy: scipy costs 0.4 s of start-up (issue 17)
+    from scipy.optimize import brentq
+
     mu = nesterenko_speed(1.0, 1.0, eps) ** 2 / 1.5 - 1.0
     # tail e^{-κ|z|}: σ² = (3/2)(sinh(κ/2)/(κ/2))², evaluated at a smaller σ for margin
     kappa = 2 * brentq(lambda x: np.sinh(x) / x - np.sqrt(1 + 0.7 * mu), 1e-12, 60, xtol=1e-14)
@@ -398,6 +399,8 @@ class DiscreteSolitaryWave:
 
     def width(self, level: float = 0.5) -> float:
         """Full width in grains of the region where R - δ0 > level × amplitude (0.5: FWHM)."""
+        from scipy.optimize import brentq
+
         level = float(check_range("level", level, 0.0, 1.0))
         w = (self.overlap - self.delta0) / self.amplitude
         g, i = _trig_eval(w, self.points_per_grain), np.nonzero(w > level)[0][-1]

@@ -291,6 +291,8 @@ def test_record_and_initial_keys_checked():
         with pytest.raises(ScenarioError, match=r"\[run\] integrator = 'yoshida4' needs "
                                                 r"forces that depend on positions only"):
             parse_scenario(data)
+        data["run"].update(integrator="auto", rtol=1e-4)  # auto: Verlet for these forces
+        assert parse_scenario(data).run.integrator == "auto"
     data = _base(gravity=9.81)
     data["initial"] = {"kind": "impact", "striker_mass": 2.0}
     with pytest.raises(ScenarioError, match="striker_mass != 1 with"):

@@ -1,0 +1,128 @@
+"""Time to solution at a stated accuracy (issue 17): the default dt against ``rtol``.
+
+The problem: an impact (v0 = 1 m/s on grain 0) on N paper grains (d = 5 mm, steel,
+ν = 0.30), δ0 = 0, both ends free, run until the leading velocity peak passes grain
+0.75 N — the scenario ``hertzchain run`` would run, through the same path
+(:func:`hertzchain.runner.run_simulation`: energy grid, running maxima, summary).  The
+recorded quantity is v̄max/v0, every grain's running maximum of v over v0, on the
+settled part of the chain (grains 0.1 N .. 0.7 N); "converged" is the same run at 1/8
+of the default dt (velocity Verlet, second order: 1/64 of the default's error).  Each
+row is timed by the run's own summary (``wall_time``: chain, initial state, the rtol
+probe when there is one, integration, summary), best of ``--repeats`` interleaved
+repeats; the ratios are measured in the same run of this script.
+
+    python benchmarks/rtol.py                       # N = 2000 and 5000
+    python benchmarks/rtol.py --grains 2000 --baseline-tree /tmp/base
+
+``--baseline-tree DIR`` also times the default run of another checkout (``git archive``
+of an older commit) in a fresh process: "today's default run" of the issue.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+
+def scenario(n: int, **run):
+    from hertzchain.scenario import parse_scenario
+
+    return parse_scenario({"name": f"impact{n}", "chain": {"sections": [{"n": n}]},
+                           "initial": {"kind": "impact", "v0": 1.0},
+                           "run": {"until_front_at": int(0.75 * n), **run},
+                           "record": {"running_max": True}})
+
+
+def measure(n: int, **run) -> dict:
+    """One run: the summary's wall time, dt, steps and v̄max/v0 per grain."""
+    from hertzchain.runner import run_simulation
+
+    summary, sim = run_simulation(scenario(n, **run))
+    return {"wall_time": summary["wall_time"], "dt": summary["dt"], "steps": summary["steps"],
+            "integrator": sim.integrator, "estimate": summary.get("rtol_estimate"),
+            "vmax": np.asarray(sim.record.vmax, float).tolist()}
+
+
+def _tree_default(tree: str, n: int) -> dict:
+    """The default run of ``tree``'s packages in a fresh process (this file's --child)."""
+    env = dict(os.environ)
+    env["PYTHONPATH"] = str(Path(tree).resolve()) + os.pathsep + env.get("PYTHONPATH", "")
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--child", str(n)]
+    out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True,
+                         cwd=tree).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def errors(vmax, ref, n: int) -> tuple[float, float]:
+    """(|v̄max/v0 - converged| at grain N/2, max over grains 0.1 N .. 0.7 N)."""
+    lo, hi = int(0.1 * n), int(0.7 * n)
+    d = np.abs(np.asarray(vmax)[lo:hi] - np.asarray(ref)[lo:hi])
+    return float(abs(vmax[n // 2] - ref[n // 2])), float(np.max(d))
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--grains", type=int, nargs="+", default=[2000, 5000])
+    p.add_argument("--rtol", type=float, default=1e-4)
+    p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--baseline-tree", metavar="DIR", default=None)
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--child", type=int, default=None, help=argparse.SUPPRESS)
+    a = p.parse_args()
+    if a.child is not None:
+        print(json.dumps(measure(a.child)))
+        return
+    from discrete.timestep import default_dt  # noqa: F401 (warm imports, kernels)
+
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if "model name" in line)
+    except (OSError, StopIteration):
+        pass
+    print(f"# {cpu}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}; "
+          f"impact on N grains, delta0 = 0, until grain 0.75 N; rtol = {a.rtol:g}")
+    results = []
+    for n in a.grains:
+        measure(max(200, n // 10))  # warm: kernels loaded, imports done
+        measure(max(200, n // 10), rtol=a.rtol, integrator="auto")
+        ref_dt = measure(n)["dt"] / 8
+        ref = measure(n, dt=ref_dt)["vmax"]
+        rows = {"default": [], f"rtol {a.rtol:g}": [], f"rtol {a.rtol:g} auto": []}
+        if a.baseline_tree:
+            rows["baseline default"] = []
+        for _ in range(a.repeats):
+            rows["default"].append(measure(n))
+            rows[f"rtol {a.rtol:g}"].append(measure(n, rtol=a.rtol))
+            rows[f"rtol {a.rtol:g} auto"].append(measure(n, rtol=a.rtol, integrator="auto"))
+            if a.baseline_tree:
+                rows["baseline default"].append(_tree_default(a.baseline_tree, n))
+        best = {k: min(v, key=lambda r: r["wall_time"]) for k, v in rows.items()}
+        base = best.get("baseline default", best["default"])["wall_time"]
+        print(f"\n## N = {n} (converged: dt = {ref_dt:.4g} s; v̄max/v0 at N/2 = "
+              f"{ref[n // 2]:.7f})")
+        print(f"{'run':>18} {'integ.':>9} {'dt s':>10} {'steps':>8} {'wall s':>8} "
+              f"{'speed-up':>8} {'err N/2':>9} {'max err':>9} {'estimate':>9}")
+        for k, r in best.items():
+            e_mid, e_max = errors(r["vmax"], ref, n)
+            est = r.get("estimate")
+            est = "" if est is None or not np.isfinite(est) else f"{est:.2e}"
+            print(f"{k:>18} {r['integrator']:>9} {r['dt']:>10.4g} {r['steps']:>8} "
+                  f"{r['wall_time']:>8.3f} {base / r['wall_time']:>7.2f}× {e_mid:>9.2e} "
+                  f"{e_max:>9.2e} {est:>9}")
+            results.append({"grains": n, "run": k, "wall_time": r["wall_time"],
+                            "dt": r["dt"], "steps": r["steps"], "err_mid": e_mid,
+                            "err_max": e_max, "speedup": base / r["wall_time"]})
+    if a.json:
+        print(json.dumps(results))
+
+
+if __name__ == "__main__":
+    main()
