@@ -495,6 +495,9 @@ def plot_validity_map(ax, results: SweepResults, *, model: str = "continuum",
             ax.annotate(f"{100 * e:.2g}", (x, y), ha="center", va="center", fontsize=6)
     ax.set_xscale("log")
     ax.set_yscale("log")
+    _log_ticks(ax.xaxis)
+    _log_ticks(ax.yaxis)
+    ax.margins(0.12)
     ax.set_xlabel(_LABELS["alpha_rho"])
     ax.set_ylabel(_LABELS["alpha_kn"])
     ax.set_title(f"{model} vs discrete, error in % ({ratio})", fontsize="small")
@@ -536,7 +539,7 @@ def plot_validity_amplitude(ax, results: SweepResults) -> bool:
         ax.axhline(level, color="0.4", lw=0.8, ls=":")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel(r"incident strain / $\delta_0$ (right edge: sonic vacuum)")
+    ax.set_xlabel(r"incident strain / $\delta_0$ (last point: sonic vacuum)")
     ax.set_ylabel("error vs discrete chain")
     if drawn:
         ax.legend(fontsize="x-small")
