@@ -75,9 +75,10 @@ def write_lammps(folder: Path, n: int, dt: float, steps: int, *, watch: int | No
     lines += [f"{i + 1} {V0 if i == 0 else 0.0:.10g} 0 0 0 0 0" for i in range(n)]
     (folder / "chain.data").write_text("\n".join(lines) + "\n")
     out = []
-    if watch is not None:
-        out = [f"variable vw equal vx[{watch + 1}]",
-               f"fix pr all print 1 \"${{vw}}\" file {folder / 'vwatch.txt'} screen no"]
+    if watch is not None:  # grains N/4 and N/2 (``watch``), every step
+        out = [f"variable va equal vx[{watch // 2 + 1}]", f"variable vw equal vx[{watch + 1}]",
+               f"fix pr all print 1 \"${{va}} ${{vw}}\" file {folder / 'vwatch.txt'} "
+               "screen no"]
     text = "\n".join([
         "units si", "atom_style sphere", "dimension 3", "boundary f f f",
         "atom_modify map array", "comm_modify vel yes", "newton off",
@@ -157,6 +158,8 @@ def main() -> None:
     p.add_argument("--lammps-budget", type=float, default=60.0,
                    help="seconds a LAMMPS run may take before it is extrapolated")
     p.add_argument("--keep", default=None, help="keep the LAMMPS files in this folder")
+    p.add_argument("--repeats", type=int, default=3,
+                   help="hertzchain runs per row up to 5000 grains (best is shown)")
     a = p.parse_args()
     cpu = "unknown CPU"
     try:
@@ -178,9 +181,12 @@ def main() -> None:
     folder = Path(a.keep) if a.keep else Path(tempfile.mkdtemp(prefix="hc-lammps-"))
     folder.mkdir(parents=True, exist_ok=True)
     for n in a.grains:
-        hc_def = hertzchain_run(n, folder)
+        reps = a.repeats if n <= 5000 else 1  # best of the repeats (a shared machine)
+        hc_def = min((hertzchain_run(n, folder) for _ in range(reps)),
+                     key=lambda r: r["process"])
         dt0, steps0 = hc_def["summary"]["dt"], hc_def["summary"]["steps"]
-        hc = hertzchain_run(n, folder, rtol=a.rtol)
+        hc = min((hertzchain_run(n, folder, rtol=a.rtol) for _ in range(reps)),
+                 key=lambda r: r["process"])
         dt1, steps1 = hc["summary"]["dt"], hc["summary"]["steps"]
         print(f"\n## N = {n}: default dt {dt0:.4g} s ({steps0} steps); rtol {a.rtol:g}: "
               f"dt {dt1:.4g} s ({steps1} steps, estimate "
@@ -199,14 +205,18 @@ def main() -> None:
                 half = int(steps0 * 0.5 / 0.75) + 2000
                 inp = write_lammps(folder, n, dt0, half, watch=n // 2)
                 run_lmp(inp)
-                vw = np.loadtxt(folder / "vwatch.txt", comments="#")
+                vv = np.loadtxt(folder / "vwatch.txt", comments="#")
+                vw = vv[:, 1]
                 print(f"LAMMPS     v̄max/v0 at grain {n // 2}: {float(np.max(vw)):.7f} "
                       f"(default dt); difference {abs(float(np.max(vw)) - vm_hc):.2e}")
-                i = int(np.argmax(vw))
-                t_l = (i + 1) * dt0
-                speed_hc = arrival_grid(n, dt0)
-                print(f"arrival of the peak at grain {n // 2}: LAMMPS t = {t_l:.6e} s; "
-                      f"hertzchain wave speed {speed_hc * D:.2f} m/s")
+                # wave speed between grains N/4 and N/2 from the steps of the peaks
+                i1, i2 = int(np.argmax(vv[:, 0])), int(np.argmax(vw))
+                speed_l = (n // 2 - (n // 2) // 2) * D / ((i2 - i1) * dt0)
+                speed_hc = arrival_grid(n, dt0) * D
+                print(f"wave speed between grains {n // 4} and {n // 2}: LAMMPS "
+                      f"{speed_l:.3f} m/s (peaks at steps), hertzchain {speed_hc:.3f} m/s "
+                      f"(Hermite peak times); relative difference "
+                      f"{abs(speed_l / speed_hc - 1):.1e}")
             # throughput and time to solution at the rtol dt (same method and dt)
             probe = max(1000, min(steps1, 20000))
             t_probe = run_lmp(write_lammps(folder, n, dt1, probe, watch=None))
