@@ -32,12 +32,13 @@ from pathlib import Path
 
 __all__ = ["ITEMS", "ItemRun", "run_item", "reproduce", "check_items"]
 
-ITEMS = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "table2")
+ITEMS = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "table2", "validity")
 """Items in report order."""
 
 _MODULES = {"fig2": ("fig2", {}), "fig3": ("fig34", {"item": "fig3"}),
             "fig4": ("fig34", {"item": "fig4"}), "fig5": ("fig5", {}), "fig6": ("fig6", {}),
-            "fig7": ("fig7", {}), "fig8": ("fig8", {}), "table2": ("table2", {})}
+            "fig7": ("fig7", {}), "fig8": ("fig8", {}), "table2": ("table2", {}),
+            "validity": ("validity", {})}
 
 
 @dataclass

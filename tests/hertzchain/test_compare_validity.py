@@ -81,3 +81,28 @@ def test_validity_summary_and_figure(reduced, tmp_path):
     written = save_sweep_figures(res, tmp_path / "map.png")
     validity = [p for p in written if p.name == "validity_map.png"]
     assert validity and validity[0].stat().st_size > 10_000
+
+
+def test_reproduce_item_quick(tmp_path, monkeypatch):
+    # the report's coarse map (``--quick``), cut to one interface here
+    from hertzchain.report import Report
+    from hertzchain.reproduce import ITEMS, validity
+    from hertzchain.reproduce.common import Context
+
+    assert "validity" in ITEMS
+    monkeypatch.setitem(validity.QUICK, "alpha_rho", (2.0,))
+    monkeypatch.setitem(validity.QUICK, "alpha_kn", (0.5,))
+    ctx = Context(tmp_path, progress=False)
+    table = validity.run(ctx)
+    assert len(table) == 2
+    data = validity.to_json(table)
+    pre, sv = data["points"]
+    assert pre["delta0_over_d"] == pytest.approx(1e-3) and sv["delta0_over_d"] == 0.0
+    assert pre["continuum_error"] <= THRESHOLDS[0] < sv["continuum_error"] <= THRESHOLDS[1]
+    assert sv["incident_strain_over_delta0"] is None  # inf in JSON: the sonic vacuum
+    figs = validity.figures(ctx, table)
+    assert figs[0][0].exists()
+    rep = Report("t")
+    validity.report(rep, table, figs)
+    text = rep.to_markdown(tmp_path)
+    assert "within 10 %" in text and "sonic vacuum" in text
