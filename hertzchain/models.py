@@ -924,6 +924,12 @@ class Run:
             out.setdefault("completed", self.discrete.completed)
             out.setdefault("stopped_by", self.discrete.stopped_by)
         out["models"] = ",".join(self.scenario.models.names)
+        # the incident wave's peak dynamic strain ξ_m/d and, under precompression, ξ_m/δ0
+        # (the amplitude axis of the model-validity map; inf in the sonic vacuum)
+        d0 = float(self.scenario.chain.delta0_over_d)
+        strain = float(self.incident.strain) if self.incident is not None else math.nan
+        out["incident_strain"] = strain
+        out["incident_strain_over_delta0"] = strain / d0 if d0 > 0 else math.inf
         if self.continuum is not None:
             c = self.continuum
             out["continuum_model"] = c.summary.get("model", "")

@@ -6,6 +6,7 @@ The drawing functions take a matplotlib ``ax`` and never call ``show()``;
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -28,6 +29,11 @@ __all__ = [
     "phase_map_figure",
     "cuts_figure",
     "save_sweep_figures",
+    "VALIDITY_MODELS",
+    "validity_summary",
+    "plot_validity_map",
+    "plot_validity_amplitude",
+    "validity_figure",
 ]
 
 CLASSES: tuple[tuple[str, str], ...] = (
@@ -339,7 +345,8 @@ def save_sweep_figures(results: SweepResults | str | Path, out: str | Path | Non
     Returns
     -------
     list of pathlib.Path
-        The PNG files written (the cuts only when α_ρ/α_kn vary).
+        The PNG files written (the cuts only when α_ρ/α_kn vary; ``validity_map.png``
+        when the points ran every model, :func:`validity_figure`).
     """
     if not isinstance(results, SweepResults):
         results = read_results(results)
@@ -358,6 +365,8 @@ def save_sweep_figures(results: SweepResults | str | Path, out: str | Path | Non
     from .cache import atomic_path
 
     figures = [(out, phase_map_figure(results, x=x, y=y, energy=energy))]
+    if any(f"{m}_error" in results for m in VALIDITY_MODELS):
+        figures.append((out.with_name("validity_map.png"), validity_figure(results)))
     if varies:
         figures.append((out.with_name(out.stem + "-cuts.png"),
                         cuts_figure(results, energy=tuple(dict.fromkeys((energy, "Et_re"))))))
@@ -366,3 +375,186 @@ def save_sweep_figures(results: SweepResults | str | Path, out: str | Path | Non
             fig.savefig(tmp, dpi=dpi, format="png")
         plt.close(fig)
     return [path for path, _ in figures]
+
+
+# -- the model-validity map (issue 12) ---------------------------------------------------
+VALIDITY_MODELS = ("continuum", "theory")
+"""Models whose error against the discrete chain a sweep can record (columns
+``<model>_error`` of :func:`hertzchain.compare.compare_point`)."""
+_VALIDITY_CLASSES = (("within 1 %", "#009E73"), ("within 10 %", "#F0E442"),
+                     ("beyond 10 %", "#D55E00"), ("not compared (failed / did not run)",
+                                                  "#8C8C8C"))
+
+
+def _thresholds() -> tuple[float, float]:
+    from .compare import THRESHOLDS
+
+    return THRESHOLDS
+
+
+def _validity_codes(err: np.ndarray) -> np.ndarray:
+    lo, hi = _thresholds()
+    codes = np.full(err.shape, 3)
+    ok = np.isfinite(err)
+    codes[ok & (err <= lo)] = 0
+    codes[ok & (err > lo) & (err <= hi)] = 1
+    codes[ok & (err > hi)] = 2
+    return codes
+
+
+def _column(results: SweepResults, *names: str) -> np.ndarray | None:
+    for name in names:
+        if name in results:
+            return np.asarray(results[name], dtype=float)
+    return None
+
+
+def _amplitude(results: SweepResults) -> np.ndarray:
+    """Incident strain / δ0 per row (inf in the sonic vacuum, NaN if not measured)."""
+    col = _column(results, "incident_strain_over_delta0")
+    return col if col is not None else np.full(len(results), np.nan)
+
+
+def validity_summary(results: SweepResults) -> list[dict]:
+    """Per model and amplitude: how many points are within 1 % and 10 % of the chain.
+
+    Rows are grouped by the incident strain / δ0 (column ``incident_strain_over_delta0``,
+    rounded to two significant digits; inf = sonic vacuum).  Each entry has ``model``,
+    ``strain_over_delta0``, ``n`` (points), ``within_1``, ``within_10``, ``beyond_10``,
+    ``not_compared`` and ``max_error`` (over the compared points).
+    """
+    amp = _amplitude(results)
+    key = np.array([float(f"{a:.2g}") if np.isfinite(a) else a for a in amp])
+    out = []
+    for model in VALIDITY_MODELS:
+        err = _column(results, f"{model}_error")
+        if err is None:
+            continue
+        codes = _validity_codes(err)
+        groups = sorted({float(k) for k in key if not np.isnan(k)}) or [math.nan]
+        for g in groups:
+            sel = key == g if not np.isnan(g) else np.isnan(key)
+            e = err[sel]
+            out.append({"model": model, "strain_over_delta0": g, "n": int(sel.sum()),
+                        "within_1": int((codes[sel] == 0).sum()),
+                        "within_10": int((codes[sel] <= 1).sum()),
+                        "beyond_10": int((codes[sel] == 2).sum()),
+                        "not_compared": int((codes[sel] == 3).sum()),
+                        "max_error": float(np.nanmax(e)) if np.isfinite(e).any()
+                        else math.nan})
+    return out
+
+
+def plot_validity_map(ax, results: SweepResults, *, model: str = "continuum",
+                      amplitude: float | None = None, legend: bool = True) -> bool:
+    """Draw where ``model`` is within 1 % / 10 % of the discrete chain over (α_ρ, α_kn).
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Target axes.
+    results : SweepResults
+        A sweep whose points ran :func:`hertzchain.compare.compare_point`.
+    model : {"continuum", "theory"}
+        Whose error (column ``<model>_error``: the largest of |ΔE_T|, |ΔE_R| over the
+        incident energy and the relative transmitted front speed).
+    amplitude : float, optional
+        Incident strain / δ0 of the rows drawn (nearest; inf = sonic vacuum); default
+        the smallest in the table.
+    legend : bool
+        Draw the class legend.
+
+    Returns
+    -------
+    bool
+        False (and a note on the axes) if the table has no such error or no α grid.
+    """
+    err = _column(results, f"{model}_error")
+    xr, yk = _column(results, "alpha_rho"), _column(results, "alpha_kn")
+    if err is None or xr is None or yk is None:
+        ax.text(0.5, 0.5, f"no {model} error in this sweep", ha="center",
+                transform=ax.transAxes)
+        return False
+    amp = _amplitude(results)
+    levels = np.unique(amp[~np.isnan(amp)])
+    sel = np.ones(len(results), dtype=bool)
+    if levels.size:
+        target = levels[0] if amplitude is None else amplitude
+        near = levels[np.argmin(np.abs(np.log(levels) - np.log(target)))] \
+            if np.isfinite(target) else levels[-1]
+        sel = np.isclose(amp, near, rtol=0.05) | (np.isinf(amp) & np.isinf(near))
+        ratio = "sonic vacuum" if np.isinf(near) else rf"$\xi_m/\delta_0$ = {near:.2g}"
+    else:
+        ratio = ""
+    codes = _validity_codes(err[sel])
+    cmap = ListedColormap([c for _, c in _VALIDITY_CLASSES])
+    ax.scatter(xr[sel], yk[sel], c=codes, cmap=cmap, vmin=-0.5, vmax=3.5, s=140,
+               marker="s", edgecolors="k", linewidths=0.4)
+    for x, y, e in zip(xr[sel], yk[sel], err[sel], strict=True):
+        if np.isfinite(e):
+            ax.annotate(f"{100 * e:.2g}", (x, y), ha="center", va="center", fontsize=6)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    _log_ticks(ax.xaxis)
+    _log_ticks(ax.yaxis)
+    ax.margins(0.12)
+    ax.set_xlabel(_LABELS["alpha_rho"])
+    ax.set_ylabel(_LABELS["alpha_kn"])
+    ax.set_title(f"{model} vs discrete, error in % ({ratio})", fontsize="small")
+    if legend:
+        ax.legend(handles=[Patch(facecolor=c, edgecolor="k", label=lbl)
+                           for lbl, c in _VALIDITY_CLASSES],
+                  fontsize="x-small", loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                  frameon=False)
+    return True
+
+
+def plot_validity_amplitude(ax, results: SweepResults) -> bool:
+    """Largest and median error of each model over the α grid against strain / δ0.
+
+    The sonic vacuum (δ0 = 0, strain/δ0 = ∞) is drawn at the right edge, one decade past
+    the largest finite amplitude.  Dashed lines: the 1 % and 10 % thresholds.
+    """
+    amp = _amplitude(results)
+    finite = amp[np.isfinite(amp)]
+    if not np.isfinite(amp).any() and not np.isinf(amp).any():
+        ax.text(0.5, 0.5, "no amplitude column", ha="center", transform=ax.transAxes)
+        return False
+    x_inf = 10 * finite.max() if finite.size else 1.0
+    xs = np.where(np.isinf(amp), x_inf, amp)
+    drawn = False
+    for model, colour in zip(VALIDITY_MODELS, ("#0072B2", "#D55E00"), strict=True):
+        err = _column(results, f"{model}_error")
+        if err is None:
+            continue
+        levels = np.unique(xs[np.isfinite(xs)])
+        worst = [np.nanmax(err[xs == v]) if np.isfinite(err[xs == v]).any() else np.nan
+                 for v in levels]
+        median = [np.nanmedian(err[xs == v]) if np.isfinite(err[xs == v]).any() else np.nan
+                  for v in levels]
+        ax.plot(levels, worst, "o-", color=colour, label=f"{model}: largest")
+        ax.plot(levels, median, "s--", color=colour, mfc="none", label=f"{model}: median")
+        drawn = True
+    for level in _thresholds():
+        ax.axhline(level, color="0.4", lw=0.8, ls=":")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"incident strain / $\delta_0$ (last point: sonic vacuum)")
+    ax.set_ylabel("error vs discrete chain")
+    if drawn:
+        ax.legend(fontsize="x-small")
+    return drawn
+
+
+def validity_figure(results: SweepResults) -> Figure:
+    """The validity map: each model over (α_ρ, α_kn), and the error against amplitude.
+
+    :func:`plot_validity_map` at the smallest amplitude, :func:`plot_validity_amplitude`.
+    """
+    fig = Figure(figsize=(13.0, 4.4), layout="constrained")
+    axes = fig.subplots(1, 3)
+    plot_validity_map(axes[0], results, model="continuum", legend=False)
+    plot_validity_map(axes[1], results, model="theory")
+    plot_validity_amplitude(axes[2], results)
+    fig.suptitle(_title(results), fontsize="small")
+    return fig

@@ -1,0 +1,83 @@
+"""The shipped model-validity sweep (issue 12), reduced: every model at each point.
+
+The full map (``hertzchain/sweeps/model_validity.toml``, 5 x 5 interface ratios x 4
+amplitudes) takes several minutes; here its first points at two amplitudes and two
+interfaces run through the sweep engine with :func:`hertzchain.compare.compare_point`,
+and the table, the summary numbers and the figure are checked.
+
+Expected (and measured when the test was written): under precompression at the paper's
+amplitude (strain/δ0 ≈ 0.09) the corrected Eq. 4 is within 1 % of the discrete chain
+(energy differences ~2e-4 of the incident energy, speeds ~1e-4) and the linear theory
+within 1 % too (~3e-3); in the sonic vacuum both are only within 10 % (Eq. 7: ~2.5e-2 of
+the energy; the theory's linear-acoustic energies ~3e-2).
+"""
+
+import dataclasses
+import math
+from importlib.resources import files
+
+import numpy as np
+import pytest
+
+from hertzchain.compare import THRESHOLDS, compare_point
+from hertzchain.sweep.engine import run_sweep
+from hertzchain.sweep.spec import Axis, load_sweep_spec
+from hertzchain.sweep.store import read_results
+from hertzchain.sweep_plot import save_sweep_figures, validity_summary
+
+SPEC = files("hertzchain") / "sweeps" / "model_validity.toml"
+
+
+def test_shipped_spec_is_the_documented_map():
+    spec = load_sweep_spec(SPEC)
+    assert spec.shape == (5, 5, 4)
+    assert spec.base["models"]["continuum"] == "auto"
+    assert THRESHOLDS == (0.01, 0.10)
+    d0 = [a for a in spec.axes if a.name == "delta0"][0].values
+    assert min(d0) == 0.0 and max(d0) == pytest.approx(1e-3)  # up to the sonic vacuum
+
+
+@pytest.fixture(scope="module")
+def reduced(tmp_path_factory):
+    spec = load_sweep_spec(SPEC)
+    axes = (Axis("chain.sections.1.alpha_rho", "alpha_rho_R", (0.5, 2.0)),
+            Axis("chain.sections.1.alpha_kn", "alpha_kn_R", (1.0,)),
+            Axis("chain.delta0_over_d", "delta0", (1e-3, 0.0)))
+    spec = dataclasses.replace(spec, axes=axes, _points=[])
+    out = tmp_path_factory.mktemp("validity")
+    outcome = run_sweep(spec, out=out, point_function=compare_point, workers=1,
+                        processes=False, progress=False, warmup=None)
+    return outcome, read_results(outcome.table)
+
+
+def test_reduced_validity_sweep_records_every_model(reduced):
+    outcome, res = reduced
+    assert outcome.n_failed == 0 and len(res) == 4
+    assert set(res["status"]) == {"ok"}
+    amp = res["incident_strain_over_delta0"]
+    pre = np.isfinite(amp)
+    # the paper's v0 = 1 m/s wave at δ0/d = 1e-3: strain amplitude ≈ 0.09 δ0
+    assert np.all((amp[pre] > 0.06) & (amp[pre] < 0.12)), amp
+    assert np.all(np.isinf(amp[~pre])) and (~pre).sum() == 2
+    cont, th = res["continuum_error"], res["theory_error"]
+    assert np.all(np.isfinite(cont)) and np.all(np.isfinite(th))
+    # Eq. 4 regime: both models within 1 % (the issue's accuracy tests bound Eq. 4 to
+    # 5e-3 in energy); sonic vacuum: within 10 % but not within 1 %
+    assert np.all(cont[pre] <= THRESHOLDS[0]) and np.all(th[pre] <= THRESHOLDS[0])
+    assert np.all((cont[~pre] > THRESHOLDS[0]) & (cont[~pre] <= THRESHOLDS[1]))
+    assert np.all((th[~pre] > THRESHOLDS[0]) & (th[~pre] <= THRESHOLDS[1]))
+
+
+def test_validity_summary_and_figure(reduced, tmp_path):
+    _, res = reduced
+    rows = validity_summary(res)
+    by = {(r["model"], r["strain_over_delta0"]): r for r in rows}
+    assert {m for m, _ in by} == {"continuum", "theory"}
+    for model in ("continuum", "theory"):
+        sv = by[(model, math.inf)]
+        assert sv["n"] == 2 and sv["within_1"] == 0 and sv["within_10"] == 2
+        (pre,) = [r for (m, a), r in by.items() if m == model and math.isfinite(a)]
+        assert pre["within_1"] == 2 and pre["max_error"] <= THRESHOLDS[0]
+    written = save_sweep_figures(res, tmp_path / "map.png")
+    validity = [p for p in written if p.name == "validity_map.png"]
+    assert validity and validity[0].stat().st_size > 10_000
