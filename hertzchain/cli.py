@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from . import __version__
-from ._argtypes import nonnegative_float, positive_float, positive_int
+from ._argtypes import nonnegative_float, positive_float, positive_int, scenario_number
 
 __all__ = ["main", "build_parser"]
 
@@ -198,6 +198,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Solitary waves in Hertzian granular chains: discrete (DEM), "
         "continuum (long-wave) and closed-form theory, side by side.",
     )
+    from .scenario import schema_key
+
     parser.add_argument("--version", action="version", version=f"hertzchain {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
@@ -206,10 +208,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="density ratio rho_R/rho_L (> 0)")
     p.add_argument("--alpha-kn", type=positive_float, required=True,
                    help="contact-stiffness ratio k_n^R/k_n^L (> 0)")
-    p.add_argument("--delta0", type=nonnegative_float, default=None,
-                   help="left-section precompression delta0/d (>= 0, dimensionless)")
-    p.add_argument("--diameter", type=positive_float, default=5e-3,
-                   help="grain diameter in m (default 5e-3, the paper's)")
+    d0_key = schema_key("chain", "delta0_over_d")
+    p.add_argument("--delta0", type=scenario_number("chain", "delta0_over_d"),
+                   default=None, help="left-section precompression delta0/d (dimensionless, "
+                   f"range {d0_key.range_text()}: [chain] delta0_over_d of a scenario)")
+    p.add_argument("--diameter", type=scenario_number("chain", "diameter"),
+                   default=5e-3, help="grain diameter in m (> 0; default 5e-3, the paper's)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_theory)
 
