@@ -61,7 +61,7 @@ def scenario_number(table: str, name: str):
             return read_key(table, name, value)
         except ScenarioError as exc:
             raise argparse.ArgumentTypeError(
-                f"must lie in {key.range_text()} (the range of the scenario key "
+                f"must be in {key.range_text()} (the range of the scenario key "
                 f"[{table}] {name}), got {text!r}") from exc
 
     convert.__name__ = name  # argparse names the converter in some messages

@@ -899,8 +899,16 @@ def read_toml(path: Path, error: type[ValueError] = ValueError, what: str = "fil
             return tomllib.load(fh)
     except FileNotFoundError as exc:
         raise error(f"{what} not found: {path}") from exc
+    except IsADirectoryError as exc:
+        raise error(f"{what} {path} is a directory; give a TOML file") from exc
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: not valid TOML: {exc}") from exc
+    except UnicodeDecodeError as exc:  # TOML is UTF-8 (TOML 1.0 spec)
+        raise error(f"{path}: not UTF-8 text (TOML files are UTF-8): byte "
+                    f"{exc.object[exc.start:exc.start + 1]!r} at offset {exc.start}") from None
+    except RecursionError:
+        raise error(f"{path}: not valid TOML for a {what}: arrays or tables nested too "
+                    "deeply (a scenario nests at most a few levels)") from None
 
 
 def load_scenario(path: str | Path) -> Scenario:

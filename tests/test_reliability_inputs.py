@@ -89,3 +89,109 @@ def test_cli_theory_delta0_below_the_bound_runs(capsys):
                  repr(0.99 * high), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert 0 < out["c0_left_m_per_s"] < 1e5  # m/s: a steel chain's, not 5e78
+
+
+# -- item 12: valid-looking scenarios --------------------------------------------------
+def _data(**changes):
+    data = {"chain": {"sections": [{"n": 60}, {"n": 60}]}, "initial": {"kind": "impact"},
+            "run": {"t_end": 4e-4, "max_steps": 100_000}}
+    for path, value in changes.items():
+        node = data
+        keys = path.split("__")
+        for key in keys[:-1]:
+            node = node[int(key)] if key.isdigit() else node[key]
+        node[keys[-1]] = value
+    return data
+
+
+EXTREME_SCENARIOS = {
+    # case: (changes, the key a rejection must name, or None if it must run and complete)
+    "alpha_rho=1e-300": ({"chain__sections__1__alpha_rho": 1e-300}, "alpha_rho"),
+    "alpha_kn=1e300": ({"chain__sections__1__alpha_kn": 1e300}, "alpha_kn"),
+    "alpha_rho=1e300": ({"chain__sections__1__alpha_rho": 1e300}, None),
+    "diameter=1e-30": ({"chain__diameter": 1e-30, "run__max_steps": 10}, "max_steps"),
+    "t_end=1e300": ({"run__t_end": 1e300, "run__max_steps": 10}, "max_steps"),
+    "n=1e12": ({"chain__sections__0__n": 10**12}, "[chain.sections] n"),
+    "v0=1e-300": ({"initial__v0": 1e-300}, "[initial] v0"),
+    "delta0=1e-140": ({"chain__delta0_over_d": 1e-140}, None),
+    "delta0=5e-324": ({"chain__delta0_over_d": 5e-324}, None),
+}
+
+
+@pytest.mark.parametrize("case", sorted(EXTREME_SCENARIOS))
+def test_extreme_scenarios_run_or_name_the_key(case):
+    from hertzchain.runner import run_scenario
+    from hertzchain.scenario import ScenarioError, parse_scenario
+
+    changes, key = EXTREME_SCENARIOS[case]
+    if key is None:
+        summary = run_scenario(parse_scenario(_data(**changes)))
+        assert summary["completed"] and summary["stopped_by"] == "t_end"
+        assert math.isfinite(summary["energy_drift"]) and summary["energy_drift"] < 1e-4
+        return
+    with pytest.raises(ScenarioError) as exc:
+        run_scenario(parse_scenario(_data(**changes)))
+    assert key in str(exc.value), str(exc.value)
+
+
+def test_tiny_precompression_runs_like_none():
+    """δ0/d = 1e-140 was an InstabilityError blaming dt: U(δ0) underflowed to 0 and
+    expm1(2.5 log1p((r - δ0)/δ0)) overflowed, 0·inf = NaN in the energy rows."""
+    from hertzchain.runner import run_scenario
+    from hertzchain.scenario import parse_scenario
+
+    tiny = run_scenario(parse_scenario(_data(chain__delta0_over_d=1e-140)))
+    none = run_scenario(parse_scenario(_data()))
+    assert tiny["steps"] == none["steps"]
+    assert tiny["energy_drift"] == pytest.approx(none["energy_drift"], rel=1e-6)
+
+
+@pytest.mark.parametrize("d0", [1e-3, 1e-125, 1e-140, 1e-300, 5e-324])
+def test_wave_energy_finite_for_tiny_precompression(d0):
+    """Contact energy U(r) - U(δ0) (J) of the law, its NumPy twin and the theory's."""
+    import discrete
+
+    k, r = 1e10, np.array([1e-6, 3e-6, 1e-9])
+    exact = 0.4 * k * (r**2.5 - d0**2.5)
+    got = [theory.wave_contact_energy(r, k, d0), discrete.laws.HERTZ.energy(r, k, d0)]
+    for e in got:
+        assert np.all(np.isfinite(e))
+        np.testing.assert_allclose(e, exact, rtol=1e-12)
+
+
+def test_kernel_energy_finite_for_tiny_precompression():
+    from discrete import Chain, Simulation
+    from discrete.initial import impact
+
+    ch = Chain.two_section(40, 0, delta0_over_d=1e-140)
+    init = impact(ch, 1.0)
+    sim = Simulation(ch, init.u, init.v)
+    sim.run(t_end=1e-4)
+    assert np.isfinite(sim.energy_drift) and sim.energy_drift < 1e-4
+
+
+def test_deeply_nested_toml_names_the_file(tmp_path):
+    from hertzchain.scenario import ScenarioError, load_scenario
+
+    path = tmp_path / "deep.toml"
+    path.write_text("x = " + "[" * 5000 + "]" * 5000 + "\n")
+    with pytest.raises(ScenarioError, match="deep.toml.*nested too deeply"):
+        load_scenario(path)
+
+
+def test_non_utf8_scenario_names_the_file(tmp_path, capsys):
+    from hertzchain.scenario import ScenarioError, load_scenario
+
+    path = tmp_path / "latin1.toml"
+    path.write_bytes('name = "Müller"\n[[chain.sections]]\nn = 10\n'.encode("latin-1"))
+    with pytest.raises(ScenarioError, match=r"latin1\.toml: not UTF-8.*offset 9"):
+        load_scenario(path)
+    assert main(["run", str(path)]) == 2
+    assert "latin1.toml: not UTF-8" in capsys.readouterr().err
+
+
+def test_directory_as_scenario_names_it(tmp_path):
+    from hertzchain.scenario import ScenarioError, load_scenario
+
+    with pytest.raises(ScenarioError, match="is a directory"):
+        load_scenario(tmp_path)
