@@ -78,6 +78,29 @@ class CheckpointError(ValueError):
     """A checkpoint cannot be used: damaged, or written for another run."""
 
 
+class OutputWriteError(OSError):
+    """The run finished but its output file could not be written (disk full, ...).
+
+    The summary is kept (:attr:`summary`) so that the caller can still print it, and so
+    is the last checkpoint, if one was written (:attr:`checkpoint`).
+    """
+
+    def __init__(self, path: Path, cause: OSError, summary: dict,
+                 checkpoint: Path | None) -> None:
+        from theory.integrity import write_error
+
+        cause = write_error(cause, path)
+        self.path, self.cause, self.summary, self.checkpoint = Path(path), cause, summary, \
+            checkpoint
+        kept = (f"; the last checkpoint {checkpoint} is kept (rerunning resumes from it)"
+                if checkpoint is not None else "")
+        super().__init__(cause.errno, f"the run finished but its output could not be "
+                         f"written: {cause}{kept}")
+
+    def __str__(self) -> str:
+        return str(self.args[1]) if len(self.args) > 1 else super().__str__()
+
+
 class Interrupted(KeyboardInterrupt):
     """A segmented run stopped on SIGINT/SIGTERM after writing a checkpoint.
 

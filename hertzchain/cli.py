@@ -10,6 +10,7 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from . import __version__
 from ._argtypes import nonnegative_float, positive_float, positive_int, scenario_number
@@ -80,28 +81,32 @@ def cmd_run(args: argparse.Namespace) -> int:
     first, a snapshot was never taken, or the continuum failed) — the summary is printed
     and written all the same.
     """
+    from .checkpoint import OutputWriteError
+    from .files import check_output
     from .models import run
     from .scenario import load_scenario
 
     scenario = _with_rtol(load_scenario(args.scenario), args.rtol)
     out = args.out
+    if out is not None:  # a read-only place or a directory: refused before the run
+        check_output(out, "file")
+        if scenario.models.continuum:  # written beside it
+            check_output(Path(out).with_suffix(".continuum.h5"), "file")
 
     def log(message: str) -> None:
         print(f"hertzchain: {message}", file=sys.stderr, flush=True)
 
-    result = run(scenario, out=out, progress=not args.json,
-                 checkpoint_interval=args.checkpoint_interval, resume=not args.restart,
-                 threads=args.threads, log=log)
+    try:
+        result = run(scenario, out=out, progress=not args.json,
+                     checkpoint_interval=args.checkpoint_interval, resume=not args.restart,
+                     threads=args.threads, log=log)
+    except OutputWriteError as exc:  # finished, but the file failed: show what was found
+        _print_summary(scenario, args, exc.summary)
+        print(f"hertzchain: error: {exc}", file=sys.stderr)
+        return 2
     summary = result.summary()
-    if args.json:
-        print(json.dumps(summary, default=_json_default, allow_nan=True))
-    else:
-        print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains; "
-              f"models: {', '.join(scenario.models.names)}")
-        for key, value in summary.items():
-            text = (f"{value:.6g}" if isinstance(value, float)
-                    else "n/a" if value is None else str(value))
-            print(f"  {key:<26} {text}")
+    _print_summary(scenario, args, summary)
+    if not args.json:
         for path in (out, getattr(result.continuum, "path", None)):
             if path:
                 print(f"written: {path}")
@@ -113,6 +118,19 @@ def cmd_run(args: argparse.Namespace) -> int:
     return EXIT_INCOMPLETE if failed else status
 
 
+def _print_summary(scenario, args: argparse.Namespace, summary: dict) -> None:
+    """The summary of ``hertzchain run``: one JSON object, or a table."""
+    if args.json:
+        print(json.dumps(summary, default=_json_default, allow_nan=True))
+        return
+    print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains; "
+          f"models: {', '.join(scenario.models.names)}")
+    for key, value in summary.items():
+        text = (f"{value:.6g}" if isinstance(value, float)
+                else "n/a" if value is None else str(value))
+        print(f"  {key:<26} {text}")
+
+
 def cmd_compare(args: argparse.Namespace) -> int:
     """Run every model of a scenario and compare them (:mod:`hertzchain.compare`).
 
@@ -122,10 +140,12 @@ def cmd_compare(args: argparse.Namespace) -> int:
     (it is not compared).
     """
     from .compare import compare
+    from .files import check_output
     from .reproduce.command import jsonable
     from .scenario import load_scenario
 
     scenario = _with_rtol(load_scenario(args.scenario), args.rtol)
+    check_output(args.out, "dir")  # before the runs, not after them
     if args.continuum is not None:
         scenario = scenario.with_values(
             {"models.continuum": False if args.continuum == "off" else args.continuum})
@@ -186,8 +206,11 @@ def cmd_plot(args: argparse.Namespace) -> int:
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
     """Reproduce the paper's figures and Table 2 (:mod:`hertzchain.reproduce`)."""
+    from .files import check_output
     from .reproduce.command import run_command
 
+    if getattr(args, "out", None) is not None:
+        check_output(args.out, "dir")  # before the runs, not after them
     return run_command(args)
 
 

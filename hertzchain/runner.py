@@ -768,8 +768,12 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
                        rtol=ts.rtol, rtol_estimate=ts.error_estimate)
         summary["wall_time"] = elapsed + time.perf_counter() - start
         if out is not None:
-            discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
-                                           "summary": canonical_json(summary)})
+            try:
+                discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
+                                               "summary": canonical_json(summary)})
+            except OSError as exc:  # disk full, ...: the summary and checkpoint survive
+                kept = ckpt if ckpt is not None and ckpt.exists() else None
+                raise C.OutputWriteError(out, exc, summary, kept) from None
             if ckpt is not None:
                 ckpt.unlink(missing_ok=True)
                 C.remove_stale_temporaries(out)

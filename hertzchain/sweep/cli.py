@@ -54,6 +54,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         spec = dataclasses.replace(spec, base=base, _points=[])
     points = spec.points()
     out = args.out if args.out is not None else Path.cwd() / f"{spec.name}-sweep"
+    from ..files import check_output
+
+    check_output(out, "dir")  # a file or a read-only place: refused before any point
     records = RecordStore(out / "records.jsonl").load()
     try:
         fname = function_name(resolve_point_function(args.point_function))
