@@ -46,7 +46,9 @@ once (the last checkpoint stays valid).
 from __future__ import annotations
 
 import contextlib
+import errno
 import math
+import os
 import signal
 import threading
 import time
@@ -61,7 +63,8 @@ from theory import integrity
 from .cache import CACHE_SCHEMA, canonical_json, param_hash
 
 __all__ = ["DEFAULT_INTERVAL", "CHECKPOINT_SCHEMA", "CheckpointError", "Interrupted",
-           "checkpoint_path", "deferred_signals", "remove_stale_temporaries", "run_key",
+           "OutputBusy", "OutputWriteError", "checkpoint_path", "deferred_signals",
+           "lock_path", "output_lock", "remove_stale_temporaries", "run_key",
            "segment_steps",
            "write_checkpoint", "read_checkpoint", "run_segmented"]
 
@@ -145,13 +148,38 @@ def checkpoint_path(out: str | Path) -> Path:
     return out.with_name(out.name + ".ckpt")
 
 
+def _stale(tmp: Path, name: str) -> bool:
+    """Whether ``.<name>.<pid>-<random>.tmp`` is a leftover: its writer no longer runs.
+
+    A name with another dot after ``<name>.`` is a temporary of a longer file name (the
+    checkpoint ``<name>.ckpt``), judged with that name.
+    """
+    rest = tmp.name[len(name) + 2:-len(".tmp")]
+    if "." in rest:
+        return False
+    pid_text = rest.split("-", 1)[0]
+    if not pid_text.isdigit():
+        return True  # an older name without the pid: a leftover
+    pid = int(pid_text)
+    if pid == os.getpid():
+        return True  # ours, from an earlier (failed) write of this process
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except PermissionError:
+        return False  # another user's live process
+    return False
+
+
 def remove_stale_temporaries(out: str | Path) -> list[Path]:
     """Delete temporary files a killed writer left beside ``out`` and its checkpoint.
 
     :func:`discrete.io.save` and :func:`hertzchain.cache.atomic_path` write to
-    ``.<name>.<random>.tmp`` in the target directory; a process killed while writing
-    leaves one behind.  Called when a checkpointed run starts and ends (one process per
-    output file is assumed, as for any output file).
+    ``.<name>.<pid>-<random>.tmp`` in the target directory; a process killed while
+    writing leaves one behind.  Only temporaries whose writer is no longer running are
+    removed, never another live process's (two runs on one output deleted each
+    other's); :func:`output_lock` keeps a second run off the same file anyway.
     """
     import glob
 
@@ -159,10 +187,57 @@ def remove_stale_temporaries(out: str | Path) -> list[Path]:
     removed = []
     for name in (out.name, checkpoint_path(out).name):
         for p in out.parent.glob(f".{glob.escape(name)}.*.tmp"):
+            if not _stale(p, name):
+                continue
             with contextlib.suppress(FileNotFoundError):
                 p.unlink()
                 removed.append(p)
     return removed
+
+
+class OutputBusy(OSError):
+    """Another process is running into the same output file (:func:`output_lock`)."""
+
+
+def lock_path(out: str | Path) -> Path:
+    """The lock file of an output: ``.<name>.lock`` beside it."""
+    out = Path(out)
+    return out.parent / f".{out.name}.lock"
+
+
+@contextlib.contextmanager
+def output_lock(out: str | Path) -> Iterator[Path]:
+    """Hold an advisory lock (``fcntl.flock``) on ``out`` for the duration of a run.
+
+    A second process asking for the same output gets :class:`OutputBusy` naming the
+    file and the holder's pid at once (it does not wait: both would compute the same
+    run).  The lock is released when the process ends in any way, even by SIGKILL; the
+    small lock file stays.  No-op where ``fcntl`` is missing.
+    """
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        yield lock_path(out)
+        return
+    path = lock_path(out)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
+            raise OutputBusy(errno.EBUSY, f"another run holds {Path(out)} (pid {holder}, "
+                             f"lock {path}); wait for it to finish or give another "
+                             "output") from None
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        try:
+            yield path
+        finally:
+            fcntl.flock(fd, fcntl.LOCK_UN)
+    finally:
+        os.close(fd)
 
 
 def run_key(params: dict) -> str:

@@ -706,7 +706,23 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
         :func:`partial_path` (a checkpoint, if any, is kept).
     hertzchain.checkpoint.Interrupted
         SIGINT/SIGTERM during a checkpointed run (after writing the checkpoint).
+    hertzchain.checkpoint.OutputBusy
+        Another process is running into the same ``out`` (an advisory lock,
+        :func:`hertzchain.checkpoint.output_lock`).
     """
+    from . import checkpoint as C
+
+    kwargs = {"out": out, "progress": progress, "checkpoint_interval": checkpoint_interval,
+              "resume": resume, "threads": threads, "check": check, "log": log,
+              "cache_dir": cache_dir}
+    if out is None:
+        return _run_simulation(scenario, **kwargs)
+    with C.output_lock(out):  # one process per output file (and its checkpoint)
+        return _run_simulation(scenario, **kwargs)
+
+
+def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, resume,
+                    threads, check, log, cache_dir) -> tuple[dict, discrete.Simulation]:
     from . import checkpoint as C
 
     start = time.perf_counter()
