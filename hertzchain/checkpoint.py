@@ -60,7 +60,7 @@ from discrete.io import load, save
 from discrete.progress import RunProgress
 from theory import integrity
 
-from .cache import CACHE_SCHEMA, canonical_json, param_hash
+from .cache import CACHE_SCHEMA, canonical_json, is_stale_temporary, param_hash
 
 __all__ = ["DEFAULT_INTERVAL", "CHECKPOINT_SCHEMA", "CheckpointError", "Interrupted",
            "OutputBusy", "OutputWriteError", "checkpoint_path", "deferred_signals",
@@ -148,30 +148,6 @@ def checkpoint_path(out: str | Path) -> Path:
     return out.with_name(out.name + ".ckpt")
 
 
-def _stale(tmp: Path, name: str) -> bool:
-    """Whether ``.<name>.<pid>-<random>.tmp`` is a leftover: its writer no longer runs.
-
-    A name with another dot after ``<name>.`` is a temporary of a longer file name (the
-    checkpoint ``<name>.ckpt``), judged with that name.
-    """
-    rest = tmp.name[len(name) + 2:-len(".tmp")]
-    if "." in rest:
-        return False
-    pid_text = rest.split("-", 1)[0]
-    if not pid_text.isdigit():
-        return True  # an older name without the pid: a leftover
-    pid = int(pid_text)
-    if pid == os.getpid():
-        return True  # ours, from an earlier (failed) write of this process
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return True
-    except PermissionError:
-        return False  # another user's live process
-    return False
-
-
 def remove_stale_temporaries(out: str | Path) -> list[Path]:
     """Delete temporary files a killed writer left beside ``out`` and its checkpoint.
 
@@ -187,7 +163,7 @@ def remove_stale_temporaries(out: str | Path) -> list[Path]:
     removed = []
     for name in (out.name, checkpoint_path(out).name):
         for p in out.parent.glob(f".{glob.escape(name)}.*.tmp"):
-            if not _stale(p, name):
+            if not is_stale_temporary(p, name):
                 continue
             with contextlib.suppress(FileNotFoundError):
                 p.unlink()
@@ -211,8 +187,10 @@ def output_lock(out: str | Path) -> Iterator[Path]:
 
     A second process asking for the same output gets :class:`OutputBusy` naming the
     file and the holder's pid at once (it does not wait: both would compute the same
-    run).  The lock is released when the process ends in any way, even by SIGKILL; the
-    small lock file stays.  No-op where ``fcntl`` is missing.
+    run).  The lock file ``.<name>.lock`` is removed on release (while still locked;
+    a process that opened it just before then finds it replaced and retries), and the
+    kernel releases the lock of a process that ends in any way, even by SIGKILL.  No-op
+    where ``fcntl`` is missing.
     """
     try:
         import fcntl
@@ -221,23 +199,33 @@ def output_lock(out: str | Path) -> Iterator[Path]:
         return
     path = lock_path(out)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
-    try:
+    for _ in range(10):
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
+            os.close(fd)
             raise OutputBusy(errno.EBUSY, f"another run holds {Path(out)} (pid {holder}, "
                              f"lock {path}); wait for it to finish or give another "
                              "output") from None
+        try:
+            same = os.stat(path).st_ino == os.fstat(fd).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)  # the holder removed it between our open and flock: again
+    else:  # pragma: no cover - ten lost races in a row
+        raise OutputBusy(errno.EBUSY, f"could not lock {path}: it keeps being replaced")
+    try:
         os.ftruncate(fd, 0)
         os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
-        try:
-            yield path
-        finally:
-            fcntl.flock(fd, fcntl.LOCK_UN)
+        yield path
     finally:
-        os.close(fd)
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()
+        os.close(fd)  # releases the lock
 
 
 def run_key(params: dict) -> str:

@@ -146,6 +146,7 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
     scenario = _with_rtol(load_scenario(args.scenario), args.rtol)
     check_output(args.out, "dir")  # before the runs, not after them
+    _clean_caches(Path(args.out) / "runs", args.force)
     if args.continuum is not None:
         scenario = scenario.with_values(
             {"models.continuum": False if args.continuum == "off" else args.continuum})
@@ -211,7 +212,20 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
     if getattr(args, "out", None) is not None:
         check_output(args.out, "dir")  # before the runs, not after them
+        for sub in ("runs", "cache"):
+            _clean_caches(Path(args.out) / sub, getattr(args, "force", False))
     return run_command(args)
+
+
+def _clean_caches(directory: Path, force: bool) -> None:
+    """Remove killed writers' temporaries; with ``--force`` also the settled waves."""
+    from .cache import clear_settled_waves, remove_stale_temporaries
+
+    for p in remove_stale_temporaries(directory):
+        print(f"hertzchain: removed {p}, left by a killed writer", file=sys.stderr)
+    if force:
+        for p in clear_settled_waves(directory):
+            print(f"hertzchain: removed the settled wave {p} (--force)", file=sys.stderr)
 
 
 def build_parser() -> argparse.ArgumentParser:

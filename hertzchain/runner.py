@@ -49,7 +49,7 @@ import theory
 from discrete import diagnostics as D
 from discrete.initial import cut_wave, exact_wave, impact
 
-from .cache import canonical_json
+from .cache import canonical_json, remove_stale_temporaries
 from .scenario import ChainSpec, Scenario, ScenarioError, SectionSpec
 
 __all__ = ["build_chain", "build_law", "build_section", "build_initial", "interfaces",
@@ -152,6 +152,8 @@ def build_initial(scenario: Scenario, chain: discrete.Chain, *, cache_dir=None):
         ms = None if ini.striker_mass == 1.0 else ini.striker_mass * float(chain.mass[0])
         return impact(chain, ini.v0, striker_mass=ms)
     if ini.kind == "cut_wave":
+        if cache_dir is not None:  # a killed cache write's temporary
+            remove_stale_temporaries(cache_dir)
         return cut_wave(chain, ini.center, v0=ini.v0, half_width=ini.half_width,
                         cache_dir=cache_dir)
     return exact_wave(chain, ini.center, velocity_max=ini.velocity_max,
