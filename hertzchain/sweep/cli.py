@@ -96,6 +96,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     else:
         print(f"{outcome.n_run} points run in {outcome.elapsed:.1f} s: table {outcome.table} "
               f"has {outcome.n_ok} ok, {outcome.n_failed} failed, {outcome.n_pending} pending")
+    if outcome.n_lost:
+        print(f"{outcome.n_lost} point(s) lost their worker (KilledWorker: it crashed or "
+              "was killed, e.g. out of memory); they stay pending: rerun the same command "
+              "to retry them", file=sys.stderr)
     if outcome.n_failed:
         print(f"{outcome.n_failed} point(s) failed (see the 'error' column); rerun with "
               "--retry-failed to retry them", file=sys.stderr)
