@@ -158,3 +158,15 @@ def test_bad_byte_in_records_names_file_and_line(tmp_path, client):
     path.write_bytes(bytes(data))
     with pytest.raises(ValueError, match=r"records\.jsonl line 2"):
         RecordStore(path).load()
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(3600)
+def test_shipped_amplitude_precompression_sweep_runs_clean(tmp_path):
+    """Issue 14 item 11: 5 of its 12 points failed ("could not broadcast ... (60,) into
+    (59,)", the settled wave clipped); every point must run and complete."""
+    out = run_sweep("amplitude_precompression", out=tmp_path, workers=1, progress=False)
+    assert (out.n_points, out.n_ok, out.n_failed, out.n_pending) == (12, 12, 0, 0)
+    assert out.n_incomplete == 0
+    res = read_results(tmp_path)
+    assert set(res["error"]) == {""} and bool(np.all(res["completed"] == 1))
