@@ -170,3 +170,28 @@ def test_shipped_amplitude_precompression_sweep_runs_clean(tmp_path):
     assert out.n_incomplete == 0
     res = read_results(tmp_path)
     assert set(res["error"]) == {""} and bool(np.all(res["completed"] == 1))
+
+
+def slow_fn(scenario, *, out=None, progress=False):
+    import time
+
+    time.sleep(0.3)
+    return point_fn(scenario)
+
+
+def test_losing_every_worker_is_reported_not_a_silent_stall(tmp_path, monkeypatch):
+    from distributed import Client, LocalCluster
+
+    monkeypatch.setattr(engine, "NO_WORKER_GRACE", 1.0)
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
+            Client(cluster) as c:
+        def lose_all(rec):
+            cluster.scale(0)  # the only worker goes away after the first point
+
+        with pytest.raises(SweepError, match="no worker for .* finished points are kept"):
+            run_sweep(parse_sweep_spec(spec_dict()), out=tmp_path, point_function=slow_fn,
+                      client=c, progress=False, warmup=None, on_result=lose_all)
+    res = read_results(tmp_path)  # written on the way out
+    assert res["status"].tolist().count("ok") >= 1
+    assert res["status"].tolist().count("pending") >= 1
