@@ -187,10 +187,35 @@ def sealed_hdf5(path: str | os.PathLike, **kwargs) -> Iterator[Any]:
         f = h5py.File(tmp, "w", userblock_size=HEADER_SIZE, **kwargs)
         try:
             yield f
-        except BaseException:
+        except BaseException as exc:
             _abandon(f, tmp)
+            io = _as_os_error(exc)
+            if io is not None:
+                raise io from None
             raise
-        f.close()
+        try:
+            f.close()  # never twice: a second close of a failed one crashes HDF5
+        except (RuntimeError, ValueError) as exc:
+            io = _as_os_error(exc)
+            if io is not None:
+                raise io from None
+            raise
+
+
+_HDF5_ERRNO = re.compile(r"errno = (\d+), error message = '([^']*)'")
+
+
+def _as_os_error(exc: BaseException) -> OSError | None:
+    """An HDF5 I/O failure that h5py raised as another type, as an OSError.
+
+    E.g. ``RuntimeError: Can't decrement id ref count (file write failed: ... errno =
+    28 ...)`` on a full disk; :func:`atomic_path` then names the file.
+    """
+    if isinstance(exc, OSError) or not isinstance(exc, RuntimeError | ValueError):
+        return None
+    m = _HDF5_ERRNO.search(str(exc))
+    return OSError(int(m.group(1)), m.group(2)) if m else None
+
 
 
 def _abandon(f, tmp: Path) -> None:
