@@ -231,3 +231,36 @@ def test_sweep_table_write_failure_exits_cleanly(tmp_path):
     assert proc.returncode == 2, proc.stderr[-2000:]
     assert str(out / "results.h5") in proc.stderr
     assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+
+
+API_TABLE = """\
+import gc, sys
+from hertzchain.sweep import parse_sweep_spec
+from hertzchain.sweep.store import write_table
+spec = parse_sweep_spec({"base": {"chain": {"sections": [{"n": 30}, {"n": 30}]},
+                                  "run": {"t_end": 1e-4}},
+                         "sweep": {"axes": [{"path": "chain.sections.1.alpha_rho",
+                                             "linspace": [0.5, 2.0, 400]}]}})
+try:
+    write_table(sys.argv[1], spec, spec.points(), {})
+except OSError as exc:
+    print("named:", exc, flush=True)
+    del exc
+gc.collect()
+print("survived", flush=True)
+"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_FSIZE fault injection: Linux")
+def test_sweep_table_write_failure_through_the_api_does_not_crash(tmp_path):
+    """A Python caller that catches the error goes on (main: a segfault when h5py freed
+    the datasets of the failed file); the table is built in memory and written with one
+    plain write."""
+    target = tmp_path / "results.h5"
+    proc = subprocess.run([sys.executable, "-c", API_TABLE, str(target)],
+                          preexec_fn=_fsize_limit(30_000), capture_output=True, text=True,
+                          timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert f"named: [Errno {errno.EFBIG}]" in proc.stdout and str(target) in proc.stdout
+    assert "survived" in proc.stdout and "Exception ignored" not in proc.stderr
+    assert list(tmp_path.iterdir()) == []

@@ -175,13 +175,30 @@ def _write_header(path: Path) -> None:
 
 
 @contextlib.contextmanager
-def sealed_hdf5(path: str | os.PathLike, **kwargs) -> Iterator[Any]:
+def sealed_hdf5(path: str | os.PathLike, *, in_memory: bool = False,
+                **kwargs) -> Iterator[Any]:
     """Write a sealed HDF5 file atomically: yields an ``h5py.File`` opened for writing.
 
     The file gets a :data:`HEADER_SIZE`-byte user block that receives the seal once the
-    file is closed; ``kwargs`` go to ``h5py.File``.
+    file is closed; ``kwargs`` go to ``h5py.File``.  ``in_memory``: the file is built in
+    memory and written to disk with one plain write, so a full disk is a clean
+    ``OSError`` (HDF5 failing inside h5py's destructors can crash the interpreter);
+    for small files (sweep tables).
     """
     import h5py
+
+    if in_memory:
+        import io
+
+        buf = io.BytesIO()
+        f = h5py.File(buf, "w", userblock_size=HEADER_SIZE, **kwargs)
+        try:
+            yield f
+        finally:
+            f.close()  # in memory: nothing to fail for lack of space
+        with atomic_path(path, finish=_write_header) as tmp, open(tmp, "wb") as fh:
+            fh.write(buf.getbuffer())
+        return
 
     with atomic_path(path, finish=_write_header) as tmp:
         f = h5py.File(tmp, "w", userblock_size=HEADER_SIZE, **kwargs)
