@@ -1,8 +1,12 @@
 r"""The one run path: every model of a scenario, from the same initial grain state.
 
-:func:`run` is what ``hertzchain run``, ``hertzchain compare``, ``hertzchain sweep`` and
-every item of ``hertzchain reproduce`` call.  For a :class:`~hertzchain.scenario.Scenario`
-it
+:func:`run` is what ``hertzchain run``, ``hertzchain compare``, ``hertzchain sweep`` (with
+:func:`hertzchain.compare.compare_point` as the point function) and every simulation of
+``hertzchain reproduce`` call (:func:`hertzchain.reproduce.common.run_models`: Figs. 2–6
+from the paper scenarios in ``hertzchain/scenarios/paper/``, Fig. 7, Table 2 and Fig. 8
+from scenario dicts, the validity map from the shipped sweep's points; Table 2's
+continuum column is still the continuum package's own sech² run,
+:func:`continuum.energy_ratios`).  For a :class:`~hertzchain.scenario.Scenario` it
 
 1. builds the chain and the initial grain state once (:func:`hertzchain.runner.build_chain`,
    :func:`~hertzchain.runner.build_initial_checked`);
@@ -592,7 +596,7 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
                 ckpt.unlink()
         summary, sim = run_simulation(
             eff, out=path, progress=progress,
-            checkpoint_interval=checkpoint_interval if path is not None else None,
+            checkpoint_interval=checkpoint_interval,
             resume=resume and not force, threads=threads, check=check, log=log,
             cache_dir=wave_cache)
     ts, vs, ss = _samples_from_sim(sim, times, init)
@@ -997,7 +1001,10 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
     force : bool
         Recompute even if a cached file exists (and discard its checkpoint).
     checkpoint_interval : float, optional
-        Wall time between checkpoints of the discrete run, s (with a file); None: none.
+        Wall time between checkpoints of the discrete run, s (written beside its file;
+        without one the run is still integrated in segments, so that SIGINT/SIGTERM stop
+        it cleanly with :class:`hertzchain.checkpoint.Interrupted`); None: one
+        uninterrupted ``Simulation.run`` call.
     resume : bool
         Resume the discrete run from its checkpoint.
     progress : bool

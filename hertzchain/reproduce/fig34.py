@@ -23,14 +23,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import discrete
 import theory
 from discrete import diagnostics as D
 
 from ..plotting import mark_interface, plot_displacement_time, plot_grain_profile
-from .common import V0, Context, incident_wave, new_figure, run_cached, save_figure, two_section
+from .common import V0, Context, new_figure, paper_scenario, run_models, save_figure
 
-__all__ = ["SETUPS", "QUICK", "FULL", "CaseResult", "run", "plot_velocity",
+__all__ = ["SETUPS", "QUICK", "FULL", "CaseResult", "scenario", "run", "plot_velocity",
            "plot_displacements", "figures", "report", "to_json"]
 
 SETUPS = {
@@ -76,24 +75,28 @@ def _params(item: str, alpha: float, s: dict) -> dict:
             "n_right": setup["snapshot"] - n_left + s["n_right_extra"],
             "centre": n_left - s["lead"], "snapshot_index": setup["snapshot"] - 1,
             "series_grains": [g - 1 for g in setup["grains"]],
-            "series_every": s["series_every"], "delta0_over_d": 0.0, "incident": "cut_wave"}
+            "series_every": s["series_every"]}
 
 
-def _simulate(ctx: Context, p: dict):
-    def build():
-        chain = two_section(p["n_left"], p["n_right"], p["alpha_rho"], p["alpha_kn"], 0.0)
-        init = incident_wave(ctx, chain, p["centre"])
-        rec = discrete.Recording(series_grains=p["series_grains"],
-                                 series_every=p["series_every"], maxima=True)
-        return init.simulation(record=rec)
+def scenario(item: str, alpha: float, s: dict | None = None):
+    """One case of Fig. 3 or 4: ``paper/fig3.toml`` or ``fig4.toml`` with α and sizes.
 
-    return run_cached(ctx, p["item"], p, build=build,
-                      until=discrete.WaveAt(p["snapshot_index"]))
+    ``s``: the mode's sizes (default :data:`QUICK`).
+    """
+    p = _params(item, alpha, QUICK if s is None else s)
+    return paper_scenario(item, {
+        "chain.sections.0.n": p["n_left"], "chain.sections.1.n": p["n_right"],
+        "chain.sections.1.alpha_rho": p["alpha_rho"],
+        "chain.sections.1.alpha_kn": p["alpha_kn"],
+        "initial.center": p["centre"], "run.until_front_at": p["snapshot_index"],
+        "record.time_series_grains": p["series_grains"],
+        "record.series_every": p["series_every"]})
 
 
 def _case(ctx: Context, item: str, alpha: float, s: dict) -> CaseResult:
     p = _params(item, alpha, s)
-    sim, path = _simulate(ctx, p)
+    r = run_models(ctx, item, scenario(item, alpha, s))
+    sim, path = r.simulation, r.discrete.path
     n_left = p["n_left"]
     arr = sim.record.arrays()
     t, ser = arr["series_t"], arr["series"]

@@ -20,16 +20,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import discrete
 import theory
 from discrete import diagnostics as D
 from discrete.integrators import get_integrator
 
 from ..plotting import plot_grain_profile
-from .common import V0, Context, incident_wave, new_figure, run_cached, save_figure, two_section
+from .common import V0, Context, new_figure, paper_scenario, run_models, save_figure
 
-__all__ = ["QUICK", "FULL", "CASES", "CaseResult", "estimate_cost", "run", "plot_case",
-           "figures", "report", "to_json"]
+__all__ = ["QUICK", "FULL", "CASES", "CaseResult", "scenario", "estimate_cost", "run",
+           "plot_case", "figures", "report", "to_json"]
 
 QUICK = {"n_grains": 10_000, "interface": 7_000, "snapshot": 9_900, "lead": 300}
 FULL = {"n_grains": 50_000, "interface": 35_000, "snapshot": 49_900, "lead": 300,
@@ -57,33 +56,42 @@ class CaseResult:
     path: object = None
 
 
-def _chain_init(ctx: Context, p: dict):
-    ar, ak = theory.PAPER_POINTS[p["case"]]
-    chain = two_section(p["interface"], p["n_grains"] - p["interface"], ar, ak, DELTA0_OVER_D)
-    return chain, incident_wave(ctx, chain, p["interface"] - p["lead"])
+def scenario(case: str, s: dict | None = None):
+    """Case ``a``–``d`` of Fig. 5: ``paper/fig5.toml`` with the case's α and the sizes.
+
+    ``s``: the mode's sizes and integrator (default :data:`QUICK`).
+    """
+    s = QUICK if s is None else s
+    ar, ak = theory.PAPER_POINTS[case]
+    values = {"chain.delta0_over_d": DELTA0_OVER_D,
+              "chain.sections.0.n": s["interface"],
+              "chain.sections.1.n": s["n_grains"] - s["interface"],
+              "chain.sections.1.alpha_rho": ar, "chain.sections.1.alpha_kn": ak,
+              "initial.center": s["interface"] - s["lead"],
+              "run.until_front_at": s["snapshot"] - 1}
+    if s.get("integrator"):
+        values["run.integrator"] = s["integrator"]
+    if s.get("dt_fraction"):
+        values["run.dt_fraction"] = s["dt_fraction"]
+    return paper_scenario("fig5", values)
 
 
-def _simulation(init, p: dict, record: discrete.Recording) -> discrete.Simulation:
-    """The case's Simulation: integrator and dt fraction from ``p`` (default Verlet)."""
-    frac = p.get("dt_fraction")
-    dt = None if frac is None else discrete.default_dt(
-        init.chain, init.u, init.v, init.wall_left, init.wall_right, fraction=frac)
-    return init.simulation(record=record, dt=dt, integrator=p.get("integrator", "verlet"))
-
-
-def estimate_cost(ctx: Context, p: dict) -> dict:
+def estimate_cost(ctx: Context, case: str, s: dict) -> dict:
     """Steps, grain updates and seconds a case will take (before running it).
 
     The incident wave crosses ``lead`` grains at its speed with a ~100-grain active
     window; then the window spreads with the transmitted front (speed ≈ γ_c0 c0^L) and
     the reflected waves (≈ c0^L), so the grain updates are ≈ steps × (mean window).
     """
-    chain, init = _chain_init(ctx, p)
-    sim = _simulation(init, p, discrete.Recording(maxima=False))
+    from ..runner import build_simulation
+
+    p = {"case": case, **s}
+    chain, _, sim = build_simulation(scenario(case, s), energy_grid=False,
+                                     cache_dir=ctx.cache)
     stages = get_integrator(sim.integrator).stages
     d = float(chain.diameter[0])
     c0l = float(theory.c0(chain.k[1], chain.mass[0], d, chain.delta0[1]))
-    gc = float(theory.gamma_c0(*theory.PAPER_POINTS[p["case"]]))
+    gc = float(theory.gamma_c0(*theory.PAPER_POINTS[case]))
     v_in = 1.01 * c0l
     t1 = p["lead"] * d / v_in
     t2 = (p["snapshot"] - p["interface"]) * d / (gc * c0l)
@@ -96,19 +104,15 @@ def estimate_cost(ctx: Context, p: dict) -> dict:
 
 def _case(ctx: Context, case: str, s: dict) -> CaseResult:
     ar, ak = theory.PAPER_POINTS[case]
-    p = {"item": "fig5", "case": case, "alpha_rho": ar, "alpha_kn": ak,
-         "delta0_over_d": DELTA0_OVER_D, "incident": "cut_wave", **s}
-
-    def build():
-        cost = estimate_cost(ctx, p)
+    p = {"case": case, **s}
+    if ctx.progress:
+        cost = estimate_cost(ctx, case, s)
         ctx.log(f"fig5 ({case}): {p['n_grains']} grains, ~{cost['steps']:.3g} steps, "
                 f"~{cost['grain_updates']:.2g} grain updates, estimated "
-                f"~{cost['seconds']:.0f} s at {UPDATES_PER_SECOND:.0e} updates/s")
-        _, init = _chain_init(ctx, p)
-        return _simulation(init, p, discrete.Recording(maxima=True))
-
-    sim, path = run_cached(ctx, "fig5", p, build=build,
-                           until=discrete.WaveAt(p["snapshot"] - 1))
+                f"~{cost['seconds']:.0f} s at {UPDATES_PER_SECOND:.0e} updates/s "
+                "(if not cached)")
+    r = run_models(ctx, "fig5", scenario(case, s))
+    sim, path = r.simulation, r.discrete.path
     n_left = p["interface"]
     chain = sim.chain
     v = np.asarray(sim.v)

@@ -5,10 +5,11 @@ theory (Nesterenko's wave speeds, the linear-acoustic interface, Eqs. 9–13) ar
 1 % and within 10 % of the discrete chain (paper Eq. 2), over the interface ratios
 (α_ρ, α_kn) and the amplitude (incident strain / δ0, through δ0/d at the paper's v0 = 1
 m/s wave).  Each point is the shipped sweep's scenario (``hertzchain/sweeps/
-model_validity.toml``) run by :func:`hertzchain.compare.compare` — the one run path, cached
-in ``runs/``.  ``--quick``: 2 × 2 ratios at δ0/d = 1e-3 and 0; ``--full``: the shipped
-5 × 5 × 4 map.  The error of a model: the largest of |ΔE_T|, |ΔE_R| (over the incident
-energy) and the relative transmitted front speed (:mod:`hertzchain.compare`).
+model_validity.toml``) run through the one run path (:func:`.common.run_models`, cached
+in ``runs/`` and counted) and compared by :func:`hertzchain.compare.analyse`.
+``--quick``: 2 × 2 ratios at δ0/d = 1e-3 and 0; ``--full``: the shipped 5 × 5 × 4 map.
+The error of a model: the largest of |ΔE_T|, |ΔE_R| (over the incident energy) and the relative
+transmitted front speed (:mod:`hertzchain.compare`).
 """
 
 from __future__ import annotations
@@ -18,9 +19,9 @@ from importlib.resources import files
 
 import numpy as np
 
-from ..compare import THRESHOLDS, compare
+from ..compare import THRESHOLDS, analyse
 from ..sweep.spec import load_sweep_spec
-from .common import Context, save_figure
+from .common import Context, run_models, save_figure
 
 __all__ = ["QUICK", "FULL", "run", "figures", "report", "to_json"]
 
@@ -58,7 +59,7 @@ def run(ctx: Context) -> _Table:
     rows = []
     for p in _points(ctx):
         ctx.log(f"validity: {p.label()}")
-        s = compare(p.scenario, cache=ctx.runs, wave_cache=ctx.cache).summary()
+        s = analyse(run_models(ctx, "validity", p.scenario)).summary()
         sc = p.scenario
         rows.append({"alpha_rho": float(sc.chain.sections[1].alpha_rho),
                      "alpha_kn": float(sc.chain.sections[1].alpha_kn),
