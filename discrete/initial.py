@@ -180,7 +180,11 @@ def _disk_cached(key: tuple, cache_dir: Path) -> SettledWave:
 
 
 def _compute_settled(mass, k, delta0, diameter, v0, dt_fraction, ng, hw) -> SettledWave:
-    n = ng + hw + 20
+    # The peak c is searched in [ng - hw, ng + hw] and the cut reaches c + hw, so the
+    # settling chain needs ng + 2 hw + 1 grains and a margin before its far wall (with
+    # ng + hw + 20 a strongly precompressed wave, whose peak the far wall pulls forward,
+    # was clipped: 59 of 2 hw + 1 = 81 grains at δ0/d = 1e-2).
+    n = ng + 2 * hw + 20
     kk = np.full(n + 1, k)
     chain = Chain.from_arrays(np.full(n, mass), kk, delta0, diameter=diameter)
     init = impact(chain, v0)

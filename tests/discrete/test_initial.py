@@ -106,3 +106,16 @@ def test_exact_wave_travels_unchanged(delta0_over_d, v_peak):
     shift = (i * sim.v**2).sum() / (sim.v**2).sum() - (i * exact**2).sum() / (exact**2).sum()
     assert abs(shift) / (w.grain_rate * sim.t) < 1e-5
     assert sim.energy_drift < 1e-6
+
+
+def test_cut_wave_strong_precompression_fits_the_chain():
+    # Regression (issue 14 item 11): at δ0/d = 1e-2 the settled peak lies near the end
+    # of the search window and the cut used to run past the settling chain ("could not
+    # broadcast (60,) into (59,)").  The whole 2 hw + 1 grain wave must be placed, with
+    # its peak at the requested grain and its velocities finite and positive there.
+    ch = Chain.two_section(600, 600, 0.2, 1.0, 0.01)
+    init = cut_wave(ch, 300)
+    assert np.all(np.isfinite(init.v)) and np.all(np.isfinite(init.u))
+    assert int(np.argmax(init.v)) == 300
+    assert np.count_nonzero(init.v[300 - 40:300 + 41]) == 81
+    assert np.count_nonzero(init.v[:300 - 40]) == 0 and np.count_nonzero(init.v[300 + 41:]) == 0
