@@ -42,8 +42,9 @@ from ..cache import atomic_path, cache_path, canonical_json
 from ..paper import DIAMETER, V0
 
 __all__ = ["MODES", "Context", "run_models", "run_scenario_cached", "read_summary",
-           "paper_scenario", "new_figure", "save_figure", "log_ticks", "tqdm_iter",
-           "DIAMETER", "V0", "MATERIAL", "json_float"]
+           "paper_scenario", "ContinuumProfile", "continuum_profile", "plot_continuum",
+           "continuum_sentence", "DIFF_SHOWN", "new_figure", "save_figure", "log_ticks",
+           "tqdm_iter", "DIAMETER", "V0", "MATERIAL", "json_float"]
 
 MODES = ("quick", "full")
 MATERIAL = theory.PAPER_MATERIAL
@@ -268,6 +269,104 @@ def read_summary(path: str | Path) -> dict:
     """
     with integrity.open_hdf5(path, what="cached result") as f:
         return json.loads(f.attrs["summary"])
+
+
+DIFF_SHOWN = 0.05
+"""The continuum − discrete velocity difference is drawn where it exceeds this fraction of
+the incident peak velocity (the pulse threshold of Figs. 3 and 4): "where it is large"."""
+
+
+@dataclass
+class ContinuumProfile:
+    """The continuum's grain velocities beside the discrete chain's at the snapshot.
+
+    ``v`` (m/s, one per grain) is the continuum (:mod:`continuum`) run from the same
+    initial grains to the discrete run's end time (:func:`hertzchain.models.run`), or
+    None if it did not complete (``note`` says why).  ``numbers``: the model, the L2
+    difference over the discrete profile's norm, the L∞ difference over the incident
+    peak velocity, and the continuum's largest velocity right of the interface over the
+    discrete chain's.
+    """
+
+    label: str
+    v: np.ndarray | None
+    note: str = ""
+    numbers: dict = field(default_factory=dict)
+
+
+def continuum_profile(result, v_disc: np.ndarray, reference: float,
+                      interface: int | None = None) -> ContinuumProfile | None:
+    """The continuum's final profile of a :func:`run_models` result (None if not run).
+
+    ``reference``: the incident peak velocity (m/s); ``interface``: first grain of the
+    second section (for the transmitted peak ratio).
+    """
+    c = result.continuum
+    if c is None:
+        return None
+    if not c.completed or not c.times.size:
+        return ContinuumProfile(c.label, None, f"the continuum did not complete "
+                                f"({c.stopped_by})", {"model": c.summary.get("model", ""),
+                                                      "completed": False})
+    v = np.asarray(c.final_v)
+    diff = v - v_disc
+    norm = float(np.linalg.norm(v_disc))
+    nums = {"model": c.summary.get("model", ""), "completed": True,
+            "l2": float(np.linalg.norm(diff)) / norm if norm else math.nan,
+            "linf_over_incident": float(np.max(np.abs(diff))) / reference,
+            "energy_drift": float(c.summary.get("energy_drift", math.nan))}
+    top = float(np.max(v_disc[interface:])) if interface is not None else 0.0
+    if top > 0:
+        nums["transmitted_max_v_ratio"] = float(np.max(v[interface:])) / top
+    note = ""
+    if c.t_final > c.valid_until:
+        note = ("a wave reached a chain end, where the continuum's end condition differs, "
+                f"at t = {c.valid_until * 1e3:.4g} ms")
+    return ContinuumProfile(c.label, v, note, nums)
+
+
+def plot_continuum(ax, prof: ContinuumProfile | None, v_disc: np.ndarray, reference: float,
+                   *, scale: float = 1.0, start: int = 0, stop: int | None = None) -> None:
+    """Draw the continuum's profile (dashed) and, where it is large, its difference.
+
+    The difference continuum − discrete is drawn (red) only where it exceeds
+    :data:`DIFF_SHOWN` × ``reference`` (the incident peak velocity, m/s); ``scale``
+    divides the velocities (v0 for v/v0 axes); ``start``/``stop`` select grains.
+    """
+    if prof is None or prof.v is None:
+        return
+    stop = v_disc.size if stop is None else stop
+    g = np.arange(start, stop)
+    ax.plot(g + 1, prof.v[g] / scale, "--", color="C1", lw=0.8, label=prof.label)
+    diff = prof.v[g] - v_disc[g]
+    big = np.abs(diff) > DIFF_SHOWN * reference
+    if big.any():
+        ax.plot(g + 1, np.where(big, diff, np.nan) / scale, color="C3", lw=0.8,
+                label=f"continuum − discrete (where > {DIFF_SHOWN:g} × incident)")
+
+
+def continuum_sentence(profiles: list[tuple[str, ContinuumProfile | None]]) -> str:
+    """One paragraph: how far the continuum is from the discrete chain at each snapshot."""
+    parts = []
+    for what, prof in profiles:
+        if prof is None:
+            continue
+        if prof.v is None:
+            parts.append(f"{what}: {prof.note}")
+            continue
+        n = prof.numbers
+        text = (f"{what}: L2 difference {n['l2']:.2g} of the discrete profile, largest "
+                f"{n['linf_over_incident']:.2g} × the incident peak velocity")
+        if "transmitted_max_v_ratio" in n:
+            text += (f", largest transmitted velocity {n['transmitted_max_v_ratio']:.3f} × "
+                     "the discrete chain's")
+        parts.append(text + (f" ({prof.note})" if prof.note else ""))
+    if not parts:
+        return ""
+    label = next(p.label for _, p in profiles if p is not None)
+    return (f"The {label} from the same initial grains, at the same time (dashed; red: "
+            f"the difference where it exceeds {DIFF_SHOWN:g} × the incident peak "
+            "velocity) — " + "; ".join(parts) + ".")
 
 
 def new_figure(nrows: int = 1, ncols: int = 1, *, figsize=(6.4, 4.0), **kwargs):
