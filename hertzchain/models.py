@@ -13,7 +13,9 @@ continuum column is still the continuum package's own sech² run,
 2. runs the **discrete** chain (paper Eq. 2, the reference) with
    :func:`hertzchain.runner.run_simulation` — cached by its parameters and checkpointed;
 3. runs the **continuum** (``[models] continuum``: corrected Eq. 4, Eq. 7 or KdV,
-   :mod:`continuum`) from the same grain state interpolated onto its grid
+   :mod:`continuum`; ``"auto"`` picks Eq. 4 under precompression up to an incident strain
+   amplitude of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN` × δ0 and Eq. 7 above it
+   and at δ0 = 0) from the same grain state interpolated onto its grid
    (:func:`continuum.from_grains`), to the discrete run's end time — cached too;
 4. evaluates the **theory** (:class:`TheoryModel`: wave speeds of Eq. 5, Eq. 8 and
    Nesterenko's general relation, the linear-acoustic interface of Eqs. 9–13).
@@ -813,7 +815,10 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
     import continuum
 
     models = scenario.models
-    model = models.continuum_model(scenario.chain.delta0_over_d)
+    d0 = float(scenario.chain.delta0_over_d)
+    # "auto": Eq. 4 or Eq. 7 by the incident strain amplitude / δ0 (AUTO_EQ4_MAX_STRAIN)
+    amp = incident.strain / d0 if d0 > 0 and math.isfinite(incident.strain) else None
+    model = models.continuum_model(d0, amp)
     label = continuum_label(model, models)
     times = np.asarray(times)
     times = times[times <= t_final * (1 + 1e-12)]
