@@ -147,8 +147,10 @@ Eq. 7 above it (:meth:`ModelsSpec.continuum_model`).  Eq. 4 keeps the Hertz forc
 k δ0^{3/2}(1 + s)^{3/2} to second order in s = strain/δ0; the dropped terms are 0.03 % of
 the dynamic force at the paper's s = 0.09, 0.8 % at s = 0.5, 2.5 % at 1 and 7 % at 2, and
 past s ≈ 2 in tension its flux is ill-posed.  Measured against the discrete chain
-(model-validity points, 200 | 200 grains; README): Eq. 4 within 0.12 % at s = 0.09, 3–12 %
-off at s = 1.9 (Eq. 7 there: 0.25–2.3 %), and 19 of 25 runs blow up at s = 8.6."""
+(model-validity points, 200 | 200 grains, (α_ρ, α_kn) = (0.5, 2), (2, 0.5), (0.25, 4),
+(4, 0.25); README): at s = 0.09 Eq. 4 is within 0.12 % (Eq. 7 0.005–0.15 %), at s = 0.74
+Eq. 4 0.8–5.3 % (Eq. 7 0.03–1.7 %), at s = 1.9 Eq. 4 3–12 % (Eq. 7 0.25–2.3 %), and at
+s = 8.6 19 of 25 Eq. 4 runs blow up (Eq. 7 1.2–9.8 %)."""
 
 INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4")
 """Time integrators of the discrete solver (:data:`discrete.integrators.INTEGRATORS`)."""
