@@ -419,6 +419,12 @@ def _zeta_phi(dl, eps):
     return eps * e4 * (0.625 * r * r + 0.375), e4 * r
 
 
+@nb.njit(inline="always", **_JIT)
+def _direct_sum(ncomp, w):
+    """Apply H by a direct sum over the ``ncomp`` compressed faces (else an FFT over w)."""
+    return ncomp * ncomp <= 40 * w + 2000
+
+
 @nb.njit(**_JIT)
 def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate, periodic):
     """hy[q] = (H y)[q] for the faces that need it, y zero outside ``comp``/[qa, qb].
@@ -443,7 +449,7 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
     w = qb - qa + 1
     need = 2 * w - 1
     m = fstate[0]
-    if ncomp * ncomp <= 40 * w + 2000:
+    if _direct_sum(ncomp, w):
         for q in range(qa, qb + 1):
             hy[q] = 0.0
         for a in range(ncomp):
@@ -503,50 +509,63 @@ def _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, d
 
     Faces [qa, qb]; the strain is s_q = Σ_j gcoef[q, j] u[gidx[q, j]]
     (:func:`continuum._kernels.staggered_gradient`), with the plain weights (1/h, or
-    27/24h and 1/24h) written out for the interior faces.  Returns how many faces (listed in
-    ``comp``) carry a nonzero y or φ.
+    27/24h and 1/24h) written out for the interior faces (``half <= q <= n - half``,
+    whose stencil rows are the plain ones: checked by the caller,
+    :meth:`NesterenkoPDE.make_chunk_stepper`) in a loop without branches.  Returns
+    how many faces carry a nonzero y or φ; when H is then applied by a direct sum
+    (:func:`_direct_sum`) they are listed in ``comp``.
     """
     width = gidx.shape[1]
     n = u.size
-    ncomp = 0
-    e4 = np.sqrt(np.sqrt(eps))
-    # interior faces (whose stencil is the plain one): no index table
     half = width // 2
+    e4 = np.sqrt(np.sqrt(eps))
+    e54 = eps * e4
     if width == 4:
         c1, c3 = 27.0 / (24.0 * h), 1.0 / (24.0 * h)
     else:
         c1, c3 = 1.0 / h, 0.0
+    ia = max(qa, half)
+    ib = min(qb, n - half)
+    # overlaps δ of the interior faces: simple loops over few arrays, which LLVM
+    # vectorises (it does not with many possibly aliasing arrays in one loop)
+    if width == 4:
+        for q in range(ia, ib + 1):
+            x = d0[q] + (c1 * (u[q - 1] - u[q]) - c3 * (u[q - 2] - u[q + 1]))
+            dl[q] = 0.0 if x < 0.0 else x  # (NaN kept)
+    else:
+        for q in range(ia, ib + 1):
+            x = d0[q] + c1 * (u[q - 1] - u[q])
+            dl[q] = 0.0 if x < 0.0 else x  # (NaN kept)
+    # end faces: the stencil table
     for q in range(qa, qb + 1):
-        if half <= q <= n - half and gidx[q, 0] == q - half:
-            if width == 4:
-                sq_ = c1 * (u[q - 1] - u[q]) - c3 * (u[q - 2] - u[q + 1])
-            else:
-                sq_ = c1 * (u[q - 1] - u[q])
-        else:
-            sq_ = 0.0
-            for j in range(width):
-                sq_ += gcoef[q, j] * u[gidx[q, j]]
+        if ia <= q <= ib:
+            continue
+        sq_ = 0.0
+        for j in range(width):
+            sq_ += gcoef[q, j] * u[gidx[q, j]]
         x = d0[q] + sq_
-        if x < 0.0:
-            x = 0.0
-        dl[q] = x
-        sq = np.sqrt(x)
-        fh[q] = k[q] * (x * sq) - f0[q]
-        if x >= eps:
-            r4 = np.sqrt(sq)
-            zq = x * r4
-            pq = r4
-        else:  # C¹ continuation below the floor (NesterenkoPDE)
-            r = x / eps
-            zq = eps * e4 * (0.625 * r * r + 0.375)
-            pq = e4 * r
-        pq *= mask[q]
-        ph[q] = pq
-        yq = mask[q] * sk[q] * (zq - z0[q])
-        y[q] = yq
-        if yq != 0.0 or pq != 0.0:
-            comp[ncomp] = q
-            ncomp += 1
+        dl[q] = 0.0 if x < 0.0 else x  # (NaN kept)
+    for q in range(qa, qb + 1):
+        x = dl[q]
+        fh[q] = k[q] * (x * np.sqrt(x)) - f0[q]
+    for q in range(qa, qb + 1):
+        x = dl[q]
+        r4 = np.sqrt(np.sqrt(x))
+        r = x / eps
+        # ζ, φ above the floor, else their C¹ continuation (NesterenkoPDE): both
+        # computed, one selected (no branch)
+        zq = x * r4 if x >= eps else e54 * (0.625 * r * r + 0.375)
+        ph[q] = (r4 if x >= eps else e4 * r) * mask[q]
+        y[q] = mask[q] * sk[q] * (zq - z0[q])
+    ncomp = 0
+    for q in range(qa, qb + 1):
+        ncomp += (y[q] != 0.0) | (ph[q] != 0.0)
+    if _direct_sum(ncomp, qb - qa + 1):
+        m = 0
+        for q in range(qa, qb + 1):
+            if y[q] != 0.0 or ph[q] != 0.0:
+                comp[m] = q
+                m += 1
     return ncomp
 
 
@@ -575,28 +594,32 @@ def _nesterenko_pass(u, v, L, R, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, 
         fh[q] = w[q] * fh[q] + disp * sk[q] * ph[q] * hy[q]
     nf = fh.size
     half = width // 2
+    # node force density -Gᵀ F: the plain weights where faces i-half+1 .. i+half are
+    # interior faces inside [qa, qb] (nodes [ja, jb]), else the scatter of the table
+    ja = max(L, max(qa, half) + half - 1)
+    jb = min(R, min(qb, n - half) - half)
     for i in range(L, R + 1):
-        # node force density -Gᵀ F: the plain weights where faces i-half+1 .. i+half are
-        # interior faces inside [qa, qb], else the scatter of the stencil table
-        if (i - half + 1 >= max(qa, half) and i + half <= min(qb, n - half)
-                and gidx[i - half + 1, 0] == i - 2 * half + 1
-                and gidx[i + half, 0] == i):
-            if width == 4:
-                f = (27.0 * (fh[i] - fh[i + 1]) - (fh[i - 1] - fh[i + 2])) / (24.0 * h)
-            else:
-                f = (fh[i] - fh[i + 1]) / h
-        else:
-            f = 0.0
-            for d in range(1 - half, half + 1):
-                q = i + d
-                if bc == PERIODIC:
-                    q = q % nf
-                elif q < qa or q > qb:
-                    continue
-                for j in range(width):
-                    if gidx[q, j] == i:
-                        f -= gcoef[q, j] * fh[q]
+        if ja <= i <= jb:
+            continue
+        f = 0.0
+        for d in range(1 - half, half + 1):
+            q = i + d
+            if bc == PERIODIC:
+                q = q % nf
+            elif q < qa or q > qb:
+                continue
+            for j in range(width):
+                if gidx[q, j] == i:
+                    f -= gcoef[q, j] * fh[q]
         v[i] += beta * f * inv_m[i]
+    if width == 4:
+        for i in range(ja, jb + 1):
+            f = (27.0 * (fh[i] - fh[i + 1]) - (fh[i - 1] - fh[i + 2])) / (24.0 * h)
+            v[i] += beta * f * inv_m[i]
+    else:
+        for i in range(ja, jb + 1):
+            f = (fh[i] - fh[i + 1]) / h
+            v[i] += beta * f * inv_m[i]
 
 
 @nb.njit(**_JIT)

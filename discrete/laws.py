@@ -103,6 +103,10 @@ def _make_power(n: float):
     return numba.njit(**_INLINE)(power)
 
 
+_TINY = float(np.finfo(float).tiny)
+"""Smallest normal double: below it U(δ0) has lost its relative precision."""
+
+
 def _make_scaled_power(n: float):
     """Compiled (x, r) ↦ x r^n for r >= 0, multiplied left to right (x·r·r·√r for 5/2)."""
     if n == 2.5:
@@ -216,7 +220,13 @@ class ContactLaw:
             if d0 == 0.0:
                 return scaled(c * k, r)
             x = (r - d0) / d0
-            return scaled(c * k, d0) * np.expm1(n1 * np.log1p(x))
+            u0 = scaled(c * k, d0)
+            e = u0 * np.expm1(n1 * np.log1p(x))
+            if u0 < _TINY or not np.isfinite(e):
+                # U(δ0) below the normal doubles (δ0/d ≲ 1e-120): the product form is
+                # 0·inf or 0; r ≫ δ0 there, so the plain difference has no cancellation
+                return scaled(c * k, r) - u0
+            return e
 
         return numba.njit(**_INLINE)(energy)
 
@@ -250,15 +260,20 @@ class ContactLaw:
         r, k, d0 = np.broadcast_arrays(np.asarray(r, float), np.asarray(k, float),
                                        np.asarray(d0, float))
         n1 = self.exponent + 1.0
-        u0 = (1.0 / n1) * k * _power_np(d0, n1)
+        p0 = _power_np(d0, n1)
+        u0 = (1.0 / n1) * k * p0
         out = -u0
         pos = r > 0
         zero = pos & (d0 == 0)
         out = np.where(zero, (1.0 / n1) * k * _power_np(np.maximum(r, 0.0), n1), out)
         pre = pos & (d0 > 0)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             x = np.where(pre, (r - d0) / np.where(pre, d0, 1.0), 0.0)
-            out = np.where(pre, u0 * np.expm1(n1 * np.log1p(x)), out)
+            rel = u0 * np.expm1(n1 * np.log1p(x))
+            # U(δ0) subnormal or 0 (δ0/d ≲ 1e-120): the plain difference (as make_energy)
+            plain = (1.0 / n1) * k * _power_np(np.maximum(r, 0.0), n1) - u0
+            rel = np.where((p0 < _TINY) | (u0 < _TINY) | ~np.isfinite(rel), plain, rel)
+            out = np.where(pre, rel, out)
         return out
 
     def stiffness(self, r, k):

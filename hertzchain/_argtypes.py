@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-__all__ = ["positive_float", "nonnegative_float", "positive_int"]
+__all__ = ["positive_float", "nonnegative_float", "positive_int", "scenario_number"]
 
 
 def _float(text: str) -> float:
@@ -43,3 +43,26 @@ def positive_int(text: str) -> int:
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
     return value
+
+
+def scenario_number(table: str, name: str):
+    """A converter for a flag that mirrors the scenario key ``[table] name``.
+
+    The value is checked against the key's range in :data:`hertzchain.scenario.SCHEMA`
+    (the one definition), so the flag and the scenario file accept the same numbers.
+    """
+    from .scenario import ScenarioError, read_key, schema_key
+
+    key = schema_key(table, name)
+
+    def convert(text: str) -> float:
+        value = _float(text)
+        try:
+            return read_key(table, name, value)
+        except ScenarioError as exc:
+            raise argparse.ArgumentTypeError(
+                f"must be in {key.range_text()} (the range of the scenario key "
+                f"[{table}] {name}), got {text!r}") from exc
+
+    convert.__name__ = name  # argparse names the converter in some messages
+    return convert

@@ -21,7 +21,8 @@ import numpy as np
 
 from theory.integrity import atomic_path
 
-__all__ = ["CACHE_SCHEMA", "canonical_json", "param_hash", "cache_path", "atomic_path"]
+__all__ = ["CACHE_SCHEMA", "canonical_json", "param_hash", "cache_path", "atomic_path",
+           "is_stale_temporary", "remove_stale_temporaries", "clear_settled_waves"]
 
 CACHE_SCHEMA = 2
 """Bump when the meaning of cached results changes, to invalidate old files (2: the
@@ -53,3 +54,70 @@ def cache_path(directory: str | os.PathLike, stem: str, params: Mapping,
                suffix: str = ".h5") -> Path:
     """Path ``directory/<stem>-<hash><suffix>`` for a result with ``params``."""
     return Path(directory) / f"{stem}-{param_hash(params)}{suffix}"
+
+
+def _pid_running(pid: int) -> bool:
+    if pid == os.getpid():
+        return False  # ours, from an earlier failed write of this process
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True  # another user's live process
+    return True
+
+
+def is_stale_temporary(tmp: str | os.PathLike, name: str | None = None) -> bool:
+    """Whether ``.<name>.<pid>-<random>.tmp`` (:func:`atomic_path`) is a leftover.
+
+    A leftover: its writer (the pid in the name) no longer runs, or the name has no pid
+    (older writers).  With ``name`` given, a temporary of a longer file name
+    (``<name>.ckpt``) is not judged (False).
+    """
+    tmp = Path(tmp)
+    if not (tmp.name.startswith(".") and tmp.name.endswith(".tmp")):
+        return False
+    if name is not None:
+        rest = tmp.name[len(name) + 2:-len(".tmp")]
+        if "." in rest:
+            return False
+    else:
+        rest = tmp.name[:-len(".tmp")].rsplit(".", 1)[-1]
+    pid_text = rest.split("-", 1)[0]
+    if "-" not in rest or not pid_text.isdigit():
+        return True
+    return not _pid_running(int(pid_text))
+
+
+def remove_stale_temporaries(directory: str | os.PathLike) -> list[Path]:
+    """Delete the leftover temporaries (:func:`is_stale_temporary`) in a cache directory.
+
+    A process killed while writing a cached result or settled wave leaves its
+    ``.<name>.<pid>-<random>.tmp``; a live writer's temporaries are kept.
+    """
+    directory = Path(directory)
+    removed = []
+    if not directory.is_dir():
+        return removed
+    for p in directory.glob(".*.tmp"):
+        if is_stale_temporary(p):
+            try:
+                p.unlink()
+            except FileNotFoundError:
+                continue
+            removed.append(p)
+    return removed
+
+
+def clear_settled_waves(directory: str | os.PathLike) -> list[Path]:
+    """Delete the cached settled waves (``settled_wave_*.npz``) of a directory (--force)."""
+    directory = Path(directory)
+    removed = []
+    for p in sorted(directory.glob("settled_wave_*.npz")) if directory.is_dir() else ():
+        try:
+            p.unlink()
+        except FileNotFoundError:
+            continue
+        removed.append(p)
+    return removed

@@ -46,7 +46,9 @@ once (the last checkpoint stays valid).
 from __future__ import annotations
 
 import contextlib
+import errno
 import math
+import os
 import signal
 import threading
 import time
@@ -58,10 +60,11 @@ from discrete.io import load, save
 from discrete.progress import RunProgress
 from theory import integrity
 
-from .cache import CACHE_SCHEMA, canonical_json, param_hash
+from .cache import CACHE_SCHEMA, canonical_json, is_stale_temporary, param_hash
 
 __all__ = ["DEFAULT_INTERVAL", "CHECKPOINT_SCHEMA", "CheckpointError", "Interrupted",
-           "checkpoint_path", "deferred_signals", "remove_stale_temporaries", "run_key",
+           "OutputBusy", "OutputWriteError", "checkpoint_path", "deferred_signals",
+           "lock_path", "output_lock", "remove_stale_temporaries", "run_key",
            "segment_steps",
            "write_checkpoint", "read_checkpoint", "run_segmented"]
 
@@ -76,6 +79,29 @@ _PREFIX = "checkpoint_"  # root attributes written by this module
 
 class CheckpointError(ValueError):
     """A checkpoint cannot be used: damaged, or written for another run."""
+
+
+class OutputWriteError(OSError):
+    """The run finished but its output file could not be written (disk full, ...).
+
+    The summary is kept (:attr:`summary`) so that the caller can still print it, and so
+    is the last checkpoint, if one was written (:attr:`checkpoint`).
+    """
+
+    def __init__(self, path: Path, cause: OSError, summary: dict,
+                 checkpoint: Path | None) -> None:
+        from theory.integrity import write_error
+
+        cause = write_error(cause, path)
+        self.path, self.cause, self.summary, self.checkpoint = Path(path), cause, summary, \
+            checkpoint
+        kept = (f"; the last checkpoint {checkpoint} is kept (rerunning resumes from it)"
+                if checkpoint is not None else "")
+        super().__init__(cause.errno, f"the run finished but its output could not be "
+                         f"written: {cause}{kept}")
+
+    def __str__(self) -> str:
+        return str(self.args[1]) if len(self.args) > 1 else super().__str__()
 
 
 class Interrupted(KeyboardInterrupt):
@@ -126,9 +152,10 @@ def remove_stale_temporaries(out: str | Path) -> list[Path]:
     """Delete temporary files a killed writer left beside ``out`` and its checkpoint.
 
     :func:`discrete.io.save` and :func:`hertzchain.cache.atomic_path` write to
-    ``.<name>.<random>.tmp`` in the target directory; a process killed while writing
-    leaves one behind.  Called when a checkpointed run starts and ends (one process per
-    output file is assumed, as for any output file).
+    ``.<name>.<pid>-<random>.tmp`` in the target directory; a process killed while
+    writing leaves one behind.  Only temporaries whose writer is no longer running are
+    removed, never another live process's (two runs on one output deleted each
+    other's); :func:`output_lock` keeps a second run off the same file anyway.
     """
     import glob
 
@@ -136,10 +163,69 @@ def remove_stale_temporaries(out: str | Path) -> list[Path]:
     removed = []
     for name in (out.name, checkpoint_path(out).name):
         for p in out.parent.glob(f".{glob.escape(name)}.*.tmp"):
+            if not is_stale_temporary(p, name):
+                continue
             with contextlib.suppress(FileNotFoundError):
                 p.unlink()
                 removed.append(p)
     return removed
+
+
+class OutputBusy(OSError):
+    """Another process is running into the same output file (:func:`output_lock`)."""
+
+
+def lock_path(out: str | Path) -> Path:
+    """The lock file of an output: ``.<name>.lock`` beside it."""
+    out = Path(out)
+    return out.parent / f".{out.name}.lock"
+
+
+@contextlib.contextmanager
+def output_lock(out: str | Path) -> Iterator[Path]:
+    """Hold an advisory lock (``fcntl.flock``) on ``out`` for the duration of a run.
+
+    A second process asking for the same output gets :class:`OutputBusy` naming the
+    file and the holder's pid at once (it does not wait: both would compute the same
+    run).  The lock file ``.<name>.lock`` is removed on release (while still locked;
+    a process that opened it just before then finds it replaced and retries), and the
+    kernel releases the lock of a process that ends in any way, even by SIGKILL.  No-op
+    where ``fcntl`` is missing.
+    """
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - not POSIX
+        yield lock_path(out)
+        return
+    path = lock_path(out)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    for _ in range(10):
+        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            holder = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
+            os.close(fd)
+            raise OutputBusy(errno.EBUSY, f"another run holds {Path(out)} (pid {holder}, "
+                             f"lock {path}); wait for it to finish or give another "
+                             "output") from None
+        try:
+            same = os.stat(path).st_ino == os.fstat(fd).st_ino
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)  # the holder removed it between our open and flock: again
+    else:  # pragma: no cover - ten lost races in a row
+        raise OutputBusy(errno.EBUSY, f"could not lock {path}: it keeps being replaced")
+    try:
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, f"{os.getpid()}\n".encode(), 0)
+        yield path
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            path.unlink()
+        os.close(fd)  # releases the lock
 
 
 def run_key(params: dict) -> str:

@@ -10,9 +10,10 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
 from . import __version__
-from ._argtypes import nonnegative_float, positive_float, positive_int
+from ._argtypes import nonnegative_float, positive_float, positive_int, scenario_number
 
 __all__ = ["main", "build_parser"]
 
@@ -80,28 +81,32 @@ def cmd_run(args: argparse.Namespace) -> int:
     first, a snapshot was never taken, or the continuum failed) — the summary is printed
     and written all the same.
     """
+    from .checkpoint import OutputWriteError
+    from .files import check_output
     from .models import run
     from .scenario import load_scenario
 
     scenario = _with_rtol(load_scenario(args.scenario), args.rtol)
     out = args.out
+    if out is not None:  # a read-only place or a directory: refused before the run
+        check_output(out, "file")
+        if scenario.models.continuum:  # written beside it
+            check_output(Path(out).with_suffix(".continuum.h5"), "file")
 
     def log(message: str) -> None:
         print(f"hertzchain: {message}", file=sys.stderr, flush=True)
 
-    result = run(scenario, out=out, progress=not args.json,
-                 checkpoint_interval=args.checkpoint_interval, resume=not args.restart,
-                 threads=args.threads, log=log)
+    try:
+        result = run(scenario, out=out, progress=not args.json,
+                     checkpoint_interval=args.checkpoint_interval, resume=not args.restart,
+                     threads=args.threads, log=log)
+    except OutputWriteError as exc:  # finished, but the file failed: show what was found
+        _print_summary(scenario, args, exc.summary)
+        print(f"hertzchain: error: {exc}", file=sys.stderr)
+        return 2
     summary = result.summary()
-    if args.json:
-        print(json.dumps(summary, default=_json_default, allow_nan=True))
-    else:
-        print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains; "
-              f"models: {', '.join(scenario.models.names)}")
-        for key, value in summary.items():
-            text = (f"{value:.6g}" if isinstance(value, float)
-                    else "n/a" if value is None else str(value))
-            print(f"  {key:<26} {text}")
+    _print_summary(scenario, args, summary)
+    if not args.json:
         for path in (out, getattr(result.continuum, "path", None)):
             if path:
                 print(f"written: {path}")
@@ -113,6 +118,19 @@ def cmd_run(args: argparse.Namespace) -> int:
     return EXIT_INCOMPLETE if failed else status
 
 
+def _print_summary(scenario, args: argparse.Namespace, summary: dict) -> None:
+    """The summary of ``hertzchain run``: one JSON object, or a table."""
+    if args.json:
+        print(json.dumps(summary, default=_json_default, allow_nan=True))
+        return
+    print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains; "
+          f"models: {', '.join(scenario.models.names)}")
+    for key, value in summary.items():
+        text = (f"{value:.6g}" if isinstance(value, float)
+                else "n/a" if value is None else str(value))
+        print(f"  {key:<26} {text}")
+
+
 def cmd_compare(args: argparse.Namespace) -> int:
     """Run every model of a scenario and compare them (:mod:`hertzchain.compare`).
 
@@ -122,10 +140,13 @@ def cmd_compare(args: argparse.Namespace) -> int:
     (it is not compared).
     """
     from .compare import compare
+    from .files import check_output
     from .reproduce.command import jsonable
     from .scenario import load_scenario
 
     scenario = _with_rtol(load_scenario(args.scenario), args.rtol)
+    check_output(args.out, "dir")  # before the runs, not after them
+    _clean_caches(Path(args.out) / "runs", args.force)
     if args.continuum is not None:
         scenario = scenario.with_values(
             {"models.continuum": False if args.continuum == "off" else args.continuum})
@@ -186,9 +207,25 @@ def cmd_plot(args: argparse.Namespace) -> int:
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
     """Reproduce the paper's figures and Table 2 (:mod:`hertzchain.reproduce`)."""
+    from .files import check_output
     from .reproduce.command import run_command
 
+    if getattr(args, "out", None) is not None:
+        check_output(args.out, "dir")  # before the runs, not after them
+        for sub in ("runs", "cache"):
+            _clean_caches(Path(args.out) / sub, getattr(args, "force", False))
     return run_command(args)
+
+
+def _clean_caches(directory: Path, force: bool) -> None:
+    """Remove killed writers' temporaries; with ``--force`` also the settled waves."""
+    from .cache import clear_settled_waves, remove_stale_temporaries
+
+    for p in remove_stale_temporaries(directory):
+        print(f"hertzchain: removed {p}, left by a killed writer", file=sys.stderr)
+    if force:
+        for p in clear_settled_waves(directory):
+            print(f"hertzchain: removed the settled wave {p} (--force)", file=sys.stderr)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -198,6 +235,8 @@ def build_parser() -> argparse.ArgumentParser:
         description="Solitary waves in Hertzian granular chains: discrete (DEM), "
         "continuum (long-wave) and closed-form theory, side by side.",
     )
+    from .scenario import schema_key
+
     parser.add_argument("--version", action="version", version=f"hertzchain {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
@@ -206,10 +245,12 @@ def build_parser() -> argparse.ArgumentParser:
                    help="density ratio rho_R/rho_L (> 0)")
     p.add_argument("--alpha-kn", type=positive_float, required=True,
                    help="contact-stiffness ratio k_n^R/k_n^L (> 0)")
-    p.add_argument("--delta0", type=nonnegative_float, default=None,
-                   help="left-section precompression delta0/d (>= 0, dimensionless)")
-    p.add_argument("--diameter", type=positive_float, default=5e-3,
-                   help="grain diameter in m (default 5e-3, the paper's)")
+    d0_key = schema_key("chain", "delta0_over_d")
+    p.add_argument("--delta0", type=scenario_number("chain", "delta0_over_d"),
+                   default=None, help="left-section precompression delta0/d (dimensionless, "
+                   f"range {d0_key.range_text()}: [chain] delta0_over_d of a scenario)")
+    p.add_argument("--diameter", type=scenario_number("chain", "diameter"),
+                   default=5e-3, help="grain diameter in m (> 0; default 5e-3, the paper's)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_theory)
 

@@ -10,7 +10,11 @@ than an h5py traceback.  The PNG of :func:`plot_file` is written atomically.
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import json
+import os
+import tempfile
 from pathlib import Path
 
 import h5py
@@ -20,7 +24,7 @@ from theory import integrity
 
 from .cache import atomic_path
 
-__all__ = ["open_result", "describe", "plot_file"]
+__all__ = ["open_result", "describe", "plot_file", "check_output"]
 
 
 DISCRETE_DATASETS = ("chain/mass", "chain/k", "chain/delta0", "chain/diameter",
@@ -29,6 +33,49 @@ DISCRETE_DATASETS = ("chain/mass", "chain/k", "chain/delta0", "chain/diameter",
                      "record/energy_potential", "record/monitor_t", "record/monitor_energy",
                      "record/monitor_shadow")
 """Datasets every file of :func:`discrete.io.save` has (checked by :func:`describe`)."""
+
+
+def check_output(path: str | os.PathLike, kind: str = "file", flag: str = "--out") -> Path:
+    """Check before any work that ``path`` can be written; returns it as a Path.
+
+    ``kind = "file"``: ``path`` must not be a directory and its directory must be (or
+    be creatable in) a writable place; ``"dir"``: ``path`` must not be a file and must
+    be (or be creatable in) a writable place.  Writability is tested by creating and
+    removing a probe file in the nearest existing directory (``os.access`` is wrong for
+    root and read-only mounts).  Nothing is created.
+
+    Raises
+    ------
+    OSError
+        Naming ``flag`` and the path: an existing directory where a file is expected
+        (or the reverse), a file on the way, a read-only or otherwise unwritable place.
+    """
+    path = Path(path)
+    if kind not in ("file", "dir"):
+        raise ValueError(f"kind must be 'file' or 'dir' (got {kind!r})")
+    if kind == "file" and path.is_dir():
+        raise IsADirectoryError(errno.EISDIR, f"{flag} {path} is a directory; give a file "
+                                f"name (e.g. {path / 'run.h5'})")
+    if kind == "dir" and path.exists() and not path.is_dir():
+        raise NotADirectoryError(errno.ENOTDIR, f"{flag} {path} is a file; give a "
+                                 "directory (created if absent)")
+    place = path.parent if kind == "file" else path
+    while not place.exists():
+        if place.parent == place:
+            break
+        place = place.parent
+    if place.exists() and not place.is_dir():
+        raise NotADirectoryError(errno.ENOTDIR, f"{flag} {path}: {place} is a file, not a "
+                                 "directory")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".hertzchain-probe-", dir=place)
+    except OSError as exc:
+        raise type(exc)(exc.errno, f"{flag} {path} cannot be written: {place}: "
+                        f"{exc.strerror} (checked before the run)") from None
+    os.close(fd)
+    with contextlib.suppress(OSError):
+        os.unlink(probe)
+    return path
 
 
 def open_result(path: str | Path):

@@ -53,6 +53,7 @@ import dataclasses
 import json
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -589,8 +590,13 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
             with integrity.open_hdf5(path, what="cached result") as f:
                 summary = json.loads(f.attrs["summary"])
             cached = True
-        except (OSError, ValueError, KeyError):  # unreadable or unfinished: recompute
+        except (OSError, ValueError, KeyError) as exc:  # unreadable or unfinished
             sim = summary = None
+            message = f"recomputing the cached run {path}: {exc}"
+            if log is not None:
+                log(message)
+            else:
+                warnings.warn(message, RuntimeWarning, stacklevel=3)
     if sim is None:
         if path is not None and force:
             ckpt = C.checkpoint_path(path)

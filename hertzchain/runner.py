@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import time
 from pathlib import Path
 
@@ -48,7 +49,7 @@ import theory
 from discrete import diagnostics as D
 from discrete.initial import cut_wave, exact_wave, impact
 
-from .cache import canonical_json
+from .cache import canonical_json, remove_stale_temporaries
 from .scenario import ChainSpec, Scenario, ScenarioError, SectionSpec
 
 __all__ = ["build_chain", "build_law", "build_section", "build_initial", "interfaces",
@@ -151,6 +152,8 @@ def build_initial(scenario: Scenario, chain: discrete.Chain, *, cache_dir=None):
         ms = None if ini.striker_mass == 1.0 else ini.striker_mass * float(chain.mass[0])
         return impact(chain, ini.v0, striker_mass=ms)
     if ini.kind == "cut_wave":
+        if cache_dir is not None:  # a killed cache write's temporary
+            remove_stale_temporaries(cache_dir)
         return cut_wave(chain, ini.center, v0=ini.v0, half_width=ini.half_width,
                         cache_dir=cache_dir)
     return exact_wave(chain, ini.center, velocity_max=ini.velocity_max,
@@ -232,6 +235,42 @@ def build_initial_checked(scenario: Scenario, chain: discrete.Chain, *, cache_di
     return init
 
 
+BYTES_PER_GRAIN = 16 * 8
+"""A lower bound of the memory a run needs per grain, bytes: 16 float64 arrays (the
+chain's mass, k, δ0, diameter, section; the state u, v, a; the kernel's scratch and
+running maxima), not counting the recording."""
+
+
+def _memory_bytes() -> int | None:
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, OSError, ValueError):  # pragma: no cover - not POSIX
+        return None
+
+
+def _too_large(scenario: Scenario, what: str) -> ScenarioError:
+    n = scenario.chain.n
+    mem = _memory_bytes()
+    limit = (f"; allowed total n <= {mem // BYTES_PER_GRAIN:,} on this machine "
+             f"({mem / 1e9:.3g} GB of memory)" if mem else "")
+    return ScenarioError(
+        f"[chain.sections] n: the chain of {n:,} grains does not fit in memory ({what}; "
+        f"at least {n * BYTES_PER_GRAIN / 1e9:.3g} GB, {BYTES_PER_GRAIN} bytes a "
+        f"grain){limit}")
+
+
+def check_size(scenario: Scenario) -> None:
+    """ScenarioError naming ``[chain.sections] n`` if the chain cannot fit in memory.
+
+    Checked before anything is allocated (``n = 1e12`` was a MemoryError traceback;
+    a size just above the memory would have been killed by the OS instead): the
+    lower bound :data:`BYTES_PER_GRAIN` per grain must fit in the physical memory.
+    """
+    mem = _memory_bytes()
+    if mem and scenario.chain.n * BYTES_PER_GRAIN > mem:
+        raise _too_large(scenario, "checked before allocating")
+
+
 def check_run(scenario: Scenario, init) -> None:
     """ScenarioError for a ``[run]`` table that cannot work with this initial state.
 
@@ -287,6 +326,16 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
     ScenarioError
         If the chain, the initial wave or the time step cannot work (names the key).
     """
+    check_size(scenario)
+    try:
+        return _build_simulation(scenario, energy_grid=energy_grid, threads=threads,
+                                 check=check, cache_dir=cache_dir)
+    except MemoryError:
+        raise _too_large(scenario, "building the chain and its recording") from None
+
+
+def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | None,
+                      check: bool, cache_dir):
     try:
         chain = build_chain(scenario.chain)
     except ValueError as exc:
@@ -299,11 +348,28 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
     law, drag = build_law(scenario.chain)
-    step = discrete.TimeStep.choose(
-        init.chain, init.u, init.v, init.wall_left, init.wall_right, dt=run.dt,
-        integrator=None if run.integrator == "auto" else run.integrator, law=law,
-        drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol, horizon=run.t_end)
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            # k/m may overflow (alpha_rho = 1e-300): dt = 0, refused below by name
+            step = discrete.TimeStep.choose(
+                init.chain, init.u, init.v, init.wall_left, init.wall_right, dt=run.dt,
+                integrator=None if run.integrator == "auto" else run.integrator, law=law,
+                drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol,
+                horizon=run.t_end)
+    except ValueError as exc:  # e.g. v0 = 1e-300: the expected overlaps underflow to 0
+        amp = {"impact": "v0", "cut_wave": "v0"}.get(scenario.initial.kind, "velocity_max")
+        raise ScenarioError(
+            f"[run] dt = {'auto' if run.dt is None else run.dt!r}: the time step cannot be "
+            f"chosen for this chain and initial state ({exc}); give [run] dt (s, > 0) or "
+            f"a larger [initial] {amp}") from None
     dt = step.dt
+    if not (math.isfinite(dt) and dt > 0):  # k/m overflows a double: ω_max = inf
+        ratios = [(s.alpha_rho, s.alpha_kn) for s in scenario.chain.sections]
+        raise ScenarioError(
+            f"[chain.sections] alpha_rho, alpha_kn = {ratios}: the stiffest contact's "
+            f"frequency sqrt(k/m) overflows a double, so the time step is {dt!r} s; "
+            "allowed: ratios (and diameter, material) for which every contact's k/m is a "
+            "finite double")
     speed = _wave_speed_estimate(init.chain, init.v)
     d = float(np.mean(init.chain.diameter))
     every = rec.energy_every or None
@@ -642,7 +708,23 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
         :func:`partial_path` (a checkpoint, if any, is kept).
     hertzchain.checkpoint.Interrupted
         SIGINT/SIGTERM during a checkpointed run (after writing the checkpoint).
+    hertzchain.checkpoint.OutputBusy
+        Another process is running into the same ``out`` (an advisory lock,
+        :func:`hertzchain.checkpoint.output_lock`).
     """
+    from . import checkpoint as C
+
+    kwargs = {"out": out, "progress": progress, "checkpoint_interval": checkpoint_interval,
+              "resume": resume, "threads": threads, "check": check, "log": log,
+              "cache_dir": cache_dir}
+    if out is None:
+        return _run_simulation(scenario, **kwargs)
+    with C.output_lock(out):  # one process per output file (and its checkpoint)
+        return _run_simulation(scenario, **kwargs)
+
+
+def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, resume,
+                    threads, check, log, cache_dir) -> tuple[dict, discrete.Simulation]:
     from . import checkpoint as C
 
     start = time.perf_counter()
@@ -704,8 +786,12 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
                        rtol=ts.rtol, rtol_estimate=ts.error_estimate)
         summary["wall_time"] = elapsed + time.perf_counter() - start
         if out is not None:
-            discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
-                                           "summary": canonical_json(summary)})
+            try:
+                discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
+                                               "summary": canonical_json(summary)})
+            except OSError as exc:  # disk full, ...: the summary and checkpoint survive
+                kept = ckpt if ckpt is not None and ckpt.exists() else None
+                raise C.OutputWriteError(out, exc, summary, kept) from None
             if ckpt is not None:
                 ckpt.unlink(missing_ok=True)
                 C.remove_stale_temporaries(out)

@@ -73,6 +73,8 @@ __all__ = [
     "load_scenario",
     "parse_scenario",
     "read_toml",
+    "read_key",
+    "schema_key",
     "schema_markdown",
     "set_path",
     "shipped_scenarios",
@@ -418,6 +420,23 @@ def _read_value(key: Key, val, where: str):
                                 f"{list(CONTINUUM_MODELS)} or false")
         return val
     raise AssertionError(f"unknown key kind {k!r}")  # pragma: no cover - schema bug
+
+
+def schema_key(table: str, name: str) -> Key:
+    """The :class:`Key` ``name`` of ``table`` in :data:`SCHEMA` (KeyError if absent).
+
+    The one definition of a key's range, also for the command-line flags that mirror a
+    scenario key (``hertzchain theory --delta0`` is ``[chain] delta0_over_d``).
+    """
+    for key in SCHEMA[table]:
+        if key.name == name:
+            return key
+    raise KeyError(f"no key {name!r} in [{_where(table)}]")
+
+
+def read_key(table: str, name: str, value):
+    """``value`` validated as ``[table] name`` (ScenarioError naming it and its range)."""
+    return _read_value(schema_key(table, name), value, _where(table))
 
 
 def _read_table(data, table: str) -> dict[str, Any]:
@@ -907,8 +926,16 @@ def read_toml(path: Path, error: type[ValueError] = ValueError, what: str = "fil
             return tomllib.load(fh)
     except FileNotFoundError as exc:
         raise error(f"{what} not found: {path}") from exc
+    except IsADirectoryError as exc:
+        raise error(f"{what} {path} is a directory; give a TOML file") from exc
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: not valid TOML: {exc}") from exc
+    except UnicodeDecodeError as exc:  # TOML is UTF-8 (TOML 1.0 spec)
+        raise error(f"{path}: not UTF-8 text (TOML files are UTF-8): byte "
+                    f"{exc.object[exc.start:exc.start + 1]!r} at offset {exc.start}") from None
+    except RecursionError:
+        raise error(f"{path}: not valid TOML for a {what}: arrays or tables nested too "
+                    "deeply (a scenario nests at most a few levels)") from None
 
 
 def load_scenario(path: str | Path) -> Scenario:

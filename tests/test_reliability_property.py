@@ -11,7 +11,10 @@ is "auto", 0.5 or 2 x auto, or invalid (1000 x auto, < 0, NaN).  Many plausible 
 are still invalid (a wave that does not fit, an event behind the wave).  Every example
 must either
 
-* be rejected with a ``ValueError`` (``ScenarioError`` included) with a message, or
+* be rejected with a :class:`~hertzchain.scenario.ScenarioError` whose message names a
+  key (the package's input-validation error; any other exception — a bare
+  ``ValueError``, ``ZeroDivisionError`` or ``FloatingPointError`` from deep inside — is
+  a bug and fails the test), or
 * finish with the summary invariants of :mod:`hertzchain.runner`: exactly the summary
   keys; ``steps`` <= ``max_steps``; ``t``, ``dt``, ``energy_drift``, ``wall_time``
   finite; the six energy ratios finite if ``separated`` and NaN otherwise (documented:
@@ -70,6 +73,11 @@ FAULTS = [
     (("run", "max_steps"), 0), (("record", "energy_every"), -1),
     (("record", "time_series_grains"), [10_000]), (("record", "snapshot_times"), [1.0]),
     (("record", "running_max"), "yes"),
+    # extreme but inside the schema's ranges (issue 14 item 12): a correct run or a
+    # ScenarioError naming the key, never ZeroDivisionError/MemoryError/NaN energies
+    (("chain", "sections", -1, "alpha_rho"), 1e-300), (("chain", "sections", 0, "n"), 10**12),
+    (("chain", "delta0_over_d"), 1e-140), (("initial", "v0"), 1e-300),
+    (("chain", "diameter"), 1e-30), (("run", "t_end"), 1e300),
 ]
 
 

@@ -7,6 +7,7 @@ interface predictions (:mod:`theory.interface`) and solitary-wave profiles
 """
 
 from .interface import (
+    MAX_SOLITON_COUNT,
     PAPER_POINTS,
     InterfacePrediction,
     alphas_from_gammas,
@@ -102,6 +103,7 @@ __all__ = [
     "static_overlaps",
     "table2_prediction",
     "transmitted_soliton_count",
+    "MAX_SOLITON_COUNT",
     "velocity_reflection",
     "velocity_transmission",
     "wave_contact_energy",

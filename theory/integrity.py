@@ -40,6 +40,7 @@ once from the page cache, a reader once before opening it.
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 import os
@@ -49,7 +50,7 @@ from collections.abc import Callable, Iterator, Mapping
 from pathlib import Path
 from typing import IO, Any
 
-__all__ = ["HEADER_SIZE", "SCHEME", "IntegrityError", "atomic_path", "sealed_hdf5",
+__all__ = ["HEADER_SIZE", "SCHEME", "IntegrityError", "atomic_path", "write_error", "sealed_hdf5",
            "sealed_binary", "write_sealed_bytes", "seal_file", "verify", "is_sealed",
            "open_hdf5", "read_sealed_bytes", "dumps_sealed_json", "loads_sealed_json",
            "temporary_pattern", "umask"]
@@ -107,9 +108,12 @@ def atomic_path(path: str | os.PathLike, *,
     the temporary is removed and ``path`` is left untouched.
     """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}-", suffix=".tmp",
-                                dir=path.parent)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, name = tempfile.mkstemp(prefix=f".{path.name}.{os.getpid()}-", suffix=".tmp",
+                                    dir=path.parent)
+    except OSError as exc:
+        raise write_error(exc, path) from None
     os.close(fd)
     tmp = Path(name)
     try:
@@ -123,10 +127,26 @@ def atomic_path(path: str | os.PathLike, *,
             os.close(fd)
         os.chmod(tmp, 0o666 & ~umask())  # mkstemp creates 0600; a result is shared
         os.replace(tmp, path)
+    except OSError as exc:
+        raise write_error(exc, path) from None
     finally:
         with contextlib.suppress(FileNotFoundError):
             tmp.unlink()
     _fsync_dir(path.parent)
+
+
+def write_error(exc: OSError, path: str | os.PathLike) -> OSError:
+    """``exc`` naming the file being written; a full disk says so ("disk full ... PATH").
+
+    The one wording of a failed write, used by :func:`atomic_path` and by callers that
+    catch a writer's error (``hertzchain.checkpoint.OutputWriteError``).
+    """
+    if exc.errno == errno.ENOSPC:
+        return OSError(errno.ENOSPC, "disk full (no space left on device) writing", str(path))
+    if exc.errno is not None and exc.filename is None:
+        return type(exc)(exc.errno, f"{exc.strerror or exc} writing", str(path))
+    return exc
+
 
 
 # -- binary files: a 512-byte header with the digest of the rest ------------------------
@@ -167,8 +187,37 @@ def sealed_hdf5(path: str | os.PathLike, **kwargs) -> Iterator[Any]:
         f = h5py.File(tmp, "w", userblock_size=HEADER_SIZE, **kwargs)
         try:
             yield f
+        except BaseException:
+            _abandon(f, tmp)
+            raise
+        f.close()
+
+
+def _abandon(f, tmp: Path) -> None:
+    """Close a half-written HDF5 file that is about to be deleted, whatever its state.
+
+    After a failed write (a full disk) HDF5's close flushes again and fails; the file
+    then stays open in the library and is flushed once more when Python frees its
+    objects — after :func:`atomic_path` deleted it: a flood of "Exception ignored" and a
+    segmentation fault.  The file's descriptor is pointed at ``os.devnull`` first, so the
+    closing flush succeeds and writes nowhere (the content is discarded anyway); where
+    the driver has no descriptor, truncating the temporary frees its blocks instead.
+    """
+    try:
+        fd = f.id.get_vfd_handle()
+    except Exception:  # noqa: BLE001 - another driver, or already closed
+        fd = None
+    if isinstance(fd, int) and fd >= 0:
+        null = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, fd)
         finally:
-            f.close()
+            os.close(null)
+    else:
+        with contextlib.suppress(OSError):
+            os.truncate(tmp, 0)
+    with contextlib.suppress(Exception):
+        f.close()
 
 
 @contextlib.contextmanager

@@ -47,6 +47,7 @@ __all__ = [
     "table2_prediction",
     "fission_parameter",
     "transmitted_soliton_count",
+    "MAX_SOLITON_COUNT",
     "region",
     "InterfacePrediction",
     "predict",
@@ -107,7 +108,7 @@ def velocity_reflection(gamma_rg_):
 def energy_transmission(gamma_rg_):
     """Transmitted fraction of the (quadratic) wave energy, 4γ_RG/(1 + γ_RG)²."""
     g = check_positive("gamma_rg", gamma_rg_)
-    return _ret(4.0 * g / (1.0 + g) ** 2)
+    return _ret(4.0 * g / (1.0 + g) / (1.0 + g))  # not (1 + g)², which overflows at 1e155
 
 
 def energy_reflection(gamma_rg_):
@@ -189,17 +190,45 @@ def fission_parameter(alpha_rho, alpha_kn):
     return _ret(gc * np.sqrt(2.0 * gr / (1.0 + gr)))
 
 
+MAX_SOLITON_COUNT = 2**53
+"""Largest λ for which :func:`transmitted_soliton_count` is exact: beyond 2^53 the double
+λ no longer determines ⌈λ⌉ (its spacing exceeds 1)."""
+
+
 def transmitted_soliton_count(alpha_rho, alpha_kn):
     """Number of solitons the transmitted pulse fissions into, ⌈λ⌉ with λ(λ+1) = 2q².
 
     From the KdV scattering problem of a sech² pulse (see :func:`fission_parameter`);
-    q = 1 gives exactly one (λ = 1).  Weakly nonlinear, long-wave estimate.
+    q = 1 gives exactly one (λ = 1), and any q > 0 binds at least one (the ground state
+    of a sech² well exists for every λ > 0).  Weakly nonlinear, long-wave estimate.
+    λ = 2q²/((1 + √(1 + 8q²))/2) is evaluated without cancellation (small q) or overflow
+    (q up to the largest double).
+
+    Raises
+    ------
+    ValueError
+        Naming ``alpha_rho`` and ``alpha_kn`` when λ ≥ :data:`MAX_SOLITON_COUNT`
+        (2^53, q ≳ 6.4e15, e.g. α_ρ ≲ 1e-31 at α_kn = 1): a float λ no longer fixes the
+        integer count (and the long-wave estimate has long lost its meaning).
     """
-    q = np.asarray(fission_parameter(alpha_rho, alpha_kn))
-    lam = 0.5 * (-1.0 + np.sqrt(1.0 + 8.0 * q**2))
+    q = np.asarray(fission_parameter(alpha_rho, alpha_kn), dtype=float)
+    root = np.hypot(1.0, np.sqrt(8.0) * q)  # √(1 + 8q²), no overflow of q²
+    lam = 2.0 * q * (q / (0.5 * (1.0 + root)))  # = (√(1 + 8q²) - 1)/2
+    if np.any(lam >= MAX_SOLITON_COUNT):
+        worst = float(np.max(lam))
+        raise ValueError(
+            f"alpha_rho = {_values(alpha_rho)}, alpha_kn = {_values(alpha_kn)}: the "
+            f"transmitted pulse would fission into about {worst:.3g} solitons (fission "
+            f"parameter q = {float(np.max(q)):.3g}), a count not representable exactly; "
+            f"allowed: ratios with λ < 2**53 (q below about 6.4e15), far beyond any chain")
     # a bound state exists for every n < λ; round off λ = 1 + 1e-15 at q = 1 exactly
-    out = np.ceil(lam - 1e-9).astype(int)
+    out = np.maximum(np.ceil(lam - 1e-9), 1.0).astype(np.int64)
     return out if out.ndim else int(out)
+
+
+def _values(x) -> str:
+    arr = np.asarray(x, dtype=float)
+    return repr(float(arr)) if arr.ndim == 0 else f"array (min {arr.min()!r}, max {arr.max()!r})"
 
 
 def _side(x: float, tol: float) -> int:

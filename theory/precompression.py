@@ -79,7 +79,8 @@ def wave_contact_energy(r, k, delta0):
     The integral of the Hertz force (paper Eq. 1) minus the static energy of the same
     contact (docs/physics.md §6): negative when the contact is less compressed than at rest.
     Evaluated as δ0^{5/2} expm1((5/2) log1p((r - δ0)/δ0)), without the cancellation of
-    r^{5/2} - δ0^{5/2} for a small wave on a large precompression.  Broadcasts; no
+    r^{5/2} - δ0^{5/2} for a small wave on a large precompression (and as that plain
+    difference where δ0^{5/2} is not a normal double, δ0 ≲ 1e-123 m).  Broadcasts; no
     validation (hot diagnostic path).
 
     Parameters
@@ -96,9 +97,14 @@ def wave_contact_energy(r, k, delta0):
     s = d0 * d0 * np.sqrt(d0)
     pos = d0 > 0
     safe = np.where(pos, d0, 1.0)
-    x = np.maximum(np.where(pos, (r - d0) / safe, 0.0), -1.0)
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", over="ignore", invalid="ignore"):
+        x = np.maximum(np.where(pos, (r - d0) / safe, 0.0), -1.0)
         rel = s * np.expm1(2.5 * np.log1p(x))
+        # δ0^{5/2} below the normal doubles (δ0 ≲ 1e-123 m): 0·inf or 0 in the product
+        # form; there r ≫ δ0 and the plain difference has no cancellation
+        rp_ = np.maximum(r, 0.0)
+        plain = rp_ * rp_ * np.sqrt(rp_) - s
+        rel = np.where((s < np.finfo(float).tiny) | ~np.isfinite(rel), plain, rel)
     rp = np.maximum(r, 0.0)
     out = np.where(pos, np.where(r > 0, rel, -s), rp * rp * np.sqrt(rp))
     return 0.4 * np.asarray(k, dtype=float) * out

@@ -146,11 +146,15 @@ def nesterenko_speed(c_mat_, xi0, xi_max):
     fr = 1.0 + eps
     # For small eps the closed form cancels catastrophically; use its series there:
     # (4/15)(3 + 2 fr^{5/2} - 5 fr) = eps² (1 + eps/6 - eps²/48 + eps³/160 + ...).
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         big = np.sqrt(4.0 / 15.0 * (3.0 + 2.0 * fr**2.5 - 5.0 * fr)) / eps
-    series = np.sqrt(1.0 + eps / 6.0 - eps**2 / 48.0 + eps**3 / 160.0)
+        # fr^{5/2} overflows for eps ≳ 1e123 (δ0/d ≲ 1e-120): the ratio is inf or NaN
+        # there and V_s its δ0 → 0 limit, Eq. 8 (c0 √(8/15) eps^{1/4} = (2/√5) c_mat ξ^{1/4})
+        series = np.where(eps < 1e-3, np.sqrt(1.0 + eps / 6.0 - eps**2 / 48.0
+                                               + eps**3 / 160.0), 0.0)
     ratio = np.where(eps < 1e-3, series, big)
-    out[pre] = cc0 * ratio
+    out[pre] = np.where(np.isfinite(ratio), cc0 * ratio,
+                        2.0 / np.sqrt(5.0) * c_mat_[pre] * xi_max[pre] ** 0.25)
     return _ret(out)
 
 

@@ -6,7 +6,11 @@ grain (potential: half of each adjacent contact's energy minus its static energy
 docs/physics.md §6) divided by "the single grain kinetic energy, potential energy, and total
 energy at the peak of the ISW" (:func:`discrete.diagnostics.normalise_to_incident_peak`,
 the maxima over the left section before the wave reaches the interface).  The runs are
-those of :mod:`.table2` (one HDF5 file each).
+those of :mod:`.table2`: :func:`maps_from_grid` reduces each run's full energy grids
+once (the normalisation, the extremes and the colour limits in float64 from every row
+and grain; the maps themselves, for drawing only, to at most :data:`MAP_ROWS` rows of
+the first :data:`GRAINS_SHOWN` grains), and :mod:`.table2` keeps that in its per-point
+file.
 """
 
 from __future__ import annotations
@@ -25,42 +29,66 @@ QUICK: dict = {}
 FULL: dict = {}
 GRAINS_SHOWN = 600
 """Grains drawn (the paper's maps show the neighbourhood of the interface at 200)."""
+MAP_ROWS = 400
+"""Most time rows kept for drawing a map (every k-th row; a panel is ~200 pixels high at
+the figure's 90 dpi, so 400 rows still oversample it twice)."""
+PERCENTILES = (0.05, 99.95)
+"""Colour limits of a column: these percentiles of the normalised values, over the
+points (:func:`_limits`)."""
 KINDS = (("k", "kinetic", r"$e_k/e_{k0}$"), ("p", "potential", r"$e_p/e_{p0}$"),
          ("t", "total", r"$e_t/e_{t0}$"))
 
 
+def maps_from_grid(t, ek, ep, interface: int, i_incident: int) -> dict:
+    """Fig. 8 data of one run from its full per-grain energy grids (J, shape (rows, N)).
+
+    Returns the normalising energies ``refs`` (J), the extremes ``max_right`` and
+    ``min_left`` and the per-kind colour ``limits`` (:data:`PERCENTILES`), all in float64
+    from every row before the reflected wave reaches the left wall (``stop`` rows) and
+    every grain; and for drawing, ``t`` (s), ``k``, ``p``, ``t_`` (e/e0): every k-th of
+    those rows (at most :data:`MAP_ROWS`) of the first :data:`GRAINS_SHOWN` grains.
+    """
+    # the normalising energies from the incident rows (D.normalise_to_incident_peak);
+    # then one kind at a time (e/e0 of the full grid is ~40 MB per kind in --quick)
+    inc = slice(0, i_incident + 1)
+    refs = D.normalise_to_incident_peak(ek[inc], ep[inc], incident_rows=np.arange(
+        i_incident + 1), grains=slice(0, interface))[3]
+    # stop the maps when the reflected wave reaches the left wall (its echo is not
+    # part of the paper's figure)
+    act = np.abs(ek[:, :3] + ep[:, :3]).sum(axis=1)
+    tot = np.abs(ek + ep).sum(axis=1)
+    hit = np.flatnonzero(act > 1e-3 * tot)
+    stop = int(hit[0]) if hit.size else tot.size
+    every = max(1, -(-stop // MAP_ROWS))
+    out = {"t": np.asarray(t[:stop:every], dtype=float), "refs": tuple(map(float, refs)),
+           "interface": int(interface), "stop": stop, "max_right": {}, "min_left": {},
+           "limits": {}}
+    for i, (kind, key) in enumerate((("k", "k"), ("p", "p"), ("t", "t_"))):
+        # elementwise as D.normalise_to_incident_peak: e / e0 (bit for bit)
+        e = ek[:stop] if kind == "k" else ep[:stop] if kind == "p" else ek[:stop] + ep[:stop]
+        a = e / refs[i]
+        del e
+        out["max_right"][kind] = float(a[:, interface:].max())
+        out["min_left"][kind] = float(a[-1, :interface].min())
+        out["limits"][kind] = tuple(float(np.percentile(a, q)) for q in PERCENTILES)
+        out[key] = np.ascontiguousarray(a[::every, :GRAINS_SHOWN])
+        del a
+    return out
+
+
 def run(ctx: Context, points=POINTS) -> dict:
-    """Normalised energy grids of the points (from the Table 2 runs)."""
+    """Normalised energy maps of the points (from the Table 2 runs)."""
     out = {}
     for p in points:
         ctx.log(f"fig8: point {p}")
-        r = run_point(ctx, p, grid=True)
-        g = r.grid
-        iface = g["interface"]
-        rows = np.arange(0, g["i_incident"] + 1)
-        ek, ep, et, refs = D.normalise_to_incident_peak(
-            g["ek"], g["ep"], incident_rows=rows, grains=slice(0, iface))
-        # stop the maps when the reflected wave reaches the left wall (its echo is not
-        # part of the paper's figure)
-        act = np.abs(g["ek"][:, :3] + g["ep"][:, :3]).sum(axis=1)
-        tot = np.abs(g["ek"] + g["ep"]).sum(axis=1)
-        hit = np.flatnonzero(act > 1e-3 * tot)
-        stop = int(hit[0]) if hit.size else tot.size
-        ek, ep, et = ek[:stop], ep[:stop], et[:stop]
-        out[p] = {"t": g["t"][:stop], "k": ek, "p": ep, "t_": et, "refs": refs,
-                  "interface": iface,
-                  "gamma": (r.alpha_rho, r.alpha_kn),
-                  "max_right": {k: float(a[:, iface:].max()) for k, a in
-                                (("k", ek), ("p", ep), ("t", et))},
-                  "min_left": {k: float(a[-1, :iface].min()) for k, a in
-                               (("k", ek), ("p", ep), ("t", et))}}
+        r = run_point(ctx, p)
+        out[p] = dict(r.maps) | {"gamma": (r.alpha_rho, r.alpha_kn)}
     return out
 
 
 def _limits(data: dict, kind: str) -> tuple[float, float]:
-    key = "t_" if kind == "t" else kind
-    lo = min(float(np.percentile(d[key], 0.05)) for d in data.values())
-    hi = max(float(np.percentile(d[key], 99.95)) for d in data.values())
+    lo = min(d["limits"][kind][0] for d in data.values())
+    hi = max(d["limits"][kind][1] for d in data.values())
     return min(lo, 0.0), hi
 
 

@@ -21,6 +21,15 @@ Besides the paper's values, each ratio is compared with
 Where it is measured matters for P: its transmitted pulse keeps reshaping in the slow
 section and Ek_tr drifts with distance (docs/physics.md §6), so the ratios are also tabulated
 when the transmitted peak is ``DISTANCES`` grains past the interface.
+
+What is kept on disk: the runner's file of a point holds the per-grain energy grids
+(2,500–4,900 rows × 1,000 grains × 2 in float64, 13–37 MB).  Once it is finished,
+:func:`run_point` computes from it everything the report prints (the quantities above
+and Fig. 8's normalisation and extremes, :func:`.fig8.maps_from_grid`, in float64 from
+the full grids, exactly as before) plus Fig. 8's maps reduced for drawing (at most
+:data:`.fig8.MAP_ROWS` rows of the first :data:`.fig8.GRAINS_SHOWN` grains, float16),
+writes them to one sealed file ``table2-point-<hash>.h5`` (~0.2 MB) and deletes the
+runner's file.  A later run reuses that file; ``--force`` recomputes.
 """
 
 from __future__ import annotations
@@ -85,7 +94,7 @@ class PointResult:
     continuum: dict | None = None
     continuum_note: str = ""
     path: object = None
-    grid: dict = field(default_factory=dict, repr=False)
+    maps: dict = field(default_factory=dict, repr=False)  # Fig. 8 (.fig8.maps_from_grid)
 
 
 def _front(e: np.ndarray, iface: int) -> np.ndarray:
@@ -94,11 +103,52 @@ def _front(e: np.ndarray, iface: int) -> np.ndarray:
     return np.argmax(right, axis=1) + 1.0
 
 
-def run_point(ctx: Context, point: str, s: dict | None = None, *, grid: bool = False
-              ) -> PointResult:
-    """Run (or load) one point; the discrete ratios, drift, incident split and theory."""
+STORE_FORMAT = "hertzchain.reproduce.table2-point/1"
+"""Format tag of the reduced per-point file (bump when its content changes)."""
+
+
+def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
+    """Run (or load) one point: discrete ratios, drift, incident split, theory, Fig. 8 maps.
+
+    The runner's full file is reduced to the sealed ``table2-point-<hash>.h5`` and
+    deleted (module docstring); that file is what a later call reuses.
+    """
+    from ..scenario import parse_scenario
+
     s = ctx.pick(QUICK, FULL) if s is None else s
-    summary, path = run_scenario_cached(ctx, "table2", point_scenario(point, s))
+    scenario = point_scenario(point, s)
+    params = {"scenario": parse_scenario(scenario).to_dict(), "format": STORE_FORMAT,
+              "distances": list(DISTANCES), "fig8": _fig8_settings()}
+    store = cache_path(ctx.runs, "table2-point", params)
+    if store.exists() and not ctx.force:
+        try:
+            res = _read_point(store, point)
+        except (OSError, ValueError, KeyError) as exc:  # damaged or stale: recompute
+            ctx.log(f"table2: recomputing point {point}: {exc}")
+        else:
+            ctx.reused.append(store)
+            return res
+    summary, path = run_scenario_cached(ctx, "table2", scenario)
+    res = _reduce(point, s, summary, path)
+    _write_point(store, params, res)
+    # the reduced file replaces the runner's (one entry per simulation in the counts)
+    for done in (ctx.computed, ctx.reused):
+        done[:] = [store if q == path else q for q in done]
+    path.unlink()
+    res.path = store
+    return res
+
+
+def _fig8_settings() -> dict:
+    from .fig8 import GRAINS_SHOWN, MAP_ROWS
+
+    return {"grains": GRAINS_SHOWN, "rows": MAP_ROWS, "dtype": "float16"}
+
+
+def _reduce(point: str, s: dict, summary: dict, path) -> PointResult:
+    """Everything the report needs from the runner's full file (float64, full grids)."""
+    from .fig8 import maps_from_grid
+
     sim = discrete.load(path)
     chain = sim.chain
     arr = sim.record.arrays()
@@ -129,13 +179,57 @@ def run_point(ctx: Context, point: str, s: dict | None = None, *, grid: bool = F
     left = list(sums["sections"]).index(0)
     inc = {key: float(sums[key][left]) for key in ("kinetic", "linear", "quadratic")}
     ar, ak = theory.PAPER_POINTS[point]
-    pred = theory.table2_prediction(theory.gamma_rg(ar, ak), inc["kinetic"], inc["linear"],
-                                    inc["quadratic"])
     res = PointResult(point, ar, ak, summary, ratios,
                       float(front[i_out]) if i_out is not None else math.nan, drift, inc,
-                      pred, path=path)
-    if grid:
-        res.grid = {"t": t, "ek": ek, "ep": ep, "interface": iface, "i_incident": i_in}
+                      _prediction(ar, ak, inc), path=path)
+    del e, tot, activity  # (each as large as a grid)
+    res.maps = maps_from_grid(t, ek, ep, iface, i_in)
+    return res
+
+
+def _prediction(ar: float, ak: float, inc: dict) -> dict:
+    return theory.table2_prediction(theory.gamma_rg(ar, ak), inc["kinetic"], inc["linear"],
+                                    inc["quadratic"])
+
+
+def _write_point(store, params: dict, res: PointResult) -> None:
+    """The reduced point: numbers as JSON attributes, Fig. 8's maps as float16 datasets."""
+    m = res.maps
+    numbers = {"discrete": res.discrete, "measured_at": res.measured_at,
+               "drift": {str(k): v for k, v in res.drift.items()}, "incident": res.incident,
+               "fig8": {k: m[k] for k in ("refs", "interface", "max_right", "min_left",
+                                          "limits", "stop")}}
+    with integrity.sealed_hdf5(store) as f:
+        f.attrs["format"] = STORE_FORMAT
+        f.attrs["reproduce_params"] = canonical_json(params)
+        f.attrs["summary"] = canonical_json(res.summary)
+        # insertion order kept: the report and --json list the keys in this order
+        f.attrs["numbers"] = json.dumps(numbers, allow_nan=True)
+        f.create_dataset("fig8/t", data=m["t"])
+        for key in ("k", "p"):
+            f.create_dataset(f"fig8/{key}", data=m[key].astype(np.float16),
+                             compression="gzip", compression_opts=6, shuffle=True)
+
+
+def _read_point(store, point: str) -> PointResult:
+    with integrity.open_hdf5(store, what="Table 2 point") as f:
+        if f.attrs.get("format") != STORE_FORMAT:
+            raise ValueError(f"{store}: not a {STORE_FORMAT} file")
+        summary = json.loads(f.attrs["summary"])
+        num = json.loads(f.attrs["numbers"])
+        maps = dict(num["fig8"])
+        maps["refs"] = tuple(maps["refs"])
+        maps["limits"] = {k: tuple(v) for k, v in maps["limits"].items()}
+        maps["t"] = f["fig8/t"][()]
+        for key in ("k", "p"):
+            maps[key] = f[f"fig8/{key}"][()].astype(np.float32)
+    maps["t_"] = maps["k"] + maps["p"]
+    ar, ak = theory.PAPER_POINTS[point]
+    inc = num["incident"]
+    res = PointResult(point, ar, ak, summary, num["discrete"], float(num["measured_at"]),
+                      {int(k): v for k, v in num["drift"].items()}, inc,
+                      _prediction(ar, ak, inc), path=store)
+    res.maps = maps
     return res
 
 

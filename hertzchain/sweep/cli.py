@@ -54,6 +54,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         spec = dataclasses.replace(spec, base=base, _points=[])
     points = spec.points()
     out = args.out if args.out is not None else Path.cwd() / f"{spec.name}-sweep"
+    from ..files import check_output
+
+    check_output(out, "dir")  # a file or a read-only place: refused before any point
     records = RecordStore(out / "records.jsonl").load()
     try:
         fname = function_name(resolve_point_function(
@@ -94,6 +97,10 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     else:
         print(f"{outcome.n_run} points run in {outcome.elapsed:.1f} s: table {outcome.table} "
               f"has {outcome.n_ok} ok, {outcome.n_failed} failed, {outcome.n_pending} pending")
+    if outcome.n_lost:
+        print(f"{outcome.n_lost} point(s) lost their worker (KilledWorker: it crashed or "
+              "was killed, e.g. out of memory); they stay pending: rerun the same command "
+              "to retry them", file=sys.stderr)
     if outcome.n_failed:
         print(f"{outcome.n_failed} point(s) failed (see the 'error' column); rerun with "
               "--retry-failed to retry them", file=sys.stderr)

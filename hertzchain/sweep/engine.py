@@ -38,7 +38,7 @@ import numpy as np
 from ..cache import atomic_path
 from ..scenario import Scenario, ScenarioError, parse_scenario
 from .spec import Point, SweepError, SweepSpec, load_sweep_spec, parse_sweep_spec
-from .store import SUMMARY_FIELDS, RecordStore, write_table
+from .store import SUMMARY_FIELDS, RecordStore, records_from_table, write_table
 
 __all__ = [
     "DEFAULT_POINT_FUNCTION",
@@ -98,6 +98,9 @@ class SweepOutcome:
         Wall time of this call, s.
     interrupted : bool
         True if the call stopped before every point had a record.
+    n_lost : int
+        Points whose worker died (``KilledWorker``) in this call: left pending, retried
+        by a plain rerun.
     """
 
     directory: Path
@@ -111,6 +114,7 @@ class SweepOutcome:
     elapsed: float
     interrupted: bool = False
     n_incomplete: int = 0
+    n_lost: int = 0
 
     def to_dict(self) -> dict:
         """JSON-able dict (paths as strings)."""
@@ -171,13 +175,14 @@ def points_to_run(points: list[Point], records: Mapping[str, dict], fname: str |
     """The points a run has to compute.
 
     Those without a record, with a record made by another function (unless ``fname``
-    is None) or, with ``retry_failed``, with a failed record.
+    is None), with ``retry_failed`` with a failed record, and always those an older
+    version booked as failed when their worker died (``dask: KilledWorker``).
     """
     todo = []
     for p in points:
         rec = records.get(p.id)
         if (rec is None or (fname is not None and rec.get("point_function", fname) != fname)
-                or (retry_failed and rec.get("status") != "ok")):
+                or (retry_failed and rec.get("status") != "ok") or _lost_record(rec)):
             todo.append(p)
     return todo
 
@@ -379,6 +384,13 @@ def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
     with _exclusive(directory):
         store = RecordStore(directory / "records.jsonl")
         records = store.load()
+        if not records and table_path.exists():  # the records are lost, the table is not
+            restored = records_from_table(table_path)
+            if restored:
+                log.warning("records.jsonl of %s is missing: %d finished point(s) restored "
+                            "from %s", directory, len(restored), table_path)
+                records.update({r["id"]: r for r in store.append_many(
+                    list(restored.values()))})
         fn = resolve_point_function(default_point_function(spec) if point_function is None
                                     else point_function)
         fname = function_name(fn)
@@ -387,12 +399,12 @@ def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
         with atomic_path(directory / "spec.json") as tmp:
             tmp.write_text(spec.to_json() + "\n", encoding="utf-8")
         write_table(table_path, spec, points, records)
-        n_run, interrupted = 0, False
+        n_run, interrupted, n_lost = 0, False, 0
         if todo:
             if warmup == "auto":
                 tiny = tiny_scenario(spec.point_table(todo[0].values))
                 warmup = None if tiny is None else functools.partial(_warm, fn, tiny)
-            n_run, interrupted = _execute(
+            n_run, interrupted, n_lost = _execute(
                 spec, points, todo, records, store, fn, fname, directory, table_path,
                 client=client, scheduler=scheduler, workers=workers, processes=processes,
                 full_output=full_output, max_points=max_points, progress=progress,
@@ -406,7 +418,29 @@ def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
         directory=directory, table=table_path, n_points=len(points), n_skipped=n_skipped,
         n_run=n_run, n_ok=statuses.count("ok"), n_failed=statuses.count("failed"),
         n_pending=statuses.count("pending"), elapsed=time.perf_counter() - t_start,
-        interrupted=interrupted or statuses.count("pending") > 0, n_incomplete=incomplete)
+        interrupted=interrupted or statuses.count("pending") > 0, n_incomplete=incomplete,
+        n_lost=n_lost)
+
+
+def _worker_lost(exc: BaseException) -> bool:
+    """A dask-side failure that says nothing about the point: its worker died.
+
+    ``KilledWorker`` (the scheduler gave up after the worker running it died
+    ``allowed-failures`` times: a crash, the OOM killer, a lost node).  Such a point is
+    left pending, so a plain rerun retries it (not recorded as a failure that only
+    ``--retry-failed`` would retry).
+    """
+    try:
+        from distributed import KilledWorker
+    except ImportError:  # pragma: no cover - dask is a dependency of sweeps
+        return False
+    return isinstance(exc, KilledWorker)
+
+
+def _lost_record(rec: Mapping[str, Any] | None) -> bool:
+    """A record of an older version that booked a worker loss as a point failure."""
+    return bool(rec) and rec.get("status") == "failed" and str(
+        rec.get("error", "")).startswith("dask: KilledWorker")
 
 
 def _failed_record(point: Point, exc: BaseException) -> dict[str, Any]:
@@ -419,7 +453,7 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
              records: dict[str, dict], store: RecordStore, fn: PointFunction, fname: str,
              directory: Path, table_path: Path, *, client, scheduler, workers, processes,
              full_output, max_points, progress, warmup, consolidate_every, on_result,
-             n_skipped) -> tuple[int, bool]:
+             n_skipped) -> tuple[int, bool, int]:
     from concurrent.futures import CancelledError
 
     from distributed import as_completed
@@ -430,6 +464,7 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
         runs.mkdir(exist_ok=True)
     token = uuid.uuid4().hex[:8]
     n_run, n_failed, stopped = 0, 0, False
+    lost: list[str] = []
     pending: dict[str, tuple[Any, Point]] = {}
     with _dask_client(client, scheduler, workers, processes) as c, \
             tqdm(total=len(points), initial=n_skipped, desc=spec.name, unit="pt",
@@ -458,6 +493,11 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
                     except CancelledError:
                         continue
                     except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker
+                        if _worker_lost(exc):  # not the point's fault: stays pending
+                            lost.append(p.id)
+                            log.warning("point %s lost its worker (%s); it stays pending",
+                                        p.id, type(exc).__name__)
+                            continue
                         rec = _failed_record(p, exc)
                     rec["point_function"] = fname
                     done.append(rec)
@@ -490,4 +530,4 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
                 c.cancel([f for f, _ in pending.values()])
                 pending.clear()
             write_table(table_path, spec, points, records)
-    return n_run, stopped
+    return n_run, stopped or bool(lost), len(lost)

@@ -69,6 +69,10 @@ RESERVED_COLUMNS = frozenset({
 
 _MAX_REPORTED = 5
 
+MAX_POINTS = 1_000_000
+"""Most points a sweep may have (each is a full simulation): an axis of 1e9 values would
+allocate GBs before anything is reported."""
+
 
 class SweepError(ScenarioError):
     """A sweep specification (or one of its points) is invalid; the message names the key."""
@@ -270,6 +274,9 @@ def _range(raw: Any, kind: str, where: str) -> list[float]:
         raise SweepError(f"[{where}] {kind} bounds must be finite, got {raw!r}")
     if not isinstance(n, int) or n < 1:
         raise SweepError(f"[{where}] {kind} count n must be an integer >= 1, got {n!r}")
+    if n > MAX_POINTS:  # checked before np.linspace allocates n values
+        raise SweepError(f"[{where}] {kind} count n = {n} is beyond any sweep; allowed "
+                         f"range [1, {MAX_POINTS}] (MAX_POINTS)")
     if n == 1 and lo != hi:
         raise SweepError(f"[{where}] {kind} with n = 1 needs lo == hi, got {raw!r}")
     if kind == "logspace":
@@ -378,6 +385,13 @@ def parse_sweep_spec(data: dict, *, default_name: str = "sweep",
         raise SweepError("[sweep] axes is required: one or more [[sweep.axes]] tables")
     axes = tuple(_parse_axis(a, i) for i, a in enumerate(raw_axes))
     _check_axes(axes, mode)
+    total = math.prod(len(a.values) for a in axes) if mode == "product" else \
+        len(axes[0].values)
+    if total > MAX_POINTS:  # before any point (or its scenario) is built
+        raise SweepError(f"[sweep.axes] the sweep has {total} points "
+                         f"({' x '.join(str(len(a.values)) for a in axes)}, {mode}); "
+                         f"allowed at most {MAX_POINTS} (MAX_POINTS): split it or "
+                         "coarsen an axis")
     for axis in axes:  # a bad path is reported once, not once per point
         set_path(copy.deepcopy(base), axis.path, axis.values[0])
     spec = SweepSpec(name=name, base=base, axes=axes, mode=mode, description=description)

@@ -45,6 +45,7 @@ _DAMAGED_ADVICE = ("Delete that line (its point is then computed again) or move 
                    "directory aside to start the sweep over")
 
 __all__ = [
+    "records_from_table",
     "FORMAT",
     "FORMAT_VERSION",
     "SUMMARY_FIELDS",
@@ -417,3 +418,54 @@ def _read_results(path: Path) -> SweepResults:
             kinds[name] = str(ds.attrs.get("kind", ""))
         axes = [str(n) for n in grp.attrs.get("axes", [])]
     return SweepResults(columns=columns, kinds=kinds, attrs=attrs, axes=axes, path=path)
+
+
+def records_from_table(path: str | os.PathLike) -> dict[str, dict]:
+    """The finished points' records rebuilt from a ``results.h5`` (by point id).
+
+    For a sweep directory whose ``records.jsonl`` is lost: the table holds every
+    finished point's status, error, bookkeeping and summary, so it is the source the
+    records are restored from (instead of being overwritten by an all-pending table).
+    Integer and boolean columns come back as ``int``/``bool`` (their fill value as
+    None), numbers as ``float``, text as ``str``; the per-point ``traceback`` (not in the
+    table) is lost.  The table is verified (:func:`theory.integrity.open_hdf5`).
+    """
+    path = Path(path)
+    records: dict[str, dict] = {}
+    with integrity.open_hdf5(path, what="sweep results table") as fh:
+        grp = fh["table"]
+        names = [str(n) for n in grp.attrs["columns"]]
+        axes = [str(n) for n in grp.attrs.get("axes", [])]
+        cols, info = {}, {}
+        for name in names:
+            ds = grp[name]
+            if h5py.check_string_dtype(ds.dtype) is not None:
+                cols[name] = [str(x) for x in ds.asstr()[()]]
+            else:
+                cols[name] = ds[()].tolist()
+            info[name] = dict(ds.attrs)
+    n = len(cols["id"])
+
+    def value(name: str, i: int):
+        v, a = cols[name][i], info[name]
+        if "fill_value" in a and v == int(a["fill_value"]):
+            return None
+        return bool(v) if a.get("boolean") else v
+
+    for i in range(n):
+        status = cols["status"][i]
+        if status not in ("ok", "failed"):
+            continue
+        rec = {"id": cols["id"][i], "values": {a: cols[a][i] for a in axes},
+               "status": status, "error": cols["error"][i],
+               "point_wall_time": value("point_wall_time", i),
+               "worker": cols["worker"][i], "full_output": cols["full_output"][i],
+               "point_function": cols["point_function"][i],
+               "restored_from": str(path), "summary": {}}
+        if status == "ok":
+            for name in names:
+                if str(info[name].get("kind", "")) == "summary":
+                    key = name.removeprefix("summary.")
+                    rec["summary"][key] = value(name, i)
+        records[rec["id"]] = rec
+    return records
