@@ -423,7 +423,10 @@ class TimeStep:
                               law=law, drag=drag, check=False)
             cap = min(pr["h0"], 0.5 * base.stable)
             h = cap if eq <= 0 else min(cap, hq * (RTOL_SAFETY * rtol / eq) ** (1.0 / p))
-            est = eq * (h / hq) ** p / RTOL_SAFETY
+            # Below the cap e_q (h/h_q)^p / s = rtol by construction; evaluating it again
+            # returned rtol (1 + 2e-16) on some CPUs, a promise (estimate <= rtol) broken
+            # by round-off alone.
+            est = rtol if h < cap else eq * (h / hq) ** p / RTOL_SAFETY
             cost = method.stages / h
             if best is None or cost < best[0]:
                 best = (cost, method, h, est, p, base)

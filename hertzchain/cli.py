@@ -7,7 +7,9 @@ Each sub-command lives in its own function ``cmd_<name>`` and is registered in
 from __future__ import annotations
 
 import argparse
+import errno
 import json
+import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -329,6 +331,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 0
     except (ValueError, OSError, InstabilityError) as exc:  # incl. FileNotFoundError
         print(f"hertzchain: error: {exc}", file=sys.stderr)
+        if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EFBIG):
+            # a failed HDF5 write can leave h5py objects that crash the interpreter
+            # when they are freed (a segfault after the message): leave at once
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(2)
         return 2
     except Interrupted as exc:  # SIGINT/SIGTERM during a checkpointed run
         print(f"hertzchain: {exc}", file=sys.stderr)

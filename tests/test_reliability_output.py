@@ -184,3 +184,83 @@ def test_real_write_failure_midway_exits_cleanly(scenario, tmp_path):
     assert "stopped_by" in proc.stdout  # the summary survives the failed write
     assert not out.exists()
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
+
+
+def test_hdf5_failure_raised_as_runtime_error_is_a_named_oserror(tmp_path):
+    """h5py reports a failed write in a destructor as ``RuntimeError: Can't decrement id
+    ref count (file write failed: ... errno = 28 ...)`` (the sweep's table on a full
+    disk): it becomes "disk full ... PATH"."""
+    target = tmp_path / "results.h5"
+    text = ("Can't decrement id ref count (file write failed: time = now, filename = "
+            "'x.tmp', file descriptor = 3, errno = 28, error message = 'No space left on "
+            "device', buf = 0x0, total write size = 6400)")
+    with pytest.raises(OSError) as exc:
+        with integrity.sealed_hdf5(target) as f:
+            f.create_dataset("x", data=np.arange(10.0))
+            raise RuntimeError(text)
+    assert exc.value.errno == errno.ENOSPC and "disk full" in str(exc.value)
+    assert str(target) in str(exc.value) and list(tmp_path.iterdir()) == []
+
+
+SWEEP = """\
+[base.chain]
+[[base.chain.sections]]
+n = 30
+[[base.chain.sections]]
+n = 30
+[base.run]
+t_end = 1e-4
+[[sweep.axes]]
+path = "chain.sections.1.alpha_rho"
+linspace = [0.5, 2.0, 400]
+"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_FSIZE fault injection: Linux")
+def test_sweep_table_write_failure_exits_cleanly(tmp_path):
+    """The sweep's results.h5 fails half-way: exit 2 naming it (main: a RuntimeError
+    traceback and a segfault)."""
+    spec = tmp_path / "sw.toml"
+    spec.write_text(SWEEP)
+    out = tmp_path / "sw"
+    proc = subprocess.run([sys.executable, "-m", "hertzchain", "sweep", str(spec), "--out",
+                           str(out), "--workers", "1", "--no-progress", "--point-function",
+                           "hertzchain.sweep.synthetic:synthetic_point"],
+                          preexec_fn=_fsize_limit(30_000), capture_output=True, text=True,
+                          timeout=600)
+    assert proc.returncode == 2, proc.stderr[-2000:]
+    assert str(out / "results.h5") in proc.stderr
+    assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+
+
+API_TABLE = """\
+import gc, sys
+from hertzchain.sweep import parse_sweep_spec
+from hertzchain.sweep.store import write_table
+spec = parse_sweep_spec({"base": {"chain": {"sections": [{"n": 30}, {"n": 30}]},
+                                  "run": {"t_end": 1e-4}},
+                         "sweep": {"axes": [{"path": "chain.sections.1.alpha_rho",
+                                             "linspace": [0.5, 2.0, 400]}]}})
+try:
+    write_table(sys.argv[1], spec, spec.points(), {})
+except OSError as exc:
+    print("named:", exc, flush=True)
+    del exc
+gc.collect()
+print("survived", flush=True)
+"""
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_FSIZE fault injection: Linux")
+def test_sweep_table_write_failure_through_the_api_does_not_crash(tmp_path):
+    """A Python caller that catches the error goes on (main: a segfault when h5py freed
+    the datasets of the failed file); the table is built in memory and written with one
+    plain write."""
+    target = tmp_path / "results.h5"
+    proc = subprocess.run([sys.executable, "-c", API_TABLE, str(target)],
+                          preexec_fn=_fsize_limit(30_000), capture_output=True, text=True,
+                          timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert f"named: [Errno {errno.EFBIG}]" in proc.stdout and str(target) in proc.stdout
+    assert "survived" in proc.stdout and "Exception ignored" not in proc.stderr
+    assert list(tmp_path.iterdir()) == []

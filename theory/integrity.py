@@ -175,22 +175,64 @@ def _write_header(path: Path) -> None:
 
 
 @contextlib.contextmanager
-def sealed_hdf5(path: str | os.PathLike, **kwargs) -> Iterator[Any]:
+def sealed_hdf5(path: str | os.PathLike, *, in_memory: bool = False,
+                **kwargs) -> Iterator[Any]:
     """Write a sealed HDF5 file atomically: yields an ``h5py.File`` opened for writing.
 
     The file gets a :data:`HEADER_SIZE`-byte user block that receives the seal once the
-    file is closed; ``kwargs`` go to ``h5py.File``.
+    file is closed; ``kwargs`` go to ``h5py.File``.  ``in_memory``: the file is built in
+    memory and written to disk with one plain write, so a full disk is a clean
+    ``OSError`` (HDF5 failing inside h5py's destructors can crash the interpreter);
+    for small files (sweep tables).
     """
     import h5py
+
+    if in_memory:
+        import io
+
+        buf = io.BytesIO()
+        f = h5py.File(buf, "w", userblock_size=HEADER_SIZE, **kwargs)
+        try:
+            yield f
+        finally:
+            f.close()  # in memory: nothing to fail for lack of space
+        with atomic_path(path, finish=_write_header) as tmp, open(tmp, "wb") as fh:
+            fh.write(buf.getbuffer())
+        return
 
     with atomic_path(path, finish=_write_header) as tmp:
         f = h5py.File(tmp, "w", userblock_size=HEADER_SIZE, **kwargs)
         try:
             yield f
-        except BaseException:
+        except BaseException as exc:
             _abandon(f, tmp)
+            io = _as_os_error(exc)
+            if io is not None:
+                raise io from None
             raise
-        f.close()
+        try:
+            f.close()  # never twice: a second close of a failed one crashes HDF5
+        except (RuntimeError, ValueError) as exc:
+            io = _as_os_error(exc)
+            if io is not None:
+                raise io from None
+            raise
+
+
+_HDF5_ERRNO = re.compile(r"errno = (\d+), error message = '([^']*)'")
+
+
+def _as_os_error(exc: BaseException) -> OSError | None:
+    """An HDF5 I/O failure that h5py raised as another type, as an OSError.
+
+    E.g. ``RuntimeError: Can't decrement id ref count (file write failed: ... errno =
+    28 ...)`` on a full disk; :func:`atomic_path` then names the file.
+    """
+    if isinstance(exc, OSError) or not isinstance(exc, RuntimeError | ValueError):
+        return None
+    m = _HDF5_ERRNO.search(str(exc))
+    return OSError(int(m.group(1)), m.group(2)) if m else None
+
 
 
 def _abandon(f, tmp: Path) -> None:

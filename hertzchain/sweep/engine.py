@@ -443,6 +443,54 @@ def _lost_record(rec: Mapping[str, Any] | None) -> bool:
         rec.get("error", "")).startswith("dask: KilledWorker")
 
 
+NO_WORKER_GRACE = 120.0
+"""Seconds without any worker after which a sweep with pending points stops, s."""
+
+
+class _WorkerWatch:
+    """Stops a sweep whose cluster has had no worker for :data:`NO_WORKER_GRACE` s.
+
+    Losing every worker (a remote cluster's nodes gone, every worker process killed
+    without a nanny to restart it) left the driver waiting forever without a word.
+    """
+
+    def __init__(self, client, directory: Path, every: float = 2.0) -> None:
+        self.client, self.directory, self.every = client, directory, every
+        self.last_check = time.monotonic()
+        self.since: float | None = None
+
+    def check(self) -> None:
+        now = time.monotonic()
+        if now - self.last_check < self.every:
+            return
+        self.last_check = now
+        try:
+            n = len(self.client.scheduler_info().get("workers", {}))
+        except Exception:  # noqa: BLE001 - the scheduler itself is gone
+            n = 0
+        if n:
+            self.since = None
+            return
+        if self.since is None:
+            self.since = now
+            log.warning("the cluster has no worker; waiting up to %.0f s", NO_WORKER_GRACE)
+        elif now - self.since >= NO_WORKER_GRACE:
+            raise SweepError(
+                f"the cluster has had no worker for {now - self.since:.0f} s (every worker "
+                f"was lost): stopping; the finished points are kept in {self.directory}. "
+                "Rerun the same command (with workers) to compute the rest")
+
+
+def _batches(completed, watch: _WorkerWatch) -> Iterator[list]:
+    """``completed.batches()``, checking for a cluster without workers while waiting."""
+    while not completed.is_empty():
+        if completed.has_ready():
+            yield completed.next_batch(block=False)
+            continue
+        watch.check()
+        time.sleep(0.05)
+
+
 def _failed_record(point: Point, exc: BaseException) -> dict[str, Any]:
     return {"id": point.id, "values": point.values, "status": "failed",
             "error": f"dask: {type(exc).__name__}: {exc}", "summary": {},
@@ -484,7 +532,8 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
             bar.set_postfix(failed=0, refresh=False)
             last_write = time.monotonic()
             completed = as_completed([f for f, _ in pending.values()])
-            for batch in completed.batches():  # one fsync per batch of finished points
+            watch = _WorkerWatch(c, directory)
+            for batch in _batches(completed, watch):  # one fsync per batch of points
                 done = []
                 for fut in batch:
                     _, p = pending.pop(fut.key)

@@ -302,7 +302,7 @@ def write_table(path: str | os.PathLike, spec: SweepSpec, points: Sequence[Point
     status = arrays["status"]
     counts = {s: int(np.count_nonzero(status == s)) for s in ("ok", "failed", "pending")}
     axis_paths = {a.name: a.path for a in spec.axes}
-    with integrity.sealed_hdf5(path) as fh:
+    with integrity.sealed_hdf5(path, in_memory=True) as fh:  # a full disk: clean OSError
         fh.attrs["format"] = FORMAT
         fh.attrs["format_version"] = FORMAT_VERSION
         fh.attrs["hertzchain_version"] = __version__
