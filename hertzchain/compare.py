@@ -87,6 +87,23 @@ def validity_word(error: float) -> str:
     return f"off by {100 * error:.0f} %"
 
 
+def _verdict_part(label: str, e: dict, interface: bool) -> str:
+    """The verdict's clause for one model with errors ``e`` (NaN: not measured)."""
+    measures = ((("energy", "energy", "{:.1e}"), ("transmitted speed", "speed", "{:.1%}"))
+                if interface else (("front speed", "speed", "{:.1%}"),))
+    got = [f"{what} {fmt.format(e[key])}" for what, key, fmt in measures
+           if math.isfinite(e[key])]
+    missing = [what for what, key, _ in measures if not math.isfinite(e[key])]
+    if not math.isfinite(e["error"]):
+        return (f"{label} could not be compared with the discrete chain (no "
+                f"{' and no '.join(missing)} difference: a wave front or an energy was "
+                "not found in one of the models)")
+    text = f"{label} is {validity_word(e['error'])} of the discrete chain ({', '.join(got)}"
+    if missing:
+        text += f"; {' and '.join(missing)} not measured"
+    return text + ")"
+
+
 # -- per-model series ------------------------------------------------------------------
 @dataclass
 class ModelSeries:
@@ -268,10 +285,7 @@ class Comparison:
             e = self.errors[name]
             label = self.series[name].label if name in self.series else \
                 "the theory (Nesterenko speeds, Eqs. 9–13)"
-            what = (f"energy {e['energy']:.1e}, transmitted speed {e['speed']:.1%}"
-                    if self.run.interface is not None else f"front speed {e['speed']:.1%}")
-            parts.append(f"{label} is {validity_word(e['error'])} of the discrete chain "
-                         f"({what})")
+            parts.append(_verdict_part(label, e, self.run.interface is not None))
         if not parts:
             return "Only the discrete chain ran: nothing to compare."
         when = f"up to t = {self.t_compare * 1e3:.4g} ms"

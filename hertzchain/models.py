@@ -1,15 +1,21 @@
 r"""The one run path: every model of a scenario, from the same initial grain state.
 
-:func:`run` is what ``hertzchain run``, ``hertzchain compare``, ``hertzchain sweep`` and
-every item of ``hertzchain reproduce`` call.  For a :class:`~hertzchain.scenario.Scenario`
-it
+:func:`run` is what ``hertzchain run``, ``hertzchain compare``, ``hertzchain sweep`` (with
+:func:`hertzchain.compare.compare_point` as the point function) and every simulation of
+``hertzchain reproduce`` call (:func:`hertzchain.reproduce.common.run_models`: Figs. 2–6
+from the paper scenarios in ``hertzchain/scenarios/paper/``, Fig. 7, Table 2 and Fig. 8
+from scenario dicts, the validity map from the shipped sweep's points; Table 2's
+continuum column is still the continuum package's own sech² run,
+:func:`continuum.energy_ratios`).  For a :class:`~hertzchain.scenario.Scenario` it
 
 1. builds the chain and the initial grain state once (:func:`hertzchain.runner.build_chain`,
    :func:`~hertzchain.runner.build_initial_checked`);
 2. runs the **discrete** chain (paper Eq. 2, the reference) with
    :func:`hertzchain.runner.run_simulation` — cached by its parameters and checkpointed;
 3. runs the **continuum** (``[models] continuum``: corrected Eq. 4, Eq. 7 or KdV,
-   :mod:`continuum`) from the same grain state interpolated onto its grid
+   :mod:`continuum`; ``"auto"`` picks Eq. 4 under precompression up to an incident strain
+   amplitude of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN` × δ0 and Eq. 7 above it
+   and at δ0 = 0) from the same grain state interpolated onto its grid
    (:func:`continuum.from_grains`), to the discrete run's end time — cached too;
 4. evaluates the **theory** (:class:`TheoryModel`: wave speeds of Eq. 5, Eq. 8 and
    Nesterenko's general relation, the linear-acoustic interface of Eqs. 9–13).
@@ -598,7 +604,7 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
                 ckpt.unlink()
         summary, sim = run_simulation(
             eff, out=path, progress=progress,
-            checkpoint_interval=checkpoint_interval if path is not None else None,
+            checkpoint_interval=checkpoint_interval,
             resume=resume and not force, threads=threads, check=check, log=log,
             cache_dir=wave_cache)
     ts, vs, ss = _samples_from_sim(sim, times, init)
@@ -815,7 +821,10 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
     import continuum
 
     models = scenario.models
-    model = models.continuum_model(scenario.chain.delta0_over_d)
+    d0 = float(scenario.chain.delta0_over_d)
+    # "auto": Eq. 4 or Eq. 7 by the incident strain amplitude / δ0 (AUTO_EQ4_MAX_STRAIN)
+    amp = incident.strain / d0 if d0 > 0 and math.isfinite(incident.strain) else None
+    model = models.continuum_model(d0, amp)
     label = continuum_label(model, models)
     times = np.asarray(times)
     times = times[times <= t_final * (1 + 1e-12)]
@@ -1003,7 +1012,10 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
     force : bool
         Recompute even if a cached file exists (and discard its checkpoint).
     checkpoint_interval : float, optional
-        Wall time between checkpoints of the discrete run, s (with a file); None: none.
+        Wall time between checkpoints of the discrete run, s (written beside its file;
+        without one the run is still integrated in segments, so that SIGINT/SIGTERM stop
+        it cleanly with :class:`hertzchain.checkpoint.Interrupted`); None: one
+        uninterrupted ``Simulation.run`` call.
     resume : bool
         Resume the discrete run from its checkpoint.
     progress : bool

@@ -16,8 +16,10 @@ Models
 ``[models]`` names the models run side by side from the *same* initial grain state:
 the discrete chain (paper Eq. 2, the reference), a long-wave continuum and the
 closed-form theory.  ``continuum = "auto"`` picks the corrected Eq. 4 (its Rosenau
-form, :class:`continuum.BoussinesqPDE`) under precompression and the corrected,
-regularised Eq. 7 (:class:`continuum.NesterenkoPDE`) at δ0 = 0 (docs/physics.md §2–4);
+form, :class:`continuum.BoussinesqPDE`) under precompression while the incident strain
+amplitude stays below :data:`AUTO_EQ4_MAX_STRAIN` × δ0, and the corrected, regularised
+Eq. 7 (:class:`continuum.NesterenkoPDE`, which keeps the full Hertz force, with or
+without precompression) above it and at δ0 = 0 (docs/physics.md §2–4);
 a model that does not fit the regime (Eq. 4 or KdV at δ0 = 0; KdV, which is
 unidirectional, on more than one section) is an error naming ``[models] continuum``.
 Both the continuum and the theory are derived for the paper's chain — the lossless Hertz
@@ -59,6 +61,7 @@ __all__ = [
     "SCHEMA",
     "TABLE_DOCS",
     "CONTINUUM_MODELS",
+    "AUTO_EQ4_MAX_STRAIN",
     "INTEGRATORS",
     "SectionSpec",
     "ChainSpec",
@@ -138,6 +141,18 @@ class Key:
 
 CONTINUUM_MODELS = ("auto", "eq4", "eq7", "kdv")
 """Values of ``[models] continuum`` besides ``false``."""
+
+AUTO_EQ4_MAX_STRAIN = 0.5
+"""``[models] continuum = "auto"`` runs Eq. 4 under precompression only up to this incident
+strain amplitude / δ0 (the peak dynamic overlap of the incident wave over the static one),
+Eq. 7 above it (:meth:`ModelsSpec.continuum_model`).  Eq. 4 keeps the Hertz force
+k δ0^{3/2}(1 + s)^{3/2} to second order in s = strain/δ0; the dropped terms are 0.03 % of
+the dynamic force at the paper's s = 0.09, 0.8 % at s = 0.5, 2.5 % at 1 and 7 % at 2, and
+past s ≈ 2 in tension its flux is ill-posed.  Measured against the discrete chain
+(model-validity points, 200 | 200 grains, (α_ρ, α_kn) = (0.5, 2), (2, 0.5), (0.25, 4),
+(4, 0.25); README): at s = 0.09 Eq. 4 is within 0.12 % (Eq. 7 0.005–0.15 %), at s = 0.74
+Eq. 4 0.8–5.3 % (Eq. 7 0.03–1.7 %), at s = 1.9 Eq. 4 3–12 % (Eq. 7 0.25–2.3 %), and at
+s = 8.6 19 of 25 Eq. 4 runs blow up (Eq. 7 1.2–9.8 %)."""
 
 INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4")
 """Time integrators of the discrete solver (:data:`discrete.integrators.INTEGRATORS`)."""
@@ -273,9 +288,10 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
     ),
     "models": (
         Key("discrete", "bool", True, "the discrete chain (paper Eq. 2; the reference)"),
-        Key("continuum", "continuum", False, "long-wave continuum: \"auto\" (Eq. 4 if δ0 > 0, "
-            "Eq. 7 at δ0 = 0), \"eq4\", \"eq7\", \"kdv\" (one precompressed section) or false",
-            example="auto"),
+        Key("continuum", "continuum", False, "long-wave continuum: \"auto\" (Eq. 4 if δ0 > 0 "
+            f"and the incident strain / δ0 <= {AUTO_EQ4_MAX_STRAIN:g}, otherwise Eq. 7), "
+            "\"eq4\", \"eq7\", "
+            "\"kdv\" (one precompressed section) or false", example="auto"),
         Key("theory", "bool", True, "closed-form theory: wave speeds (Eq. 5, 8, Nesterenko), "
             "linear-acoustic interface (Eqs. 9–13)"),
         Key("nodes_per_grain", "integer", 5, "continuum grid nodes per grain (odd)", low=1),
@@ -581,12 +597,23 @@ class ModelsSpec:
     samples: int = 40
     compare_times: tuple[float, ...] = ()
 
-    def continuum_model(self, delta0_over_d: float) -> str | None:
-        """The continuum equation run for precompression δ0/d: "eq4", "eq7", "kdv" or None."""
+    def continuum_model(self, delta0_over_d: float,
+                        strain_over_delta0: float | None = None) -> str | None:
+        """The continuum equation run: "eq4", "eq7", "kdv" or None.
+
+        ``"auto"`` is Eq. 7 at δ0 = 0 and under precompression when the incident wave's
+        strain amplitude / δ0 (``strain_over_delta0``, known once the initial state is
+        built) exceeds :data:`AUTO_EQ4_MAX_STRAIN`; otherwise (or if it is not given)
+        Eq. 4.
+        """
         if not self.continuum:
             return None
         if self.continuum == "auto":
-            return "eq4" if delta0_over_d > 0 else "eq7"
+            if not delta0_over_d > 0:
+                return "eq7"
+            if strain_over_delta0 is not None and strain_over_delta0 > AUTO_EQ4_MAX_STRAIN:
+                return "eq7"
+            return "eq4"
         return str(self.continuum)
 
     @property

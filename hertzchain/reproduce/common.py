@@ -1,16 +1,21 @@
-"""Shared machinery of ``hertzchain reproduce``: context, cached runs, figures.
+"""Shared machinery of ``hertzchain reproduce``: context, the run path, figures.
 
-Every simulation of a reproduction item is identified by a JSON-able parameter dict;
-its HDF5 file lives at :func:`hertzchain.cache.cache_path` ``(out/runs, stem, params)``
-and is written atomically, so a re-run reuses every finished file and ``--force``
-recomputes.  :class:`Context` carries the output directory, the mode (``quick`` or
-``full``) and counts what was computed and what was reused (the tests check it).
+Every simulation of a reproduction item is a scenario (the item's TOML file in
+``hertzchain/scenarios/paper/`` with the mode's sizes set, or a scenario dict of the
+same schema, :mod:`hertzchain.scenario`) run by :func:`run_models` through
+:func:`hertzchain.models.run` — the run path of ``hertzchain run``, ``compare`` and
+``sweep``.  Its HDF5 file lives at :func:`hertzchain.cache.cache_path` ``(out/runs, stem,
+key)``, the key being everything the run depends on
+(:meth:`hertzchain.scenario.Scenario.discrete_dict`), and is written atomically, so a
+re-run reuses every finished file and ``--force`` recomputes.  :class:`Context` carries
+the output directory, the mode (``quick`` or ``full``) and counts what was computed and
+what was reused (the tests check it).
 
 Checkpoints (issue 8): a simulation is integrated in segments
 (:func:`hertzchain.checkpoint.run_segmented`, bit for bit one ``Simulation.run`` call)
 and written every ``Context.checkpoint_interval`` seconds of wall time to its HDF5 file's
 name + ``.ckpt`` (:func:`hertzchain.checkpoint.checkpoint_path`), keyed by the same
-parameters as the file.  After a kill, rerunning the same command reuses the finished
+scenario as the file.  After a kill, rerunning the same command reuses the finished
 files and resumes the interrupted simulation from its checkpoint; the results are those
 of an uninterrupted run, bit for bit.  SIGINT/SIGTERM during an integration write a
 checkpoint and raise :class:`hertzchain.checkpoint.Interrupted` (exit status 130/143).
@@ -22,15 +27,13 @@ from __future__ import annotations
 import json
 import math
 import sys
-import time
-from collections.abc import Callable, Iterable
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-import discrete
 import theory
 from theory import integrity
 
@@ -38,9 +41,10 @@ from .. import checkpoint as C
 from ..cache import atomic_path, cache_path, canonical_json
 from ..paper import DIAMETER, V0
 
-__all__ = ["MODES", "Context", "run_cached", "run_scenario_cached", "read_summary",
-           "new_figure", "save_figure", "log_ticks", "two_section", "incident_wave", "tqdm_iter",
-           "DIAMETER", "V0", "MATERIAL", "json_float"]
+__all__ = ["MODES", "Context", "run_models", "run_scenario_cached", "read_summary",
+           "paper_scenario", "ContinuumProfile", "continuum_profile", "plot_continuum",
+           "continuum_sentence", "DIFF_SHOWN", "new_figure", "save_figure", "log_ticks",
+           "tqdm_iter", "DIAMETER", "V0", "MATERIAL", "json_float"]
 
 MODES = ("quick", "full")
 MATERIAL = theory.PAPER_MATERIAL
@@ -135,124 +139,100 @@ def _checkpoint_error(exc: C.CheckpointError) -> C.CheckpointError:
     return C.CheckpointError(str(exc).replace("--restart", "--force"))
 
 
-def run_cached(ctx: Context, stem: str, params: dict, *,
-               build: Callable[[], discrete.Simulation], until=None,
-               t_end: float | None = None) -> tuple[discrete.Simulation, Path]:
-    """The finished simulation for ``params``: loaded from its HDF5 file or computed.
+def paper_scenario(name: str, values: dict | None = None):
+    """The paper scenario ``hertzchain/scenarios/paper/<name>.toml`` with keys set.
 
-    ``build`` builds the simulation, ready to run; it is then run as
-    ``sim.run(t_end, until=until)`` would, in checkpointed segments (module docstring),
-    resuming from the checkpoint of an interrupted earlier run.
+    ``values`` maps dotted paths to values (``{"chain.sections.1.alpha_rho": 5.0}``,
+    :meth:`hertzchain.scenario.Scenario.with_values`); every value is validated as if it
+    had been written in the file.  The item modules keep only their sizes per mode.
+    """
+    from importlib.resources import files
+
+    from ..scenario import load_scenario
+
+    sc = load_scenario(files("hertzchain") / "scenarios" / "paper" / f"{name}.toml")
+    return sc.with_values(values) if values else sc
+
+
+def _count(ctx: Context, run_) -> None:
+    """Add the result files of a :class:`hertzchain.models.Run` to the computed/reused lists."""
+    for m in run_.models:
+        if m.path is None or not (m.completed or m.cached):
+            continue
+        (ctx.reused if m.cached else ctx.computed).append(Path(m.path))
+
+
+def run_models(ctx: Context, stem: str, scenario, *, samples: bool | None = None):
+    """Run every model of a scenario through :func:`hertzchain.models.run`, cached.
+
+    The one run path of ``hertzchain run``, ``compare`` and ``sweep``: the discrete run
+    is ``ctx.runs/<stem>-<hash>.h5`` (keyed by what it depends on, checkpointed beside
+    it every ``ctx.checkpoint_interval`` seconds and resumed bit for bit after a kill),
+    the continuum (if ``[models] continuum`` asks for it) ``<stem>-continuum-<hash>.h5``;
+    finished files are reused, ``ctx.force`` recomputes.  The files are counted in
+    ``ctx.computed``/``ctx.reused``.
 
     Parameters
     ----------
     ctx : Context
     stem : str
         File-name stem (e.g. ``"fig2"``).
-    params : dict
-        Everything the result depends on (JSON-able); the cache key and the checkpoint
-        key (:func:`hertzchain.checkpoint.run_key`).
-    build : callable
-        Builds the simulation, not run (called only on a cache miss, or with ``force``,
-        when there is no checkpoint).
-    until : event, optional
-        Stop event of the run (:class:`discrete.WaveAt`, :class:`discrete.AtTime`).
-    t_end : float, optional
-        End time of the run, s.
+    scenario : Scenario or dict
+        A scenario (a dict is validated by :func:`hertzchain.scenario.parse_scenario`).
+    samples : bool, optional
+        Passed to :func:`hertzchain.models.run`.
 
     Returns
     -------
-    sim : discrete.Simulation
-        With its recorded data (``sim.record``).
-    path : pathlib.Path
-        The HDF5 file.
+    hertzchain.models.Run
 
     Raises
     ------
     hertzchain.checkpoint.Interrupted
-        SIGINT/SIGTERM during the integration (after writing the checkpoint), or while
-        the finished result was being written (after writing it).
+        SIGINT/SIGTERM during a simulation (after writing its checkpoint), or while the
+        finished result was being written (after writing it).
     hertzchain.checkpoint.CheckpointError
         The checkpoint is damaged or was written by incompatible code (``--force``
         discards it).
     """
-    if until is None and t_end is None:
-        raise TypeError("give until (event) and/or t_end (s)")
-    path = cache_path(ctx.runs, stem, params)
-    ckpt = C.checkpoint_path(path)
-    if path.exists() and not ctx.force:
-        try:
-            sim = discrete.load(path)  # verified (theory.integrity)
-        except (OSError, ValueError, KeyError) as exc:  # damaged or stale: recompute
-            ctx.log(f"{stem}: recomputing the cached run: {exc}")
-            sim = None
-        if sim is not None:
-            ctx.reused.append(path)
-            return sim, path
-    start = time.perf_counter()
-    elapsed = 0.0  # wall time of earlier (interrupted) sessions
-    key = C.run_key(params)
-    C.remove_stale_temporaries(path)
-    if ctx.force and ckpt.exists():
-        ckpt.unlink()
-        ctx.log(f"{stem}: removed the checkpoint {ckpt} (--force)")
+    from ..models import run
+    from ..scenario import Scenario, parse_scenario
+
+    sc = scenario if isinstance(scenario, Scenario) else parse_scenario(scenario)
     try:
-        got = C.read_checkpoint(ckpt, key)
+        result = run(sc, cache=ctx.runs, stem=stem, force=ctx.force,
+                     checkpoint_interval=ctx.checkpoint_interval, progress=ctx.progress,
+                     log=lambda m: ctx.log(f"{stem}: {m}".replace("--restart", "--force")),
+                     wave_cache=ctx.cache, samples=samples)
     except C.CheckpointError as exc:
         raise _checkpoint_error(exc) from None
-    if got is not None:
-        sim, extra = got
-        elapsed = float(extra.get("wall_time", 0.0))
-        ctx.log(f"{stem}: resuming from {ckpt}: t = {sim.t:.6g} s, step {sim.steps}")
-    else:
-        sim = build()
-    if ctx.checkpoint_interval is None:
-        sim.run(t_end, until=until, progress=ctx.progress)
-        _save_result(path, sim, params, elapsed + time.perf_counter() - start)
-        ctx.computed.append(path)
-        return sim, path
-
-    def extra() -> dict:
-        return {"wall_time": elapsed + time.perf_counter() - start, "stem": stem}
-
-    # SIGINT/SIGTERM: at a segment end, checkpoint and Interrupted; once the integration
-    # is done, the result is written first and the interruption reported after it
-    with C.deferred_signals() as late_signal:
-        try:
-            C.run_segmented(sim, t_end=t_end, until=until, checkpoint=ckpt, key=key,
-                            interval=float(ctx.checkpoint_interval), extra=extra,
-                            progress=ctx.progress, signals=late_signal)
-        except C.Interrupted as exc:
-            raise _retell(exc, ctx, f"checkpoint written to {ckpt}") from None
-        _save_result(path, sim, params, elapsed + time.perf_counter() - start)
-        ckpt.unlink(missing_ok=True)
-        C.remove_stale_temporaries(path)
-    ctx.computed.append(path)
-    if late_signal:
-        raise _retell(C.Interrupted(late_signal[0], None, sim.t, sim.steps), ctx,
-                      f"the simulation had finished: result written to {path}")
-    return sim, path
+    except C.Interrupted as exc:
+        if exc.checkpoint is not None:
+            note = f"checkpoint written to {exc.checkpoint}"
+        else:
+            note = f"the {stem} simulation had finished and was written"
+        raise _retell(exc, ctx, note) from None
+    _count(ctx, result)
+    return result
 
 
-def _save_result(path: Path, sim: discrete.Simulation, params: dict, wall: float) -> None:
-    """Write a finished simulation (atomically) with its parameters and wall time."""
-    discrete.save(path, sim, attrs={"reproduce_params": canonical_json(params),
-                                    "wall_time": wall})
-
-
-def run_scenario_cached(ctx: Context, stem: str, scenario: dict, *, full: bool = True
+def run_scenario_cached(ctx: Context, stem: str, scenario, *, full: bool = True
                         ) -> tuple[dict, Path]:
-    """Run a scenario (dict, :mod:`hertzchain.scenario`) with the runner, cached.
+    """The discrete summary of a scenario (dict or Scenario), run by :func:`run_models`.
 
-    Returns the runner's summary (:func:`hertzchain.runner.run_scenario`) and the HDF5
-    file: with ``full`` the whole run (which :func:`discrete.load` reads back, with the
-    recorded energy grid — several MB), otherwise a small file with only the scenario
-    and the summary as JSON attributes (for sweeps of many points, e.g. Fig. 7).
+    Returns the runner's summary (:func:`hertzchain.runner.run_simulation`) and the HDF5
+    file: with ``full`` the whole run (:func:`run_models`: cached and checkpointed;
+    :func:`discrete.load` reads it back, with the recorded energy grid — several MB),
+    otherwise a small file with only the scenario and the summary as JSON attributes
+    (for sweeps of many points, e.g. Fig. 7), the run itself in memory only.
     """
-    from ..runner import run_scenario
-    from ..scenario import parse_scenario
+    from ..models import run
+    from ..scenario import Scenario, parse_scenario
 
-    sc = parse_scenario(scenario)
+    sc = scenario if isinstance(scenario, Scenario) else parse_scenario(scenario)
+    if full:
+        result = run_models(ctx, stem, sc)
+        return dict(result.discrete.summary), Path(result.discrete.path)
     params = sc.to_dict()
     path = cache_path(ctx.runs, stem, params)
     if path.exists() and not ctx.force:
@@ -264,31 +244,16 @@ def run_scenario_cached(ctx: Context, stem: str, scenario: dict, *, full: bool =
         if summary is not None:
             ctx.reused.append(path)
             return summary, path
-    try:
-        if full:  # checkpointed to path + ".ckpt" (--force: started over)
-            summary = run_scenario(sc, out=path, progress=ctx.progress,
-                                   checkpoint_interval=ctx.checkpoint_interval,
-                                   resume=not ctx.force,
-                                   log=lambda m: ctx.log(f"{stem}: {m}".replace(
-                                       "--restart", "--force")))
-        else:  # no output file, no checkpoint: the finished points are cached
-            summary = run_scenario(sc, progress=ctx.progress,
-                                   checkpoint_interval=ctx.checkpoint_interval)
-    except C.CheckpointError as exc:
-        raise _checkpoint_error(exc) from None
+    try:  # no output file, no checkpoint: the finished points are cached
+        summary = dict(run(sc, progress=ctx.progress,
+                           checkpoint_interval=ctx.checkpoint_interval).discrete.summary)
     except C.Interrupted as exc:
-        if exc.checkpoint is not None:
-            note = f"checkpoint written to {exc.checkpoint}"
-        elif full:
-            note = f"the simulation had finished: result written to {path}"
-        else:
-            note = f"this point is not saved, the {stem} points before it are"
-        raise _retell(exc, ctx, note) from None
-    if not full:
-        with integrity.sealed_hdf5(path) as f:
-            f.attrs["scenario"] = canonical_json(params)
-            f.attrs["summary"] = canonical_json(summary)
-            f.attrs["format"] = "hertzchain.reproduce.summary/1"
+        raise _retell(exc, ctx, f"this point is not saved, the {stem} points before it "
+                      "are") from None
+    with integrity.sealed_hdf5(path) as f:
+        f.attrs["scenario"] = canonical_json(params)
+        f.attrs["summary"] = canonical_json(summary)
+        f.attrs["format"] = "hertzchain.reproduce.summary/1"
     ctx.computed.append(path)
     return summary, path
 
@@ -306,20 +271,102 @@ def read_summary(path: str | Path) -> dict:
         return json.loads(f.attrs["summary"])
 
 
-def two_section(n_left: int, n_right: int, alpha_rho: float = 1.0, alpha_kn: float = 1.0,
-                delta0_over_d: float = 0.0) -> discrete.Chain:
-    """The paper's two-section chain with :data:`MATERIAL` on the left (paper Fig. 1)."""
-    return discrete.Chain.two_section(n_left, n_right, alpha_rho, alpha_kn, delta0_over_d,
-                                      material=MATERIAL, diameter=DIAMETER)
+DIFF_SHOWN = 0.05
+"""The continuum − discrete velocity difference is drawn where it exceeds this fraction of
+the incident peak velocity (the pulse threshold of Figs. 3 and 4): "where it is large"."""
 
 
-def incident_wave(ctx: Context, chain: discrete.Chain, centre: int) -> discrete.Initial:
-    """The paper's incident wave, placed with its peak at grain ``centre``.
+@dataclass
+class ContinuumProfile:
+    """The continuum's grain velocities beside the discrete chain's at the snapshot.
 
-    The settled v0 = 1 m/s impact wave, cut out and placed (paper Section 2, end;
-    :func:`discrete.cut_wave`), cached in ``ctx.cache``.
+    ``v`` (m/s, one per grain) is the continuum (:mod:`continuum`) run from the same
+    initial grains to the discrete run's end time (:func:`hertzchain.models.run`), or
+    None if it did not complete (``note`` says why).  ``numbers``: the model, the L2
+    difference over the discrete profile's norm, the L∞ difference over the incident
+    peak velocity, and the continuum's largest velocity right of the interface over the
+    discrete chain's.
     """
-    return discrete.cut_wave(chain, centre, v0=V0, cache_dir=ctx.cache)
+
+    label: str
+    v: np.ndarray | None
+    note: str = ""
+    numbers: dict = field(default_factory=dict)
+
+
+def continuum_profile(result, v_disc: np.ndarray, reference: float,
+                      interface: int | None = None) -> ContinuumProfile | None:
+    """The continuum's final profile of a :func:`run_models` result (None if not run).
+
+    ``reference``: the incident peak velocity (m/s); ``interface``: first grain of the
+    second section (for the transmitted peak ratio).
+    """
+    c = result.continuum
+    if c is None:
+        return None
+    if not c.completed or not c.times.size:
+        return ContinuumProfile(c.label, None, f"the continuum did not complete "
+                                f"({c.stopped_by})", {"model": c.summary.get("model", ""),
+                                                      "completed": False})
+    v = np.asarray(c.final_v)
+    diff = v - v_disc
+    norm = float(np.linalg.norm(v_disc))
+    nums = {"model": c.summary.get("model", ""), "completed": True,
+            "l2": float(np.linalg.norm(diff)) / norm if norm else math.nan,
+            "linf_over_incident": float(np.max(np.abs(diff))) / reference,
+            "energy_drift": float(c.summary.get("energy_drift", math.nan))}
+    top = float(np.max(v_disc[interface:])) if interface is not None else 0.0
+    if top > 0:
+        nums["transmitted_max_v_ratio"] = float(np.max(v[interface:])) / top
+    note = ""
+    if c.t_final > c.valid_until:
+        note = ("a wave reached a chain end, where the continuum's end condition differs, "
+                f"at t = {c.valid_until * 1e3:.4g} ms")
+    return ContinuumProfile(c.label, v, note, nums)
+
+
+def plot_continuum(ax, prof: ContinuumProfile | None, v_disc: np.ndarray, reference: float,
+                   *, scale: float = 1.0, start: int = 0, stop: int | None = None) -> None:
+    """Draw the continuum's profile (dashed) and, where it is large, its difference.
+
+    The difference continuum − discrete is drawn (red) only where it exceeds
+    :data:`DIFF_SHOWN` × ``reference`` (the incident peak velocity, m/s); ``scale``
+    divides the velocities (v0 for v/v0 axes); ``start``/``stop`` select grains.
+    """
+    if prof is None or prof.v is None:
+        return
+    stop = v_disc.size if stop is None else stop
+    g = np.arange(start, stop)
+    ax.plot(g + 1, prof.v[g] / scale, "--", color="C1", lw=0.8, label=prof.label)
+    diff = prof.v[g] - v_disc[g]
+    big = np.abs(diff) > DIFF_SHOWN * reference
+    if big.any():
+        ax.plot(g + 1, np.where(big, diff, np.nan) / scale, color="C3", lw=0.8,
+                label=f"continuum − discrete (where > {DIFF_SHOWN:g} × incident)")
+
+
+def continuum_sentence(profiles: list[tuple[str, ContinuumProfile | None]]) -> str:
+    """One paragraph: how far the continuum is from the discrete chain at each snapshot."""
+    parts = []
+    for what, prof in profiles:
+        if prof is None:
+            continue
+        if prof.v is None:
+            parts.append(f"{what}: {prof.note}")
+            continue
+        n = prof.numbers
+        text = (f"{what}: L2 difference {n['l2']:.2g} of the discrete profile, largest "
+                f"{n['linf_over_incident']:.2g} × the incident peak velocity")
+        if "transmitted_max_v_ratio" in n:
+            text += (f", largest transmitted velocity {n['transmitted_max_v_ratio']:.3f} × "
+                     "the discrete chain's")
+        parts.append(text + (f" ({prof.note})" if prof.note else ""))
+    if not parts:
+        return ""
+    label = next(p.label for _, p in profiles if p is not None)
+    return (f"The {label} from the same initial grains, at the same time (dashed; red: "
+            f"the difference where it exceeds {DIFF_SHOWN:g} × the incident peak "
+            "velocity) — " + "; ".join(parts) + ".")
 
 
 def new_figure(nrows: int = 1, ncols: int = 1, *, figsize=(6.4, 4.0), **kwargs):

@@ -22,16 +22,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import discrete
 import theory
 from discrete import diagnostics as D
 
 from ..paper import VMAX_OVER_V0
 from ..plotting import plot_grain_profile
-from .common import DIAMETER, MATERIAL, V0, Context, new_figure, run_cached, save_figure
+from .common import V0, Context, new_figure, paper_scenario, run_models, save_figure
 
-__all__ = ["QUICK", "FULL", "VARIANTS", "Fig2Result", "run", "plot_panel", "figures",
-           "report", "to_json"]
+__all__ = ["QUICK", "FULL", "VARIANTS", "Fig2Result", "scenario", "run", "plot_panel",
+           "figures", "report", "to_json"]
 
 QUICK = {"n_grains": {0.0: 400, 1e-3: 10_000},
          "variants": ("printed_nu025", "hertz_nu025")}
@@ -45,15 +44,18 @@ MARGIN = 60
 STOP_BEFORE_END = 50
 """The run stops when the leading wave's peak passes grain N - this."""
 
+_T1 = theory.STEEL_TABLE1
 VARIANTS = {
     "hertz_nu030": ("Hertz k_n, ν = 0.30 (theory.PAPER_MATERIAL; reproduces the paper)",
-                    lambda: theory.hertz_constant(DIAMETER, MATERIAL)),
+                    "paper"),
     "printed_nu025": ("printed k_n = 2E√d/(3(1-ν²)), ν = 0.25 (paper Sec. 2, Table 1)",
-                      lambda: theory.paper_kn(DIAMETER, theory.STEEL_TABLE1)),
-    "hertz_nu025": ("Hertz k_n, ν = 0.25 (Table 1)",
-                    lambda: theory.hertz_constant(DIAMETER, theory.STEEL_TABLE1)),
+                      {"density": _T1.density, "youngs_modulus": 2.0 * _T1.youngs_modulus,
+                       "poisson_ratio": _T1.poisson_ratio}),
+    "hertz_nu025": ("Hertz k_n, ν = 0.25 (Table 1)", "table1"),
 }
-"""k_n conventions run at δ0/d = 1e-3 (the paper's own is ``hertz_nu030``)."""
+"""k_n conventions run at δ0/d = 1e-3 (the paper's own is ``hertz_nu030``), as the
+scenario's ``[chain] material``: the printed k_n is the Hertz constant of a material with
+twice Table 1's Young's modulus (the same density: only k_n/m matters)."""
 
 
 @dataclass
@@ -75,19 +77,22 @@ class Fig2Result:
         return {k: p.mean for k, p in self.plateaus.items()}
 
 
-def _impact_run(ctx: Context, delta0_over_d: float, n: int, kn: float, variant: str):
-    params = {"item": "fig2", "delta0_over_d": delta0_over_d, "n": n, "v0": V0,
-              "k_n": kn, "mass": float(theory.grain_mass(DIAMETER, MATERIAL.density)),
-              "diameter": DIAMETER, "stop_grain": n - STOP_BEFORE_END, "variant": variant}
+def scenario(delta0_over_d: float, n: int, variant: str = "hertz_nu030"):
+    """The impact of Fig. 2: ``paper/fig2a.toml`` (δ0 = 0) or ``fig2b.toml``, sized.
 
-    def build():
-        m = params["mass"]
-        chain = discrete.Chain.from_arrays(np.full(n, m), np.full(n + 1, kn),
-                                           delta0_over_d * DIAMETER, diameter=DIAMETER)
-        return discrete.impact(chain, V0).simulation(record=discrete.Recording(maxima=True))
+    ``n`` grains, stopped when the leading wave's peak passes grain n −
+    :data:`STOP_BEFORE_END`; ``variant`` (:data:`VARIANTS`) sets ``[chain] material``.
+    """
+    values = {"chain.delta0_over_d": float(delta0_over_d), "chain.sections.0.n": int(n),
+              "run.until_front_at": int(n) - STOP_BEFORE_END}
+    if variant != "hertz_nu030":
+        values["chain.material"] = VARIANTS[variant][1]
+    return paper_scenario("fig2a" if delta0_over_d == 0 else "fig2b", values)
 
-    return run_cached(ctx, "fig2", params, build=build,
-                      until=discrete.WaveAt(n - STOP_BEFORE_END))
+
+def _impact_run(ctx: Context, delta0_over_d: float, n: int, variant: str):
+    r = run_models(ctx, "fig2", scenario(delta0_over_d, n, variant))
+    return r.simulation, r.discrete.path
 
 
 def _plateau(vmax: np.ndarray) -> D.PlateauStats:
@@ -108,11 +113,10 @@ def run(ctx: Context, n_grains: dict | None = None, variants=None) -> Fig2Result
     s = ctx.pick(QUICK, FULL)
     n_grains = s["n_grains"] if n_grains is None else n_grains
     variants = s["variants"] if variants is None else variants
-    kn = float(VARIANTS["hertz_nu030"][1]())
     plateaus, profiles, files = {}, {}, []
     for d0, n in n_grains.items():
         ctx.log(f"fig2: impact on {n} grains, δ0/d = {d0:g}")
-        sim, path = _impact_run(ctx, float(d0), int(n), kn, "hertz_nu030")
+        sim, path = _impact_run(ctx, float(d0), int(n), "hertz_nu030")
         vmax = np.asarray(sim.record.vmax)
         plateaus[float(d0)] = _plateau(vmax)
         profiles[float(d0)] = {"v": sim.v / V0, "vmax": vmax / V0, "t": sim.t}
@@ -121,7 +125,7 @@ def run(ctx: Context, n_grains: dict | None = None, variants=None) -> Fig2Result
     n_pre = int(n_grains.get(1e-3, max(n_grains.values())))
     for name in variants:
         ctx.log(f"fig2: k_n variant {name} ({n_pre} grains, δ0/d = 1e-3)")
-        sim, path = _impact_run(ctx, 1e-3, n_pre, float(VARIANTS[name][1]()), name)
+        sim, path = _impact_run(ctx, 1e-3, n_pre, name)
         out[name] = _plateau(np.asarray(sim.record.vmax))
         files.append(path)
     return Fig2Result(plateaus, profiles, out, files)

@@ -15,6 +15,12 @@ drawn thick and the gap openings of the contact between the paper's grains 399|4
 displacement of left-section grains that the incident wave has fully passed before it
 reaches the interface (the paper's ū_max, Section 2).  Grain numbers are the paper's
 (1-based) throughout.
+
+Each case is the paper scenario ``hertzchain/scenarios/paper/fig3.toml`` (``fig4.toml``)
+with the case's α and the mode's sizes (:func:`scenario`), run through the one run path
+(:func:`.common.run_models`).  Fig. 3's scenario also runs the continuum (regularised
+Eq. 7, ``[models] continuum = "auto"`` at δ0 = 0) from the same grains, drawn beside the
+discrete profile in panels a, b with its difference where it is large.
 """
 
 from __future__ import annotations
@@ -23,14 +29,24 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import discrete
 import theory
 from discrete import diagnostics as D
 
 from ..plotting import mark_interface, plot_displacement_time, plot_grain_profile
-from .common import V0, Context, incident_wave, new_figure, run_cached, save_figure, two_section
+from .common import (
+    V0,
+    Context,
+    ContinuumProfile,
+    continuum_profile,
+    continuum_sentence,
+    new_figure,
+    paper_scenario,
+    plot_continuum,
+    run_models,
+    save_figure,
+)
 
-__all__ = ["SETUPS", "QUICK", "FULL", "CaseResult", "run", "plot_velocity",
+__all__ = ["SETUPS", "QUICK", "FULL", "CaseResult", "scenario", "run", "plot_velocity",
            "plot_displacements", "figures", "report", "to_json"]
 
 SETUPS = {
@@ -66,6 +82,7 @@ class CaseResult:
     gaps: D.GapEvents
     numbers: dict = field(default_factory=dict)
     path: object = None
+    continuum: ContinuumProfile | None = None
 
 
 def _params(item: str, alpha: float, s: dict) -> dict:
@@ -76,24 +93,28 @@ def _params(item: str, alpha: float, s: dict) -> dict:
             "n_right": setup["snapshot"] - n_left + s["n_right_extra"],
             "centre": n_left - s["lead"], "snapshot_index": setup["snapshot"] - 1,
             "series_grains": [g - 1 for g in setup["grains"]],
-            "series_every": s["series_every"], "delta0_over_d": 0.0, "incident": "cut_wave"}
+            "series_every": s["series_every"]}
 
 
-def _simulate(ctx: Context, p: dict):
-    def build():
-        chain = two_section(p["n_left"], p["n_right"], p["alpha_rho"], p["alpha_kn"], 0.0)
-        init = incident_wave(ctx, chain, p["centre"])
-        rec = discrete.Recording(series_grains=p["series_grains"],
-                                 series_every=p["series_every"], maxima=True)
-        return init.simulation(record=rec)
+def scenario(item: str, alpha: float, s: dict | None = None):
+    """One case of Fig. 3 or 4: ``paper/fig3.toml`` or ``fig4.toml`` with α and sizes.
 
-    return run_cached(ctx, p["item"], p, build=build,
-                      until=discrete.WaveAt(p["snapshot_index"]))
+    ``s``: the mode's sizes (default :data:`QUICK`).
+    """
+    p = _params(item, alpha, QUICK if s is None else s)
+    return paper_scenario(item, {
+        "chain.sections.0.n": p["n_left"], "chain.sections.1.n": p["n_right"],
+        "chain.sections.1.alpha_rho": p["alpha_rho"],
+        "chain.sections.1.alpha_kn": p["alpha_kn"],
+        "initial.center": p["centre"], "run.until_front_at": p["snapshot_index"],
+        "record.time_series_grains": p["series_grains"],
+        "record.series_every": p["series_every"]})
 
 
 def _case(ctx: Context, item: str, alpha: float, s: dict) -> CaseResult:
     p = _params(item, alpha, s)
-    sim, path = _simulate(ctx, p)
+    r = run_models(ctx, item, scenario(item, alpha, s))
+    sim, path = r.simulation, r.discrete.path
     n_left = p["n_left"]
     arr = sim.record.arrays()
     t, ser = arr["series_t"], arr["series"]
@@ -134,9 +155,12 @@ def _case(ctx: Context, item: str, alpha: float, s: dict) -> CaseResult:
         "free_flight_segments": {int(g): sum(seg.mode == "free-flight" for seg in m.segments)
                                  for g, m in zip(SETUPS[item]["grains"], modes, strict=True)},
     }
+    cont = continuum_profile(r, v, inc, n_left)  # the scenario's [models] continuum
+    if cont is not None:
+        numbers["continuum"] = cont.numbers
     return CaseResult(item, p["alpha_rho"], p["alpha_kn"], n_left, SETUPS[item]["snapshot"],
                       SETUPS[item]["grains"], v, sim.t, t, ser, u_bar, inc, modes, gaps,
-                      numbers, path)
+                      numbers, path, cont)
 
 
 def run(ctx: Context, item: str = "fig3", **overrides) -> list[CaseResult]:
@@ -158,10 +182,17 @@ def _alpha_text(c: CaseResult) -> str:
 
 
 def plot_velocity(ax, case: CaseResult, *, label: str = "") -> None:
-    """Panel a/b: grain velocity at the snapshot, transmitted pulses marked."""
+    """Panel a/b: grain velocity at the snapshot, transmitted pulses marked.
+
+    With the continuum (:func:`.common.plot_continuum`): its profile dashed, the
+    difference where it is large.
+    """
     n = case.v.size
     plot_grain_profile(ax, case.v / V0, interface=case.interface, ylabel=r"$v_i$ (m/s)",
-                       color="C0")
+                       color="C0", label="discrete")
+    plot_continuum(ax, case.continuum, case.v, case.incident_peak, scale=V0)
+    if case.continuum is not None:
+        ax.legend(fontsize="x-small", loc="lower left")
     ax.axhline(0, color="0.7", lw=0.5)
     pulses = D.find_pulses(case.v, threshold=PULSE_MIN, reference=case.incident_peak,
                            lo=case.interface, hi=n)
@@ -210,7 +241,9 @@ def figures(ctx: Context, cases: list[CaseResult]) -> list:
              "(a, b) grain velocity when the transmitted front reaches the paper's grain; "
              "(c, d) displacement/ū_max of the grains around the interface; thick: "
              "free flight (both contacts open); dotted: first openings of the gap left of "
-             "the interface grain.")]
+             "the interface grain."
+             + (" Dashed: the continuum from the same grains; red: its difference where "
+                "large." if any(c.continuum is not None for c in cases) else ""))]
 
 
 def report(rep, cases: list[CaseResult], figs: list) -> None:
@@ -239,6 +272,9 @@ def report(rep, cases: list[CaseResult], figs: list) -> None:
             + "; free-flight stretches: " + ", ".join(f"{g}: {n}" for g, n in ff.items()))
     rep.bullets(bullets)
     rep.paragraph(_claims(cases))
+    cont = continuum_sentence([(_plain(c), c.continuum) for c in cases])
+    if cont:
+        rep.paragraph(cont)
     for path, caption in figs:
         rep.figure(path, caption)
 

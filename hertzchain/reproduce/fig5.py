@@ -12,6 +12,12 @@ The incident wave is the paper's settled impact wave (cut and placed ``lead`` gr
 left of the interface; where the paper placed it is not stated, and in a uniform chain
 the settled wave travels unchanged, so only the cost depends on it).  The cost is
 estimated and printed before each run (:func:`estimate_cost`).
+
+Each case is the paper scenario ``hertzchain/scenarios/paper/fig5.toml`` with the case's
+α and the mode's sizes (:func:`scenario`), run through the one run path
+(:func:`.common.run_models`); it also runs the continuum (corrected Eq. 4, 3 nodes per
+grain) from the same grains, drawn beside the discrete profile with its difference where
+it is large.
 """
 
 from __future__ import annotations
@@ -20,16 +26,26 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import discrete
 import theory
 from discrete import diagnostics as D
 from discrete.integrators import get_integrator
 
 from ..plotting import plot_grain_profile
-from .common import V0, Context, incident_wave, new_figure, run_cached, save_figure, two_section
+from .common import (
+    V0,
+    Context,
+    ContinuumProfile,
+    continuum_profile,
+    continuum_sentence,
+    new_figure,
+    paper_scenario,
+    plot_continuum,
+    run_models,
+    save_figure,
+)
 
-__all__ = ["QUICK", "FULL", "CASES", "CaseResult", "estimate_cost", "run", "plot_case",
-           "figures", "report", "to_json"]
+__all__ = ["QUICK", "FULL", "CASES", "CaseResult", "scenario", "estimate_cost", "run",
+           "plot_case", "figures", "report", "to_json"]
 
 QUICK = {"n_grains": 10_000, "interface": 7_000, "snapshot": 9_900, "lead": 300}
 FULL = {"n_grains": 50_000, "interface": 35_000, "snapshot": 49_900, "lead": 300,
@@ -55,35 +71,45 @@ class CaseResult:
     interface: int
     numbers: dict = field(default_factory=dict)
     path: object = None
+    continuum: ContinuumProfile | None = None
 
 
-def _chain_init(ctx: Context, p: dict):
-    ar, ak = theory.PAPER_POINTS[p["case"]]
-    chain = two_section(p["interface"], p["n_grains"] - p["interface"], ar, ak, DELTA0_OVER_D)
-    return chain, incident_wave(ctx, chain, p["interface"] - p["lead"])
+def scenario(case: str, s: dict | None = None):
+    """Case ``a``–``d`` of Fig. 5: ``paper/fig5.toml`` with the case's α and the sizes.
+
+    ``s``: the mode's sizes and integrator (default :data:`QUICK`).
+    """
+    s = QUICK if s is None else s
+    ar, ak = theory.PAPER_POINTS[case]
+    values = {"chain.delta0_over_d": DELTA0_OVER_D,
+              "chain.sections.0.n": s["interface"],
+              "chain.sections.1.n": s["n_grains"] - s["interface"],
+              "chain.sections.1.alpha_rho": ar, "chain.sections.1.alpha_kn": ak,
+              "initial.center": s["interface"] - s["lead"],
+              "run.until_front_at": s["snapshot"] - 1}
+    if s.get("integrator"):
+        values["run.integrator"] = s["integrator"]
+    if s.get("dt_fraction"):
+        values["run.dt_fraction"] = s["dt_fraction"]
+    return paper_scenario("fig5", values)
 
 
-def _simulation(init, p: dict, record: discrete.Recording) -> discrete.Simulation:
-    """The case's Simulation: integrator and dt fraction from ``p`` (default Verlet)."""
-    frac = p.get("dt_fraction")
-    dt = None if frac is None else discrete.default_dt(
-        init.chain, init.u, init.v, init.wall_left, init.wall_right, fraction=frac)
-    return init.simulation(record=record, dt=dt, integrator=p.get("integrator", "verlet"))
-
-
-def estimate_cost(ctx: Context, p: dict) -> dict:
+def estimate_cost(ctx: Context, case: str, s: dict) -> dict:
     """Steps, grain updates and seconds a case will take (before running it).
 
     The incident wave crosses ``lead`` grains at its speed with a ~100-grain active
     window; then the window spreads with the transmitted front (speed ≈ γ_c0 c0^L) and
     the reflected waves (≈ c0^L), so the grain updates are ≈ steps × (mean window).
     """
-    chain, init = _chain_init(ctx, p)
-    sim = _simulation(init, p, discrete.Recording(maxima=False))
+    from ..runner import build_simulation
+
+    p = {"case": case, **s}
+    chain, _, sim = build_simulation(scenario(case, s), energy_grid=False,
+                                     cache_dir=ctx.cache)
     stages = get_integrator(sim.integrator).stages
     d = float(chain.diameter[0])
     c0l = float(theory.c0(chain.k[1], chain.mass[0], d, chain.delta0[1]))
-    gc = float(theory.gamma_c0(*theory.PAPER_POINTS[p["case"]]))
+    gc = float(theory.gamma_c0(*theory.PAPER_POINTS[case]))
     v_in = 1.01 * c0l
     t1 = p["lead"] * d / v_in
     t2 = (p["snapshot"] - p["interface"]) * d / (gc * c0l)
@@ -96,19 +122,15 @@ def estimate_cost(ctx: Context, p: dict) -> dict:
 
 def _case(ctx: Context, case: str, s: dict) -> CaseResult:
     ar, ak = theory.PAPER_POINTS[case]
-    p = {"item": "fig5", "case": case, "alpha_rho": ar, "alpha_kn": ak,
-         "delta0_over_d": DELTA0_OVER_D, "incident": "cut_wave", **s}
-
-    def build():
-        cost = estimate_cost(ctx, p)
+    p = {"case": case, **s}
+    if ctx.progress:
+        cost = estimate_cost(ctx, case, s)
         ctx.log(f"fig5 ({case}): {p['n_grains']} grains, ~{cost['steps']:.3g} steps, "
                 f"~{cost['grain_updates']:.2g} grain updates, estimated "
-                f"~{cost['seconds']:.0f} s at {UPDATES_PER_SECOND:.0e} updates/s")
-        _, init = _chain_init(ctx, p)
-        return _simulation(init, p, discrete.Recording(maxima=True))
-
-    sim, path = run_cached(ctx, "fig5", p, build=build,
-                           until=discrete.WaveAt(p["snapshot"] - 1))
+                f"~{cost['seconds']:.0f} s at {UPDATES_PER_SECOND:.0e} updates/s "
+                "(if not cached)")
+    r = run_models(ctx, "fig5", scenario(case, s))
+    sim, path = r.simulation, r.discrete.path
     n_left = p["interface"]
     chain = sim.chain
     v = np.asarray(sim.v)
@@ -135,7 +157,10 @@ def _case(ctx: Context, case: str, s: dict) -> CaseResult:
         "theory_transmitted": theory_tr, "theory_reflected": theory_re,
         "agrees": ct.label == theory_tr and cr.label == theory_re,
     }
-    return CaseResult(case, ar, ak, v, sim.t, n_left, numbers, path)
+    cont = continuum_profile(r, v, inc, n_left)  # the scenario's [models] continuum
+    if cont is not None:
+        numbers["continuum"] = cont.numbers
+    return CaseResult(case, ar, ak, v, sim.t, n_left, numbers, path, cont)
 
 
 def run(ctx: Context, cases=CASES, **overrides) -> list[CaseResult]:
@@ -150,9 +175,15 @@ def plot_case(ax, res: CaseResult, *, label: str | None = None, zoom: int = 250)
     """One panel: grain velocity / v0 against grain number at the snapshot.
 
     ``zoom`` grains behind the transmitted front are repeated in an inset (0: none).
+    With the continuum (:func:`.common.plot_continuum`): its profile dashed, the
+    difference where it is large (also in the inset).
     """
     plot_grain_profile(ax, res.v / V0, interface=res.interface, ylabel=r"$v_i/v_0$",
-                       color="C0", lw=0.5)
+                       color="C0", lw=0.5, label="discrete")
+    inc = res.numbers["incident_peak_v"]
+    plot_continuum(ax, res.continuum, res.v, inc, scale=V0)
+    if res.continuum is not None:
+        ax.legend(fontsize="xx-small", loc="lower left")
     ax.axhline(0, color="0.7", lw=0.4)
     txt = (rf"$\alpha_\rho = {res.alpha_rho:g}$" if res.alpha_kn == 1 else
            rf"$\alpha_{{k_n}} = {res.alpha_kn:g}$")
@@ -167,6 +198,7 @@ def plot_case(ax, res: CaseResult, *, label: str | None = None, zoom: int = 250)
         lo = max(res.interface, front - zoom)
         g = np.arange(lo, front + 10)
         ins.plot(g + 1, res.v[g] / V0, lw=0.7, color="C0")
+        plot_continuum(ins, res.continuum, res.v, inc, scale=V0, start=g[0], stop=g[-1] + 1)
         ins.axhline(0, color="0.7", lw=0.4)
         ins.set_xlim(g[0] + 1, g[-1] + 1)
         ins.tick_params(labelsize="x-small")
@@ -182,7 +214,9 @@ def figures(ctx: Context, results: list[CaseResult]) -> list:
     path = save_figure(ctx, fig, "fig5")
     return [(path, f"Fig. 5: δ0^L/d = 1e-3, {r0.v.size} grains, interface "
              f"{r0.interface}|{r0.interface + 1}; grain velocity when the transmitted "
-             "front reaches the paper's grain (scaled in --quick).")]
+             "front reaches the paper's grain (scaled in --quick)."
+             + (" Dashed: the continuum from the same grains; red: its difference where "
+                "large." if any(r.continuum is not None for r in results) else ""))]
 
 
 def report(rep, results: list[CaseResult], figs: list) -> None:
@@ -205,6 +239,9 @@ def report(rep, results: list[CaseResult], figs: list) -> None:
             f"{a['a'].numbers['leading_transmitted_v_over_incident']:.3f}.  The fractured "
             "trains (a, d) separate only slowly under precompression, which is why the paper "
             "uses 50,000 grains; --quick shows them at 1/5 of that distance.")
+    cont = continuum_sentence([(f"({r.case})", r.continuum) for r in results])
+    if cont:
+        rep.paragraph(cont)
     for path, caption in figs:
         rep.figure(path, caption)
 

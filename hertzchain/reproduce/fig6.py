@@ -23,22 +23,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-import discrete
 import theory
 from discrete import diagnostics as D
 
-from .common import (
-    Context,
-    incident_wave,
-    log_ticks,
-    new_figure,
-    run_cached,
-    save_figure,
-    two_section,
-)
+from .common import Context, log_ticks, new_figure, paper_scenario, run_models, save_figure
 
-__all__ = ["QUICK", "FULL", "SpeedResult", "run", "plot_speeds", "plot_convergence",
-           "figures", "report", "to_json"]
+__all__ = ["QUICK", "FULL", "SpeedResult", "scenario", "run", "plot_speeds",
+           "plot_convergence", "figures", "report", "to_json"]
 
 _ALPHAS = tuple(float(a) for a in np.round(np.geomspace(0.2, 5.0, 7), 4))
 QUICK = {"alphas": _ALPHAS, "n_left": 300, "lead": 100, "length": 1500, "every": 10,
@@ -76,21 +67,26 @@ class SpeedResult:
         return self.windows[-1]
 
 
-def _run(ctx: Context, ar: float, ak: float, s: dict) -> SpeedResult:
+def scenario(alpha_rho: float, alpha_kn: float, s: dict | None = None):
+    """One (α_ρ, α_kn) of Fig. 6: ``paper/fig6.toml`` with the mode's sizes.
+
+    A snapshot each time the leading velocity peak passes one of the watched grains
+    (every ``every``-th from 9 grains past the interface); the run stops at the last.
+    ``s``: the mode's sizes (default :data:`QUICK`).
+    """
+    s = QUICK if s is None else s
     n_left, length, every = s["n_left"], s["length"], s["every"]
     watch = list(range(n_left + 9, n_left + length, every))
-    p = {"item": "fig6", "alpha_rho": ar, "alpha_kn": ak, "n_left": n_left,
-         "n_right": length + 40, "centre": n_left - s["lead"], "watch": watch,
-         "delta0_over_d": DELTA0_OVER_D, "incident": "cut_wave"}
+    return paper_scenario("fig6", {
+        "chain.delta0_over_d": DELTA0_OVER_D, "chain.sections.0.n": n_left,
+        "chain.sections.1.n": length + 40, "chain.sections.1.alpha_rho": float(alpha_rho),
+        "chain.sections.1.alpha_kn": float(alpha_kn), "initial.center": n_left - s["lead"],
+        "record.snapshot_grains": watch[:-1], "run.until_front_at": watch[-1]})
 
-    def build():
-        chain = two_section(n_left, p["n_right"], ar, ak, DELTA0_OVER_D)
-        init = incident_wave(ctx, chain, p["centre"])
-        rec = discrete.Recording(snapshots=[discrete.WaveAt(g) for g in watch[:-1]],
-                                 maxima=False)
-        return init.simulation(record=rec)
 
-    sim, _ = run_cached(ctx, "fig6", p, build=build, until=discrete.WaveAt(watch[-1]))
+def _run(ctx: Context, ar: float, ak: float, s: dict) -> SpeedResult:
+    n_left = s["n_left"]
+    sim = run_models(ctx, "fig6", scenario(ar, ak, s)).simulation
     ch = sim.chain
     d = float(ch.diameter[0])
     snaps = [sn for sn in sim.record.snapshots if sn.label.startswith("wave_at=")]

@@ -37,7 +37,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     false).  The table is written in every case.
     """
     from .engine import (
-        DEFAULT_POINT_FUNCTION,
+        default_point_function,
         default_workers,
         function_name,
         points_to_run,
@@ -59,7 +59,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     check_output(out, "dir")  # a file or a read-only place: refused before any point
     records = RecordStore(out / "records.jsonl").load()
     try:
-        fname = function_name(resolve_point_function(args.point_function))
+        fname = function_name(resolve_point_function(
+            args.point_function or default_point_function(spec)))
     except SweepError:
         if not args.dry_run:
             raise
@@ -81,8 +82,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if not args.json:
         print(msg, file=sys.stderr)
     try:
-        outcome = run_sweep(spec, out=out, point_function=args.point_function or
-                            DEFAULT_POINT_FUNCTION, workers=args.workers,
+        outcome = run_sweep(spec, out=out, point_function=args.point_function,
+                            workers=args.workers,
                             scheduler=args.scheduler, full_output=args.full_output,
                             retry_failed=args.retry_failed, max_points=args.max_points,
                             progress=not args.no_progress,
@@ -172,7 +173,9 @@ def add_sweep_parsers(subparsers) -> None:
     p.add_argument("--max-points", type=positive_int, default=None, metavar="K",
                    help="stop after K points (resumable), e.g. to fit a batch time limit")
     p.add_argument("--point-function", default=None, metavar="MODULE:FUNC",
-                   help="function run per point (default hertzchain.runner:run_scenario)")
+                   help="function run per point (default hertzchain.runner:run_scenario, the "
+                        "discrete chain; with [base.models] in the sweep: "
+                        "hertzchain.compare:compare_point, every model compared)")
     p.add_argument("--consolidate-every", type=positive_float, default=30.0, metavar="S",
                    help="seconds between rewrites of results.h5 while running (default 30)")
     from ..cli import add_rtol_argument

@@ -42,6 +42,8 @@ from .store import SUMMARY_FIELDS, RecordStore, records_from_table, write_table
 
 __all__ = [
     "DEFAULT_POINT_FUNCTION",
+    "MODELS_POINT_FUNCTION",
+    "default_point_function",
     "SweepOutcome",
     "run_sweep",
     "resolve_point_function",
@@ -52,7 +54,22 @@ __all__ = [
 ]
 
 DEFAULT_POINT_FUNCTION = "hertzchain.runner:run_scenario"
-"""``module:function`` run for each point unless another is given."""
+"""``module:function`` run for each point unless another is given (the discrete chain)."""
+
+MODELS_POINT_FUNCTION = "hertzchain.compare:compare_point"
+"""Run for each point, unless another is given, when the sweep asks for the models."""
+
+
+def default_point_function(spec: SweepSpec) -> str:
+    """The point function of a sweep run without one.
+
+    :data:`MODELS_POINT_FUNCTION` (every model of the point, compared:
+    :func:`hertzchain.compare.compare_point`) when the base scenario has a ``[models]``
+    table or a point runs a continuum; otherwise :data:`DEFAULT_POINT_FUNCTION`.
+    """
+    if spec.base.get("models") or any(p.scenario.models.continuum for p in spec.points()):
+        return MODELS_POINT_FUNCTION
+    return DEFAULT_POINT_FUNCTION
 
 PointFunction = Callable[..., Mapping[str, Any]]
 log = logging.getLogger(__name__)
@@ -321,8 +338,9 @@ def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
         :mod:`hertzchain.sweep.store` for its layout.
     point_function : callable or str, optional
         ``f(scenario, *, out, progress) -> dict`` run for each point, or
-        ``"module:function"``; default :data:`DEFAULT_POINT_FUNCTION`.  Must be importable
-        (picklable by reference) on the workers when they are processes.
+        ``"module:function"``; default :func:`default_point_function` (every model of
+        the point when ``[base.models]`` asks for them, else the discrete chain).  Must
+        be importable (picklable by reference) on the workers when they are processes.
     workers : int, optional
         Worker processes of the local cluster (default: all cores).
     scheduler : str, optional
@@ -373,7 +391,8 @@ def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
                             "from %s", directory, len(restored), table_path)
                 records.update({r["id"]: r for r in store.append_many(
                     list(restored.values()))})
-        fn = resolve_point_function(point_function)
+        fn = resolve_point_function(default_point_function(spec) if point_function is None
+                                    else point_function)
         fname = function_name(fn)
         todo = points_to_run(points, records, fname, retry_failed)
         n_skipped = len(points) - len(todo)

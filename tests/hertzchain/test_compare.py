@@ -88,6 +88,25 @@ def test_verdict_words():
     assert validity_word(math.nan) == "not compared"
 
 
+def test_verdict_phrases_an_unmeasured_error_separately():
+    # a NaN error is "could not be compared", never "not compared of ... (nan%)"
+    from hertzchain.compare import _verdict_part
+
+    nan = math.nan
+    text = _verdict_part("the theory", {"energy": nan, "speed": nan, "error": nan}, False)
+    assert text == ("the theory could not be compared with the discrete chain (no front "
+                    "speed difference: a wave front or an energy was not found in one of "
+                    "the models)")
+    text = _verdict_part("X", {"energy": nan, "speed": nan, "error": nan}, True)
+    assert "no energy and no transmitted speed difference" in text and "nan" not in text
+    text = _verdict_part("X", {"energy": 2e-3, "speed": nan, "error": 2e-3}, True)
+    assert text == ("X is within 1 % of the discrete chain (energy 2.0e-03; transmitted "
+                    "speed not measured)")
+    text = _verdict_part("X", {"energy": 0.2, "speed": 0.05, "error": 0.2}, True)
+    assert text == ("X is off by 20 % of the discrete chain (energy 2.0e-01, transmitted "
+                    "speed 5.0%)")
+
+
 def test_cli_compare_json_and_exit_status(tmp_path, capsys, monkeypatch):
     toml = tmp_path / "mono.toml"
     toml.write_text("""name = "cli-mono"

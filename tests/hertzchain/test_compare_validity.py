@@ -2,8 +2,9 @@
 
 The full map (``hertzchain/sweeps/model_validity.toml``, 5 x 5 interface ratios x 4
 amplitudes) takes several minutes; here its first points at two amplitudes and two
-interfaces run through the sweep engine with :func:`hertzchain.compare.compare_point`,
-and the table, the summary numbers and the figure are checked.
+interfaces run through the sweep engine — with :func:`hertzchain.compare.compare_point`
+by default, as ``[base.models]`` asks for every model — and the table, the summary
+numbers and the figure are checked.
 
 Expected (and measured when the test was written): under precompression at the paper's
 amplitude (strain/δ0 ≈ 0.09) the corrected Eq. 4 is within 1 % of the discrete chain
@@ -19,8 +20,13 @@ from importlib.resources import files
 import numpy as np
 import pytest
 
-from hertzchain.compare import THRESHOLDS, compare_point
-from hertzchain.sweep.engine import run_sweep
+from hertzchain.compare import THRESHOLDS
+from hertzchain.sweep.engine import (
+    DEFAULT_POINT_FUNCTION,
+    MODELS_POINT_FUNCTION,
+    default_point_function,
+    run_sweep,
+)
 from hertzchain.sweep.spec import Axis, load_sweep_spec
 from hertzchain.sweep.store import read_results
 from hertzchain.sweep_plot import save_sweep_figures, validity_summary
@@ -45,15 +51,31 @@ def reduced(tmp_path_factory):
             Axis("chain.delta0_over_d", "delta0", (1e-3, 0.0)))
     spec = dataclasses.replace(spec, axes=axes, _points=[])
     out = tmp_path_factory.mktemp("validity")
-    outcome = run_sweep(spec, out=out, point_function=compare_point, workers=1,
-                        processes=False, progress=False, warmup=None)
+    # no point function given: [base.models] asks for every model (compare_point)
+    outcome = run_sweep(spec, out=out, workers=1, processes=False, progress=False,
+                        warmup=None)
     return outcome, read_results(outcome.table)
+
+
+def test_sweeps_run_every_model_when_the_base_asks_for_them():
+    spec = load_sweep_spec(SPEC)
+    assert default_point_function(spec) == MODELS_POINT_FUNCTION
+    plain = dataclasses.replace(spec, base={k: v for k, v in spec.base.items()
+                                            if k != "models"}, _points=[])
+    assert default_point_function(plain) == DEFAULT_POINT_FUNCTION
+    tiny = load_sweep_spec(files("hertzchain") / "sweeps" / "tiny.toml")
+    assert default_point_function(tiny) == DEFAULT_POINT_FUNCTION
+    # a continuum switched on by an axis also asks for every model
+    axis = Axis("models.continuum", "continuum", (False, "auto"))
+    assert default_point_function(dataclasses.replace(
+        plain, axes=(*plain.axes, axis), _points=[])) == MODELS_POINT_FUNCTION
 
 
 def test_reduced_validity_sweep_records_every_model(reduced):
     outcome, res = reduced
     assert outcome.n_failed == 0 and len(res) == 4
     assert set(res["status"]) == {"ok"}
+    assert set(res["point_function"]) == {"hertzchain.compare:compare_point"}
     amp = res["incident_strain_over_delta0"]
     pre = np.isfinite(amp)
     # the paper's v0 = 1 m/s wave at δ0/d = 1e-3: strain amplitude ≈ 0.09 δ0

@@ -42,6 +42,34 @@ def test_models_defaults_and_auto():
     assert scenario(d0=0.0, models={"continuum": "auto"}).models.continuum_model(0) == "eq7"
 
 
+def test_auto_picks_eq7_above_the_strain_threshold():
+    # "auto" under precompression: Eq. 4 up to AUTO_EQ4_MAX_STRAIN x δ0, Eq. 7 above
+    # (Eq. 4's quadratic Hertz force is 0.8 % off at 0.5 δ0, 7 % at 2 δ0); an explicit
+    # model is kept whatever the amplitude
+    from hertzchain.scenario import AUTO_EQ4_MAX_STRAIN
+
+    assert AUTO_EQ4_MAX_STRAIN == 0.5
+    auto = scenario(models={"continuum": "auto"}).models
+    assert auto.continuum_model(1e-3, 0.09) == "eq4"
+    assert auto.continuum_model(1e-3, AUTO_EQ4_MAX_STRAIN) == "eq4"
+    assert auto.continuum_model(1e-3, 0.51) == "eq7" and auto.continuum_model(1e-4, 8.6) == "eq7"
+    assert auto.continuum_model(0.0, None) == "eq7"
+    eq4 = scenario(models={"continuum": "eq4"}).models
+    assert eq4.continuum_model(1e-4, 8.6) == "eq4"
+    assert "<= 0.5, otherwise Eq. 7" in [k.doc for k in SCHEMA["models"]
+                                         if k.name == "continuum"][0]
+    # the run resolves "auto" with the incident wave's amplitude: the paper's v̄max wave
+    # (0.0822 m/s) is 0.09 δ0 at δ0/d = 1e-3 (Eq. 4) but several δ0 at 2e-4 (Eq. 7)
+    kw = {"models": {"continuum": "auto", "samples": 3, "nodes_per_grain": 3}, "t_end": 3e-5}
+    for d0, model in ((1e-3, "eq4"), (2e-4, "eq7")):
+        res = M.run(scenario(d0=d0, **kw))
+        s = res.summary()
+        assert (s["incident_strain_over_delta0"] > AUTO_EQ4_MAX_STRAIN) == (model == "eq7")
+        assert s["continuum_model"] == model and res.continuum.completed, s
+        name = "Eq. 4" if model == "eq4" else "Eq. 7"
+        assert res.continuum.label.startswith(f"continuum ({name}")
+
+
 @pytest.mark.parametrize(("models", "extra", "match"), [
     ({"continuum": "eq4"}, {"d0": 0.0}, r"\[models\] continuum = 'eq4' needs a precompressed"),
     ({"continuum": "kdv"}, {"d0": 0.0}, r"\[models\] continuum = 'kdv' needs a precompressed"),

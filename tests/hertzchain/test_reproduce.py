@@ -34,8 +34,8 @@ def test_cli_fig3_json_files_cache_and_force(tmp_path, capsys):
     assert b["reflected_class"] == "compressive" and b["min_left_v_over_incident"] < -0.1
     assert max(b["max_u_over_ubar"][g] for g in ("399", "400", "401", "402")) < 1.0
     assert a["free_flight_segments"]["399"] == 2          # "1st" and "2nd" free flight
-    h5 = sorted((out / "runs").glob("fig3-*.h5"))
-    assert len(h5) == 2
+    h5 = sorted((out / "runs").glob("fig3-*.h5"))  # discrete and continuum (Eq. 7) per case
+    assert len(h5) == 4 and len([p for p in h5 if "continuum" in p.name]) == 2
     for name in ("figures/fig3.png", "report.md", "report.html"):
         assert (out / name).stat().st_size > 1000
     html = (out / "report.html").read_text()
@@ -44,7 +44,7 @@ def test_cli_fig3_json_files_cache_and_force(tmp_path, capsys):
     # second run: every HDF5 file reused, none rewritten
     assert main(["reproduce", "fig3", "--out", str(out)]) == 0
     text = capsys.readouterr().out
-    assert "0 simulations computed, 2 reused" in text
+    assert "0 simulations computed, 4 reused" in text
     assert [p.stat().st_mtime_ns for p in h5] == mtimes
     # --force recomputes (files rewritten, same numbers)
     assert main(["reproduce", "fig3", "--json", "--force", "--out", str(out)]) == 0

@@ -51,7 +51,7 @@ def _dump(path: Path) -> dict:
         for key, val in f.attrs.items():
             if key == "summary":
                 val = json.loads(val)
-                val.pop("wall_time")
+                val.pop("wall_time", None)  # (a continuum file keeps it apart)
             if key != "wall_time":
                 out[f"@{key}"] = repr(val)
     return out
@@ -140,22 +140,24 @@ def test_scenario_runs_resume_and_force_discards(tmp_path, monkeypatch):
     _assert_same_runs(tmp_path / "ref" / "runs", tmp_path / "run" / "runs")
 
 
-def test_run_cached_reuses_the_finished_file(tmp_path):
-    # run_cached(build=..., until=...): computed once, then reused; no checkpoint left
-    import discrete
-    from hertzchain.reproduce.common import run_cached
+def test_run_models_reuses_the_finished_file(tmp_path):
+    # run_models (the one run path, hertzchain.models.run): computed once, then reused,
+    # counted; no checkpoint left; a dict is validated as a scenario
+    from hertzchain.reproduce.common import run_models
+    from hertzchain.scenario import ScenarioError
 
-    def build():
-        chain = discrete.Chain.from_arrays(np.full(60, 1e-3), np.full(61, 1e9), 0.0)
-        return discrete.impact(chain, 1.0).simulation()
-
+    sc = {"chain": {"sections": [{"n": 60}]}, "initial": {"kind": "impact"},
+          "run": {"until_front_at": 40}, "record": {"energy_grid": False}}
     ctx = Context(tmp_path, progress=False, checkpoint_interval=0.0)
-    sim, path = run_cached(ctx, "x", {"n": 60}, build=build, until=discrete.WaveAt(40))
-    again, _ = run_cached(ctx, "x", {"n": 60}, build=build, until=discrete.WaveAt(40))
-    assert ctx.computed == ctx.reused == [path] and again.steps == sim.steps > 0
+    first = run_models(ctx, "x", sc)
+    again = run_models(ctx, "x", sc)
+    path = first.discrete.path
+    assert ctx.computed == ctx.reused == [path] and path.parent == ctx.runs
+    assert path.name.startswith("x-") and again.discrete.cached
+    assert again.simulation.steps == first.simulation.steps > 0
     assert not list(tmp_path.rglob("*.ckpt"))
-    with pytest.raises(TypeError, match="until"):
-        run_cached(ctx, "y", {"n": 60}, build=build)
+    with pytest.raises(ScenarioError, match="until_front_at"):
+        run_models(ctx, "y", {**sc, "run": {"until_front_at": 60}})
 
 
 def test_checkpoint_interval_option(tmp_path, capsys):
