@@ -96,28 +96,25 @@ def remove_stale_temporaries(directory: str | os.PathLike) -> list[Path]:
     A process killed while writing a cached result or settled wave leaves its
     ``.<name>.<pid>-<random>.tmp``; a live writer's temporaries are kept.
     """
-    directory = Path(directory)
+    return _remove(Path(directory), ".*.tmp", is_stale_temporary)
+
+
+def clear_settled_waves(directory: str | os.PathLike) -> list[Path]:
+    """Delete the cached settled waves (``settled_wave_*.npz``) of a directory (--force)."""
+    return _remove(Path(directory), "settled_wave_*.npz", lambda p: True)
+
+
+def _remove(directory: Path, pattern: str, wanted) -> list[Path]:
+    """Delete the files of ``directory`` matching ``pattern`` for which ``wanted(path)``.
+
+    A file another process removed first is skipped.  Returns the removed paths, sorted.
+    """
     removed = []
-    if not directory.is_dir():
-        return removed
-    for p in directory.glob(".*.tmp"):
-        if is_stale_temporary(p):
+    for p in sorted(directory.glob(pattern)) if directory.is_dir() else ():
+        if wanted(p):
             try:
                 p.unlink()
             except FileNotFoundError:
                 continue
             removed.append(p)
-    return removed
-
-
-def clear_settled_waves(directory: str | os.PathLike) -> list[Path]:
-    """Delete the cached settled waves (``settled_wave_*.npz``) of a directory (--force)."""
-    directory = Path(directory)
-    removed = []
-    for p in sorted(directory.glob("settled_wave_*.npz")) if directory.is_dir() else ():
-        try:
-            p.unlink()
-        except FileNotFoundError:
-            continue
-        removed.append(p)
     return removed

@@ -1,5 +1,7 @@
 """Shared pytest configuration, in the manner of py-pde's ``tests/conftest.py``."""
 
+import logging
+
 import matplotlib
 import numpy as np
 import pytest
@@ -16,6 +18,19 @@ def _setup_and_teardown():
     yield
     np.seterr(**old)
     plt.close("all")
+
+
+@pytest.fixture(scope="module")
+def client():
+    """A Dask client on two in-process workers (threads), one per test module: fast to
+    start, and point functions need no pickling.  A module needing another cluster
+    defines its own ``client``."""
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
+            Client(cluster) as c:
+        yield c
 
 
 @pytest.fixture

@@ -62,16 +62,6 @@ def failing_fn(scenario, *, out=None, progress=False):
     raise FloatingPointError("always")
 
 
-@pytest.fixture(scope="module")
-def client():
-    from distributed import Client, LocalCluster
-
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
-            Client(cluster) as c:
-        yield c
-
-
 def _run(out, fn, client, **kw):
     return run_sweep(parse_sweep_spec(spec_dict()), out=out, point_function=fn,
                      client=client, progress=False, warmup=None, **kw)

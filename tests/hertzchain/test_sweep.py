@@ -5,7 +5,6 @@ parameters, so the machinery is tested without the solvers.
 """
 
 import json
-import logging
 import os
 import signal
 import subprocess
@@ -90,17 +89,6 @@ def counting_fn(scenario, *, out=None, progress=False):
     with _lock:
         CALLS.append(_alphas(scenario))
     return sleepy_fn(scenario)
-
-
-@pytest.fixture(scope="module")
-def client():
-    """Two in-process workers (threads): fast to start, functions need no pickling."""
-    from distributed import Client, LocalCluster
-
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
-            Client(cluster) as c:
-        yield c
 
 
 def run(spec, out, fn, client, **kw):
