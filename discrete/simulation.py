@@ -166,47 +166,6 @@ class SavedSimulation:
     pending: list = field(default_factory=list)
 
 
-def _no_hook() -> None:
-    """A dispatcher's compilation-chain hook that does not initialise numba's extensions."""
-
-
-def _without_extensions(kernels: K.Kernels) -> K.Kernels:
-    """Let the kernels load (or compile) without numba's extension entry points.
-
-    Before numba first compiles or loads a function in a process it imports every
-    installed extension (entry points ``numba_extensions``); rocket-fft's, installed for
-    the continuum solvers, imports ``scipy.fft``: measured 0.21-0.25 s of CPU (as much
-    as importing numba and NumPy), a sixth of a small run's whole process.  The
-    discrete kernels use no extension, so their loads mark the extensions as
-    initialised for their duration only (numba's own flag, restored afterwards): the
-    first compilation of anything else still loads them, and the continuum solvers
-    import rocket-fft themselves.  Wraps each dispatcher's ``compile`` once.
-    """
-    for disp in (*kernels[4:], K.active_window):
-        if disp is None or getattr(disp, "_hc_no_extensions", False):
-            continue
-        try:
-            compile_ = disp.compile
-
-            def compile(sig, compile_=compile_):
-                from numba.core import entrypoints
-
-                if entrypoints._already_initialized:
-                    return compile_(sig)
-                entrypoints._already_initialized = True
-                try:
-                    return compile_(sig)
-                finally:
-                    entrypoints._already_initialized = False
-
-            disp.compile = compile
-            disp._compilation_chain_init_hook = _no_hook  # (numba calls it before compile)
-            disp._hc_no_extensions = True
-        except (AttributeError, ImportError):  # pragma: no cover - numba changed
-            pass
-    return kernels
-
-
 class Simulation:
     """Integration of a :class:`Chain` (paper Eq. 2) with a contact law, pyro2 style.
 
@@ -301,8 +260,7 @@ class Simulation:
                                  check=check_dt)
             integrator = dt.integrator
         method = get_integrator(integrator)
-        self.kernels = _without_extensions(
-            K.make_kernels(self.law, self.drag > 0, self.recording.strain_maxima))
+        self.kernels = K.make_kernels(self.law, self.drag > 0, self.recording.strain_maxima)
         if self.kernels.velocity_dependent and method.name != "verlet":
             raise ValueError(f"integrator {method.name!r} needs forces that depend on "
                              "positions only; a dissipative law or drag runs with 'verlet' "

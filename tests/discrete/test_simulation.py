@@ -226,19 +226,3 @@ def test_energy_grid_per_section_conserves_total():
     per_sec = section_energy(ch, arr["energy_kinetic"] + arr["energy_potential"])
     np.testing.assert_allclose(per_sec.sum(axis=1), sim.energy0, rtol=1e-6)
     assert per_sec[0, 1] == 0.0 and per_sec[-1, 1] > 0.5 * sim.energy0
-
-
-def test_small_run_does_not_load_numba_extensions():
-    # rocket-fft (a numba extension, for the continuum solvers) imports scipy.fft when
-    # numba initialises its extensions: ~0.2 s of a small run's start-up that the
-    # discrete kernels do not need (discrete.simulation._without_extensions).
-    import subprocess
-    import sys
-
-    code = ("import sys; from discrete import Chain; from discrete.initial import impact; "
-            "sim = impact(Chain.two_section(40, 0)).simulation(); "
-            "sim.run(max_steps=50, progress=False); print(sim.energy()); "
-            "print('rocket_fft' in sys.modules, 'scipy.fft' in sys.modules)")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True).stdout.split()
-    assert out[-2:] == ["False", "False"]
