@@ -355,7 +355,8 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
                 init.chain, init.u, init.v, init.wall_left, init.wall_right, dt=run.dt,
                 integrator=None if run.integrator == "auto" else run.integrator, law=law,
                 drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol,
-                horizon=run.t_end)
+                horizon=run.t_end, recording=discrete.Recording(
+                    maxima=True, strain_maxima=rec.strain_maxima))
     except ValueError as exc:  # e.g. v0 = 1e-300: the expected overlaps underflow to 0
         amp = {"impact": "v0", "cut_wave": "v0"}.get(scenario.initial.kind, "velocity_max")
         raise ScenarioError(
