@@ -87,7 +87,7 @@ do not shrink (not yet asymptotic) or no probe step meets s·rtol, up to
 The factor 1/s is measured, not decoration: a maximum sampled once per step has an
 error that depends on where the peak falls within the step, so it is not a smooth
 function of h; on the test problems (impact, precompressed solitary wave, interface;
-every method; rtol 1e-3 … 1e-5) the true error was 0.70–0.92 of E(h), and 1.29 of it
+every method; rtol 1e-3 … 1e-5) the true error was 0.70–0.86 of E(h), and 1.29 of it
 once, where the sharper peak of the impacted grain 1 fell badly between two steps
 (its worst case is 1.75× that of the grains further on).  ``integrator=None``
 probes the methods of :data:`RTOL_CANDIDATES` — velocity Verlet, Yoshida-4 and
@@ -98,8 +98,9 @@ sampled once per step all three need about the same h for the same error, so vel
 Verlet wins; with maxima interpolated between steps the 4th-order methods can.  The
 tests (``tests/discrete/test_rtol.py``) check that the estimate bounds the true error
 (against a run at a 16× smaller step) for an impact, a precompressed solitary wave and
-an interface run, for every method ``integrator=None`` can pick.  An explicit dt wins
-over rtol.
+an interface run, for every method ``integrator=None`` can pick (measured: the true
+error 0.30–0.56 of the estimate at rtol 1e-3 and 1e-4).  An explicit dt wins over
+rtol.
 
 The default is no rtol: the fixed fraction :data:`DT_FRACTION` above, whose error in
 the most dt-sensitive recorded quantity of the paper's runs (v̄max/v0 of an impact on
