@@ -142,7 +142,7 @@ RTOL_CANDIDATES = ("verlet", "yoshida4", "blanes_moan4")
 PROBE_MAX_LEVELS = 7
 """Most probe runs per method: steps h_0 … h_0/64."""
 
-PROBE_RESTARTS = 4
+PROBE_RESTARTS = 8
 """Times the probe halves h_0 after an unstable probe run before giving up."""
 
 ORDER_SLACK = 0.5

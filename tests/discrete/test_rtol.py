@@ -230,3 +230,13 @@ def test_rtol_with_damping_takes_verlet():
     law = ViscoelasticHertz(damping_time=1e-7)
     step = TimeStep.choose(init.chain, init.u, init.v, rtol=1e-3, integrator=None, law=law)
     assert step.integrator == "verlet" and step.error_estimate <= 1e-3 * (1 + 1e-9)
+
+
+def test_probe_drops_unstable_steps():
+    """A probe step above the stability bound blows up: it is dropped with the coarser
+    ones and the probe goes on at finer steps (never a result from an unstable run)."""
+    init, _ = _impact()
+    stable = TimeStep.choose(init.chain, init.u, init.v).stable
+    pr = probe_error(init.chain, init.u, init.v, integrator="verlet", h0=8 * stable)
+    assert pr.h0 < stable and len(pr.h) >= 3 and pr.complete
+    assert all(math.isfinite(e) for e in pr.errors)
