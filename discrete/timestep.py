@@ -523,7 +523,8 @@ class TimeStep:
         The estimated relative error of the recorded quantities at :attr:`dt` (from the
         probe, :func:`probe_error`; nan without rtol).
     order : float
-        The convergence order the estimate used (observed, clipped; nan without rtol).
+        The order that extrapolated the finest probe run of the chosen method (the
+        observed one, clipped to [1, method order], if clean, else 1; nan without rtol).
     probe_steps : int
         Steps the probe took (0 without rtol).
     """
