@@ -121,13 +121,16 @@ def test_estimate_bounds_strain_maxima_when_recorded():
     assert true >= step.error_estimate / 50
 
 
-def test_probe_observes_second_order_for_sampled_maxima():
-    """The running maxima are sampled once per step: the probe sees order ~2 for Verlet
-    and for Blanes-Moan 4 (whose own error is 4th order), and calls both clean."""
+def test_probe_observes_a_clean_order():
+    """Verlet's recorded maxima converge at order ~2; Blanes-Moan 4's at ~2 while the
+    maxima are sampled once per step (measured 2.17), at its own ~4 once they are
+    interpolated between steps: either is clean."""
     init, _ = _impact()
     for method in ("verlet", "blanes_moan4"):
         pr = probe_error(init.chain, init.u, init.v, integrator=method)
-        assert abs(pr.order_observed - 2.0) < 0.5 and pr.clean and pr.order <= 2.5
+        near = min(abs(pr.order_observed - q) for q in (2.0, 4.0 if method != "verlet"
+                                                        else 2.0))
+        assert near < 0.5 and pr.clean and pr.order <= 4.0, pr
         assert pr.errors[-1] > 0 and pr.probe_steps > 0 and pr.compared >= 50
         # every probe run ends at the same time: a whole number of the coarsest steps
         n0 = pr.t_probe / pr.h0
