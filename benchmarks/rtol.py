@@ -9,7 +9,9 @@ settled part of the chain (grains 0.1 N .. 0.7 N); "converged" is the same run a
 of the default dt (velocity Verlet, second order: 1/64 of the default's error).  Each
 row is timed by the run's own summary (``wall_time``: chain, initial state, the rtol
 probe when there is one, integration, summary), best of ``--repeats`` interleaved
-repeats; the ratios are measured in the same run of this script.
+repeats; the ratios are measured in the same run of this script.  The CPU time of the
+same call (``cpu s``, best of the repeats) is printed beside it: on a shared machine it
+is the steadier figure.
 
     python benchmarks/rtol.py                       # N = 2000 and 5000
     python benchmarks/rtol.py --grains 2000 --baseline-tree /tmp/base
@@ -22,10 +24,12 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import platform
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -44,8 +48,11 @@ def measure(n: int, **run) -> dict:
     """One run: the summary's wall time, dt, steps and v̄max/v0 per grain."""
     from hertzchain.runner import run_simulation
 
+    cpu = time.process_time()
     summary, sim = run_simulation(scenario(n, **run))
-    return {"wall_time": summary["wall_time"], "dt": summary["dt"], "steps": summary["steps"],
+    cpu = time.process_time() - cpu
+    return {"wall_time": summary["wall_time"], "cpu": cpu, "dt": summary["dt"],
+            "steps": summary["steps"],
             "integrator": sim.integrator, "estimate": summary.get("rtol_estimate"),
             "vmax": np.asarray(sim.record.vmax, float).tolist()}
 
@@ -76,7 +83,8 @@ def main() -> None:
     p.add_argument("--json", action="store_true")
     p.add_argument("--child", type=int, default=None, help=argparse.SUPPRESS)
     a = p.parse_args()
-    if a.child is not None:
+    if a.child is not None:  # warm first (imports, kernels loaded), as the rows here
+        measure(max(200, a.child // 10))
         print(json.dumps(measure(a.child)))
         return
     from discrete.timestep import default_dt  # noqa: F401 (warm imports, kernels)
@@ -104,22 +112,27 @@ def main() -> None:
             rows[f"rtol {a.rtol:g} auto"].append(measure(n, rtol=a.rtol, integrator="auto"))
             if a.baseline_tree:
                 rows["baseline default"].append(_tree_default(a.baseline_tree, n))
-        best = {k: min(v, key=lambda r: r["wall_time"]) for k, v in rows.items()}
+        best = {k: {**min(v, key=lambda r: r["wall_time"]),
+                    "cpu": min(r.get("cpu", math.nan) for r in v)} for k, v in rows.items()}
         base = best.get("baseline default", best["default"])["wall_time"]
         print(f"\n## N = {n} (converged: dt = {ref_dt:.4g} s; v̄max/v0 at N/2 = "
               f"{ref[n // 2]:.7f})")
+        cpu_base = best.get("baseline default", best["default"]).get("cpu", math.nan)
         print(f"{'run':>18} {'integ.':>9} {'dt s':>10} {'steps':>8} {'wall s':>8} "
-              f"{'speed-up':>8} {'err N/2':>9} {'max err':>9} {'estimate':>9}")
+              f"{'speed-up':>8} {'cpu s':>7} {'cpu x':>6} {'err N/2':>9} {'max err':>9} "
+              f"{'estimate':>9}")
         for k, r in best.items():
             e_mid, e_max = errors(r["vmax"], ref, n)
             est = r.get("estimate")
             est = "" if est is None or not np.isfinite(est) else f"{est:.2e}"
+            cpu = r.get("cpu", math.nan)
             print(f"{k:>18} {r['integrator']:>9} {r['dt']:>10.4g} {r['steps']:>8} "
-                  f"{r['wall_time']:>8.3f} {base / r['wall_time']:>7.2f}× {e_mid:>9.2e} "
-                  f"{e_max:>9.2e} {est:>9}")
-            results.append({"grains": n, "run": k, "wall_time": r["wall_time"],
+                  f"{r['wall_time']:>8.3f} {base / r['wall_time']:>7.2f}× {cpu:>7.3f} "
+                  f"{cpu_base / cpu:>5.2f}× {e_mid:>9.2e} {e_max:>9.2e} {est:>9}")
+            results.append({"grains": n, "run": k, "wall_time": r["wall_time"], "cpu": cpu,
                             "dt": r["dt"], "steps": r["steps"], "err_mid": e_mid,
-                            "err_max": e_max, "speedup": base / r["wall_time"]})
+                            "err_max": e_max, "speedup": base / r["wall_time"],
+                            "speedup_cpu": cpu_base / cpu})
     if a.json:
         print(json.dumps(results))
 

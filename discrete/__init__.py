@@ -11,11 +11,20 @@ energies (:mod:`discrete.energy`), recording (:class:`Recording`, :class:`WaveAt
 
 from .chain import Chain, Disorder, Periodic, Section, Tapered
 from .initial import Initial, cut_wave, exact_wave, impact, place_wave, settled_wave
-from .io import load, save
 from .laws import HERTZ, ContactLaw, PowerLaw, ViscoelasticHertz
 from .recording import AtTime, Record, Recording, Snapshot, WaveAt
 from .simulation import InstabilityError, RunInfo, SavedSimulation, Simulation, State
 from .timestep import DT_FRACTION, TimeStep, default_dt, expected_overlaps, stable_dt
+
+
+def __getattr__(name: str):
+    # HDF5 (h5py) is imported when a file is first written or read, not with the solver
+    # (start-up of a run without output, issue 17)
+    if name in ("load", "save"):
+        from . import io
+
+        return getattr(io, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = [
     "DT_FRACTION",

@@ -22,7 +22,9 @@ name               order  S   reference
 =================  =====  ==  ========================================================
 
 Which one pays is an accuracy-per-cost question (``benchmarks/fig5_full.py`` measures
-it on the paper's runs).  The Hertz force :math:`k[r]_+^{3/2}` is only C¹ at r = 0
+it on the paper's runs); with a stated accuracy (``rtol``, ``integrator="auto"``)
+:mod:`discrete.timestep` measures it for the run at hand and takes the method with the
+fewest force evaluations per unit time.  The Hertz force :math:`k[r]_+^{3/2}` is only C¹ at r = 0
 (a gap opening or closing), where the 4th-order methods lose their order; with
 precompression and no gaps the force is smooth and they keep it.
 """

@@ -87,7 +87,7 @@ class RunProgress:
             self._waiting_compile = True
             self._clock = time.perf_counter()
         elif self._mode is not None:
-            self._open()
+            self._clock = time.perf_counter()  # tqdm is imported once the run lasts
 
     # ------------------------------------------------------------------ internals
     def _done(self) -> float:
@@ -113,8 +113,7 @@ class RunProgress:
             fmt = ("{desc}{percentage:3.0f}%|{bar}| {n:.0f}/{total:.0f} steps "
                    "[{elapsed}<{remaining}]")
         self._bar = tqdm(total=self._total, initial=self._done(), desc=self.desc,
-                         bar_format=fmt, leave=False, file=sys.stderr,
-                         delay=self.min_seconds, dynamic_ncols=True)
+                         bar_format=fmt, leave=False, file=sys.stderr, dynamic_ncols=True)
 
     # ------------------------------------------------------------------ API
     def update(self) -> None:
@@ -127,8 +126,11 @@ class RunProgress:
                   flush=True)
             self._open()
             return
-        if self._bar is not None:
-            self._bar.update(self._done() - self._bar.n)
+        if self._bar is None:  # (opened min_seconds after the start: tqdm's delay)
+            if time.perf_counter() - self._clock < self.min_seconds:
+                return
+            self._open()
+        self._bar.update(self._done() - self._bar.n)
 
     def close(self) -> None:
         """Close the bar (idempotent)."""

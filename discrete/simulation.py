@@ -257,7 +257,7 @@ class Simulation:
             dt = TimeStep.choose(chain, self.u, self.v, self.wall_left, self.wall_right,
                                  rtol=rtol, integrator=None if integrator == "auto"
                                  else integrator, law=self.law, drag=self.drag,
-                                 check=check_dt)
+                                 check=check_dt, recording=self.recording)
             integrator = dt.integrator
         method = get_integrator(integrator)
         self.kernels = K.make_kernels(self.law, self.drag > 0, self.recording.strain_maxima)

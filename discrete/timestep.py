@@ -51,40 +51,56 @@ rule of thumb, not a proof; the run-time energy-balance monitor catches what it 
 A stated accuracy instead of a dt (``rtol``)
 --------------------------------------------
 With ``rtol`` (and no explicit dt) the step is chosen so that the recorded quantities
-carry a relative error of about ``rtol``, from an error estimate that is *measured*,
-not assumed (:func:`probe_error`).  A short probe — the run itself from its initial
-state, for :data:`PROBE_PERIODS` shortest contact periods :math:`T_c = 2\pi/\omega_{max}`
-(or to the run's end if sooner) — is integrated at three steps :math:`h_0, h_0/2,
-h_0/4` (:math:`h_0` = :data:`PROBE_FRACTION` × S × :math:`T_c`).  The compared
-quantities q are every grain's running maximum of v over the largest |v| (the Fig. 2
-v̄max/v0; sampled at the steps, as the run records them; only grains whose peak has
-passed, v < v̄max/2, at the end of the probe) and the distance travelled by
-the energy centroid of the wave (arrival times and speeds), relative.  With
-:math:`d_1 = \|q(h_0) - q(h_0/2)\|_\infty`, :math:`d_2 = \|q(h_0/2) - q(h_0/4)\|_\infty`
-the observed order is :math:`p = \log_2(d_1/d_2)`, used clipped to [1, the method's
-order] — a recorded maximum sampled once per step converges at second order whatever
-the method, and the observed order says so — and Richardson's estimate of the error
-at :math:`h_q = h_0/4` is :math:`e_q = d_2/(2^p - 1)` (G. Dahlquist & Å. Björck,
-*Numerical Methods in Scientific Computing I*, SIAM 2008, §3.4.2: for
-:math:`q(h) = q + C h^p + o(h^p)`, :math:`q(h) - q(h/2) = C h^p (1 - 2^{-p})`).  The
-step is then
+carry a relative error of at most about ``rtol``, from an error that is *measured*, not
+assumed (:func:`probe_error`).  A short probe — the run itself from its initial state,
+with the run's own recording and kernel, for :data:`PROBE_PERIODS` shortest contact
+periods :math:`T_c = 2\pi/\omega_{max}` (or to the run's end if sooner; a whole number
+of steps, so that every probe run ends at the same time) — is integrated at the steps
+:math:`h_k = h_0/2^k`, k = 0, 1, 2, … (:math:`h_0` = :data:`PROBE_FRACTION` × S ×
+:math:`T_c`).  The compared quantities q are what the run records: every grain's
+running maximum of v over the largest |v| (the Fig. 2 v̄max/v0 — sampled at the steps
+or interpolated between them, as the kernel records it; only grains whose peak has
+passed, v < v̄max/2, at the end of the probe), every contact's running maximum overlap
+when the run records strain maxima, and the distance travelled by the energy centroid
+of the wave (arrival times and speeds), relative.  The differences
+:math:`d_k = \|q(h_k) - q(h_{k+1})\|_\infty` bound the error at each probe step
+directly (triangle inequality),
 
-.. math:: h = h_q\,\big(s\,\mathrm{rtol}/e_q\big)^{1/p},\qquad s = 0.5
-   \ (\text{:data:`RTOL_SAFETY`}),
+.. math:: E_k = d_k + E_{k+1},\qquad E_K = d_{K-1}/(2^p - 1),
 
-capped at :math:`h_0` (no extrapolation beyond the probed steps) and at half the
-stability bound, and the estimate :math:`e_q (h/h_q)^p / s` (≤ rtol) is written into
-the result (:attr:`TimeStep.error_estimate`).  The factor 1/s is not decoration: a
-maximum sampled once per step has an error that depends on where the peak falls
-within the step, so it is not a smooth function of h and Richardson's value is a
-central estimate, not a bound (measured: up to 1.1× it for an impact); 2× it bounded
-the true error in every test.  If the probe is not in the asymptotic range
-(:math:`d_2 > d_1`, or an instability) it is repeated at half the steps (up to
-three times).  ``integrator=None`` probes velocity Verlet and the 4th-order Yoshida
-method (:data:`RTOL_CANDIDATES`) and takes the one with fewer force evaluations per
-unit time, S/h.  The tests (``tests/discrete/test_rtol.py``) check that the estimate
-bounds the true error (against a run at a 16× smaller step) for an impact, a
-precompressed solitary wave and an interface run.  An explicit dt wins over rtol.
+so only the error of the finest run is extrapolated, by Richardson's rule (G.
+Dahlquist & Å. Björck, *Numerical Methods in Scientific Computing I*, SIAM 2008,
+§3.4.2: for :math:`q(h) = q + C h^p + o(h^p)`, :math:`q(h) - q(h/2) = C h^p (1 -
+2^{-p})`), with the observed order :math:`p = \log_2(d_{K-2}/d_{K-1})` if it is
+*clean* — within :data:`ORDER_SLACK` of 2 (a maximum sampled once per step converges at
+second order whatever the method) or of the method's order — and p = 1 (E_K = d_{K-1})
+if it is not.  Between the probe steps E(h) is the power law through the neighbouring
+points (below the finest, E_K (h/h_K)^p); the step is the largest h with
+
+.. math:: E(h) \le s\,\mathrm{rtol},\qquad s = 0.5\ (\text{:data:`RTOL_SAFETY`}),
+
+never above :math:`h_0` (no extrapolation beyond the probed steps) nor half the
+stability bound, and the estimate E(h)/s (≤ rtol) is written into the result
+(:attr:`TimeStep.error_estimate`).  Finer probe steps are added while the differences
+do not shrink (not yet asymptotic) or no probe step meets s·rtol, up to
+:data:`PROBE_MAX_LEVELS` runs; an unstable probe run is dropped with the coarser ones.
+The factor 1/s is measured, not decoration: a maximum sampled once per step has an
+error that depends on where the peak falls within the step, so it is not a smooth
+function of h; on the test problems (impact, precompressed solitary wave, interface;
+every method; rtol 1e-3 … 1e-5) the true error was 0.70–0.86 of E(h), and 1.29 of it
+once, where the sharper peak of the impacted grain 1 fell badly between two steps
+(its worst case is 1.75× that of the grains further on).  ``integrator=None``
+probes the methods of :data:`RTOL_CANDIDATES` — velocity Verlet, Yoshida-4 and
+Blanes–Moan 4 — and takes the one with the fewest force evaluations per unit time,
+S/h; a method's probe stops as soon as its differences show that it cannot beat the
+best so far (E_k ≥ d_k + d_{k+1} + … excludes every step above h_k).  With maxima
+sampled once per step all three need about the same h for the same error, so velocity
+Verlet wins; with maxima interpolated between steps the 4th-order methods can.  The
+tests (``tests/discrete/test_rtol.py``) check that the estimate bounds the true error
+(against a run at a 16× smaller step) for an impact, a precompressed solitary wave and
+an interface run, for every method ``integrator=None`` can pick (measured: the true
+error 0.30–0.56 of the estimate at rtol 1e-3 and 1e-4).  An explicit dt wins over
+rtol.
 
 The default is no rtol: the fixed fraction :data:`DT_FRACTION` above, whose error in
 the most dt-sensitive recorded quantity of the paper's runs (v̄max/v0 of an impact on
@@ -95,6 +111,7 @@ that accuracy for any problem and, for most problems, takes a larger step.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -103,22 +120,33 @@ import numpy as np
 from .chain import Chain
 from .integrators import Integrator, get_integrator
 from .laws import ContactLaw, as_law
+from .recording import Recording
 from .reference import overlaps as _overlaps
 
-__all__ = ["DT_FRACTION", "TimeStep", "default_fraction", "default_dt", "stable_dt",
-           "expected_overlaps", "probe_error", "RTOL_SAFETY", "RTOL_CANDIDATES",
-           "PROBE_PERIODS", "PROBE_FRACTION"]
+__all__ = ["DT_FRACTION", "TimeStep", "ProbeResult", "default_fraction", "default_dt",
+           "stable_dt", "expected_overlaps", "probe_error", "RTOL_SAFETY", "RTOL_CANDIDATES",
+           "PROBE_PERIODS", "PROBE_FRACTION", "PROBE_MAX_LEVELS", "ORDER_SLACK",
+           "error_bounds"]
 
 DT_FRACTION = 0.002
 """Default dt per force evaluation as a fraction of the shortest linearised contact
 period (module docstring)."""
 
 RTOL_SAFETY = 0.5
-"""The step chosen for ``rtol`` aims at this fraction of rtol in Richardson's estimate;
-the reported estimate is Richardson's / RTOL_SAFETY (module docstring)."""
+"""The step chosen for ``rtol`` aims at this fraction of rtol in the probe's error bound;
+the reported estimate is the bound / RTOL_SAFETY (module docstring)."""
 
-RTOL_CANDIDATES = ("verlet", "yoshida4")
-"""Methods probed when ``rtol`` is given without an integrator."""
+RTOL_CANDIDATES = ("verlet", "yoshida4", "blanes_moan4")
+"""Methods probed when ``rtol`` is given without an integrator (cheapest first)."""
+
+PROBE_MAX_LEVELS = 7
+"""Most probe runs per method: steps h_0 … h_0/64."""
+
+PROBE_RESTARTS = 8
+"""Times the probe halves h_0 after an unstable probe run before giving up."""
+
+ORDER_SLACK = 0.5
+"""An observed order within this of 2 or of the method's order is "clean"."""
 
 PROBE_PERIODS = 40.0
 """Length of the rtol probe in shortest contact periods 2π/ω_max."""
@@ -179,38 +207,159 @@ def stable_dt(chain: Chain, delta, *, law: ContactLaw | None = None,
     return bound
 
 
-def _probe_quantities(chain, u, v, wl, wr, law, drag, method, h, t_probe):
-    """(q, steps): the probe's compared quantities after ``t_probe`` s at step h."""
-    from .recording import Recording
-    from .simulation import Simulation
+def _probe_recording(recording) -> Recording:
+    """The probe's recording: the run's own, without what only costs time in a probe.
 
-    sim = Simulation(chain, u, v, dt=h, wall_left=wl, wall_right=wr,
-                     record=Recording(maxima=True), integrator=method.name, law=law,
-                     drag=drag, check_dt=False)
+    Same kernel variant and maxima as the run; no events, series, sensors, energy grid.
+    """
+    if recording is None:
+        return Recording(maxima=True)
+    return dataclasses.replace(recording, snapshots=(), series_grains=(), energy_every=None,
+                               sensors=(), wall_forces=False, maxima=True)
+
+
+class _ProbeRun:
+    """One probe run at step h: the compared quantities of the run's recording."""
+
+    def __init__(self, chain, u, v, wl, wr, law, drag, method, h, nsteps, recording):
+        from .simulation import Simulation
+
+        sim = Simulation(chain, u, v, dt=h, wall_left=wl, wall_right=wr, record=recording,
+                         integrator=method.name, law=law, drag=drag, check_dt=False)
+        x0 = _centroid(sim)
+        sim.run(max_steps=nsteps, progress=False)  # every level ends at the same time
+        rec = sim.record
+        vmax = np.asarray(rec.vmax, float)
+        scale = float(np.max(np.abs(vmax))) or 1.0
+        self.steps = sim.steps
+        self.travel = _centroid(sim) - x0
+        self.vmax = vmax / scale
+        # a maximum counts once the grain's peak has passed (v below half of it); a grain
+        # still rising at the probe's end holds its present v, a phase error, not a maximum
+        self.done = (sim.v < 0.5 * vmax) & (vmax > 0.01 * scale)
+        self.omax = None
+        if rec.overlap_max is not None:  # strain maxima: the dynamic part, relative
+            dyn = np.asarray(rec.overlap_max, float) - chain.delta0
+            self.omax = dyn / (float(np.max(np.abs(dyn))) or 1.0)
+
+    def difference(self, other: _ProbeRun, done: np.ndarray) -> float:
+        """max-norm of the relative differences of the compared quantities."""
+        d = float(np.max(np.abs(self.vmax[done] - other.vmax[done]), initial=0.0))
+        if self.omax is not None and other.omax is not None:
+            both = np.r_[done[:1], done[:-1] & done[1:], done[-1:]]  # contacts 0..N
+            d = max(d, float(np.max(np.abs(self.omax[both] - other.omax[both]),
+                                    initial=0.0)))
+        return max(d, abs(self.travel - other.travel) / max(abs(other.travel), 1.0))
+
+
+def _centroid(sim) -> float:
+    """Energy centroid of a simulation's active window, grains (0 if it holds no energy)."""
+    lo, hi = sim.window
+    if lo < 0:
+        return 0.0
     ek, ep = sim.grain_energy()
-    x0 = _centroid(ek + ep)
-    sim.run(t_end=sim.t0 + t_probe, progress=False)
-    ek, ep = sim.grain_energy()
-    vmax = np.asarray(sim.record.vmax, float)
-    scale = float(np.max(np.abs(vmax))) or 1.0
-    travel = _centroid(ek + ep) - x0
-    # a maximum counts once the grain's peak has passed (v below half of it); a grain
-    # still rising at the probe's end holds its present v, a phase error, not a maximum
-    done = (sim.v < 0.5 * vmax) & (vmax > 0.01 * scale)
-    return (vmax / scale, done, travel), sim.steps
-
-
-def _centroid(e: np.ndarray) -> float:
-    """Energy centroid, grains (0 if there is no energy)."""
+    e = ek[lo:hi + 1] + ep[lo:hi + 1]
     tot = float(np.sum(e))
-    return float(np.dot(np.arange(e.size), e) / tot) if tot > 0 else 0.0
+    return lo + float(np.dot(np.arange(e.size, dtype=float), e) / tot) if tot > 0 else 0.0
+
+
+@dataclass(frozen=True)
+class ProbeResult:
+    """The measured error of a method's recorded quantities as a function of the step.
+
+    Built by :func:`probe_error`; :meth:`error_at` and :meth:`step_for` read it (module
+    docstring, "A stated accuracy").
+
+    Attributes
+    ----------
+    method : str
+        The integrator probed.
+    h : tuple of float
+        The probe steps h_0 > h_1 > ... (h_k = h_0 / 2^k), s.
+    errors : tuple of float
+        The error bound E_k at each probe step (relative, before the safety factor).
+    differences : tuple of float
+        d_k = ||q(h_k) - q(h_{k+1})||_∞, relative.
+    order_observed : float
+        log2(d_{K-2}/d_{K-1}) of the two finest differences (nan if undetermined).
+    order : float
+        The order used below the finest step (the observed one clipped to [1, method
+        order] if it is clean, else 1).
+    clean : bool
+        The observed order is within :data:`ORDER_SLACK` of 2 (a quantity sampled once
+        per step) or of the method's order.
+    t_probe : float
+        Length of each probe run, s.
+    probe_steps : int
+        Steps taken in all probe runs.
+    compared : int
+        Grains whose maxima were compared.
+    complete : bool
+        False if the probe stopped early because the method could not beat ``max_cost``.
+    """
+
+    method: str
+    h: tuple
+    errors: tuple
+    differences: tuple
+    order_observed: float
+    order: float
+    clean: bool
+    t_probe: float
+    probe_steps: int
+    compared: int
+    complete: bool = True
+
+    @property
+    def h0(self) -> float:
+        """The largest probe step, s (no step above it is ever chosen)."""
+        return self.h[0]
+
+    def error_at(self, h: float) -> float:
+        """The estimated relative error at step h <= h_0 (before the safety factor).
+
+        Piecewise power law through the probe points (h_k, E_k); below the finest step
+        E_K (h/h_K)^order; inf above h_0 (no extrapolation beyond the probe).
+        """
+        hs, es = self.h, self.errors
+        if h > hs[0] * (1 + 1e-12):
+            return math.inf
+        if h <= hs[-1]:
+            return es[-1] * (h / hs[-1]) ** self.order
+        k = next(i for i in range(1, len(hs)) if h >= hs[i])
+        lo, hi = es[k], es[k - 1]
+        if lo <= 0 or hi <= lo:
+            return hi if h > hs[k] else lo
+        return lo * (h / hs[k]) ** (math.log(hi / lo) / math.log(hs[k - 1] / hs[k]))
+
+    def step_for(self, target: float) -> float:
+        """The largest step h <= h_0 whose estimated error is <= ``target``, s."""
+        hs, es = self.h, self.errors
+        if es[0] <= target:
+            return hs[0]
+        k = next((i for i in range(len(hs)) if es[i] <= target), None)
+        if k is None:  # below the finest probe step: its power law
+            if es[-1] <= 0:
+                return hs[-1]
+            return hs[-1] * (target / es[-1]) ** (1.0 / self.order)
+        lo, hi = es[k], es[k - 1]
+        if lo <= 0:
+            return hs[k]
+        q = math.log(hi / lo) / math.log(hs[k - 1] / hs[k])
+        return min(hs[k - 1], hs[k] * (target / lo) ** (1.0 / q))
+
+    def to_dict(self) -> dict:
+        """JSON-able scalars and tuples."""
+        return dataclasses.asdict(self)
 
 
 def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
                 wall_right: float = 0.0, *, integrator: str | Integrator = "verlet",
                 law: ContactLaw | None = None, drag: float = 0.0,
-                h0: float | None = None, horizon: float | None = None) -> dict:
-    """Measure the error constant of the recorded quantities by step doubling (module docstring).
+                h0: float | None = None, horizon: float | None = None,
+                recording=None, target: float | None = None,
+                max_cost: float = math.inf) -> ProbeResult:
+    """Measure the error of the recorded quantities against the step (module docstring).
 
     Parameters
     ----------
@@ -219,17 +368,23 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     integrator : str or Integrator
         The method probed.
     h0 : float, optional
-        Largest probe step, s; default :data:`PROBE_FRACTION` × S × 2π/ω_max.
+        Largest probe step, s; default :data:`PROBE_FRACTION` × S × 2π/ω_max (at most
+        half the stability bound).
     horizon : float, optional
         The run's length, s: the probe is never longer.
+    recording : Recording, optional
+        The run's recording: the probe records (and compares) what it records, through
+        the same kernel (its events, series, sensors and energy grid are left out).
+    target : float, optional
+        The error wanted (relative, after the safety factor): finer probe steps are
+        added (up to :data:`PROBE_MAX_LEVELS`) until one meets it.
+    max_cost : float
+        Force evaluations per second of the best method so far: the probe stops
+        (``complete=False``) as soon as this method is known to need more.
 
     Returns
     -------
-    dict
-        ``h_q`` (s, the smallest probe step), ``error_q`` (Richardson's estimate of the
-        relative error there), ``order`` (the observed order, clipped to
-        [1, method order]), ``order_observed`` (unclipped; nan if undetermined),
-        ``t_probe`` (s), ``probe_steps`` (steps taken in all probe runs), ``h0`` (s).
+    ProbeResult
     """
     from .simulation import InstabilityError
 
@@ -246,34 +401,96 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     t_probe = PROBE_PERIODS * period
     if horizon is not None and math.isfinite(horizon) and horizon > 0:
         t_probe = min(t_probe, float(horizon))
+    rec = _probe_recording(recording)
+    stages = method.stages
+    # whole steps at h0: every probe run ends at the same time (a probe run that ended
+    # up to a step later would carry a first-order "error" in the travelled distance)
+    bounded = horizon is not None and math.isfinite(horizon) and horizon > 0
+    n0 = max(1, math.floor(t_probe / h0) if bounded else math.ceil(t_probe / h0))
+    t_probe = n0 * h0
+    runs: list[_ProbeRun] = []
     steps = 0
-    for _attempt in range(4):
+
+    def result(complete: bool = True) -> ProbeResult:
+        done = np.logical_and.reduce([r.done for r in runs])
+        d = [runs[k].difference(runs[k + 1], done) for k in range(len(runs) - 1)]
+        hs = tuple(h0 / 2.0**k for k in range(len(runs)))
+        e, p_obs, p, clean = error_bounds(d, method.order)
+        return ProbeResult(method.name, hs, e, tuple(d), p_obs, p, clean, t_probe, steps,
+                           int(np.count_nonzero(done)), complete)
+
+    if stages / h0 >= max_cost:  # even its largest step cannot beat the best so far
+        return ProbeResult(method.name, (h0,), (math.inf,), (), math.nan, 1.0, False,
+                           t_probe, 0, 0, False)
+    restarts = 0
+    while True:
+        h = h0 / 2.0**len(runs)
         try:
-            qs = []
-            for level in range(3):
-                q, n = _probe_quantities(chain, u, v, wall_left, wall_right, law, drag,
-                                         method, h0 / 2**level, t_probe)
-                qs.append(q)
-                steps += n
-        except InstabilityError:
-            h0 *= 0.5
+            run = _ProbeRun(chain, u, v, wall_left, wall_right, law, drag, method, h,
+                            n0 * 2 ** len(runs), rec)
+        except InstabilityError:  # too coarse: drop it (and any coarser) and go finer
+            restarts += 1
+            if restarts > PROBE_RESTARTS:
+                raise RuntimeError("the rtol probe went unstable at every step tried; "
+                                   "give dt") from None
+            n0 *= 2 ** (len(runs) + 1)
+            h0, runs = h / 2.0, []
             continue
-        done = qs[0][1] & qs[1][1] & qs[2][1]
-        d1, d2 = (max(float(np.max(np.abs(a[0][done] - b[0][done]), initial=0.0)),
-                      abs(a[2] - b[2]) / max(abs(b[2]), 1.0))
-                  for a, b in ((qs[0], qs[1]), (qs[1], qs[2])))
-        if d2 <= 1e-14:  # at round-off: the quantities do not depend on h
-            return {"h_q": h0 / 4, "error_q": d2, "order": float(method.order),
-                    "order_observed": math.nan, "t_probe": t_probe,
-                    "probe_steps": steps, "h0": h0}
-        if d2 < d1 or _attempt == 3:
-            p_obs = math.log2(d1 / d2) if d1 > 0 else math.nan
-            p = min(max(p_obs, 1.0), float(method.order)) if math.isfinite(p_obs) else 1.0
-            return {"h_q": h0 / 4, "error_q": d2 / (2.0**p - 1.0), "order": p,
-                    "order_observed": p_obs, "t_probe": t_probe, "probe_steps": steps,
-                    "h0": h0}
-        h0 *= 0.5
-    raise RuntimeError("the rtol probe went unstable at every step tried; give dt")
+        runs.append(run)
+        steps += run.steps
+        if len(runs) < 2:
+            continue
+        pr = result()
+        if stages / _upper_step(pr, target) >= max_cost:
+            return dataclasses.replace(pr, complete=False)  # cannot beat the best so far
+        if len(runs) < 3:
+            continue
+        # finer while the differences do not shrink (not yet asymptotic) or no probe step
+        # meets the target; never more than PROBE_MAX_LEVELS runs
+        converging = pr.differences[-1] < pr.differences[-2] or pr.differences[-1] <= 1e-14
+        meets = target is None or pr.errors[-1] <= target
+        if (converging and meets) or len(runs) >= PROBE_MAX_LEVELS:
+            return pr
+
+
+def error_bounds(differences, method_order: int) -> tuple[tuple, float, float, bool]:
+    """(E_k, observed order, order used, clean) from the differences d_k (module docstring).
+
+    ``differences`` are d_k = ||q(h_k) - q(h_{k+1})|| for h_k = h_0/2^k (at least one);
+    E_k = d_k + E_{k+1} and E_K = d_{K-1}/(2^p - 1) with p the observed order
+    log2(d_{K-2}/d_{K-1}) clipped to [1, method order] if it lies within
+    :data:`ORDER_SLACK` of 2 or of the method's order, else p = 1.
+    """
+    d = [float(x) for x in differences]
+    if not d:
+        raise ValueError("error_bounds needs at least one difference (two probe runs)")
+    p_obs = math.nan
+    if len(d) >= 2 and d[-1] > 0 and d[-2] > 0:
+        p_obs = math.log2(d[-2] / d[-1])
+    clean = math.isfinite(p_obs) and any(abs(p_obs - q) <= ORDER_SLACK
+                                         for q in {2.0, float(method_order)})
+    p = min(max(p_obs, 1.0), float(method_order)) if clean else 1.0
+    e = [d[-1] / (2.0**p - 1.0)]
+    for dk in reversed(d):
+        e.append(dk + e[-1])
+    return tuple(reversed(e)), p_obs, p, clean
+
+
+def _upper_step(pr: ProbeResult, target: float | None) -> float:
+    """An upper bound of the step :meth:`ProbeResult.step_for` can give for ``target``.
+
+    E_k >= d_k + d_{k+1} + ... for the differences measured so far, so no step above
+    h_k meets the target once that partial sum exceeds it.
+    """
+    if target is None:
+        return pr.h[0]
+    tail = 0.0
+    upper = pr.h[0]
+    for k in range(len(pr.differences) - 1, -1, -1):
+        tail += pr.differences[k]
+        if tail > target:
+            return pr.h[k]
+    return upper
 
 
 @dataclass(frozen=True)
@@ -306,7 +523,8 @@ class TimeStep:
         The estimated relative error of the recorded quantities at :attr:`dt` (from the
         probe, :func:`probe_error`; nan without rtol).
     order : float
-        The convergence order the estimate used (observed, clipped; nan without rtol).
+        The order that extrapolated the finest probe run of the chosen method (the
+        observed one, clipped to [1, method order], if clean, else 1; nan without rtol).
     probe_steps : int
         Steps the probe took (0 without rtol).
     """
@@ -329,7 +547,8 @@ class TimeStep:
                integrator: str | Integrator = "verlet", law: ContactLaw | None = None,
                drag: float = 0.0, fraction: float | None = None,
                check: bool = True, rtol: float | None = None,
-               horizon: float | None = None) -> TimeStep:
+               horizon: float | None = None,
+               recording: Recording | None = None) -> TimeStep:
         """Choose the step for ``chain`` in the state (u, v, walls).
 
         Parameters
@@ -359,6 +578,9 @@ class TimeStep:
             docstring).  Ignored when ``dt`` is given (an explicit dt wins).
         horizon : float, optional
             The run's length, s (the probe is never longer).
+        recording : Recording, optional
+            The run's recording: with ``rtol`` the probe records and compares what the
+            run records, through the same kernel (default: the running maxima).
 
         Raises
         ------
@@ -375,7 +597,7 @@ class TimeStep:
             if dt is None:
                 return cls._choose_rtol(chain, u, v, wall_left, wall_right, rtol=rtol,
                                         integrator=integrator, law=law, drag=drag,
-                                        horizon=horizon, check=check)
+                                        horizon=horizon, check=check, recording=recording)
         if integrator is None:
             if rtol is None:
                 raise ValueError("integrator=None (choose the method) needs rtol")
@@ -406,33 +628,34 @@ class TimeStep:
 
     @classmethod
     def _choose_rtol(cls, chain, u, v, wall_left, wall_right, *, rtol, integrator, law,
-                     drag, horizon, check) -> TimeStep:
+                     drag, horizon, check, recording=None) -> TimeStep:
         """The step (and method) meeting ``rtol`` from :func:`probe_error` (module docstring)."""
         names = RTOL_CANDIDATES if integrator is None else (get_integrator(integrator).name,)
         if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
             names = ("verlet",)
+        target = RTOL_SAFETY * rtol
         best = None
         steps = 0
         for name in names:
             method = get_integrator(name)
             pr = probe_error(chain, u, v, wall_left, wall_right, integrator=method, law=law,
-                             drag=drag, horizon=horizon)
-            steps += pr["probe_steps"]
-            p, hq, eq = pr["order"], pr["h_q"], pr["error_q"]
+                             drag=drag, horizon=horizon, recording=recording,
+                             target=target, max_cost=math.inf if best is None else best[0])
+            steps += pr.probe_steps
+            if not pr.complete:
+                continue
             base = cls.choose(chain, u, v, wall_left, wall_right, integrator=method,
                               law=law, drag=drag, check=False)
-            cap = min(pr["h0"], 0.5 * base.stable)
-            h = cap if eq <= 0 else min(cap, hq * (RTOL_SAFETY * rtol / eq) ** (1.0 / p))
-            # Below the cap e_q (h/h_q)^p / s = rtol by construction; evaluating it again
-            # returned rtol (1 + 2e-16) on some CPUs, a promise (estimate <= rtol) broken
-            # by round-off alone.
-            est = rtol if h < cap else eq * (h / hq) ** p / RTOL_SAFETY
+            h = min(pr.step_for(target), 0.5 * base.stable)
+            # the step meets the target by construction; recomputing the estimate there
+            # can return rtol (1 + 2e-16), a promise (estimate <= rtol) broken by round-off
+            est = min(rtol, pr.error_at(h) / RTOL_SAFETY)
             cost = method.stages / h
             if best is None or cost < best[0]:
-                best = (cost, method, h, est, p, base)
-        _, method, h, est, p, base = best
+                best = (cost, method, h, est, pr, base)
+        _, method, h, est, pr, base = best
         step = cls(h, "rtol", base.default, base.stable, base.fraction, method.name,
-                   base.delta_expected, rtol, est, p, steps)
+                   base.delta_expected, rtol, est, pr.order, steps)
         if check:
             step.check()
         return step

@@ -3,13 +3,27 @@
 The command-line tool and the study pipeline (paper scenarios, comparison of the
 discrete, continuum and theory results, sweeps, reports).  The solvers live in the
 sibling packages :mod:`discrete`, :mod:`continuum` and :mod:`theory`.
+
+Nothing is imported here: ``__version__`` is read from the installed metadata when it
+is first asked for (start-up of ``hertzchain run``, issue 17).
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
-try:
-    __version__ = version("hertzchain")
-except PackageNotFoundError:  # pragma: no cover - running from a source tree
-    __version__ = "0.0.0+unknown"
+from functools import cache
 
 __all__ = ["__version__"]
+
+
+@cache
+def _version() -> str:
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("hertzchain")
+    except PackageNotFoundError:  # pragma: no cover - running from a source tree
+        return "0.0.0+unknown"
+
+
+def __getattr__(name: str):
+    if name == "__version__":
+        return _version()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

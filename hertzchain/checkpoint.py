@@ -56,7 +56,6 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 
 import discrete
-from discrete.io import load, save
 from discrete.progress import RunProgress
 from theory import integrity
 
@@ -248,6 +247,8 @@ def write_checkpoint(path: str | Path, sim: discrete.Simulation, key: str,
     """Write ``sim`` and ``key`` (and ``extra``, JSON-able) to ``path`` atomically."""
     attrs = {f"{_PREFIX}key": key, f"{_PREFIX}extra": canonical_json(extra or {}),
              f"{_PREFIX}written": time.time()}
+    from discrete.io import save  # (h5py only when a checkpoint is written)
+
     return save(path, sim, attrs=attrs, compress=False)  # speed over size
 
 
@@ -285,6 +286,8 @@ def read_checkpoint(path: str | Path, key: str, *, threads: int | None = None
             "the scenario changed since it was written. Rerun with --restart to discard "
             "it, or write to another --out file")
     try:
+        from discrete.io import load
+
         sim = load(path, threads=threads)
         extra = json.loads(extra)
     except ValueError as exc:

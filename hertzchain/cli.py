@@ -14,7 +14,6 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from . import __version__
 from ._argtypes import nonnegative_float, positive_float, positive_int, scenario_number
 
 __all__ = ["main", "build_parser"]
@@ -230,6 +229,16 @@ def _clean_caches(directory: Path, force: bool) -> None:
             print(f"hertzchain: removed the settled wave {p} (--force)", file=sys.stderr)
 
 
+class _VersionAction(argparse.Action):
+    """``--version``: the installed version, read only when asked for (start-up)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from . import __version__
+
+        print(f"hertzchain {__version__}")  # on stdout, as argparse's "version" action
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Build the argument parser with every sub-command."""
     parser = argparse.ArgumentParser(
@@ -239,7 +248,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     from .scenario import schema_key
 
-    parser.add_argument("--version", action="version", version=f"hertzchain {__version__}")
+    parser.add_argument("--version", action=_VersionAction, nargs=0,
+                        help="show program's version number and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
     p = sub.add_parser("theory", help="interface predictions for (alpha_rho, alpha_kn)")

@@ -17,7 +17,6 @@ import os
 import tempfile
 from pathlib import Path
 
-import h5py
 import numpy as np
 
 from theory import integrity
@@ -127,7 +126,7 @@ def describe(path: str | Path) -> str:
     return "\n".join(lines)
 
 
-def _describe(f: h5py.File, lines: list[str]) -> None:
+def _describe(f, lines: list[str]) -> None:
     for key in sorted(f.attrs):
         val = _attr(f.attrs[key])
         if isinstance(val, dict):
@@ -136,6 +135,8 @@ def _describe(f: h5py.File, lines: list[str]) -> None:
         else:
             lines.append(f"  {key}: {val}")
     lines.append("  datasets:")
+
+    import h5py  # (not at import: start-up of ``hertzchain run``)
 
     def visit(name, obj):
         if isinstance(obj, h5py.Dataset):

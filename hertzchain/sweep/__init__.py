@@ -14,27 +14,37 @@ Examples
 >>> table = read_results(outcome.table)                          # doctest: +SKIP
 """
 
-from .analysis import Agreement, classification_agreement, fission_parameter, predicted_labels
-from .cli import add_sweep_parsers
-from .engine import (
-    DEFAULT_POINT_FUNCTION,
-    SweepOutcome,
-    default_workers,
-    resolve_point_function,
-    run_point,
-    run_sweep,
-    tiny_scenario,
-)
-from .spec import (
-    Axis,
-    Point,
-    SweepError,
-    SweepSpec,
-    load_sweep_spec,
-    parse_sweep_spec,
-    shipped_sweeps,
-)
-from .store import SUMMARY_FIELDS, RecordStore, SweepResults, read_results, write_table
+import importlib
+
+# Names are imported from their submodules when first used (PEP 562): the CLI needs
+# only ``add_sweep_parsers`` to build its parser, and must not pay for h5py, Dask and
+# the store when it runs something else (start-up of ``hertzchain run``, issue 17).
+_WHERE = {
+    "Agreement": "analysis", "classification_agreement": "analysis",
+    "fission_parameter": "analysis", "predicted_labels": "analysis",
+    "add_sweep_parsers": "cli",
+    "DEFAULT_POINT_FUNCTION": "engine", "SweepOutcome": "engine",
+    "default_workers": "engine", "resolve_point_function": "engine", "run_point": "engine",
+    "run_sweep": "engine", "tiny_scenario": "engine",
+    "Axis": "spec", "Point": "spec", "SweepError": "spec", "SweepSpec": "spec",
+    "load_sweep_spec": "spec", "parse_sweep_spec": "spec", "shipped_sweeps": "spec",
+    "SUMMARY_FIELDS": "store", "RecordStore": "store", "SweepResults": "store",
+    "read_results": "store", "write_table": "store",
+}
+
+
+def __getattr__(name: str):
+    where = _WHERE.get(name)
+    if where is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{where}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_WHERE))
+
 
 __all__ = [
     "Agreement",

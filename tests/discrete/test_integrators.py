@@ -11,7 +11,7 @@ import pytest
 from discrete import DT_FRACTION, Chain, Recording, Simulation
 from discrete import integrators as I
 from discrete.initial import exact_wave
-from discrete.timestep import default_fraction
+from discrete.timestep import RTOL_CANDIDATES, default_fraction
 
 NAMES = sorted(I.INTEGRATORS)
 
@@ -24,6 +24,10 @@ def test_registry():
         assert sum(m.drift) == pytest.approx(1.0, abs=1e-14)
         assert sum(m.kick) == pytest.approx(1.0, abs=1e-14)
         assert default_fraction(m) == pytest.approx(m.stages * DT_FRACTION)
+    # integrator = "auto" (rtol) may pick every registered method, cheapest probed first
+    assert sorted(RTOL_CANDIDATES) == NAMES
+    stages = [I.get_integrator(n).stages for n in RTOL_CANDIDATES]
+    assert stages == sorted(stages)
     with pytest.raises(ValueError, match="unknown integrator"):
         I.get_integrator("rk4")
     with pytest.raises(ValueError, match="unknown integrator"):

@@ -111,3 +111,18 @@ def test_front_speed_estimator_on_exact_wave():
     k = theory.hertz_constant(5e-3, theory.PAPER_MATERIAL)
     w = theory.discrete_solitary_wave(k, m, 5e-3, 5e-6, velocity_max=0.0822)
     assert s["front_speed_tr"] == pytest.approx(w.speed, rel=1e-5)
+
+
+def test_column_argmax_is_numpys():
+    # the summary's blocked argmax (runner._column_argmax) = np.argmax(axis=0), first
+    # maximum on ties, for grids shorter and longer than a block, ties and zero columns
+    from hertzchain.runner import _column_argmax
+
+    rng = np.random.default_rng(3)
+    for rows in (1, 2, 63, 64, 65, 300):
+        e = np.round(rng.random((rows, 17)), 1)  # many ties
+        e[:, 3] = 0.0
+        e[:, 5] = 1.0
+        assert np.array_equal(_column_argmax(e), e.argmax(axis=0))
+        view = e[::-1][:, ::-1]  # a non-contiguous view (reflected front speeds)
+        assert np.array_equal(_column_argmax(view), view.argmax(axis=0))

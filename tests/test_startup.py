@@ -1,0 +1,66 @@
+"""Start-up of ``hertzchain run`` (issue 17, item 3): nothing is imported that the run does
+not use.
+
+A small run without ``--out`` needs NumPy, numba (which itself imports SciPy and, through
+its extension hook, rocket-fft) and the solver; it must not import h5py (only when a
+file is written or read), Dask, matplotlib, py-pde, the sweep machinery or tqdm (the
+bar opens only once a run has lasted a second).  Checked in a fresh interpreter: the
+test's own process has imported everything already.
+"""
+
+import json
+import subprocess
+import sys
+import textwrap
+
+TOML = """name = "small"
+[chain]
+[[chain.sections]]
+n = 60
+[initial]
+kind = "impact"
+v0 = 1.0
+[run]
+until_front_at = 40
+"""
+
+NOT_IMPORTED = ("h5py", "dask", "distributed", "matplotlib", "pde", "tqdm",
+                "hertzchain.sweep.engine", "hertzchain.sweep.store", "hertzchain.compare",
+                "hertzchain.reproduce.report", "continuum")
+
+
+def _modules_after(argv: list[str], tmp_path) -> set[str]:
+    code = textwrap.dedent(f"""
+        import json, sys
+        from hertzchain.cli import main
+        status = main({argv!r})
+        print(json.dumps(sorted(sys.modules)), file=sys.stderr)
+        sys.exit(status)
+    """)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    return set(json.loads(proc.stderr.strip().splitlines()[-1])), proc.stdout
+
+
+def test_small_run_imports_only_what_it_uses(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text(TOML)
+    mods, out = _modules_after(["run", str(path), "--json"], tmp_path)
+    assert json.loads(out)["completed"] is True
+    loaded = sorted(m for m in NOT_IMPORTED if m in mods)
+    assert not loaded, f"a small run imported {loaded}"
+    assert "numba" in mods and "discrete.kernels" in mods  # (the check can fail)
+
+
+def test_version_and_help_import_no_solver(tmp_path):
+    code = ("import sys\nfrom hertzchain.cli import build_parser\nbuild_parser()\n"
+            "print(sorted(m for m in ('numpy', 'numba', 'h5py', 'importlib.metadata')"
+            " if m in sys.modules))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "[]"
+    proc = subprocess.run([sys.executable, "-m", "hertzchain.cli", "--version"],
+                          capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    assert proc.returncode == 0 and proc.stdout.startswith("hertzchain "), proc
