@@ -421,7 +421,11 @@ def validity_summary(results: SweepResults) -> list[dict]:
     Rows are grouped by the incident strain / δ0 (column ``incident_strain_over_delta0``,
     rounded to two significant digits; inf = sonic vacuum).  Each entry has ``model``,
     ``strain_over_delta0``, ``n`` (points), ``within_1``, ``within_10``, ``beyond_10``,
-    ``not_compared`` and ``max_error`` (over the compared points).
+    ``not_compared``, ``max_error`` (over the compared points), ``equation`` (the
+    continuum equations that ran, column ``continuum_model``: e.g. "eq4"; "" for the
+    theory) and ``reasons`` (why points were not compared: the distinct first clauses of
+    ``<model>_note``, or of ``continuum_stopped_by`` for a continuum that did not
+    complete).
     """
     amp = _amplitude(results)
     key = np.array([float(f"{a:.2g}") if np.isfinite(a) else a for a in amp])
@@ -441,8 +445,30 @@ def validity_summary(results: SweepResults) -> list[dict]:
                         "beyond_10": int((codes[sel] == 2).sum()),
                         "not_compared": int((codes[sel] == 3).sum()),
                         "max_error": float(np.nanmax(e)) if np.isfinite(e).any()
-                        else math.nan})
+                        else math.nan,
+                        "equation": "/".join(sorted(set(_text(results, "continuum_model",
+                                                              sel)) - {""}))
+                        if model == "continuum" else "",
+                        "reasons": _reasons(results, model, sel & (codes == 3))})
     return out
+
+
+def _text(results: SweepResults, name: str, sel: np.ndarray) -> list[str]:
+    """The string column ``name`` at the selected rows ("" for a missing column)."""
+    if name not in results:
+        return [""] * int(sel.sum())
+    return [str(x) for x in np.asarray(results[name])[sel]]
+
+
+def _reasons(results: SweepResults, model: str, sel: np.ndarray) -> str:
+    """Distinct first clauses of why the selected rows of ``model`` were not compared."""
+    notes = _text(results, f"{model}_note", sel)
+    if model == "continuum":
+        stopped = _text(results, "continuum_stopped_by", sel)
+        notes = [n or (f"did not complete ({s})" if s and s not in ("t_end", "until_front_at")
+                       else "") for n, s in zip(notes, stopped, strict=True)]
+    first = {n.split(" (")[0].split(": ")[0].split(";")[0] for n in notes}
+    return "; ".join(sorted(first - {""}))
 
 
 def plot_validity_map(ax, results: SweepResults, *, model: str = "continuum",
