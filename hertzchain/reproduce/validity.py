@@ -191,10 +191,11 @@ def figures(ctx: Context, table: _Table) -> list:
     from ..sweep_plot import validity_figure
 
     path = save_figure(ctx, validity_figure(table), "validity", dpi=90)
-    return [(path, "Model validity: error of the continuum and of the theory against the "
-             "discrete chain (in %) over (α_ρ, α_kn) at the smallest amplitude, and the "
-             "largest/median over the ratios against incident strain / δ0 (dotted: 1 % "
-             "and 10 %).")]
+    return [(path, "Model validity: error of the continuum (top) and of the theory "
+             "(bottom) against the discrete chain, in %, over (α_ρ, α_kn) at each "
+             "incident strain / δ0 (columns; the sonic vacuum last), and the largest / "
+             "median over the ratios against the amplitude (right; dotted: 1 % and "
+             "10 %).")]
 
 
 def report(rep, table: _Table, figs: list) -> None:
@@ -203,6 +204,16 @@ def report(rep, table: _Table, figs: list) -> None:
 
     rep.heading("Beyond the paper — where the continuum and the theory hold")
     summary = validity_summary(table)
+    if "quick" in table.attrs.get("name", ""):
+        q = QUICK
+        rep.paragraph(
+            "The coarse map of --quick: α_ρ = "
+            + ", ".join(f"{a:g}" for a in q["alpha_rho"]) + " and α_kn = "
+            + ", ".join(f"{a:g}" for a in q["alpha_kn"]) + " at incident strain / δ0 = "
+            + ", ".join("the sonic vacuum" if math.isinf(a) else f"{a:g}"
+                        for a in q["amplitudes"])
+            + "; --full runs the shipped map, 5 × 5 interfaces × 7 amplitudes from 1e-3 to "
+            "the sonic vacuum (hertzchain sweep model_validity).")
     rows = [[r["model"] + (f" ({r['equation'].replace('eq', 'Eq. ')})"
                            if r["equation"] else ""),
              "sonic vacuum" if math.isinf(r["strain_over_delta0"])
