@@ -26,8 +26,9 @@ What is measured, on every sampled model, with the discrete chain's definitions
   for the paper's wave, ~200 at strain/δ0 = 1e-3): from then on at most that fraction of
   the incident energy has still to cross.  Front speeds are straight-line fits of these
   positions over the samples whose front is ≥ :data:`FIT_FROM` grains from the
-  interface (transmitted and reflected: from the crossing to the comparison time; the
-  incident peak, searched left of the interface, stops there while the wave crosses).
+  interface (transmitted and reflected: from the crossing to the comparison time;
+  incident: until the theory's arrival time of its peak at the interface — later the
+  right-most pulse left of it is its tail and the forming reflected wave).
 * **Differences** to the discrete chain (the reference): E_T and E_R (kinetic,
   potential, total) at the comparison time; front positions, speeds, leading-pulse
   peaks (parabola-refined between grains) and arrival times at
@@ -458,12 +459,18 @@ def analyse(result: Run) -> Comparison:
     window = "" if ok.size else (
         f"a wave reached a chain end, where the continuum's end condition differs, at "
         f"t = {until * 1e3:.4g} ms, before any common sample")
+    # the incident wave's fit stops when its peak reaches the interface: after that the
+    # right-most pulse left of it is its tail and the forming reflected wave
+    est = result.estimates
+    hit = est.t_hit if est is not None and est.has_interface else math.inf
+    i_hit = int(np.searchsorted(ref.times, hit, side="right"))
     for m in sampled:
         part = _partition(chain, m, iface, incident)
         fr, pk, st = _fronts(chain, m, iface, ref_ek, i_cross)
-        w = slice(0, i_compare + 1)
+        before = slice(0, min(i_hit, i_compare + 1))
         after = slice(min(i_cross, i_compare + 1), i_compare + 1)  # crossed, comparable
-        speeds = {"incident": _fit_speed(m.times[w], fr["incident"][w], x_if, d, 1),
+        speeds = {"incident": _fit_speed(m.times[before], fr["incident"][before], x_if, d,
+                                         1),
                   "transmitted": _fit_speed(m.times[after], fr["transmitted"][after], x_if,
                                             d, 1),
                   "reflected": _fit_speed(m.times[after], fr["reflected"][after], x_if, d,
