@@ -339,6 +339,9 @@ class Comparison:
         The incident wave's :func:`incident_extent`, grains (0 for an impact).
     t_cross : float
         The crossing time, s (inf without an interface).
+    window : str
+        Why no sample can be compared at all ("" if some can): a wave reached a chain
+        end before the first common sample.
     """
 
     run: Run

@@ -128,8 +128,8 @@ class ModelRun:
     cached : bool
         Read from ``path`` rather than computed.
     own_energy : ndarray, shape (K, 4), or None
-        The continuum's own conserved energy (its functional, :meth:`continuum.BoussinesqPDE.
-        energy_density`: kinetic with the Rosenau term, potential with F0 × the overlap
+        The continuum's own conserved energy (its functional, the PDE's
+        ``energy_density``: kinetic with the Rosenau term, potential with F0 × the overlap
         change added, docs/physics.md §6) left and right of the first interface, J:
         columns kinetic left, kinetic right, potential left, potential right
         (:func:`_own_energy`).  None for the discrete chain and KdV.
@@ -727,9 +727,9 @@ def _write_continuum(path: Path, run_: ModelRun, scenario: Scenario) -> None:
         f.attrs["summary"] = canonical_json(summary)
         f.attrs["params"] = canonical_json(run_.params)
         f.attrs["scenario"] = canonical_json(scenario.to_dict())
-        g = f.create_group("samples")
         f.attrs["units"] = canonical_json({"t": "s", "v": "m/s", "strain": "m",
                                            "own_energy": "J"})
+        g = f.create_group("samples")
         arrays = [("t", run_.times), ("v", run_.v), ("strain", run_.strain)]
         if run_.own_energy is not None:
             arrays.append(("own_energy", run_.own_energy))
