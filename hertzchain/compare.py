@@ -19,10 +19,16 @@ What is measured, on every sampled model, with the discrete chain's definitions
   incident wave's peak: the incident wave (right-most pulse left of the interface,
   until the crossing), the transmitted wave (right-most pulse right of it) and the
   reflected wave (left-most pulse left of it, after the crossing).  The crossing time
-  is the theory's arrival time of the incident peak at the interface plus
-  :data:`CROSSING_GRAINS` grains at its speed.  Front speeds are straight-line fits of
-  these positions over the samples up to the comparison time whose front is
-  ≥ :data:`FIT_FROM` grains from the interface.
+  is the theory's arrival time of the incident peak at the interface plus, at its
+  speed, the larger of :data:`CROSSING_GRAINS` and the incident wave's extent behind
+  its peak (:func:`incident_extent`: the grains beyond which lies only
+  :data:`SEPARATION` of its energy, measured on the common initial state — ~20 grains
+  for the paper's wave, ~200 at strain/δ0 = 1e-3): from then on at most that fraction of
+  the incident energy has still to cross.  Front speeds are straight-line fits of these
+  positions over the samples whose front is ≥ :data:`FIT_FROM` grains from the
+  interface (transmitted and reflected: from the crossing to the comparison time;
+  incident: until the theory's arrival time of its peak at the interface — later the
+  right-most pulse left of it is its tail and the forming reflected wave).
 * **Differences** to the discrete chain (the reference): E_T and E_R (kinetic,
   potential, total) at the comparison time; front positions, speeds, leading-pulse
   peaks (parabola-refined between grains) and arrival times at
@@ -36,10 +42,21 @@ The comparison time is the last common sample at which no wave has reached a cha
 where the continuum's end condition differs from the discrete chain's
 (:attr:`hertzchain.models.ModelRun.valid_until`).
 
+Measurement windows (never a number from an invalid one)
+---------------------------------------------------------
+A model's energy difference counts only if the comparison time is at or after the
+crossing (before it the partition is not the scattering result yet: a wide wave still
+straddles the interface); its transmitted speed only if at least three samples of the
+front lie between the crossing and the comparison time; and nothing counts if no sample
+precedes a wave's arrival at a chain end.  Otherwise the error is NaN and
+:attr:`Comparison.notes` (summary keys ``<model>_note``) says why.
+
 Validity (:data:`THRESHOLDS`)
 -----------------------------
 A model's error is the largest of |ΔE_T| and |ΔE_R| (total energy, in units of the
-incident energy) and the relative error of the transmitted front speed.  Within
+incident energy) and the relative error of the transmitted front speed (NaN, with a
+note, unless every one of them was measured; without an interface: the incident front
+speed).  Within
 **1 %** it is quantitatively interchangeable with the discrete chain for these
 observables (the paper's own numbers differ from the linear theory by ~1e-3–1e-2,
 its Table 2 reports five digits); within **10 %** it gets the physics right (which
@@ -63,7 +80,8 @@ from .models import FRONT_THRESHOLD, ModelRun, Run, grain_energies, run
 from .scenario import Scenario, load_scenario
 
 __all__ = ["Comparison", "ModelSeries", "compare", "analyse", "compare_point", "THRESHOLDS",
-           "ARRIVAL_DISTANCE", "FIT_FROM", "FORMAT", "validity_word"]
+           "ARRIVAL_DISTANCE", "FIT_FROM", "CROSSING_GRAINS", "SEPARATION", "FORMAT",
+           "validity_word", "incident_extent"]
 
 FORMAT = "hertzchain.compare/1"
 THRESHOLDS = (0.01, 0.10)
@@ -87,14 +105,20 @@ def validity_word(error: float) -> str:
     return f"off by {100 * error:.0f} %"
 
 
-def _verdict_part(label: str, e: dict, interface: bool) -> str:
-    """The verdict's clause for one model with errors ``e`` (NaN: not measured)."""
+def _verdict_part(label: str, e: dict, interface: bool, note: str = "") -> str:
+    """The verdict's clause for one model with errors ``e`` (NaN: not measured).
+
+    ``note``: why the error is not measured (:attr:`Comparison.notes`).
+    """
     measures = ((("energy", "energy", "{:.1e}"), ("transmitted speed", "speed", "{:.1%}"))
                 if interface else (("front speed", "speed", "{:.1%}"),))
     got = [f"{what} {fmt.format(e[key])}" for what, key, fmt in measures
            if math.isfinite(e[key])]
     missing = [what for what, key, _ in measures if not math.isfinite(e[key])]
     if not math.isfinite(e["error"]):
+        if note:
+            return (f"{label} could not be compared with the discrete chain ({note}"
+                    + (f"; measured: {', '.join(got)}" if got else "") + ")")
         return (f"{label} could not be compared with the discrete chain (no "
                 f"{' and no '.join(missing)} difference: a wave front or an energy was "
                 "not found in one of the models)")
@@ -113,6 +137,9 @@ class ModelSeries:
     left/right): energy over the incident energy of that kind.  ``fronts`` has keys
     incident/transmitted/reflected (grain positions, NaN where none), ``peaks`` the
     leading pulses' peak velocities (m/s) and ``strains`` their peak dynamic strain.
+    ``own_energy``: the same partition of the continuum's own conserved energy
+    (:attr:`hertzchain.models.ModelRun.own_energy`; empty for the discrete chain), over
+    its own incident energies.
     """
 
     name: str
@@ -125,6 +152,26 @@ class ModelSeries:
     speeds: dict[str, float] = field(default_factory=dict)
     completed: bool = True
     stopped_by: str = ""
+    own_energy: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def ratios_at(self, i: float, *, own: bool = False) -> dict[str, float]:
+        """The paper's Table-2 ratios (``Ek_tr`` … ``Et_re``) at sample ``i``.
+
+        ``i`` may be fractional: linear interpolation between samples ⌊i⌋ and ⌊i⌋ + 1.
+        Transmitted: the right of the first interface; reflected: the left (``energy``,
+        or with ``own`` the model's own conserved energy, ``own_energy``).
+        """
+        energy = self.own_energy if own else self.energy
+        if not energy:
+            raise ValueError(f"{self.name}: no own energy (only a continuum has one)")
+        j = min(int(math.floor(i)), self.times.size - 1)
+        w = float(i) - j
+        out = {}
+        for key in _TABLE2:
+            kind = {"k": "kinetic", "p": "potential", "t": "total"}[key[1]]
+            e = energy[f"{kind}_{'right' if key.endswith('tr') else 'left'}"]
+            out[key] = float(e[j] if w == 0 else (1 - w) * e[j] + w * e[j + 1])
+        return out
 
 
 def _partition(chain, mrun: ModelRun, iface: int | None, incident: dict) -> dict:
@@ -142,6 +189,20 @@ def _partition(chain, mrun: ModelRun, iface: int | None, incident: dict) -> dict
         out[f"potential_{side}"] = p / incident["potential"] if incident["potential"] else \
             np.full(k.shape, np.nan)
         out[f"total_{side}"] = (k + p) / incident["total"]
+    return out
+
+
+def _own_partition(mrun: ModelRun) -> dict[str, np.ndarray]:
+    """:func:`_partition` of a continuum's own energy (over its own incident energies)."""
+    if mrun.own_energy is None or not len(mrun.own_energy):
+        return {}
+    e = np.asarray(mrun.own_energy)
+    k_in, p_in = e[0, 0], e[0, 2]  # everything left of the interface at t = 0
+    out = {}
+    for side, k, p in (("left", e[:, 0], e[:, 2]), ("right", e[:, 1], e[:, 3])):
+        out[f"kinetic_{side}"] = k / k_in
+        out[f"potential_{side}"] = p / p_in if p_in else np.full(k.shape, np.nan)
+        out[f"total_{side}"] = (k + p) / (k_in + p_in)
     return out
 
 
@@ -205,19 +266,47 @@ def _fit_speed(t, x, iface: float | None, d: float, sign: int) -> float:
 
 
 CROSSING_GRAINS = 5.0
-"""The incident wave has crossed the interface this many grains (at its speed) after its
-peak reached it (the half-width of the paper's precompressed wave; the compacton at
-δ0 = 0 is narrower)."""
+"""The incident wave has crossed the interface at least this many grains (at its speed)
+after its peak reached it (the half-width of the paper's precompressed wave; the
+compacton at δ0 = 0 is narrower); wider waves take their :func:`incident_extent`."""
+
+SEPARATION = 1e-4
+"""Energy fraction of the incident wave that may still be on its way across the
+interface at the crossing time (:func:`incident_extent`): 100 times below the 1 %
+validity threshold, so that a partition measured after the crossing is the scattering
+result to better than 1e-4 of the incident energy."""
 
 
-def _crossing(times: np.ndarray, result: Run) -> int:
-    """First sample after the incident wave has crossed the interface."""
+def incident_extent(chain, v: np.ndarray, strain: np.ndarray, x0: float,
+                    fraction: float = SEPARATION) -> float:
+    """Grains behind a right-going wave's peak ``x0`` holding all but ``fraction`` of its energy.
+
+    ``v`` (m/s, one per grain) and ``strain`` (m, δ − δ0 per contact) describe one state
+    of ``chain`` holding only that wave; the energy per grain is its kinetic energy plus
+    half the |potential energy| of each of its contacts (docs/physics.md §6).  The result
+    L is the smallest distance such that the grains more than L behind ``x0`` carry at
+    most ``fraction`` of the total: once the peak is L past the interface, at most that
+    fraction of the wave has still to cross.  For the KdV wave (strain ∝
+    sech²(x/W), W = √(2δ0/ξ_m) grains, whose linear potential energy F0 ξ dominates)
+    L ≈ (W/2) ln(1/fraction): ~21 grains at the paper's ξ_m/δ0 = 0.09, ~200 at 1e-3.
+    """
+    kin, pot = grain_energies(chain, v, strain)
+    e = np.abs(kin) + 0.5 * (np.abs(pot[:-1]) + np.abs(pot[1:]))
+    total = float(e.sum())
+    if not total > 0 or not math.isfinite(total):
+        return 0.0
+    first = int(np.flatnonzero(np.cumsum(e) > fraction * total)[0])
+    return max(0.0, float(x0) - first)
+
+
+def _crossing(times: np.ndarray, result: Run, extent: float) -> tuple[int, float]:
+    """First sample after the incident wave has crossed the interface, and that time (s)."""
     est = result.estimates
     if est is None or not est.has_interface:
-        return times.size
-    t = est.t_hit + CROSSING_GRAINS * est.left["d"] / est.speed_in
+        return times.size, math.inf
+    t = est.t_hit + max(CROSSING_GRAINS, extent) * est.left["d"] / est.speed_in
     after = np.flatnonzero(times > t)
-    return int(after[0]) if after.size else times.size
+    return (int(after[0]) if after.size else times.size), float(t)
 
 
 # -- the comparison ---------------------------------------------------------------------
@@ -242,7 +331,17 @@ class Comparison:
     differences : dict
         Per model (besides the discrete chain): quantity → (discrete, model, difference).
     errors : dict
-        Per model: ``energy``, ``speed``, ``error`` (the larger), ``profile_l2``.
+        Per model: ``energy``, ``speed``, ``error`` (the larger; NaN unless both were
+        measured), ``profile_l2``.
+    notes : dict
+        Per model whose error is NaN: why (a measurement window that does not hold).
+    extent : float
+        The incident wave's :func:`incident_extent`, grains (0 for an impact).
+    t_cross : float
+        The crossing time, s (inf without an interface).
+    window : str
+        Why no sample can be compared at all ("" if some can): a wave reached a chain
+        end before the first common sample.
     """
 
     run: Run
@@ -255,6 +354,10 @@ class Comparison:
     errors: dict[str, dict[str, float]] = field(default_factory=dict)
     profile_errors: dict[str, list[dict]] = field(default_factory=dict)
     arrival_distance: float = math.nan
+    notes: dict[str, str] = field(default_factory=dict)
+    extent: float = 0.0
+    t_cross: float = math.inf
+    window: str = ""
 
     # ------------------------------------------------------------------ numbers
     @property
@@ -285,7 +388,8 @@ class Comparison:
             e = self.errors[name]
             label = self.series[name].label if name in self.series else \
                 "the theory (Nesterenko speeds, Eqs. 9–13)"
-            parts.append(_verdict_part(label, e, self.run.interface is not None))
+            parts.append(_verdict_part(label, e, self.run.interface is not None,
+                                       self.notes.get(name, "")))
         if not parts:
             return "Only the discrete chain ran: nothing to compare."
         when = f"up to t = {self.t_compare * 1e3:.4g} ms"
@@ -299,11 +403,14 @@ class Comparison:
         for name, errs in self.errors.items():
             for key, val in errs.items():
                 out[f"{name}_{key}"] = val
+            out[f"{name}_note"] = self.notes.get(name, "")
         for name, diffs in self.differences.items():
             for key, (_, _, diff) in diffs.items():
                 if isinstance(diff, float | int):
                     out[f"{name}_d_{key}"] = float(diff)
         out["t_compare"] = self.t_compare
+        out["t_cross"] = self.t_cross
+        out["incident_extent"] = self.extent
         out["verdict"] = self.verdict()
         return out
 
@@ -314,7 +421,8 @@ class Comparison:
                 "display_times": [float(self.times[i]) for i in self.display],
                 "differences": {m: {k: list(v) for k, v in d.items()}
                                 for m, d in self.differences.items()},
-                "errors": self.errors, "profile_errors": self.profile_errors,
+                "errors": self.errors, "notes": self.notes,
+                "profile_errors": self.profile_errors,
                 "speeds": {m: s.speeds for m, s in self.series.items()},
                 "theory": self.run.theory.to_dict() if self.run.theory else None,
                 "verdict": self.verdict()}
@@ -341,24 +449,40 @@ def analyse(result: Run) -> Comparison:
     incident = _incident_energies(chain, ref, iface)
     m_left = float(chain.mass[max(0, (iface or chain.n) // 2)])
     ref_ek = 0.5 * m_left * result.incident.velocity ** 2
-    i_cross = _crossing(ref.times, result)
+    # a placed wave's extent, on the common initial state (an impact's forms later)
+    extent = incident_extent(chain, ref.v[0], ref.strain[0], result.incident.x0) \
+        if result.incident.measured_at == 0 and ref.times[0] == 0 else 0.0
+    i_cross, t_cross = _crossing(ref.times, result, extent)
     d = float(chain.diameter[0])
     x_if = None if iface is None else iface - 0.5
     # comparison time: the last sample before a wave reaches an end where models differ
     until = min((m.valid_until for m in sampled), default=math.inf)
     ok = np.flatnonzero(ref.times < until * (1 - 1e-12))
-    i_compare = int(ok[-1]) if ok.size else ref.times.size - 1
+    i_compare = int(ok[-1]) if ok.size else 0
+    window = "" if ok.size else (
+        f"a wave reached a chain end, where the continuum's end condition differs, at "
+        f"t = {until * 1e3:.4g} ms, before any common sample")
+    # the incident wave's fit stops when its peak reaches the interface: after that the
+    # right-most pulse left of it is its tail and the forming reflected wave
+    est = result.estimates
+    hit = est.t_hit if est is not None and est.has_interface else math.inf
+    i_hit = int(np.searchsorted(ref.times, hit, side="right"))
     for m in sampled:
         part = _partition(chain, m, iface, incident)
         fr, pk, st = _fronts(chain, m, iface, ref_ek, i_cross)
-        w = slice(0, i_compare + 1)
-        speeds = {"incident": _fit_speed(m.times[w], fr["incident"][w], None, d, 1),
-                  "transmitted": _fit_speed(m.times[w], fr["transmitted"][w], x_if, d, 1),
-                  "reflected": _fit_speed(m.times[w], fr["reflected"][w], x_if, d, -1)}
+        before = slice(0, min(i_hit, i_compare + 1))
+        after = slice(min(i_cross, i_compare + 1), i_compare + 1)  # crossed, comparable
+        speeds = {"incident": _fit_speed(m.times[before], fr["incident"][before], x_if, d,
+                                         1),
+                  "transmitted": _fit_speed(m.times[after], fr["transmitted"][after], x_if,
+                                            d, 1),
+                  "reflected": _fit_speed(m.times[after], fr["reflected"][after], x_if, d,
+                                          -1)}
         series[m.name] = ModelSeries(m.name, m.label, m.times, part, fr, pk, st, speeds,
-                                     m.completed, m.stopped_by)
+                                     m.completed, m.stopped_by, _own_partition(m))
     cmp = Comparison(result, series, incident, i_cross, i_compare,
-                     _display(result, ref.times, i_cross, i_compare))
+                     _display(result, ref.times, i_cross, i_compare), extent=extent,
+                     t_cross=t_cross, window=window)
     _differences(cmp)
     return cmp
 
@@ -419,11 +543,9 @@ def _differences(cmp: Comparison) -> None:
             continue
         m = result.continuum
         rows: dict[str, tuple] = {}
+        ours, theirs = disc.ratios_at(i), s.ratios_at(i)
         for key in _TABLE2:
-            kind = {"k": "kinetic", "p": "potential", "t": "total"}[key[1]]
-            side = "right" if key.endswith("tr") else "left"
-            a, b = disc.energy[f"{kind}_{side}"][i], s.energy[f"{kind}_{side}"][i]
-            rows[key] = (float(a), float(b), float(b - a))
+            rows[key] = (ours[key], theirs[key], theirs[key] - ours[key])
         for w in ("transmitted", "reflected"):
             a, b = disc.speeds[w], s.speeds[w]
             rows[f"speed_{w}"] = (a, b, (b - a) / a if a else math.nan)
@@ -453,20 +575,16 @@ def _differences(cmp: Comparison) -> None:
         speed_key = "speed_transmitted" if iface is not None else None
         speed = abs(rows[speed_key][2]) if speed_key else abs(
             (s.speeds["incident"] - disc.speeds["incident"]) / disc.speeds["incident"])
-        cmp.errors[name] = {"energy": energy, "speed": speed,
-                            "error": float(np.nanmax([energy, speed])),
-                            "profile_l2": prof[-1]["l2"]}
+        cmp.errors[name] = {**_error(cmp, name, energy, speed), "profile_l2": prof[-1]["l2"]}
     th = result.theory
     if th is not None:
         rows = {}
         i_t = cmp.i_compare
         if th.has_interface:
+            ours = disc.ratios_at(i_t)
             for key in _TABLE2:
-                kind = {"k": "kinetic", "p": "potential", "t": "total"}[key[1]]
-                side = "right" if key.endswith("tr") else "left"
-                a = float(disc.energy[f"{kind}_{side}"][i_t])
                 b = float(th.ratios[key])
-                rows[key] = (a, b, b - a)
+                rows[key] = (ours[key], b, b - ours[key])
             for w, sp in (("transmitted", th.speed_tr), ("reflected", th.speed_re)):
                 a = disc.speeds[w]
                 rows[f"speed_{w}"] = (a, sp, (sp - a) / a if a else math.nan)
@@ -490,10 +608,48 @@ def _differences(cmp: Comparison) -> None:
                                       else math.nan)
             energy, speed = math.nan, abs(rows["speed_incident"][2])
         cmp.differences["theory"] = rows
-        cmp.errors["theory"] = {"energy": energy, "speed": speed,
-                                "error": float(np.nanmax([energy, speed]))
-                                if math.isfinite(energy) or math.isfinite(speed)
-                                else math.nan}
+        cmp.errors["theory"] = _error(cmp, "theory", energy, speed)
+
+
+def _error(cmp: Comparison, name: str, energy: float, speed: float) -> dict[str, float]:
+    """``energy``, ``speed`` and ``error`` of one model, NaN where a window does not hold.
+
+    The reason goes to ``cmp.notes[name]`` (module docstring, "Measurement windows").
+    """
+    result, disc = cmp.run, cmp.series["discrete"]
+    why = []
+    if cmp.window:
+        why.append(cmp.window)
+        energy = speed = math.nan
+    elif result.interface is not None:
+        if cmp.i_compare < cmp.i_cross:
+            t_c = cmp.t_compare * 1e3
+            why.append(
+                f"the incident wave had not crossed the interface by the comparison time "
+                f"t = {t_c:.4g} ms (all but {SEPARATION:g} of its energy past it at "
+                f"t = {cmp.t_cross * 1e3:.4g} ms, {max(CROSSING_GRAINS, cmp.extent):.0f} "
+                "grains after its peak): the energy partition is not the scattering "
+                "result yet")
+            energy = math.nan
+        if not math.isfinite(speed):
+            fitted = [n for n, m in (("discrete chain", disc.speeds["transmitted"]),
+                                     (name, cmp.series[name].speeds["transmitted"]
+                                      if name in cmp.series else 0.0))
+                      if not math.isfinite(m)]
+            why.append("no transmitted front speed: "
+                       + (f"fewer than 3 samples of the {' and the '.join(fitted)}'s front "
+                          f">= {FIT_FROM} grains past the interface between the crossing "
+                          "and the comparison time" if fitted else
+                          "the theory predicts none for this amplitude"))
+    elif not math.isfinite(speed):
+        why.append("no incident front speed (fewer than 3 samples of the front)")
+    if why:
+        cmp.notes[name] = "; ".join(why)
+    if why:
+        error = math.nan
+    else:
+        error = max(energy, speed) if result.interface is not None else speed
+    return {"energy": energy, "speed": speed, "error": float(error)}
 
 
 def compare(scenario: Scenario | str | Path, *, cache: str | Path | None = None,

@@ -4,9 +4,9 @@ r"""The one run path: every model of a scenario, from the same initial grain sta
 :func:`hertzchain.compare.compare_point` as the point function) and every simulation of
 ``hertzchain reproduce`` call (:func:`hertzchain.reproduce.common.run_models`: Figs. 2–6
 from the paper scenarios in ``hertzchain/scenarios/paper/``, Fig. 7, Table 2 and Fig. 8
-from scenario dicts, the validity map from the shipped sweep's points; Table 2's
-continuum column is still the continuum package's own sech² run,
-:func:`continuum.energy_ratios`).  For a :class:`~hertzchain.scenario.Scenario` it
+from scenario dicts — Table 2's continuum column a continuum-only run of the same
+scenario —, the validity map from the shipped sweep's points).  For a
+:class:`~hertzchain.scenario.Scenario` it
 
 1. builds the chain and the initial grain state once (:func:`hertzchain.runner.build_chain`,
    :func:`~hertzchain.runner.build_initial_checked`);
@@ -28,7 +28,9 @@ theory's estimate of that time / (samples − 1) (the samples after the stop are
 taken).  The discrete run stores a snapshot at each (taken at the first step at or
 after it: within one discrete step, ~5e-8 s); the continuum is stepped with a time step
 that divides the spacing, so its samples fall on the same times, and it is then stepped
-on to the discrete run's exact end time.  Both are read grain by grain: the velocity
+on to the discrete run's exact end time (without the discrete chain, ``[models] discrete
+= false``, a run with ``until_front_at`` ends at the theory's estimate of that event,
+or at ``t_end`` if earlier).  Both are read grain by grain: the velocity
 v_i (m/s) and the dynamic overlap δ_j − δ0_j (m) of every contact, from which every
 energy is computed with the discrete formulas (docs/physics.md §6).
 
@@ -74,7 +76,7 @@ __all__ = ["ModelRun", "IncidentWave", "TheoryModel", "Run", "run", "sample_grid
            "incident_wave", "strain_from_velocity", "grain_energies", "FRONT_THRESHOLD",
            "END_FRACTION", "FORMAT"]
 
-FORMAT = "hertzchain.continuum-samples/1"
+FORMAT = "hertzchain.continuum-samples/2"
 """``format`` attribute of a continuum result file."""
 
 FRONT_THRESHOLD = 0.05
@@ -125,6 +127,12 @@ class ModelRun:
         Its HDF5 file.
     cached : bool
         Read from ``path`` rather than computed.
+    own_energy : ndarray, shape (K, 4), or None
+        The continuum's own conserved energy (its functional, the PDE's
+        ``energy_density``: kinetic with the Rosenau term, potential with F0 × the overlap
+        change added, docs/physics.md §6) left and right of the first interface, J:
+        columns kinetic left, kinetic right, potential left, potential right
+        (:func:`_own_energy`).  None for the discrete chain and KdV.
     """
 
     name: str
@@ -140,6 +148,7 @@ class ModelRun:
     params: dict = field(default_factory=dict)
     path: Path | None = None
     cached: bool = False
+    own_energy: np.ndarray | None = None
 
     @property
     def final_v(self) -> np.ndarray:
@@ -153,14 +162,24 @@ class IncidentWave:
 
     ``x0`` is the grain position of its peak at t = 0 (grains; 0 for an impact),
     ``velocity`` its peak grain velocity (m/s), ``strain`` its peak dynamic overlap
-    (r − δ0)/d and ``measured_at`` the time it was measured (0: the initial state; an
-    impact's wave is measured on the discrete run once formed).
+    (r − δ0)/d as the theory takes it (the solitary wave's of that peak velocity,
+    :func:`strain_from_velocity`) and ``measured_at`` the time it was measured (0: the
+    initial state; an impact's wave is measured on the discrete run once formed).
+    ``peak_strain`` is the wave's own peak dynamic strain where the initial state knows
+    it (an exact wave: ~8 % below ``strain`` at δ0 = 0 and ~7 % at strain/δ0 = 9, 1e-4
+    at the paper's amplitude), NaN otherwise; :attr:`amplitude` is the better of the two.
     """
 
     x0: float
     velocity: float
     strain: float
     measured_at: float = 0.0
+    peak_strain: float = math.nan
+
+    @property
+    def amplitude(self) -> float:
+        """The incident peak dynamic strain (r − δ0)/d: ``peak_strain``, else ``strain``."""
+        return self.peak_strain if math.isfinite(self.peak_strain) else self.strain
 
 
 def grain_energies(chain: discrete.Chain, v: np.ndarray, strain: np.ndarray
@@ -444,7 +463,8 @@ def incident_wave(chain: discrete.Chain, init, kind: str, left: dict) -> Inciden
     x0 = float(p.position) if p is not None else float(np.argmax(kin))
     vel = float(params["velocity_max"] if kind == "exact_wave" else
                 params.get("v_peak", np.max(np.abs(v))))
-    return IncidentWave(x0, vel, strain_from_velocity(left, vel))
+    peak = float(params["amplitude"]) / left["d"] if kind == "exact_wave" else math.nan
+    return IncidentWave(x0, vel, strain_from_velocity(left, vel), peak_strain=peak)
 
 
 def _theory(chain: discrete.Chain, init, incident: IncidentWave, ifaces: list[int],
@@ -646,7 +666,11 @@ def _ends(scenario: Scenario, init) -> str:
 
 def _valid_until(chain: discrete.Chain, run_: ModelRun, ends: str, walls: tuple[str, str]
                  ) -> float:
-    """First sample time at which a wave arrives at an end where the models differ."""
+    """First sample time at which a wave arrives at an end where the models differ.
+
+    An end that is not quiet at the first sample (a wave placed against it) gives that
+    first sample's time: the models differ there from the start.
+    """
     if ends == "wall" and "free" not in walls:
         return math.inf
     kin, pot = grain_energies(chain, run_.v, run_.strain)
@@ -656,6 +680,9 @@ def _valid_until(chain: discrete.Chain, run_: ModelRun, ends: str, walls: tuple[
     for sl in (slice(0, END_GRAINS), slice(-END_GRAINS, None)):
         frac = e[:, sl].sum(axis=1) / np.where(total > 0, total, 1.0)
         quiet = frac < END_FRACTION
+        if quiet.size and not quiet[0]:
+            out = min(out, float(run_.times[0]))
+            continue
         was_quiet = np.maximum.accumulate(quiet)
         arrived = np.flatnonzero(was_quiet & ~quiet)
         if arrived.size:
@@ -683,7 +710,8 @@ def _read_continuum(path: Path) -> ModelRun:
                         stopped_by=str(f.attrs["stopped_by"]),
                         summary={**json.loads(f.attrs["summary"]),
                                  "wall_time": float(f.attrs["wall_time"])},
-                        params=json.loads(f.attrs["params"]), path=path, cached=True)
+                        params=json.loads(f.attrs["params"]), path=path, cached=True,
+                        own_energy=g["own_energy"][()] if "own_energy" in g else None)
     return run_
 
 
@@ -699,9 +727,13 @@ def _write_continuum(path: Path, run_: ModelRun, scenario: Scenario) -> None:
         f.attrs["summary"] = canonical_json(summary)
         f.attrs["params"] = canonical_json(run_.params)
         f.attrs["scenario"] = canonical_json(scenario.to_dict())
-        f.attrs["units"] = canonical_json({"t": "s", "v": "m/s", "strain": "m"})
+        f.attrs["units"] = canonical_json({"t": "s", "v": "m/s", "strain": "m",
+                                           "own_energy": "J"})
         g = f.create_group("samples")
-        for name, data in (("t", run_.times), ("v", run_.v), ("strain", run_.strain)):
+        arrays = [("t", run_.times), ("v", run_.v), ("strain", run_.strain)]
+        if run_.own_energy is not None:
+            arrays.append(("own_energy", run_.own_energy))
+        for name, data in arrays:
             g.create_dataset(name, data=data, compression="gzip" if data.size > 64 else None,
                              fletcher32=data.size > 64)
 
@@ -743,32 +775,33 @@ def _kdv_run(med, models, init, chain, times, t_final, d):
         st[1:-1] = 0.5 * (data[centres[:-1]] + data[centres[1:]])
         return v, st
 
-    return _stepped(pde, s0, times, t_final, sample, pde.stable_dt(s0), rk=True)
+    ts, (vs, ss), info = _stepped(pde, s0, times, t_final, sample, pde.stable_dt(s0),
+                                  rk=True)
+    return ts, vs, ss, None, info
 
 
 def _stepped(pde, state, times, t_final, sample, dt_max, *, order=4, rk=False):
-    """Run to the sample times (exactly, dt dividing their spacing) and on to t_final."""
+    """Run to the sample times (exactly, dt dividing their spacing) and on to t_final.
+
+    ``sample(state)`` returns a tuple of arrays; returns (times, [each stacked], info).
+    """
     from pde.trackers import CallbackTracker
 
     import continuum
 
-    ts, vs, ss = [], [], []
+    ts, out = [], []
     inner = times[(times > 0) & (times <= t_final * (1 + 1e-12))]
     spacing = float(times[1] - times[0]) if times.size > 1 else t_final
     t_last = float(inner[-1]) if inner.size else 0.0
     m = max(1, math.ceil(spacing / dt_max))
     dt = spacing / m
-    v0, s0 = sample(state)
     ts.append(0.0)
-    vs.append(v0)
-    ss.append(s0)
+    out.append(sample(state))
 
     def track(s, t):
         if t > 0.5 * dt:
-            v, st = sample(s)
             ts.append(float(times[len(ts)]) if len(ts) < times.size else float(t))
-            vs.append(v)
-            ss.append(st)
+            out.append(sample(s))
 
     info: dict[str, Any] = {"dt": dt, "steps": 0}
     drift = math.nan
@@ -794,12 +827,38 @@ def _stepped(pde, state, times, t_final, sample, dt_max, *, order=4, rk=False):
             state = res["state"]
             drift = max(drift, res.energy_drift) if math.isfinite(drift) else res.energy_drift
         info["steps"] += m2
-        v, st = sample(state)
         ts.append(float(t_final))
-        vs.append(v)
-        ss.append(st)
+        out.append(sample(state))
     info["energy_drift"] = drift
-    return np.array(ts), np.array(vs), np.array(ss), info
+    return np.array(ts), [np.array(c) for c in zip(*out, strict=True)], info
+
+
+def _own_energy(pde, state, grains, iface: int | None) -> np.ndarray:
+    """The continuum's functional energy left and right of the interface contact, J.
+
+    [kinetic left, kinetic right, potential left, potential right]: the equation's own
+    densities (:meth:`energy_density`: kinetic per node with the Rosenau term u_Xt²,
+    dynamic potential per face), nodes and faces left of the interface contact (x =
+    iface − ½, in grains) on the left, a face on it half to each side; the potential
+    gets the linear part F0 × the overlap change back (Table 2's definition,
+    docs/physics.md §6), summed from the grain samples ``grains``
+    (:func:`continuum.sample_grains`: it telescopes to the displacements at the section
+    ends, as the functional's does).  Once the waves have left the interface the two
+    potentials agree to the grid's round-off; the kinetic energies differ from the
+    grain-sampled ones by the long-wave error O(d²/L²) (0.7 % for Table 2's point P).
+    """
+    ek, ep = pde.energy_density(state)
+    disc = pde.disc
+    lin = grains.force0 * grains.strain
+    if iface is None:
+        return np.array([float(ek.sum()), 0.0, float(ep.sum() + lin.sum()), 0.0])
+    x_i = iface - 0.5
+    wn = (disc.x_nodes < x_i).astype(float)
+    wf = np.where(np.isclose(disc.x_faces, x_i), 0.5, (disc.x_faces < x_i).astype(float))
+    lin_left = float(lin[:iface].sum() + 0.5 * lin[iface])
+    lin_right = float(lin[iface + 1:].sum() + 0.5 * lin[iface])
+    return np.array([float(ek @ wn), float(ek @ (1 - wn)), float(ep @ wf) + lin_left,
+                     float(ep @ (1 - wf)) + lin_right])
 
 
 def _dt_max(pde, state, strain_ref: float) -> float:
@@ -823,7 +882,7 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
     models = scenario.models
     d0 = float(scenario.chain.delta0_over_d)
     # "auto": Eq. 4 or Eq. 7 by the incident strain amplitude / δ0 (AUTO_EQ4_MAX_STRAIN)
-    amp = incident.strain / d0 if d0 > 0 and math.isfinite(incident.strain) else None
+    amp = incident.amplitude / d0 if d0 > 0 and math.isfinite(incident.amplitude) else None
     model = models.continuum_model(d0, amp)
     label = continuum_label(model, models)
     times = np.asarray(times)
@@ -850,31 +909,33 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
     try:
         with np.errstate(over="raise", invalid="raise", divide="ignore"):
             if model == "kdv":
-                ts, vs, ss, info = _kdv_run(med, models, init, chain, times, t_final, d)
+                ts, vs, ss, own, info = _kdv_run(med, models, init, chain, times, t_final, d)
             else:
                 pde = _pde(model, med, models, ends, incident, d)
                 state = continuum.from_grains(pde, init.u, init.v)
+                iface = interfaces(chain)
 
                 def sample(s):
                     g = continuum.sample_grains(pde, s)
-                    return g.v, g.strain
+                    return g.v, g.strain, _own_energy(pde, s, g, iface[0] if iface else None)
 
-                ts, vs, ss, info = _stepped(pde, state, times, t_final, sample,
-                                            _dt_max(pde, state, strain_ref),
-                                            order=models.order)
+                ts, (vs, ss, own), info = _stepped(pde, state, times, t_final, sample,
+                                                   _dt_max(pde, state, strain_ref),
+                                                   order=models.order)
         if not (np.all(np.isfinite(vs)) and np.all(np.isfinite(ss))):
             raise FloatingPointError("the continuum solution is not finite (unstable)")
         completed, stopped = True, "t_end"
         summary.update(dt=info["dt"], steps=info["steps"], energy_drift=info["energy_drift"])
     except (FloatingPointError, ValueError, ArithmeticError,
             continuum.InstabilityError) as exc:
-        ts, vs = np.zeros(0), np.zeros((0, chain.n))
+        ts, vs, own = np.zeros(0), np.zeros((0, chain.n)), None
         ss = np.zeros((0, chain.n + 1))
         completed, stopped = False, f"error: {type(exc).__name__}: {exc}"
         summary.update(error=stopped)
     summary["wall_time"] = time.perf_counter() - start
     run_ = ModelRun("continuum", label, ts, vs, ss, float(t_final), completed=completed,
-                    stopped_by=stopped, summary=summary, params=params, path=path)
+                    stopped_by=stopped, summary=summary, params=params, path=path,
+                    own_energy=own)
     if path is not None and completed:
         _write_continuum(path, run_, scenario)
     return run_
@@ -942,7 +1003,7 @@ class Run:
         # the incident wave's peak dynamic strain ξ_m/d and, under precompression, ξ_m/δ0
         # (the amplitude axis of the model-validity map; inf in the sonic vacuum)
         d0 = float(self.scenario.chain.delta0_over_d)
-        strain = float(self.incident.strain) if self.incident is not None else math.nan
+        strain = float(self.incident.amplitude) if self.incident is not None else math.nan
         out["incident_strain"] = strain
         out["incident_strain_over_delta0"] = strain / d0 if d0 > 0 else math.inf
         if self.continuum is not None:
@@ -1079,8 +1140,12 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
             if measured is not None:
                 tm.incident = measured
                 result.incident = measured
-    else:
-        t_final = float(times[-1]) if scenario.run.t_end is None else scenario.run.t_end
+    else:  # no discrete run to detect until_front_at: the theory's estimate of it
+        t_final = math.inf if scenario.run.t_end is None else scenario.run.t_end
+        if scenario.run.until_front_at is not None:
+            t_final = min(t_final, estimate_arrival(tm, chain, scenario.run.until_front_at))
+        if not math.isfinite(t_final):
+            t_final = float(times[-1])
     result.estimates = tm
     if models.theory:
         result.theory = tm

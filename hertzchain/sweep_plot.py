@@ -382,8 +382,9 @@ VALIDITY_MODELS = ("continuum", "theory")
 """Models whose error against the discrete chain a sweep can record (columns
 ``<model>_error`` of :func:`hertzchain.compare.compare_point`)."""
 _VALIDITY_CLASSES = (("within 1 %", "#009E73"), ("within 10 %", "#F0E442"),
-                     ("beyond 10 %", "#D55E00"), ("not compared (failed / did not run)",
-                                                  "#8C8C8C"))
+                     ("beyond 10 %", "#D55E00"),
+                     ("not compared (did not run or complete, or a window did not hold)",
+                      "#8C8C8C"))
 
 
 def _thresholds() -> tuple[float, float]:
@@ -421,7 +422,11 @@ def validity_summary(results: SweepResults) -> list[dict]:
     Rows are grouped by the incident strain / δ0 (column ``incident_strain_over_delta0``,
     rounded to two significant digits; inf = sonic vacuum).  Each entry has ``model``,
     ``strain_over_delta0``, ``n`` (points), ``within_1``, ``within_10``, ``beyond_10``,
-    ``not_compared`` and ``max_error`` (over the compared points).
+    ``not_compared``, ``max_error`` (over the compared points), ``equation`` (the
+    continuum equations that ran, column ``continuum_model``: e.g. "eq4"; "" for the
+    theory) and ``reasons`` (why points were not compared: the distinct first clauses of
+    ``<model>_note``, or of ``continuum_stopped_by`` for a continuum that did not
+    complete).
     """
     amp = _amplitude(results)
     key = np.array([float(f"{a:.2g}") if np.isfinite(a) else a for a in amp])
@@ -441,8 +446,30 @@ def validity_summary(results: SweepResults) -> list[dict]:
                         "beyond_10": int((codes[sel] == 2).sum()),
                         "not_compared": int((codes[sel] == 3).sum()),
                         "max_error": float(np.nanmax(e)) if np.isfinite(e).any()
-                        else math.nan})
+                        else math.nan,
+                        "equation": "/".join(sorted(set(_text(results, "continuum_model",
+                                                              sel)) - {""}))
+                        if model == "continuum" else "",
+                        "reasons": _reasons(results, model, sel & (codes == 3))})
     return out
+
+
+def _text(results: SweepResults, name: str, sel: np.ndarray) -> list[str]:
+    """The string column ``name`` at the selected rows ("" for a missing column)."""
+    if name not in results:
+        return [""] * int(sel.sum())
+    return [str(x) for x in np.asarray(results[name])[sel]]
+
+
+def _reasons(results: SweepResults, model: str, sel: np.ndarray) -> str:
+    """Distinct first clauses of why the selected rows of ``model`` were not compared."""
+    notes = _text(results, f"{model}_note", sel)
+    if model == "continuum":
+        stopped = _text(results, "continuum_stopped_by", sel)
+        notes = [n or (f"did not complete ({s})" if s and s not in ("t_end", "until_front_at")
+                       else "") for n, s in zip(notes, stopped, strict=True)]
+    first = {n.split(" (")[0].split(": ")[0].split(";")[0] for n in notes}
+    return "; ".join(sorted(first - {""}))
 
 
 def plot_validity_map(ax, results: SweepResults, *, model: str = "continuum",
@@ -547,14 +574,39 @@ def plot_validity_amplitude(ax, results: SweepResults) -> bool:
 
 
 def validity_figure(results: SweepResults) -> Figure:
-    """The validity map: each model over (α_ρ, α_kn), and the error against amplitude.
+    """The validity map: each model over (α_ρ, α_kn) per amplitude; error vs amplitude.
 
-    :func:`plot_validity_map` at the smallest amplitude, :func:`plot_validity_amplitude`.
+    One row per model (continuum, theory) of :func:`plot_validity_map` panels, one
+    column per incident strain / δ0 in the table (the sonic vacuum last), and
+    :func:`plot_validity_amplitude` on the right.
     """
-    fig = Figure(figsize=(13.0, 4.4), layout="constrained")
-    axes = fig.subplots(1, 3)
-    plot_validity_map(axes[0], results, model="continuum", legend=False)
-    plot_validity_map(axes[1], results, model="theory")
-    plot_validity_amplitude(axes[2], results)
-    fig.suptitle(_title(results), fontsize="small")
+    amp = _amplitude(results)
+    levels = [float(a) for a in np.unique(amp[~np.isnan(amp)])] or [math.nan]
+    n = len(levels)
+    fig = Figure(figsize=(2.3 * n + 5.0, 5.2), layout="constrained")
+    grid = fig.add_gridspec(2, n + 1, width_ratios=[1.0] * n + [2.2])
+    for row, model in enumerate(VALIDITY_MODELS):
+        for col, level in enumerate(levels):
+            ax = fig.add_subplot(grid[row, col])
+            drawn = plot_validity_map(ax, results, model=model,
+                                      amplitude=None if math.isnan(level) else level,
+                                      legend=False)
+            if not drawn:
+                continue
+            where = "sonic vacuum" if math.isinf(level) else rf"$\xi_m/\delta_0$ = {level:.2g}"
+            ax.set_title(f"{model}, {where}", fontsize="x-small")
+            ax.tick_params(labelsize="xx-small")
+            ax.xaxis.label.set_size("x-small")
+            ax.yaxis.label.set_size("x-small")
+            if col:
+                ax.set_ylabel("")
+            if row == 0:
+                ax.set_xlabel("")
+    side = fig.add_subplot(grid[:, n])
+    plot_validity_amplitude(side, results)
+    side.legend(handles=side.get_legend_handles_labels()[0]
+                + [Patch(facecolor=c, edgecolor="k", label=lbl)
+                   for lbl, c in _VALIDITY_CLASSES], fontsize="xx-small")
+    fig.suptitle(_title(results) + " — error against the discrete chain, in % (1 % and "
+                 "10 % thresholds)", fontsize="small")
     return fig

@@ -29,6 +29,11 @@ A sweep file is TOML with a ``[base]`` scenario (the schema of
     integer = false                        # round the values to integers (e.g. for
                                            # chain.sections.0.n)
 
+    [[sweep.axes]]                         # product mode: a linked axis moves with an
+    path = "initial.strain_max"            # earlier one (value i with its value i): one
+    with = "delta0"                        # dimension of the product sets several keys
+    values = [1e-6, 9e-4, 1e-3]            # (same number of values; its own column)
+
 Every point of the sweep is a scenario: the base with the axis values substituted at
 their paths, validated by :func:`~hertzchain.scenario.parse_scenario` before anything
 runs.  A point's id is :func:`~hertzchain.cache.param_hash` of its validated scenario,
@@ -90,11 +95,15 @@ class Axis:
         Column name in the results table.
     values : tuple
         The values, in order (numbers, strings or booleans).
+    follows : str
+        Product mode: the name of an earlier axis this one is linked to (its value i goes
+        with that axis's value i, so it adds no dimension); "" for an independent axis.
     """
 
     path: str
     name: str
     values: tuple
+    follows: str = ""
 
 
 @dataclass(frozen=True)
@@ -128,10 +137,10 @@ class SweepSpec:
 
     @property
     def shape(self) -> tuple[int, ...]:
-        """Number of values per axis (product mode) or ``(n_points,)`` (zip mode)."""
+        """Number of values per independent axis (product mode) or ``(n_points,)`` (zip)."""
         if self.mode == "zip":
             return (len(self.axes[0].values),)
-        return tuple(len(a.values) for a in self.axes)
+        return tuple(len(a.values) for a in self.axes if not a.follows)
 
     @property
     def n_points(self) -> int:
@@ -146,7 +155,7 @@ class SweepSpec:
             "mode": self.mode,
             "base": self.base,
             "axes": [{"path": a.path, "name": a.name, "values": list(a.values)}
-                     for a in self.axes],
+                     | ({"with": a.follows} if a.follows else {}) for a in self.axes],
         }
 
     def to_json(self) -> str:
@@ -171,11 +180,16 @@ class SweepSpec:
         """
         if self._points:
             return self._points
+        lead = [a for a in self.axes if not a.follows]
         combos = (zip(*(a.values for a in self.axes), strict=True) if self.mode == "zip"
-                  else _product([a.values for a in self.axes]))
+                  else _product([tuple(range(len(a.values))) for a in lead]))
         points, bad, seen = [], [], {}
         for i, combo in enumerate(combos):
-            values = {a.name: v for a, v in zip(self.axes, combo, strict=True)}
+            if self.mode == "zip":
+                values = {a.name: v for a, v in zip(self.axes, combo, strict=True)}
+            else:  # value indices of the independent axes; a linked one takes its leader's
+                at = {a.name: j for a, j in zip(lead, combo, strict=True)}
+                values = {a.name: a.values[at[a.follows or a.name]] for a in self.axes}
             try:
                 scenario = parse_scenario(self.point_table(values))
             except ScenarioError as exc:
@@ -255,7 +269,7 @@ def set_path(table: dict, path: str, value: Any) -> None:
 # -- parsing ----------------------------------------------------------------------
 _TOP_KEYS = {"name", "description", "base", "sweep"}
 _SWEEP_KEYS = {"mode", "axes"}
-_AXIS_KEYS = {"path", "name", "values", "linspace", "logspace", "integer"}
+_AXIS_KEYS = {"path", "name", "values", "linspace", "logspace", "integer", "with"}
 
 
 def _check_keys(table: dict, allowed: set[str], where: str) -> None:
@@ -331,7 +345,10 @@ def _parse_axis(raw: Any, i: int) -> Axis:
     if name in RESERVED_COLUMNS:
         raise SweepError(f"[{where}] name {name!r} is a reserved column of the results "
                          f"table; reserved: {sorted(RESERVED_COLUMNS)}")
-    return Axis(path=path, name=name, values=tuple(values))
+    follows = raw.get("with", "")
+    if not isinstance(follows, str) or "with" in raw and not follows:
+        raise SweepError(f"[{where}] with must name an earlier axis, got {follows!r}")
+    return Axis(path=path, name=name, values=tuple(values), follows=follows)
 
 
 def parse_sweep_spec(data: dict, *, default_name: str = "sweep",
@@ -385,8 +402,8 @@ def parse_sweep_spec(data: dict, *, default_name: str = "sweep",
         raise SweepError("[sweep] axes is required: one or more [[sweep.axes]] tables")
     axes = tuple(_parse_axis(a, i) for i, a in enumerate(raw_axes))
     _check_axes(axes, mode)
-    total = math.prod(len(a.values) for a in axes) if mode == "product" else \
-        len(axes[0].values)
+    total = math.prod(len(a.values) for a in axes if not a.follows) \
+        if mode == "product" else len(axes[0].values)
     if total > MAX_POINTS:  # before any point (or its scenario) is built
         raise SweepError(f"[sweep.axes] the sweep has {total} points "
                          f"({' x '.join(str(len(a.values)) for a in axes)}, {mode}); "
@@ -409,8 +426,27 @@ def _check_axes(axes: tuple[Axis, ...], mode: str) -> None:
                 raise SweepError(f"[sweep.axes] paths {p!r} and {q!r} overlap")
     if len(set(names)) != len(names):
         raise SweepError(f"[sweep.axes] column names must be unique, got {names}")
+    for i, axis in enumerate(axes):
+        if not axis.follows:
+            continue
+        where = f"[sweep.axes[{i}]] ({axis.path}) with = {axis.follows!r}"
+        if mode == "zip":
+            raise SweepError(f"{where}: in mode = 'zip' every axis already goes with the "
+                             "others; remove 'with'")
+        lead = {a.name: a for a in axes[:i] if not a.follows}
+        if axis.follows not in lead:
+            raise SweepError(f"{where} must name an earlier axis that is not itself "
+                             f"linked; allowed: {sorted(lead)}")
+        if len(axis.values) != len(lead[axis.follows].values):
+            raise SweepError(f"{where}: {len(axis.values)} values, but that axis has "
+                             f"{len(lead[axis.follows].values)}; give one per value")
     for axis in axes if mode == "product" else ():
-        reprs = [canonical_json(v) for v in axis.values]
+        if axis.follows:
+            continue
+        # one dimension: the axis with its linked axes (each may repeat a value)
+        linked = [a for a in axes if a is axis or a.follows == axis.name]
+        reprs = [canonical_json([a.values[j] for a in linked] if len(linked) > 1
+                                else axis.values[j]) for j in range(len(axis.values))]
         if len(set(reprs)) != len(reprs):
             dup = sorted({r for r in reprs if reprs.count(r) > 1})
             raise SweepError(f"[sweep.axes] ({axis.path}) duplicate values {dup} "

@@ -1,16 +1,17 @@
 """The shipped model-validity sweep (issue 12), reduced: every model at each point.
 
-The full map (``hertzchain/sweeps/model_validity.toml``, 5 x 5 interface ratios x 4
-amplitudes) takes several minutes; here its first points at two amplitudes and two
-interfaces run through the sweep engine — with :func:`hertzchain.compare.compare_point`
-by default, as ``[base.models]`` asks for every model — and the table, the summary
-numbers and the figure are checked.
+The full map (``hertzchain/sweeps/model_validity.toml``, 5 x 5 interface ratios x 7
+amplitudes, incident strain / δ0 = 1e-3 … 100 and the sonic vacuum) takes about an hour
+on one loaded core; here two interfaces at two of its amplitudes run through the sweep
+engine — with :func:`hertzchain.compare.compare_point` by default, as ``[base.models]``
+asks for every model — and the table, the summary numbers and the figure are checked,
+as are the amplitude rows against the rule that sizes them.
 
 Expected (and measured when the test was written): under precompression at the paper's
-amplitude (strain/δ0 ≈ 0.09) the corrected Eq. 4 is within 1 % of the discrete chain
-(energy differences ~2e-4 of the incident energy, speeds ~1e-4) and the linear theory
-within 1 % too (~3e-3); in the sonic vacuum both are only within 10 % (Eq. 7: ~2.5e-2 of
-the energy; the theory's linear-acoustic energies ~3e-2).
+amplitude (strain/δ0 = 0.09) the corrected Eq. 4 is within 1 % of the discrete chain
+(energy differences ~3e-4 of the incident energy, speeds ~1e-4) and the linear theory
+within 1 % too (~3e-3); in the sonic vacuum both are only within 10 % (Eq. 7: ~3e-2 of
+the energy; the theory's linear-acoustic energies ~2e-2–6e-2).
 """
 
 import dataclasses
@@ -21,6 +22,7 @@ import numpy as np
 import pytest
 
 from hertzchain.compare import THRESHOLDS
+from hertzchain.reproduce.validity import AMPLITUDES, amplitude_row
 from hertzchain.sweep.engine import (
     DEFAULT_POINT_FUNCTION,
     MODELS_POINT_FUNCTION,
@@ -36,19 +38,49 @@ SPEC = files("hertzchain") / "sweeps" / "model_validity.toml"
 
 def test_shipped_spec_is_the_documented_map():
     spec = load_sweep_spec(SPEC)
-    assert spec.shape == (5, 5, 4)
+    assert spec.shape == (5, 5, 7) and spec.n_points == 175
     assert spec.base["models"]["continuum"] == "auto"
+    assert spec.base["initial"]["kind"] == "exact_wave"
     assert THRESHOLDS == (0.01, 0.10)
     d0 = [a for a in spec.axes if a.name == "delta0"][0].values
     assert min(d0) == 0.0 and max(d0) == pytest.approx(1e-3)  # up to the sonic vacuum
+    # strain/δ0 from 1e-3 (the issue's "1e-3 δ0") to 100, then the sonic vacuum
+    amp = [a for a, _ in AMPLITUDES]
+    assert amp[0] == 1e-3 and amp[-2] == 100 and math.isinf(amp[-1])
+
+
+def test_amplitude_rows_are_the_sizing_rule():
+    # every linked axis of the amplitude dimension is validity.amplitude_row's number,
+    # so the TOML cannot drift from the rule that makes its measurement windows hold
+    spec = load_sweep_spec(SPEC)
+    rows = [amplitude_row(*a) for a in AMPLITUDES]
+    linked = {a.name: a for a in spec.axes if a.name == "delta0" or a.follows == "delta0"}
+    assert set(linked) == {"delta0", "strain_max", "n_left", "n_right", "center", "t_end"}
+    for name, axis in linked.items():
+        key = "delta0_over_d" if name == "delta0" else name
+        assert list(axis.values) == [r[key] for r in rows], name
+    for (amp, d0), r in zip(AMPLITUDES, rows, strict=True):
+        # the wave's overlap stays in Hertz's small-strain range (<= 1e-3 d)
+        assert r["strain_max"] <= 1e-3
+        if d0 > 0:
+            assert r["strain_max"] / d0 == pytest.approx(amp)
+            # the KdV width: the crossing extent (W/2) ln(1/SEPARATION), W = √(2δ0/ξ_m)
+            if amp <= 0.09:
+                w = math.sqrt(2 / amp)
+                assert r["crossing"] == pytest.approx(w / 2 * math.log(1e4), rel=0.02)
+    # the widest wave (strain/δ0 = 1e-3) needs the longest chain: ~2,900 | 2,500 grains
+    assert rows[0]["n_left"] > 2500 and rows[0]["n_right"] > 2000
 
 
 @pytest.fixture(scope="module")
 def reduced(tmp_path_factory):
     spec = load_sweep_spec(SPEC)
-    axes = (Axis("chain.sections.1.alpha_rho", "alpha_rho_R", (0.5, 2.0)),
-            Axis("chain.sections.1.alpha_kn", "alpha_kn_R", (1.0,)),
-            Axis("chain.delta0_over_d", "delta0", (1e-3, 0.0)))
+    keep = [j for j, (a, _) in enumerate(AMPLITUDES) if a in (0.09, math.inf)]
+    axes = tuple(dataclasses.replace(a, values={"alpha_rho_R": (0.5, 2.0),
+                                                "alpha_kn_R": (1.0,)}[a.name])
+                 if a.name in ("alpha_rho_R", "alpha_kn_R")
+                 else dataclasses.replace(a, values=tuple(a.values[j] for j in keep))
+                 for a in spec.axes)
     spec = dataclasses.replace(spec, axes=axes, _points=[])
     out = tmp_path_factory.mktemp("validity")
     # no point function given: [base.models] asks for every model (compare_point)
@@ -78,8 +110,11 @@ def test_reduced_validity_sweep_records_every_model(reduced):
     assert set(res["point_function"]) == {"hertzchain.compare:compare_point"}
     amp = res["incident_strain_over_delta0"]
     pre = np.isfinite(amp)
-    # the paper's v0 = 1 m/s wave at δ0/d = 1e-3: strain amplitude ≈ 0.09 δ0
-    assert np.all((amp[pre] > 0.06) & (amp[pre] < 0.12)), amp
+    # the exact wave of strain 9e-5 d at δ0/d = 1e-3 (the paper's v0 = 1 m/s wave)
+    assert np.allclose(amp[pre], 0.09, rtol=1e-9), amp
+    assert set(res["continuum_model"][pre]) == {"eq4"}
+    assert set(res["continuum_model"][~pre]) == {"eq7"}
+    assert not any(res["continuum_note"]) and not any(res["theory_note"])
     assert np.all(np.isinf(amp[~pre])) and (~pre).sum() == 2
     cont, th = res["continuum_error"], res["theory_error"]
     assert np.all(np.isfinite(cont)) and np.all(np.isfinite(th))
@@ -114,6 +149,7 @@ def test_reproduce_item_quick(tmp_path, monkeypatch):
     assert "validity" in ITEMS
     monkeypatch.setitem(validity.QUICK, "alpha_rho", (2.0,))
     monkeypatch.setitem(validity.QUICK, "alpha_kn", (0.5,))
+    monkeypatch.setitem(validity.QUICK, "amplitudes", (0.09, math.inf))
     ctx = Context(tmp_path, progress=False)
     table = validity.run(ctx)
     assert len(table) == 2
@@ -128,3 +164,4 @@ def test_reproduce_item_quick(tmp_path, monkeypatch):
     validity.report(rep, table, figs)
     text = rep.to_markdown(tmp_path)
     assert "within 10 %" in text and "sonic vacuum" in text
+    assert "continuum (Eq. 4)" in text and "continuum (Eq. 7)" in text

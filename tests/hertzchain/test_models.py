@@ -220,6 +220,14 @@ def test_failed_continuum_is_reported_not_compared(monkeypatch):
     assert not c.completed and "overflow in the stepper" in c.stopped_by
     assert not res.completed
     assert res.summary()["continuum_completed"] is False
+    # the comparison's summary (a sweep row) carries both models' completed / stopped_by
+    from hertzchain.compare import analyse
+
+    row = analyse(res).summary()
+    assert row["completed"] is True and row["stopped_by"] == "t_end"
+    assert row["continuum_completed"] is False
+    assert "overflow in the stepper" in row["continuum_stopped_by"]
+    assert "continuum_error" not in row  # not compared: no number
 
 
 # -- the theory ---------------------------------------------------------------------------

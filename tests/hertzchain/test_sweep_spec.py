@@ -55,6 +55,53 @@ def test_zip_mode_and_linspace_and_integer_axis():
     assert all(isinstance(p.values["chain.sections.0.n"], int) for p in pts)
 
 
+def test_linked_axis_moves_with_its_leader():
+    # one dimension of the product sets several keys (the model-validity amplitudes set
+    # delta0, the wave's strain and the chain's size together); a linked axis may repeat
+    # a value as long as the tuples differ
+    d = spec_dict()
+    d["sweep"]["axes"] += [
+        {"path": "chain.delta0_over_d", "name": "d0", "values": [1e-3, 1e-3, 1e-4]},
+        {"path": "initial.velocity_max", "with": "d0", "values": [0.01, 0.05, 0.05]},
+        {"path": "chain.sections.0.n", "with": "d0", "values": [60, 70, 80]}]
+    spec = parse_sweep_spec(d)
+    assert spec.shape == (2, 3, 3) and spec.n_points == 18
+    pts = spec.points()
+    assert len(pts) == 18 and len({p.id for p in pts}) == 18
+    rows = {(1e-3, 0.01): 60, (1e-3, 0.05): 70, (1e-4, 0.05): 80}
+    seen = [(p.scenario.chain.delta0_over_d, p.scenario.initial.velocity_max,
+             p.scenario.chain.sections[0].n) for p in pts]
+    assert sorted(seen) == sorted([(*k, n) for k, n in rows.items()] * 6)
+    # the last dimension (the leader and its linked axes) runs fastest
+    assert [p.values["d0"] for p in pts[:3]] == [1e-3, 1e-3, 1e-4]
+    assert spec.to_dict()["axes"][3]["with"] == "d0"
+
+
+LINK = [{"path": "chain.delta0_over_d", "name": "d0", "values": [1e-3, 1e-4]}]
+
+
+def test_linked_axis_errors_name_the_key():
+    for axes, mode, message in (
+            (LINK + [{"path": "initial.velocity_max", "with": "nope", "values": [0.1, 0.2]}],
+             "product", "must name an earlier axis"),
+            ([{"path": "initial.velocity_max", "with": "d0", "values": [0.1, 0.2]}] + LINK,
+             "product", "must name an earlier axis"),
+            (LINK + [{"path": "initial.velocity_max", "with": "d0", "values": [0.1]}],
+             "product", "1 values, but that axis has 2"),
+            (LINK + [{"path": "initial.velocity_max", "with": "d0", "values": [0.1, 0.2]}],
+             "zip", "remove 'with'"),
+            (LINK + [{"path": "initial.velocity_max", "with": "", "values": [0.1, 0.2]}],
+             "product", "with must name an earlier axis"),
+            ([{"path": "chain.delta0_over_d", "name": "d0", "values": [1e-3, 1e-3]},
+              {"path": "initial.velocity_max", "with": "d0", "values": [0.1, 0.1]}],
+             "product", "duplicate values")):
+        d = spec_dict()
+        d["sweep"] = {"mode": mode, "axes": axes}
+        with pytest.raises(SweepError) as info:
+            parse_sweep_spec(d)
+        assert message in str(info.value), str(info.value)
+
+
 def test_missing_tables_are_created():
     d = spec_dict()
     d["sweep"]["axes"] = [{"path": "record.energy_every", "values": [0, 10]}]
