@@ -81,7 +81,6 @@ from collections.abc import Callable
 
 import numba as nb
 import numpy as np
-from rocket_fft import good_size
 from scipy.fft import next_fast_len
 from scipy.sparse import csr_matrix
 
@@ -300,7 +299,7 @@ class NesterenkoPDE(ChainPDEBase):
         nf = d.x_faces.size
         k, d0 = d.k.copy(), d.delta0.copy()
         periodic = self.bc == "periodic"
-        m_max = nf if periodic else good_size(3 * nf, True)
+        m_max = nf if periodic else int(_stepper.fft_size(2 * nf))
         gidx, gcoef = (x.copy() for x in self._grad)
         return {
             "gidx": gidx, "gcoef": gcoef, "w": self._face_weight.copy(),
