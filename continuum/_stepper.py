@@ -408,17 +408,6 @@ def rosenau_monitor(u, v, h, bc, nl, kk, bb, kh, d0, f0, mass, wgrad, w):
 
 
 # ------------------------------------------------------------------------------ Nesterenko
-@nb.njit(inline="always", **_JIT)
-def _zeta_phi(dl, eps):
-    """ζ(δ) = δ^{5/4} and φ(δ) = δ^{1/4}, continued C¹ below ``eps`` (NesterenkoPDE)."""
-    if dl >= eps:
-        sq = np.sqrt(np.sqrt(dl))
-        return dl * sq, sq
-    r = dl / eps
-    e4 = np.sqrt(np.sqrt(eps))
-    return eps * e4 * (0.625 * r * r + 0.375), e4 * r
-
-
 @nb.njit(**_JIT)
 def fft_size(need):
     """Smallest length m >= ``need`` that is a multiple of 8 with no prime factor above 5.

@@ -260,6 +260,9 @@ class NesterenkoPDE(ChainPDEBase):
         idx, coef = (a.copy() for a in self._grad)
         nf, width = idx.shape
 
+        e4 = np.sqrt(np.sqrt(eps))
+        e54 = eps * e4
+
         @nb.njit
         def accel(u, out):
             s = np.zeros(nf)
@@ -277,7 +280,7 @@ class NesterenkoPDE(ChainPDEBase):
                     zq, phi[q] = dl**1.25, dl**0.25
                 else:
                     r = dl / eps
-                    zq, phi[q] = eps**1.25 * (0.625 * r * r + 0.375), eps**0.25 * r
+                    zq, phi[q] = e54 * (0.625 * r * r + 0.375), e4 * r
                 ypad[q] = mask[q] * sk[q] * (zq - z0[q])
             with nb.objmode(hy="float64[:]"):
                 hy = np.fft.irfft(mult * np.fft.rfft(ypad), npad)
@@ -431,6 +434,9 @@ def _zeta(delta: np.ndarray, eps: float) -> tuple[np.ndarray, np.ndarray]:
         return delta**1.25, delta**0.25
     r = delta / eps
     small = delta < eps
-    zeta = np.where(small, eps**1.25 * (0.625 * r * r + 0.375), delta**1.25)
-    phi = np.where(small, eps**0.25 * r, delta**0.25)
+    # ε^{1/4} and ε^{5/4} as the compiled kernels form them, so that ζ(0) - ζ(δ0 = 0)
+    # is exactly 0 in both paths: a gap carries y = 0 and is not counted as compressed
+    e4 = np.sqrt(np.sqrt(eps))
+    zeta = np.where(small, eps * e4 * (0.625 * r * r + 0.375), delta**1.25)
+    phi = np.where(small, e4 * r, delta**0.25)
     return zeta, phi
