@@ -38,8 +38,11 @@ the infinite-lattice operator (the Toeplitz matrix of :func:`saturated_kernel`, 
 entries decay as 1/j²) — symmetric, negative semi-definite, bounded by C and
 independent of the chain's length.  The compiled stepper (:mod:`continuum._stepper`)
 applies it with DUCC real FFTs (through rocket-fft, inside the compiled loop) over the
-active window, or by a direct sum over the compressed faces where that is cheaper: in
-the sonic vacuum φ(δ) = 0 wherever δ = 0, so only compressed faces take part.
+active window, zero-padded to a length that is a multiple of 8 with no prime factor
+above 5 (:func:`continuum._stepper.fft_size`), or by a direct sum over the compressed
+faces where that is cheaper: in the sonic vacuum φ(δ) = 0 wherever δ = 0, so only
+compressed faces take part.  Its kernel is long-ranged by construction (docs/physics.md
+§4, "Evaluating H"), so a banded or compact operator cannot replace it.
 
 Discretisation
 --------------
