@@ -53,7 +53,7 @@ jitcache.configure()  # compiled kernels cached outside the package (theory/jitc
 
 import numba as nb  # noqa: E402
 import numpy as np  # noqa: E402
-from rocket_fft import c2r, good_size, r2c  # noqa: E402
+from rocket_fft import c2r, r2c  # noqa: E402
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 
@@ -408,15 +408,25 @@ def rosenau_monitor(u, v, h, bc, nl, kk, bb, kh, d0, f0, mass, wgrad, w):
 
 
 # ------------------------------------------------------------------------------ Nesterenko
-@nb.njit(inline="always", **_JIT)
-def _zeta_phi(dl, eps):
-    """ζ(δ) = δ^{5/4} and φ(δ) = δ^{1/4}, continued C¹ below ``eps`` (NesterenkoPDE)."""
-    if dl >= eps:
-        sq = np.sqrt(np.sqrt(dl))
-        return dl * sq, sq
-    r = dl / eps
-    e4 = np.sqrt(np.sqrt(eps))
-    return eps * e4 * (0.625 * r * r + 0.375), e4 * r
+@nb.njit(**_JIT)
+def fft_size(need):
+    """Smallest length m >= ``need`` that is a multiple of 8 with no prime factor above 5.
+
+    The real FFT pair of :func:`_saturated_apply` costs ~0.6 ns × m log2 m at such
+    lengths and ~0.85–0.95 ns × m log2 m at odd ones or ones divisible only by 2 or 4
+    (DUCC through rocket-fft, measured on the development machine, benchmarks/README.md);
+    rocket-fft's ``good_size`` returns the smallest 5-smooth length, often odd
+    (3375 = 3³5³ for a need of 3,350: 34 µs per pair against 26 µs at 3456 = 2⁷3³).
+    """
+    m = max(8, need + (-need) % 8)
+    while True:
+        r = m // 8
+        for p in (2, 3, 5):
+            while r % p == 0:
+                r //= p
+        if r == 1:
+            return m
+        m += 8
 
 
 @nb.njit(inline="always", **_JIT)
@@ -433,9 +443,9 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
     chain's length, through rocket-fft).  Otherwise the restriction of the
     infinite-lattice Toeplitz operator (kernel ``c``): a direct sum over the
     ``ncomp`` faces listed in ``comp`` when that is cheaper, else a zero-padded real
-    FFT over the faces [qa, qb] of a length m ≥ 2 (qb - qa) + 1 (``fstate[0]``; the
-    spectrum of the embedded kernel for that length is kept in ``spec`` and
-    recomputed when m changes).  No allocation.
+    FFT over the faces [qa, qb] of a length m ≥ 2 (qb - qa) + 1 (``fstate[0]``, chosen
+    by :func:`fft_size`; the spectrum of the embedded kernel for that length is kept in
+    ``spec`` and recomputed when m changes).  No allocation.
     """
     nf = y.size
     if periodic:
@@ -462,7 +472,7 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
             hy[q] = acc
         return
     if need > m or 5 * need < 4 * m:
-        m = good_size(need, True)
+        m = fft_size(need)
         fstate[0] = m
         # spectrum of the circulant of length m holding the Toeplitz matrix
         for i in range(m):
@@ -477,16 +487,19 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
         for i in range(nh):
             spec[i] = fft_c[i].real
     nh = m // 2 + 1
+    yw = y[qa:qb + 1]
     for i in range(w):
-        fft_re[i] = y[qa + i]
-    for i in range(w, m):
-        fft_re[i] = 0.0
+        fft_re[i] = yw[i]
+    pad = fft_re[w:m]
+    for i in range(m - w):
+        pad[i] = 0.0
     r2c(fft_re[:m], fft_c[:nh], _AXES, True, 1.0, 1)
     for i in range(nh):
         fft_c[i] *= spec[i]
     c2r(fft_c[:nh], fft_re[:m], _AXES, False, 1.0 / m, 1)
+    hw = hy[qa:qb + 1]
     for i in range(w):
-        hy[qa + i] = fft_re[i]
+        hw[i] = fft_re[i]
 
 
 @nb.njit(inline="always", **_JIT)
@@ -500,6 +513,16 @@ def _face_strain(u, q, ih, bc):
     if q == n:
         return 2.0 * u[n - 1] * ih if bc == WALL else 0.0
     return (u[q - 1] - u[q]) * ih
+
+
+@nb.njit(inline="always", **_JIT)
+def _table_overlap(u, q, gidx, gcoef, d0, dl):
+    """dl[q] = [d0_q + Σ_j gcoef[q, j] u[gidx[q, j]]]_+ (the stencil table's row q)."""
+    sq_ = 0.0
+    for j in range(gidx.shape[1]):
+        sq_ += gcoef[q, j] * u[gidx[q, j]]
+    x = d0[q] + sq_
+    dl[q] = 0.0 if x < 0.0 else x  # (NaN kept)
 
 
 @nb.njit(**_JIT)
@@ -526,41 +549,48 @@ def _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, d
         c1, c3 = 1.0 / h, 0.0
     ia = max(qa, half)
     ib = min(qb, n - half)
-    # overlaps δ of the interior faces: simple loops over few arrays, which LLVM
-    # vectorises (it does not with many possibly aliasing arrays in one loop)
-    if width == 4:
-        for q in range(ia, ib + 1):
-            x = d0[q] + (c1 * (u[q - 1] - u[q]) - c3 * (u[q - 2] - u[q + 1]))
-            dl[q] = 0.0 if x < 0.0 else x  # (NaN kept)
-    else:
-        for q in range(ia, ib + 1):
-            x = d0[q] + c1 * (u[q - 1] - u[q])
-            dl[q] = 0.0 if x < 0.0 else x  # (NaN kept)
-    # end faces: the stencil table
-    for q in range(qa, qb + 1):
-        if ia <= q <= ib:
-            continue
-        sq_ = 0.0
-        for j in range(width):
-            sq_ += gcoef[q, j] * u[gidx[q, j]]
-        x = d0[q] + sq_
-        dl[q] = 0.0 if x < 0.0 else x  # (NaN kept)
-    for q in range(qa, qb + 1):
-        x = dl[q]
-        fh[q] = k[q] * (x * np.sqrt(x)) - f0[q]
-    for q in range(qa, qb + 1):
-        x = dl[q]
-        r4 = np.sqrt(np.sqrt(x))
+    # overlaps δ of the interior faces.  Every hot loop runs over zero-based views with
+    # a zero-based index, so that numba emits no negative-index wrap-around check and
+    # LLVM vectorises it (with an index starting at a runtime value it does neither)
+    if ib >= ia:
+        mi = ib + 1 - ia
+        dd = dl[ia:ib + 1]
+        zz = d0[ia:ib + 1]
+        if width == 4:
+            uu = u[ia - 2:ib + 2]  # uu[i] = u[q - 2] for q = ia + i
+            for i in range(mi):
+                x = zz[i] + (c1 * (uu[i + 1] - uu[i + 2]) - c3 * (uu[i] - uu[i + 3]))
+                dd[i] = 0.0 if x < 0.0 else x  # (NaN kept)
+        else:
+            uu = u[ia - 1:ib + 1]  # uu[i] = u[q - 1]
+            for i in range(mi):
+                x = zz[i] + c1 * (uu[i] - uu[i + 1])
+                dd[i] = 0.0 if x < 0.0 else x  # (NaN kept)
+    # end faces [qa, ia) and (ib, qb]: the stencil table
+    for q in range(qa, min(ia, qb + 1)):
+        _table_overlap(u, q, gidx, gcoef, d0, dl)
+    for q in range(max(ib + 1, ia), qb + 1):
+        _table_overlap(u, q, gidx, gcoef, d0, dl)
+    mf = qb + 1 - qa
+    dd = dl[qa:qb + 1]
+    kq, f0q, mq = k[qa:qb + 1], f0[qa:qb + 1], mask[qa:qb + 1]
+    skq, z0q = sk[qa:qb + 1], z0[qa:qb + 1]
+    fq, pq, yq = fh[qa:qb + 1], ph[qa:qb + 1], y[qa:qb + 1]
+    for i in range(mf):
+        x = dd[i]
+        r2 = np.sqrt(x)
+        r4 = np.sqrt(r2)
+        fq[i] = kq[i] * (x * r2) - f0q[i]
         r = x / eps
         # ζ, φ above the floor, else their C¹ continuation (NesterenkoPDE): both
         # computed, one selected (no branch)
         zq = x * r4 if x >= eps else e54 * (0.625 * r * r + 0.375)
-        ph[q] = (r4 if x >= eps else e4 * r) * mask[q]
-        y[q] = mask[q] * sk[q] * (zq - z0[q])
+        pq[i] = (r4 if x >= eps else e4 * r) * mq[i]
+        yq[i] = mq[i] * skq[i] * (zq - z0q[i])
     ncomp = 0
-    for q in range(qa, qb + 1):
-        ncomp += (y[q] != 0.0) | (ph[q] != 0.0)
-    if _direct_sum(ncomp, qb - qa + 1):
+    for i in range(mf):
+        ncomp += (yq[i] != 0.0) | (pq[i] != 0.0)
+    if _direct_sum(ncomp, mf):
         m = 0
         for q in range(qa, qb + 1):
             if y[q] != 0.0 or ph[q] != 0.0:
@@ -581,8 +611,10 @@ def _nesterenko_pass(u, v, L, R, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, 
     """
     n = u.size
     width = gidx.shape[1]
-    for i in range(L, R + 1):
-        u[i] += alpha * v[i]
+    uu = u[L:R + 1]
+    vv = v[L:R + 1]
+    for i in range(R + 1 - L):
+        uu[i] += alpha * vv[i]
     qa = L
     qb = R if bc == PERIODIC else R + 1
     ncomp = _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl,
@@ -590,36 +622,53 @@ def _nesterenko_pass(u, v, L, R, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, 
     _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
                      bc == PERIODIC)
     # face forces F (zero outside [qa, qb]: there δ = 0, see nesterenko_chunk) into fh
-    for q in range(qa, qb + 1):
-        fh[q] = w[q] * fh[q] + disp * sk[q] * ph[q] * hy[q]
-    nf = fh.size
+    fq, wq, skq, pq, hq = (fh[qa:qb + 1], w[qa:qb + 1], sk[qa:qb + 1], ph[qa:qb + 1],
+                           hy[qa:qb + 1])
+    for i in range(qb + 1 - qa):
+        fq[i] = wq[i] * fq[i] + disp * skq[i] * pq[i] * hq[i]
     half = width // 2
     # node force density -Gᵀ F: the plain weights where faces i-half+1 .. i+half are
     # interior faces inside [qa, qb] (nodes [ja, jb]), else the scatter of the table
     ja = max(L, max(qa, half) + half - 1)
     jb = min(R, min(qb, n - half) - half)
-    for i in range(L, R + 1):
-        if ja <= i <= jb:
-            continue
-        f = 0.0
-        for d in range(1 - half, half + 1):
-            q = i + d
-            if bc == PERIODIC:
-                q = q % nf
-            elif q < qa or q > qb:
-                continue
-            for j in range(width):
-                if gidx[q, j] == i:
-                    f -= gcoef[q, j] * fh[q]
-        v[i] += beta * f * inv_m[i]
+    for i in range(L, min(ja, R + 1)):
+        _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m)
+    for i in range(max(jb + 1, ja, L), R + 1):
+        _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m)
+    if jb < ja:
+        return
+    mj = jb + 1 - ja
+    vj = v[ja:jb + 1]
+    im = inv_m[ja:jb + 1]
     if width == 4:
-        for i in range(ja, jb + 1):
-            f = (27.0 * (fh[i] - fh[i + 1]) - (fh[i - 1] - fh[i + 2])) / (24.0 * h)
-            v[i] += beta * f * inv_m[i]
+        ff = fh[ja - 1:jb + 3]  # ff[j] = fh[i - 1] for i = ja + j
+        for j in range(mj):
+            f = (27.0 * (ff[j + 1] - ff[j + 2]) - (ff[j] - ff[j + 3])) / (24.0 * h)
+            vj[j] += beta * f * im[j]
     else:
-        for i in range(ja, jb + 1):
-            f = (fh[i] - fh[i + 1]) / h
-            v[i] += beta * f * inv_m[i]
+        ff = fh[ja:jb + 2]  # ff[j] = fh[i]
+        for j in range(mj):
+            f = (ff[j] - ff[j + 1]) / h
+            vj[j] += beta * f * im[j]
+
+
+@nb.njit(inline="always", **_JIT)
+def _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m):
+    """Kick of node i by the scatter -Gᵀ F of the stencil table (faces in [qa, qb])."""
+    width = gidx.shape[1]
+    half = width // 2
+    nf = fh.size
+    f = 0.0
+    for d in range(1 - half, half + 1):
+        q = i + d
+        if bc == PERIODIC:
+            q = q % nf
+        elif q < qa or q > qb:
+            continue
+        for j in range(width):
+            if gidx[q, j] == i:
+                f -= gcoef[q, j] * fh[q]
+    v[i] += beta * f * inv_m[i]
 
 
 @nb.njit(**_JIT)

@@ -38,8 +38,11 @@ the infinite-lattice operator (the Toeplitz matrix of :func:`saturated_kernel`, 
 entries decay as 1/j²) — symmetric, negative semi-definite, bounded by C and
 independent of the chain's length.  The compiled stepper (:mod:`continuum._stepper`)
 applies it with DUCC real FFTs (through rocket-fft, inside the compiled loop) over the
-active window, or by a direct sum over the compressed faces where that is cheaper: in
-the sonic vacuum φ(δ) = 0 wherever δ = 0, so only compressed faces take part.
+active window, zero-padded to a length that is a multiple of 8 with no prime factor
+above 5 (:func:`continuum._stepper.fft_size`), or by a direct sum over the compressed
+faces where that is cheaper: in the sonic vacuum φ(δ) = 0 wherever δ = 0, so only
+compressed faces take part.  Its kernel is long-ranged by construction (docs/physics.md
+§4, "Evaluating H"), so a banded or compact operator cannot replace it.
 
 Discretisation
 --------------
@@ -81,7 +84,6 @@ from collections.abc import Callable
 
 import numba as nb
 import numpy as np
-from rocket_fft import good_size
 from scipy.fft import next_fast_len
 from scipy.sparse import csr_matrix
 
@@ -261,6 +263,9 @@ class NesterenkoPDE(ChainPDEBase):
         idx, coef = (a.copy() for a in self._grad)
         nf, width = idx.shape
 
+        e4 = np.sqrt(np.sqrt(eps))
+        e54 = eps * e4
+
         @nb.njit
         def accel(u, out):
             s = np.zeros(nf)
@@ -278,7 +283,7 @@ class NesterenkoPDE(ChainPDEBase):
                     zq, phi[q] = dl**1.25, dl**0.25
                 else:
                     r = dl / eps
-                    zq, phi[q] = eps**1.25 * (0.625 * r * r + 0.375), eps**0.25 * r
+                    zq, phi[q] = e54 * (0.625 * r * r + 0.375), e4 * r
                 ypad[q] = mask[q] * sk[q] * (zq - z0[q])
             with nb.objmode(hy="float64[:]"):
                 hy = np.fft.irfft(mult * np.fft.rfft(ypad), npad)
@@ -300,7 +305,7 @@ class NesterenkoPDE(ChainPDEBase):
         nf = d.x_faces.size
         k, d0 = d.k.copy(), d.delta0.copy()
         periodic = self.bc == "periodic"
-        m_max = nf if periodic else good_size(3 * nf, True)
+        m_max = nf if periodic else int(_stepper.fft_size(2 * nf))
         gidx, gcoef = (x.copy() for x in self._grad)
         return {
             "gidx": gidx, "gcoef": gcoef, "w": self._face_weight.copy(),
@@ -432,6 +437,9 @@ def _zeta(delta: np.ndarray, eps: float) -> tuple[np.ndarray, np.ndarray]:
         return delta**1.25, delta**0.25
     r = delta / eps
     small = delta < eps
-    zeta = np.where(small, eps**1.25 * (0.625 * r * r + 0.375), delta**1.25)
-    phi = np.where(small, eps**0.25 * r, delta**0.25)
+    # ε^{1/4} and ε^{5/4} as the compiled kernels form them, so that ζ(0) - ζ(δ0 = 0)
+    # is exactly 0 in both paths: a gap carries y = 0 and is not counted as compressed
+    e4 = np.sqrt(np.sqrt(eps))
+    zeta = np.where(small, eps * e4 * (0.625 * r * r + 0.375), delta**1.25)
+    phi = np.where(small, e4 * r, delta**0.25)
     return zeta, phi

@@ -156,6 +156,23 @@ def test_kdv_fused_equals_numpy(frame):
     np.testing.assert_allclose(fast["energy"], ref["energy"], rtol=RTOL)
 
 
+def test_fft_size_is_the_smallest_fast_length():
+    """fft_size(n): the smallest m >= n that is a multiple of 8 with no prime factor
+    above 5 — checked against a brute-force search for every n up to 5,000 (a length
+    below n would truncate the zero padding and wrap the Toeplitz product around)."""
+    from continuum._stepper import fft_size
+
+    def smooth(r):
+        for p in (2, 3, 5):
+            while r % p == 0:
+                r //= p
+        return r == 1
+
+    fast = [m for m in range(8, 6000, 8) if smooth(m // 8)]
+    for n in range(1, 5001):
+        assert fft_size(n) == next(m for m in fast if m >= n), n
+
+
 # ---------------------------------------------------------------------------------
 @pytest.mark.parametrize("model", ["eq4", "eq7", "kdv"])
 def test_no_allocation_per_step(model):
