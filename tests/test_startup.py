@@ -6,6 +6,10 @@ its extension hook, rocket-fft) and the solver; it must not import h5py (only wh
 file is written or read), Dask, matplotlib, py-pde, the sweep machinery or tqdm (the
 bar opens only once a run has lasted a second).  Checked in a fresh interpreter: the
 test's own process has imported everything already.
+
+A process that is one ``hertzchain`` command (``main()`` reading ``sys.argv``) runs with
+the garbage collector frozen after its imports (``hertzchain.cli._process_gc``); a caller
+of ``main(argv)`` keeps its own collector.
 """
 
 import json
