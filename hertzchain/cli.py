@@ -355,10 +355,10 @@ def main(argv: Sequence[str] | None = None) -> int:
 def _process_gc(stage: str) -> None:
     """Garbage-collector settings of a process that is one ``hertzchain`` command.
 
-    Start-up (issue 17): importing NumPy, numba, SciPy and the solver creates some 10^6
-    objects that live until the process ends, and the collector's full passes over them
-    (during the imports, during numba's first kernel load and again at interpreter
-    exit) cost ~0.35 s of CPU in a 1.4 s small run.  :func:`main` therefore disables
+    Start-up (issue 17): importing NumPy, numba, SciPy and the solver creates ~10^5
+    objects that the collector tracks and that live until the process ends; its passes
+    over them (during the imports, during numba's first kernel load and again at
+    interpreter exit) cost ~0.4 s of CPU in a 1.6 s small run.  :func:`main` therefore disables
     the collector while it parses and imports, then (``"started"``) moves everything
     alive into the permanent generation (:func:`gc.freeze`) and re-enables it, so later
     collections, of the run's own objects, never scan the imported ones; at exit
