@@ -6,6 +6,10 @@ its extension hook, rocket-fft) and the solver; it must not import h5py (only wh
 file is written or read), Dask, matplotlib, py-pde, the sweep machinery or tqdm (the
 bar opens only once a run has lasted a second).  Checked in a fresh interpreter: the
 test's own process has imported everything already.
+
+A process that is one ``hertzchain`` command (``main()`` reading ``sys.argv``) runs with
+the garbage collector frozen after its imports (``hertzchain.cli._process_gc``); a caller
+of ``main(argv)`` keeps its own collector.
 """
 
 import json
@@ -64,3 +68,33 @@ def test_version_and_help_import_no_solver(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "hertzchain.cli", "--version"],
                           capture_output=True, text=True, cwd=tmp_path, timeout=300)
     assert proc.returncode == 0 and proc.stdout.startswith("hertzchain "), proc
+
+
+def _gc_after(call: str, tmp_path) -> tuple[bool, int, bool]:
+    """Collector enabled, objects frozen by ``call``, numba loaded: in a fresh process."""
+    code = "\n".join([
+        "import gc, json, sys",
+        "from hertzchain.cli import main",
+        "freeze0 = gc.get_freeze_count()",
+        call,
+        "print(json.dumps([gc.isenabled(), gc.get_freeze_count() - freeze0,"
+        " 'numba' in sys.modules]), file=sys.stderr)",
+        "sys.exit(status)",
+    ])
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    return tuple(json.loads(proc.stderr.strip().splitlines()[-1]))
+
+
+def test_command_line_process_freezes_the_collector(tmp_path):
+    # main() of the process's own command line (argv None): collector re-enabled after
+    # the imports, everything alive frozen (never scanned again, skipped at exit)
+    argv = ["hertzchain", "theory", "--alpha-rho", "2", "--alpha-kn", "1", "--json"]
+    enabled, frozen, numba_loaded = _gc_after(
+        f"sys.argv = {argv!r}; status = main()", tmp_path)
+    assert enabled and numba_loaded
+    assert frozen > 50_000  # NumPy, numba, SciPy and the solver (~9e4 here)
+    # a caller passing argv keeps its collector as it was
+    enabled, frozen, _ = _gc_after(f"status = main({argv[1:]!r})", tmp_path)
+    assert enabled and frozen == 0
