@@ -913,13 +913,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                     vsp[q] = 0.0  # special grains outside the window are inert: v = 0
             ul = wl if lo == 0 else u[lo - 1] + dc * v[lo - 1]
             ur = wr if hi == n - 1 else u[hi + 1] + dc * v[hi + 1]
-            vl = 0.0
-            vr = 0.0
-            if VD:  # predicted velocities of the outer neighbours
-                vl = 0.0 if lo == 0 else v[lo - 1] + c1 * a[lo - 1]
-                vr = 0.0 if hi == n - 1 else v[hi + 1] + c1 * a[hi + 1]
             advance(st, con, p, (vwork, mx[1], mx[2]) if VD else mx, umax, lo, hi + 1, ul,
-                    ur, vl, vr, dc, c1, c2, dt, final and track,
+                    ur, 0.0, 0.0, dc, c1, c2, dt, final and track,
                     final and track and do_umax, sp if final else none, vsp)
         if VD:  # close with D*_{h/2}; record the synchronous velocities
             lo, hi = dissipate(st, con, p, wl, wr, lo, hi, 0.5 * dt, True)
