@@ -46,17 +46,46 @@ opening kick of the next one are applied in the same pass (``v = (v + b_{S+1} h 
 b_1 h a``: the arithmetic of kick–drift–kick, without storing a); only the last step
 of a chunk stores a and stops at the synchronous velocity.
 
-*Velocity-dependent forces* (a dissipative law, the drag) make the closing kick
-implicit: :math:`a^{n+1}` depends on :math:`v^{n+1}`.  The kernels then evaluate them
-at the **predicted velocity** :math:`v^* = v^{n+1/2} + \tfrac{h}{2} a^n` (the closing
-kick taken with the previous acceleration, :math:`v^{n+1} + O(h^2)`), which keeps the
-scheme explicit, one force pass per step and second order (measured in
-``tests/discrete/test_laws.py``); the pass then stores a (the predictor of the next
-step).  The dissipated energy is booked per contact as :math:`h\,F_d\,\dot r^*` with
-:math:`F_d = F - F_{el}` (and :math:`h\,m_i\beta v_i^{*2}` for the drag), the
-rectangle rule of :math:`\int P\,dt`; :class:`discrete.Simulation` adds the end
-correction that makes it the trapezoidal rule.  This path is velocity Verlet only,
-step by step (no temporal blocking, one thread).
+Dissipation
+-----------
+*Velocity-dependent forces* — a dissipative law :math:`F = \max(0, F_{el}(r) + c(r)\dot
+r)` (:mod:`discrete.laws`, :math:`c \ge 0` in N·s/m) and the on-site drag
+:math:`-m_i\beta v_i` — are split off the elastic force (Strang splitting):
+
+.. math::
+    \Phi_h = \mathcal D^*_{h/2}\circ \mathcal V_h \circ \mathcal D_{h/2},
+
+with :math:`\mathcal V_h` velocity Verlet for the elastic forces only (the passes
+below, unchanged: symplectic) and :math:`\mathcal D_\tau` the dissipative flow at
+*fixed positions*, :math:`M\dot v = -C(u)\,v` (C a weighted graph Laplacian of the
+contacts plus the diagonal drag), itself composed of exactly solved pieces: the drag
+:math:`v_i \leftarrow v_i e^{-\beta\tau}`, then the even contacts, then the odd
+contacts (each set a family of disjoint pairs, :math:`\mathcal D^*` in the reverse
+order), and per contact j between grains L = j-1 and R = j (a wall: 1/m = 0, v = 0)
+the exact relaxation of the relative velocity :math:`w = v_L - v_R = \dot r_j` at
+constant momentum,
+
+.. math::
+    w' = w\,e^{-c_j s_j\tau},\quad s_j = \tfrac1{m_L} + \tfrac1{m_R},\quad
+    P_j = \max\!\Big(\frac{w - w'}{s_j},\ -\tau F_{el}(r_j)\Big),\quad
+    v_L \mathrel{-}= \frac{P_j}{m_L},\ v_R \mathrel{+}= \frac{P_j}{m_R}
+
+(P the impulse, N·s, of the damping force over τ; the clip keeps the contact's mean
+force over the sub-step :math:`F_{el} + P/\tau \ge 0`: no attraction).  Exactly,
+:math:`\tfrac12 m_L(v_L'^2 - v_L^2) + \tfrac12 m_R(v_R'^2 - v_R^2) = -P_j\,\bar w`
+with :math:`\bar w = \tfrac12(w + w')`, and :math:`P_j\bar w \ge 0` (P has the sign
+of w and :math:`|sP| \le |w|`): the sub-step never creates energy, is stable for any
+h, and the energy it removes, :math:`P_j\bar w` (and :math:`\tfrac12 m_i(v_i^2 -
+v_i'^2)` for the drag), is what the kernels book in ``dis`` (J) — the integrator's own
+discrete work, equal to the kinetic-energy change of the sub-step to round-off.  The
+energy balance :math:`E + D - E(0)` then carries only velocity Verlet's own O(h²)
+energy error.  All pieces are exact flows, so :math:`\Phi_h` is symmetric and
+second order where the forces are smooth (measured in ``tests/discrete/test_laws.py``);
+c = 0 (γ → 0) makes :math:`\mathcal D` the identity, bitwise.  The velocity passes
+do not record on this path: the synchronous velocity is the one after
+:math:`\mathcal D^*`, where ``step`` records it.  A dissipative sub-step moves at most
+two grains beyond the window (one per contact set); the window grows to them.  This
+path is velocity Verlet only, step by step (no temporal blocking, one thread).
 
 Passes
 ------
@@ -291,7 +320,7 @@ class Kernels(NamedTuple):
     drag: bool
     overlap_maxima: bool
     velocity_dependent: bool
-    """The law or the drag depends on velocities: predictor path, no blocking."""
+    """The law or the drag depends on velocities: dissipative sub-steps, no blocking."""
     run_steps: object
     """``run_chunk`` without temporal blocking (compiles faster; for windows too small
     to block, and for velocity-dependent forces)."""
@@ -355,9 +384,11 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     """Close the passes over the law's compiled pieces (module docstring)."""
     force = law.make_force()
     elastic = law.make_elastic()
+    damping = law.make_damping()
+    LAWDIS = bool(law.dissipative)  # contact damping in the dissipative sub-step
     energy = law.make_energy()
     stiffness = law.make_stiffness()
-    VD = bool(law.dissipative or drag)  # velocity-dependent: predictor path
+    VD = bool(law.dissipative or drag)  # velocity-dependent: dissipative sub-steps
     DRAG = bool(drag)
     NP = N_PARAMS  # index of the drag rate in p
     RMAX = bool(rmax)  # running maxima of the overlaps
@@ -374,24 +405,99 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     # ------------------------------------------------------------------ contacts
     @jit(**_INLINE)
     def contact(r, rd, kj, f0j, p):
-        """φ = F(r, ṙ) - f0 of one contact (r the overlap, not yet clipped), N."""
+        """φ = F(r, ṙ) - f0 of one contact (r the overlap, not yet clipped), N.
+
+        With velocity-dependent forces the elastic part only (the damping is the
+        dissipative sub-step's, "Dissipation" above).
+        """
+        if VD:
+            return elastic(r, kj) - f0j
         return force(r, rd, kj, p) - f0j
 
     @jit(**_INLINE)
     def book(dis, j, hb, r, rd, kj, p, phi, f0j):
-        """Book h·(F - F_el)·ṙ, the energy contact j dissipated in this step, J."""
-        if VD:
-            dis[j] += hb * (((phi + f0j) - elastic(r, kj)) * rd)
+        """Nothing: the elastic passes dissipate nothing (``dissipate`` books)."""
+        return
 
     @jit(**_INLINE)
     def kick_accel(phi_l, phi_r, im, vs, dis, j, hb, p):
-        """(φ_l - φ_r)/m - β v* (m/s²), booking the drag's h m β v*² in ``dis[j]``."""
-        ai = (phi_l - phi_r) * im
-        if DRAG:
-            beta = p[NP]
-            ai = ai - beta * vs
-            dis[j] += hb * (beta * vs * vs / im)
-        return ai
+        """(φ_l - φ_r)/m, m/s² (the drag is the dissipative sub-step's)."""
+        return (phi_l - phi_r) * im
+
+    # --------------------------------------------------- dissipative sub-step
+    @jit(**_INLINE)
+    def damp_contacts(u, v, dis, con, p, wl, wr, j0, j1, parity, tau):
+        """Exact damping of the contacts j0 <= j <= j1 with j % 2 == parity over τ (s).
+
+        Module docstring, "Dissipation": relative velocity w ← w e^{-c s τ} at fixed
+        momentum, impulse P clipped at -τ F_el, energy P w̄ booked in ``dis[j]`` (J).
+        """
+        inv_m, k, d0 = con[0], con[1], con[2]
+        n = u.size
+        j = j0 + (j0 + parity) % 2
+        while j <= j1:
+            ul = wl if j == 0 else u[j - 1]
+            ur = wr if j == n else u[j]
+            r = d0[j] + (ul - ur)
+            c = damping(r, k[j], p)
+            if c > 0.0:
+                iml = 0.0 if j == 0 else inv_m[j - 1]
+                imr = 0.0 if j == n else inv_m[j]
+                vl = 0.0 if j == 0 else v[j - 1]
+                vr = 0.0 if j == n else v[j]
+                s = iml + imr
+                w = vl - vr
+                pj = max(-w * np.expm1(-c * s * tau) / s, -tau * elastic(r, k[j]))
+                vl2 = vl - pj * iml
+                vr2 = vr + pj * imr
+                if j > 0:
+                    v[j - 1] = vl2
+                if j < n:
+                    v[j] = vr2
+                dis[j] += pj * (0.5 * ((vl + vl2) - (vr + vr2)))
+            j += 2
+
+    @jit(**_INLINE)
+    def damp_grains(v, dis, inv_m, p, g0, g1, tau):
+        """Exact drag v ← v e^{-βτ} of grains g0..g1, booking ½ m (v² - v'²) (J) in dis[i+1]."""
+        f = np.exp(-p[NP] * tau)
+        for i in range(g0, g1 + 1):
+            vi = v[i]
+            vn = vi * f
+            v[i] = vn
+            dis[i + 1] += 0.5 * ((vi - vn) * (vi + vn)) / inv_m[i]
+
+    @jit(**_INLINE)
+    def dissipate(st, con, p, wl, wr, lo, hi, tau, adjoint):
+        """The dissipative sub-step D_τ (``adjoint``: D*_τ) on the window; new (lo, hi).
+
+        D: drag, even contacts, odd contacts; D*: the reverse order.  Works on the window
+        padded by two grains (grains beyond move only through a contact with a moving
+        grain) and grows the window to the grains it set moving.
+        """
+        u, v, dis = st[0], st[1], st[3]
+        n = u.size
+        g0 = max(lo - 2, 0)
+        g1 = min(hi + 2, n - 1)
+        j0 = max(lo - 1, 0)
+        j1 = min(hi + 2, n)
+        if DRAG and not adjoint:
+            damp_grains(v, dis, con[0], p, g0, g1, tau)
+        if LAWDIS:
+            first = 1 if adjoint else 0
+            damp_contacts(u, v, dis, con, p, wl, wr, j0, j1, first, tau)
+            damp_contacts(u, v, dis, con, p, wl, wr, j0, j1, 1 - first, tau)
+        if DRAG and adjoint:
+            damp_grains(v, dis, con[0], p, g0, g1, tau)
+        for g in range(g0, lo):
+            if v[g] != 0.0:
+                lo = g
+                break
+        for g in range(g1, hi, -1):
+            if v[g] != 0.0:
+                hi = g
+                break
+        return lo, hi
 
     # -------------------------------------------------------------------- passes
     # The fused loops advance grains 0..m-1 of the views (uw, vw, ... start at the first
@@ -775,10 +881,14 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     # ------------------------------------------------------------------ one step
     @jit(**_INLINE)
     def step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, mx, umax, track, do_umax,
-             sp, vsp):
+             sp, vsp, vwork):
         """All substeps of one step on the window, grown as needed; returns (lo, hi).
 
-        ``vsp`` receives the synchronous velocities of the special grains ``sp``.
+        ``vsp`` receives the synchronous velocities of the special grains ``sp``.  With
+        velocity-dependent forces the step is D*_{h/2} V_h (after the D_{h/2} that
+        opened it, module docstring "Dissipation"): the velocity pass then records its
+        maxima into the scratch ``vwork`` and the synchronous velocities are recorded
+        after D*; unless ``last``, the next step's D_{h/2} and opening kick follow.
         """
         u, v, a = st[0], st[1], st[2]
         k = con[1]
@@ -797,19 +907,40 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             final = st_ == ns - 1
             # closing kick + the next step's opening kick; only the closing kick at the
             # end of the chunk (a is then recomputed) and between the stages
-            c2 = kick[0] if final and not last else 0.0
+            c2 = kick[0] if final and not last and not VD else 0.0
             if final:
                 for q in range(vsp.size):
                     vsp[q] = 0.0  # special grains outside the window are inert: v = 0
             ul = wl if lo == 0 else u[lo - 1] + dc * v[lo - 1]
             ur = wr if hi == n - 1 else u[hi + 1] + dc * v[hi + 1]
-            vl = 0.0
-            vr = 0.0
-            if VD:  # predicted velocities of the outer neighbours
-                vl = 0.0 if lo == 0 else v[lo - 1] + c1 * a[lo - 1]
-                vr = 0.0 if hi == n - 1 else v[hi + 1] + c1 * a[hi + 1]
-            advance(st, con, p, mx, umax, lo, hi + 1, ul, ur, vl, vr, dc, c1, c2, dt,
-                    final and track, final and track and do_umax, sp if final else none, vsp)
+            advance(st, con, p, (vwork, mx[1], mx[2]) if VD else mx, umax, lo, hi + 1, ul,
+                    ur, 0.0, 0.0, dc, c1, c2, dt, final and track,
+                    final and track and do_umax, sp if final else none, vsp)
+        if VD:  # close with D*_{h/2}; record the synchronous velocities
+            lo, hi = dissipate(st, con, p, wl, wr, lo, hi, 0.5 * dt, True)
+            v = st[1]
+            if track:
+                vmax = mx[0]
+                for i in range(lo, hi + 1):
+                    if v[i] > vmax[i]:
+                        vmax[i] = v[i]
+            for q in range(sp.size):
+                vsp[q] = v[sp[q]]  # 0 outside the window (inert)
+            if not last:
+                lo, hi = open_step(st, con, p, wl, wr, kick[0], dt, lo, hi)
+        return lo, hi
+
+    @jit(**_INLINE)
+    def open_step(st, con, p, wl, wr, b1h, dt, lo, hi):
+        """A step's opening on the window: (D_{h/2}, then) the kick v += b_1 h a.
+
+        D_{h/2} with velocity-dependent forces only.  Returns (lo, hi).
+        """
+        v, a = st[1], st[2]
+        if VD:
+            lo, hi = dissipate(st, con, p, wl, wr, lo, hi, 0.5 * dt, False)
+        for i in range(lo, hi + 1):
+            v[i] = v[i] + b1h * a[i]
         return lo, hi
 
     # -------------------------------------------------------- chunk (entry points)
@@ -886,6 +1017,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             pos_ws_w = np.searchsorted(sp_ws, watch)
             pos_ws_s = np.searchsorted(sp_ws, ts_idx)
             vsp = np.empty(sp_ws.size)
+            vwork = np.empty(n if VD else 0)  # the velocity pass's maxima, discarded (step)
             # temporal blocking work arrays (a state copy to roll back to if events can fire)
             nt_max = max(1, nthreads)
             nsub_max = max(block_steps, 1) * ns if BLOCKS else 1
@@ -907,8 +1039,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             e_every, e_coarsen, e_out, mass = erow
             erows = 0
             # opening kick of the first step: v^{n+1/2} (or the first stage velocity)
-            for i in range(lo, hi + 1):
-                v[i] = v[i] + kick[0] * a[i]
+            lo, hi = open_step(st, con, p, wl, wr, kick[0], dt, lo, hi)
             s = 0
             while s < nsteps:
                 nb = min(block_steps, nsteps - s)
@@ -924,8 +1055,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                         fired = hit
                         lo, hi = lo_b, hi_b
                         if e_every > 0 and (step0 + s) % e_every == 0 and s < nsteps:
-                            erows = take_row(st, con, p, wl, wr, kick, lo, hi, e_coarsen,
-                                             e_out, erows, mass)
+                            erows, lo, hi = take_row(st, con, p, wl, wr, kick, dt, lo, hi,
+                                                     e_coarsen, e_out, erows, mass)
                         continue
                     if status == 2:
                         no_block_before = s + nb
@@ -936,10 +1067,10 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 sample = ts_idx.size > 0 and (step0 + s) % ts_every == 0
                 lo, hi = step(st, con, p, wl, wr, drift, kick, dt, last or erow_now, lo, hi,
                               mx, umax, track, (step0 + s) % UMAX_EVERY == 0,
-                              sp_ws if sample else sp_w, vsp)
+                              sp_ws if sample else sp_w, vsp, vwork)
                 if erow_now:
-                    erows = take_row(st, con, p, wl, wr, kick, lo, hi, e_coarsen, e_out,
-                                     erows, mass)
+                    erows, lo, hi = take_row(st, con, p, wl, wr, kick, dt, lo, hi, e_coarsen,
+                                             e_out, erows, mass)
                 # time series and events use the synchronous velocities of the special grains
                 if sample:
                     _series_row(ts_out, rows, ts_idx, vsp, pos_ws_s, True, u, con[2], wl, wr)
@@ -955,11 +1086,11 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         return run_chunk
 
     @jit(**_INLINE)
-    def take_row(st, con, p, wl, wr, kick, lo, hi, c, e_out, erows, mass):
-        """An energy row inside a chunk (``run_chunk``'s ``erow``); returns the row count.
+    def take_row(st, con, p, wl, wr, kick, dt, lo, hi, c, e_out, erows, mass):
+        """An energy row inside a chunk (``run_chunk``'s ``erow``); returns (rows, lo, hi).
 
         The step just taken closed like a chunk's last (synchronous v): a is recomputed
-        as at a chunk end, the row taken, and the next step's opening kick applied.
+        as at a chunk end, the row taken, and the next step's opening applied.
         """
         u, v, a = st[0], st[1], st[2]
         if not VD:
@@ -969,15 +1100,15 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             e_out[erows, 1, b] = 0.0
         energy_row(u, v, mass, con[1], con[2], wl, wr, lo, hi, c, e_out[erows, 0],
                    e_out[erows, 1])
-        for i in range(lo, hi + 1):
-            v[i] = v[i] + kick[0] * a[i]
-        return erows + 1
+        lo, hi = open_step(st, con, p, wl, wr, kick[0], dt, lo, hi)
+        return erows + 1, lo, hi
 
     # ----------------------------------------------------- other entry points
     def accelerations(u, v, a, con, p, wl, wr, lo, hi):
-        """Set a[lo:hi+1] = (φ_i - φ_{i+1})/m_i - β v_i (Eq. 2), m/s²; others untouched.
+        """Set a[lo:hi+1] = (φ_i - φ_{i+1})/m_i (Eq. 2), m/s²; others untouched.
 
-        Velocity-dependent forces are evaluated at v (the synchronous velocities).
+        With velocity-dependent forces the elastic part only: the damping and the drag
+        are the dissipative sub-step's (module docstring, "Dissipation").
         """
         inv_m, k, d0, f0, rs, rc = con
         n = u.size
@@ -988,10 +1119,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             ur = wr if i == n - 1 else u[i + 1]
             vr = 0.0 if i == n - 1 else v[i + 1]
             phi_r = contact(d0[i + 1] + (u[i] - ur), v[i] - vr, k[i + 1], f0[i + 1], p)
-            ai = (phi_l - phi_r) * inv_m[i]
-            if DRAG:
-                ai = ai - p[NP] * v[i]
-            a[i] = ai
+            a[i] = (phi_l - phi_r) * inv_m[i]
             phi_l = phi_r
 
     def contact_energies(u, k, d0, wl, wr, lo, hi, out):

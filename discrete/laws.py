@@ -36,11 +36,27 @@ Laws
     The clip at 0 (no attraction while the contact unloads fast) follows Schwager &
     Pöschel, Phys. Rev. E 57 (1998) 650 and Ramírez et al., Phys. Rev. E 60 (1999) 4465.
 
+Dissipative laws
+----------------
+A dissipative law is linear in the overlap rate, with a coefficient that depends on the
+overlap only, and never pulls:
+
+.. math::
+    F(\delta, \dot\delta; k) = \max\!\big(0,\; F_{el}(\delta; k) + c(\delta; k)\,
+    \dot\delta\big)\ (\delta > 0),\qquad F = 0\ (\delta \le 0),
+
+with :math:`c \ge 0` (N·s/m) its damping coefficient (``make_damping`` / ``damping``).
+The force is assembled from these two pieces here (``make_force``, ``force``), once:
+the kernels integrate the elastic part with the symplectic method and the damping in
+a dissipative sub-step of their own, whose removed energy is booked exactly
+(:mod:`discrete.kernels`, "Dissipation"; docs/physics.md, "Dissipation").
+
 Adding a law
 ------------
 Subclass :class:`ContactLaw`, give it a ``name``, ``exponent`` (of the elastic part),
-``key`` and ``params`` and the compiled and NumPy ``force`` (a conservative law gets
-everything else from its elastic part :math:`k[\delta]_+^n`), register it in
+``key`` and ``params``; a conservative law gives the compiled and NumPy ``force`` (it
+gets everything else from its elastic part :math:`k[\delta]_+^n`), a dissipative one
+its damping coefficient ``make_damping`` and ``damping`` instead.  Register it in
 :data:`LAWS`, and test it against its NumPy twin and the physics it claims
 (docs/physics.md, "Contact laws").
 """
@@ -144,13 +160,14 @@ class ContactLaw:
 
     Subclasses set :attr:`name`, :attr:`dissipative`, :attr:`exponent` (of the elastic
     part :math:`F_{el} = k[\\delta]_+^n`), and implement :meth:`key`, :meth:`params`,
-    :meth:`make_force` and :meth:`force`.
+    and :meth:`make_force` and :meth:`force` (a conservative law) or
+    :meth:`make_damping` and :meth:`damping` (a dissipative one).
     """
 
     name: ClassVar[str] = ""
     dissipative: ClassVar[bool] = False
-    """True if the force depends on the overlap rate (the kernels then take the
-    velocity-predictor path, :mod:`discrete.kernels`)."""
+    """True if the force depends on the overlap rate (the kernels then integrate its
+    damping in exact dissipative sub-steps, :mod:`discrete.kernels`, "Dissipation")."""
 
     exponent: float = 1.5
 
@@ -183,12 +200,35 @@ class ContactLaw:
 
     # --------------------------------------------------- compiled pieces
     def make_force(self):
-        """Compiled ``F(r, rd, k, p)``, the contact force (N).
+        r"""Compiled ``F(r, rd, k, p)``, the contact force (N).
 
         At overlap r (m, any sign), overlap rate rd (m/s), constant k and runtime
-        parameters p (:meth:`params`).
+        parameters p (:meth:`params`).  A conservative law defines it; for a dissipative
+        one it is :math:`\max(0, F_{el}(r) + c(r)\,\dot r)` for r > 0, else 0 (module
+        docstring), from :meth:`make_elastic` and :meth:`make_damping`.
         """
-        raise NotImplementedError
+        if not self.dissipative:
+            raise NotImplementedError
+        elastic = self.make_elastic()
+        damping = self.make_damping()
+
+        def force(r, rd, k, p):
+            if r <= 0.0:
+                return 0.0
+            return max(elastic(r, k) + damping(r, k, p) * rd, 0.0)
+
+        return numba.njit(**_INLINE)(force)
+
+    def make_damping(self):
+        """Compiled damping coefficient ``c(r, k, p) = ∂F/∂δ̇``, N·s/m.
+
+        >= 0; 0 for r <= 0 and for a conservative law.  The dissipative sub-step of the
+        kernels integrates it (:mod:`discrete.kernels`, "Dissipation").
+        """
+        def damping(r, k, p):
+            return 0.0
+
+        return numba.njit(**_INLINE)(damping)
 
     def make_elastic(self):
         """Compiled ``F_el(r, k) = k [r]_+^n`` (N): the conservative part."""
@@ -249,7 +289,11 @@ class ContactLaw:
 
         From overlaps r (m), overlap rates rd (m/s) and constants k (arrays broadcast).
         """
-        raise NotImplementedError
+        if not self.dissipative:
+            raise NotImplementedError
+        r = np.asarray(r, float)
+        f = self.elastic(r, k) + self.damping(r, k) * np.asarray(rd, float)
+        return np.where(r > 0, np.maximum(f, 0.0), 0.0)
 
     def elastic(self, r, k):
         """NumPy twin of :meth:`make_elastic`, N."""
@@ -285,7 +329,7 @@ class ContactLaw:
         return n * np.asarray(k, float) * _power_np(r, n - 1.0)
 
     def damping(self, r, k):
-        """∂F/∂δ̇ at overlap r (N·s/m): 0 for a conservative law."""
+        """NumPy twin of :meth:`make_damping`: ∂F/∂δ̇ at overlap r, N·s/m (0: conservative)."""
         return np.zeros(np.broadcast(np.asarray(r), np.asarray(k)).shape)
 
     def overlap_with_energy(self, r, e, k):
@@ -424,25 +468,17 @@ class ViscoelasticHertz(ContactLaw):
         return (f"viscoelastic Hertz F = max(0, k (delta^(3/2) + A delta^(1/2) "
                 f"d(delta)/dt)), A = {self.damping_time:g} s")
 
-    def make_force(self):
-        """See :meth:`ContactLaw.make_force`."""
-        def force(r, rd, k, p):
+    def make_damping(self):
+        """See :meth:`ContactLaw.make_damping`: c = k A √δ (N·s/m) for δ > 0."""
+        def damping(r, k, p):
             if r <= 0.0:
                 return 0.0
-            s = np.sqrt(r)
-            return max(k * (r * s + p[0] * s * rd), 0.0)
+            return k * p[0] * np.sqrt(r)
 
-        return numba.njit(**_INLINE)(force)
-
-    def force(self, r, rd, k):
-        """See :meth:`ContactLaw.force`."""
-        r = np.asarray(r, float)
-        s = np.sqrt(np.maximum(r, 0.0))
-        f = np.asarray(k, float) * (r * s + self.damping_time * s * np.asarray(rd, float))
-        return np.where(r > 0, np.maximum(f, 0.0), 0.0)
+        return numba.njit(**_INLINE)(damping)
 
     def damping(self, r, k):
-        """See :meth:`ContactLaw.damping`."""
+        """See :meth:`ContactLaw.damping`: k A √[δ]_+, N·s/m."""
         return np.asarray(k, float) * self.damping_time * np.sqrt(np.maximum(r, 0.0))
 
 

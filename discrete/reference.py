@@ -4,9 +4,11 @@ Same equations as :mod:`discrete.kernels` (paper Eq. 2 with a contact law of
 :mod:`discrete.laws`, Hertz's Eq. 1 by default; velocity Verlet, Swope et al. 1982
 Eq. 7), vectorised over the whole chain with the *absolute* contact forces
 :math:`F_j = F(r_j, \dot r_j; k_j)` and the law's NumPy twin; no active window, no
-recording.  Velocity-dependent forces (a dissipative law, the drag -mβv) are evaluated
-at the predicted velocity :math:`v^* = v^{n+1/2} + \tfrac h2 a^n`, as the kernels do.
-Independent of numba.
+recording.  Velocity-dependent forces (a dissipative law, the drag -mβv) are split off
+as the kernels do (:mod:`discrete.kernels`, "Dissipation"): a step is
+:math:`\mathcal D^*_{h/2}\,\mathcal V_h\,\mathcal D_{h/2}`, velocity Verlet for the
+elastic force between two exactly solved dissipative sub-steps at fixed positions
+(:func:`dissipate`), which return the energy they removed.  Independent of numba.
 """
 
 from __future__ import annotations
@@ -15,7 +17,8 @@ import numpy as np
 
 from .laws import ContactLaw, as_law
 
-__all__ = ["overlaps", "overlap_rates", "forces", "accelerations", "step", "run"]
+__all__ = ["overlaps", "overlap_rates", "forces", "accelerations", "dissipate", "step",
+           "run"]
 
 
 def overlaps(u, delta0, wall_left=0.0, wall_right=0.0):
@@ -52,24 +55,107 @@ def accelerations(u, mass, k, delta0, wall_left=0.0, wall_right=0.0, *, v=None,
     return a
 
 
-def step(u, v, a, dt, mass, k, delta0, wall_left=0.0, wall_right=0.0, *,
-         law: ContactLaw | None = None, drag: float = 0.0):
-    """One velocity-Verlet step (predicted velocity if forces need v); new (u, v, a)."""
+def _elastic_accelerations(u, mass, k, delta0, wall_left, wall_right, law):
+    """(F_el,i - F_el,i+1)/m_i, m/s²: the elastic part, which velocity Verlet integrates."""
+    f = law.elastic(overlaps(u, delta0, wall_left, wall_right), k)
+    return (f[:-1] - f[1:]) / mass
+
+
+def dissipate(u, v, tau, mass, k, delta0, wall_left=0.0, wall_right=0.0, *,
+              law: ContactLaw | None = None, drag: float = 0.0, adjoint: bool = False):
+    r"""The dissipative sub-step :math:`\mathcal D_\tau` (``adjoint``: :math:`\mathcal D^*_\tau`).
+
+    At fixed positions u (m), over τ (s): the drag :math:`v_i e^{-\beta\tau}`, the even
+    contacts, the odd contacts (D* the reverse order); per contact j between grains
+    L = j-1 and R = j (walls: 1/m = 0, v = 0), with :math:`c_j` the law's damping
+    coefficient (N·s/m) and :math:`s_j = 1/m_L + 1/m_R` (1/kg),
+
+    .. math::
+        P_j = \max\big(w_j(1 - e^{-c_j s_j\tau})/s_j,\ -\tau F_{el}(r_j)\big),\quad
+        v_L \mathrel{-}= P_j/m_L,\ v_R \mathrel{+}= P_j/m_R,
+
+    w = v_L - v_R.  Returns (v', ΔD) with ΔD (J) the energy removed, :math:`\sum_j P_j
+    \bar w_j + \sum_i \tfrac12 m_i (v_i^2 - v_i'^2)`: exactly the kinetic energy lost.
+    """
     law = as_law(law)
+    ext = np.concatenate(([0.0], np.array(v, dtype=float), [0.0]))  # walls at rest
+    inv = np.concatenate(([0.0], 1.0 / np.asarray(mass, float), [0.0]))
+    r = overlaps(u, delta0, wall_left, wall_right)
+    c = law.damping(r, k) if law.dissipative else np.zeros_like(r)
+    fel = law.elastic(r, k)
+    removed = 0.0
+
+    def contacts(parity):
+        nonlocal removed
+        j = np.arange(parity, r.size, 2)
+        j = j[c[j] > 0]
+        s = inv[j] + inv[j + 1]
+        w = ext[j] - ext[j + 1]
+        p = np.maximum(-w * np.expm1(-c[j] * s * tau) / s, -tau * fel[j])
+        vl, vr = ext[j] - p * inv[j], ext[j + 1] + p * inv[j + 1]
+        removed += float(np.sum(p * (0.5 * ((ext[j] + vl) - (ext[j + 1] + vr)))))
+        ext[j], ext[j + 1] = vl, vr
+        ext[0] = ext[-1] = 0.0  # the walls do not move
+
+    def grains():
+        nonlocal removed
+        vi = ext[1:-1]
+        vn = vi * np.exp(-drag * tau)
+        removed += float(np.sum(0.5 * (vi - vn) * (vi + vn) * np.asarray(mass, float)))
+        ext[1:-1] = vn
+
+    if law.dissipative:
+        order = [lambda: contacts(0), lambda: contacts(1)]
+    else:
+        order = []
+    if drag:
+        order = [grains] + order
+    for f in (reversed(order) if adjoint else order):
+        f()
+    return ext[1:-1].copy(), removed
+
+
+def step(u, v, a, dt, mass, k, delta0, wall_left=0.0, wall_right=0.0, *,
+         law: ContactLaw | None = None, drag: float = 0.0, dissipated: bool = False):
+    r"""One step; new (u, v, a) (and the energy dissipated in it, J, if ``dissipated``).
+
+    Velocity Verlet (Swope et al. 1982, Eq. 7); with velocity-dependent forces
+    :math:`\mathcal D^*_{h/2}\,\mathcal V_h\,\mathcal D_{h/2}` (module docstring),
+    a being then the elastic acceleration.
+    """
+    law = as_law(law)
+    if not (law.dissipative or drag):
+        vh = v + 0.5 * dt * a
+        u = u + dt * vh
+        a = accelerations(u, mass, k, delta0, wall_left, wall_right, law=law)
+        out = (u, vh + 0.5 * dt * a, a)
+        return out + (0.0,) if dissipated else out
+    args = (mass, k, delta0, wall_left, wall_right)
+    v, d1 = dissipate(u, v, 0.5 * dt, *args, law=law, drag=drag)
     vh = v + 0.5 * dt * a
     u = u + dt * vh
-    vs = vh + 0.5 * dt * a if (law.dissipative or drag) else None
-    a = accelerations(u, mass, k, delta0, wall_left, wall_right, v=vs, law=law, drag=drag)
-    return u, vh + 0.5 * dt * a, a
+    a = _elastic_accelerations(u, *args, law)
+    v, d2 = dissipate(u, vh + 0.5 * dt * a, 0.5 * dt, *args, law=law, drag=drag,
+                      adjoint=True)
+    return (u, v, a, d1 + d2) if dissipated else (u, v, a)
 
 
 def run(chain, u, v, dt, nsteps, wall_left=0.0, wall_right=0.0, *,
-        law: ContactLaw | None = None, drag: float = 0.0):
-    """Integrate ``nsteps`` steps of ``dt`` (s) from (u, v); returns (u, v)."""
+        law: ContactLaw | None = None, drag: float = 0.0, dissipated: bool = False):
+    """Integrate ``nsteps`` steps of ``dt`` (s) from (u, v); returns (u, v).
+
+    With ``dissipated``: (u, v, D), D the energy the steps dissipated, J.
+    """
+    law = as_law(law)
     args = (chain.mass, chain.k, chain.delta0, wall_left, wall_right)
     u = np.array(u, dtype=float)
     v = np.array(v, dtype=float)
-    a = accelerations(u, *args, v=v, law=law, drag=drag)
+    if law.dissipative or drag:
+        a = _elastic_accelerations(u, *args, law)
+    else:
+        a = accelerations(u, *args, law=law)
+    total = 0.0
     for _ in range(int(nsteps)):
-        u, v, a = step(u, v, a, dt, *args, law=law, drag=drag)
-    return u, v
+        u, v, a, d = step(u, v, a, dt, *args, law=law, drag=drag, dissipated=True)
+        total += d
+    return (u, v, total) if dissipated else (u, v)

@@ -11,7 +11,10 @@ The monitor checks :math:`E(t) + D(t) = E(0)` with E the wave energy (kinetic pl
 elastic contact energies, docs/physics.md §6) and D the energy dissipated so far
 (0 for a conservative law; :meth:`Simulation.dissipated`): a relative violation beyond
 ``drift_tolerance`` is an instability, with or without dissipation.  For velocity
-Verlet and a conservative law the modified energy replaces E (below).
+Verlet the modified energy replaces E (below).  D is the energy the kernels' exact
+dissipative sub-steps removed (:mod:`discrete.kernels`, "Dissipation"), equal to the
+kinetic energy they took to round-off, so the balance carries only velocity Verlet's
+own O(Δt²) error (docs/physics.md §11).
 
 Energy: velocity Verlet conserves a modified energy :math:`\tilde H = H + O(\Delta t^2)`
 (Hairer, Lubich & Wanner 2006, §IX; :func:`discrete.kernels.shadow_correction`).  The
@@ -190,17 +193,16 @@ class Simulation:
         results; False integrates every grain, one step at a time on one thread — for
         tests).
     drift_tolerance : float
-        Relative violation of the energy balance E + D = E(0) (for velocity Verlet with
-        a conservative law: of its modified energy, :func:`kernels` ``shadow_correction``,
-        which has no O(dt²) oscillation) that counts as an instability (1e-8–1e-5 in
-        sane runs).
+        Relative violation of the energy balance E + D = E(0) (for velocity Verlet: of
+        its modified energy, :func:`kernels` ``shadow_correction``, which has no O(dt²)
+        oscillation) that counts as an instability (1e-8–1e-5 in sane runs).
     chunk : int
         Largest number of steps per kernel call.
     integrator : str
         Time-stepping method (:data:`discrete.integrators.INTEGRATORS`): ``"verlet"``
         (velocity Verlet, the paper's; default), ``"yoshida4"``, ``"blanes_moan4"``.
-        Velocity-dependent forces (a dissipative law, drag) take velocity Verlet with the
-        predicted velocity (:mod:`discrete.kernels`).
+        Velocity-dependent forces (a dissipative law, drag) take velocity Verlet for the
+        elastic force between exact dissipative sub-steps (:mod:`discrete.kernels`).
     threads : int, optional
         Threads for the kernel, used only while the active window has at least
         :data:`PARALLEL_MIN_GRAINS` grains.  None (default): all numba threads
@@ -264,7 +266,8 @@ class Simulation:
         if self.kernels.velocity_dependent and method.name != "verlet":
             raise ValueError(f"integrator {method.name!r} needs forces that depend on "
                              "positions only; a dissipative law or drag runs with 'verlet' "
-                             "(velocity Verlet with a predicted velocity, discrete.kernels)")
+                             "(velocity Verlet between exact dissipative sub-steps, "
+                             "discrete.kernels)")
         if isinstance(dt, TimeStep):
             self.time_step = dt
             if check_dt:
@@ -456,26 +459,25 @@ class Simulation:
     def dissipated(self) -> float:
         r"""Energy dissipated since the start of the run, J (0 for conservative forces).
 
-        The kernels book :math:`h P(t_k)` per step (P the dissipated power at the
-        predicted velocities, :mod:`discrete.kernels`); with the end correction
-        :math:`\tfrac h2 (P(t_0) - P(t))` this is the trapezoidal rule for
-        :math:`\int_{t_0}^t P\,dt`, second order like the integration itself.
+        The sum of what the dissipative sub-steps removed (:mod:`discrete.kernels`,
+        "Dissipation"): per contact :math:`P_j\bar w_j` and per grain
+        :math:`\tfrac12 m_i(v_i^2 - v_i'^2)`, the integrator's own discrete work, equal
+        to the kinetic energy those sub-steps took to round-off.  It approximates
+        :math:`\int_{t_0}^t P\,dt` (P the dissipated power) at second order, like the
+        integration itself.
         """
         if not self.kernels.velocity_dependent:
             return 0.0
-        return float(np.sum(self._dis)) + 0.5 * self.dt * (self._p0 - self._dissipation_rate())
+        return float(np.sum(self._dis))
 
     def dissipated_per_contact(self) -> np.ndarray:
-        """The dissipated energy booked per contact j (with the drag of grain j-1), J.
-
-        Without the end correction of :meth:`dissipated` (O(h P)).
-        """
+        """The dissipated energy booked per contact j (with the drag of grain j-1), J."""
         return self._dis.copy()
 
     def _monitor(self) -> tuple[float, float]:
         e = self.energy()
         sh = 0.0
-        if self._lo >= 0 and self.integrator == "verlet" and not self.kernels.velocity_dependent:
+        if self._lo >= 0 and self.integrator == "verlet":
             sh = self.kernels.shadow_correction(self.u, self.v, self.a, self.chain.mass,
                                                 self._k, self._d0, self.wall_left,
                                                 self.wall_right, self._lo, self._hi)

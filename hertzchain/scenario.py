@@ -882,7 +882,8 @@ def parse_scenario(data: dict) -> Scenario:
         raise ScenarioError(
             f"[run] integrator = {run.integrator!r} needs forces that depend on positions "
             f"only; with [chain] {cause} the forces depend on velocities: use integrator = "
-            "'verlet' (velocity Verlet with a predicted velocity, discrete.kernels)")
+            "'verlet' (velocity Verlet between exact dissipative sub-steps, "
+            "discrete.kernels)")
     record = RecordSpec(**_read_table(data.get("record", {}), "record"))
     _check_record(record, n, run.t_end)
     raw_models = data.get("models", {})
