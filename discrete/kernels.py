@@ -117,12 +117,13 @@ import numpy as np  # noqa: E402
 
 from theory import jitcache  # noqa: E402
 
+from .interpolation import hermite_max_from  # noqa: E402
 from .laws import N_PARAMS, ContactLaw, as_law, source_digest  # noqa: E402
 
 jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
 
 __all__ = ["Kernels", "make_kernels", "kernel_params", "chain_runs", "active_window",
-           "UMAX_EVERY", "RUNS_MIN_LENGTH"]
+           "UMAX_EVERY", "RUNS_MIN_LENGTH", "PEAK_ROWS"]
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 _INNER = {"nogil": True, "error_model": "numpy"}
@@ -283,6 +284,17 @@ def _entry(py_func, key: str, **options):
     return disp
 
 
+def _interp_digest() -> str:
+    """SHA-256 of :mod:`discrete.interpolation` (compiled into the kernels' refined maxima)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, "interpolation.py"), "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+PEAK_ROWS = 5
+"""Rows of the per-grain peak state of the refined maxima (``run_chunk``'s ``peak``)."""
+
+
 # ------------------------------------------------------------------------ kernels
 class Kernels(NamedTuple):
     """The compiled kernels of one contact law (:func:`make_kernels`)."""
@@ -361,7 +373,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     DRAG = bool(drag)
     NP = N_PARAMS  # index of the drag rate in p
     RMAX = bool(rmax)  # running maxima of the overlaps
-    ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{source_digest()}"
+    ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{source_digest()}|{_interp_digest()}"
     tag = _tag(law, DRAG, RMAX)
 
     def jit(**options):
@@ -561,14 +573,95 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         phi_r = contact(d0[g + 1] + (u[g] - ur), 0.0, k[g + 1], f0[g + 1], p)
         return (phi_l - phi_r) * inv_m[g]
 
+    # ------------------------------------------------------------ refined maxima
+    # The running maximum ``vmax`` stays the largest *sampled* synchronous velocity (the
+    # gate, the figures' quantity; its test in the fused loops is unchanged: a call in
+    # that branch stops LLVM vectorising the loop, measured 6x slower).  After a step's
+    # final substep, ``refine_range`` compares the gate with its copy (row 0 of the peak
+    # state): a grain whose gate rose at this step, or that is *pending* (its gate rose at
+    # the step before; copy NaN), gets its acceleration a1 recomputed (``accel_at``) and
+    # its synchronous v1 (= the new gate, or v - c2 a1), and the maximum of the cubic
+    # Hermite interpolant of (v, a) on the step (:mod:`discrete.interpolation`) raises
+    # its refined maximum ``vref`` — O(h^p) for an integrator of order p, where the
+    # largest sample is O(h^2) off.  A grain stays pending one step after its gate last
+    # rose, so the steps on both sides of its largest sample are searched.  If the gate
+    # is first exceeded with a1 < 0 (a new peak already behind within that step; v at
+    # the step before is not kept) the next step's interpolant is searched one step
+    # back as well (``hermite_max_from(..., -1)``, still O(h^4)).  Grains are
+    # independent: bitwise the same with blocks and threads.
+    @jit(**_INLINE)
+    def refine_one(st, con, p, vmax, pk, vref, tref, t0, i, left, right, c2, h, gstep):
+        """The refined maximum of grain i after a step whose gate test flagged it.
+
+        Section "Refined maxima" above ``advance``; ``left``, ``right`` are the drifted
+        neighbours of the pass, ``gstep`` the global number of the step just taken, ``t0``
+        the time of step 0 (s): ``tref`` is t0 + (fractional step) h.
+        """
+        g = vmax[i]
+        a1 = accel_at(st, con, p, i, left, right)
+        if pk[0, i] == pk[0, i]:  # not pending: the gate was first exceeded at this step
+            if g > vref[i]:
+                vref[i] = g
+                tref[i] = t0 + gstep * h
+            pk[0, i] = np.nan
+            pk[1, i] = g
+            pk[2, i] = a1
+            pk[3, i] = -1.0 if a1 < 0.0 else 0.0  # peak already passed: look one step back
+            pk[4, i] = gstep
+            return
+        changed = g != pk[1, i]
+        v1 = g if changed else st[1][i] - c2 * a1  # the synchronous velocity
+        if pk[4, i] == gstep - 1.0:
+            s_, y = hermite_max_from(h, pk[1, i], v1, pk[2, i], a1, pk[3, i])
+            if y > vref[i]:
+                vref[i] = y
+                tref[i] = t0 + (gstep - 1.0 + s_) * h
+        elif v1 > vref[i]:  # (not reached: a pending grain stays in the window)
+            vref[i] = v1
+            tref[i] = t0 + gstep * h
+        if changed:
+            pk[1, i] = v1
+            pk[2, i] = a1
+            pk[3, i] = 0.0
+            pk[4, i] = gstep
+        else:
+            pk[0, i] = g  # the peak is behind: no longer pending
+
+    @jit(**_INLINE)
+    def refine_range(st, con, p, vmax, peak, lo_t, hi_t, ul, ur, c2, h, gstep):
+        """``refine_one`` on every grain of [lo_t, hi_t) whose gate changed or is pending.
+
+        The test ``vmax != pk[0]`` (NaN while pending) is a vectorised count over blocks
+        of 64 grains; only blocks with a flagged grain are walked grain by grain.
+        """
+        u = st[0]
+        pk, vref, tref, t0 = peak[1], peak[2], peak[3], peak[4]
+        gate = pk[0]
+        b0 = lo_t
+        while b0 < hi_t:
+            b1 = min(b0 + 64, hi_t)
+            flagged = 0
+            for i in range(b0, b1):
+                flagged += vmax[i] != gate[i]
+            if flagged:
+                for i in range(b0, b1):
+                    if vmax[i] != gate[i]:
+                        left = ul if i == lo_t else u[i - 1]
+                        right = ur if i == hi_t - 1 else u[i + 1]
+                        refine_one(st, con, p, vmax, pk, vref, tref, t0, i, left, right, c2,
+                                   h, gstep)
+            b0 = b1
+
     @jit(**_INLINE)
     def advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk, umx,
-                sp, vsp):
+                sp, vsp, peak, h, gstep):
         """One substep of grains [lo_t, hi_t) (``piece``) with the recording.
 
         The synchronous velocities v + c1 a of the special grains ``sp`` (sorted) in the
-        range go to ``vsp`` (``ul``, ``ur`` at the range ends), and with ``umx`` the
-        running maximum of u is updated on the range.
+        range go to ``vsp`` (``ul``, ``ur`` at the range ends), with ``umx`` the
+        running maximum of u is updated on the range, and with ``trk`` and ``peak[0]``
+        the refined maxima (``refine_range``; ``h`` the step, ``gstep`` its global
+        number).
         """
         u = st[0]
         v = st[1]
@@ -587,6 +680,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             umw = umax[lo_t:hi_t]
             for i in range(hi_t - lo_t):
                 umw[i] = max(umw[i], uw[i])
+        if trk and peak[0]:
+            refine_range(st, con, p, mx[0], peak, lo_t, hi_t, ul, ur, c2, h, gstep)
 
     # ---------------------------------------------------------- temporal blocking
     # A block advances the (padded) window by ``nsub`` substeps with trapezoid tiles:
@@ -603,10 +698,10 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
 
     @jit(**_INNER)
     def trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp, none,
-                  vsp2, nsub):
+                  vsp2, nsub, peak, h):
         """Phase A on tile j (shrinking ranges) or phase B around boundary j (growing)."""
         u, v = st[0], st[1]
-        dcs, c1s, c2s, trks, umxs, fins = sub
+        dcs, c1s, c2s, trks, umxs, fins, gss = sub
         n = u.size
         nt = bounds.size - 1
         for tau in range(nsub):
@@ -626,11 +721,12 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 ul = wl if lo_t == 0 else u[lo_t - 1]
                 ur = wr if hi_t == n else u[hi_t]
             advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, 0.0, 0.0, dc, c1s[tau],
-                    c2s[tau], 0.0, trks[tau], umxs[tau], sp if fins[tau] else none, vsp2[tau])
+                    c2s[tau], 0.0, trks[tau], umxs[tau], sp if fins[tau] else none, vsp2[tau],
+                    peak, h, gss[tau])
 
     @jit(parallel=True, **_INNER)
     def phase_tiles(st, con, p, mx, umax, bounds, phase, ulb, urb, wl, wr, sub, sp, none,
-                    vsp2, nsub):
+                    vsp2, nsub, peak, h):
         """Phase ``phase`` (0: A, 1: B) of a block on the tiles ``bounds``, concurrently.
 
         (One prange loop called twice per block: numba compiles the loop body, and all it
@@ -639,11 +735,11 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         count = bounds.size - 1 + phase
         for j in numba.prange(count):
             trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp,
-                      none, vsp2, nsub)
+                      none, vsp2, nsub, peak, h)
 
     @jit(**_INLINE)
     def block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax, track,
-              events, series, rows, cfg, work):
+              events, series, rows, cfg, work, peak, h):
         """Try one temporal block of ``nb`` steps from step ``s`` (section above).
 
         Returns ``(status, rows, fired, lo, hi)``: status 0 = not blocked (too small, a
@@ -656,9 +752,9 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         ts_idx, ts_every, step0, ts_out = series
         nt_max, min_parallel, tile, min_serial_block = cfg
         sub, vsp2, saved_state, swm, bnd, ulb_b, urb_b = work
-        su, sv, svm, sum_, srm = saved_state
+        su, sv, svm, sum_, srm, spk, svr, str_ = saved_state
         vmax, rmax = mx[0], mx[1]
-        dcs, c1s, c2s, trks, umxs, fins = sub
+        dcs, c1s, c2s, trks, umxs, fins, gss = sub
         n = u.size
         ns = drift.size
         nsub = nb * ns
@@ -696,6 +792,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             trks[tau] = final and track
             umxs[tau] = final and track and (step0 + sidx) % UMAX_EVERY == 0
             fins[tau] = final
+            gss[tau] = float(step0 + sidx)
             for q in range(sp_w.size):
                 vsp2[tau, q] = 0.0  # watched grains outside the window: v = 0
         saved = False
@@ -709,12 +806,17 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             sum_[lo_p:hi_p + 1] = umax[lo_p:hi_p + 1]
             if mx[2]:
                 srm[lo_p:hi_p + 2] = rmax[lo_p:hi_p + 2]
+            if peak[0]:
+                spk[:, lo_p:hi_p + 1] = peak[1][:, lo_p:hi_p + 1]
+                svr[lo_p:hi_p + 1] = peak[2][lo_p:hi_p + 1]
+                str_[lo_p:hi_p + 1] = peak[3][lo_p:hi_p + 1]
         swm[:] = wmax
-        subv = (dcs[:nsub], c1s[:nsub], c2s[:nsub], trks[:nsub], umxs[:nsub], fins[:nsub])
+        subv = (dcs[:nsub], c1s[:nsub], c2s[:nsub], trks[:nsub], umxs[:nsub], fins[:nsub],
+                gss[:nsub])
         none = np.zeros(0, np.int64)
         for phase in range(2):
             phase_tiles(st, con, p, mx, umax, bnd[:ntile + 1], phase, ulb_b[:ntile],
-                        urb_b[:ntile], wl, wr, subv, sp_w, none, vsp2[:nsub], nsub)
+                        urb_b[:ntile], wl, wr, subv, sp_w, none, vsp2[:nsub], nsub, peak, h)
         # events, step by step (the per-step test: the last firing grain wins)
         hit = -1
         hit_q = -1
@@ -733,6 +835,10 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             umax[lo_p:hi_p + 1] = sum_[lo_p:hi_p + 1]
             if mx[2]:
                 rmax[lo_p:hi_p + 2] = srm[lo_p:hi_p + 2]
+            if peak[0]:
+                peak[1][:, lo_p:hi_p + 1] = spk[:, lo_p:hi_p + 1]
+                peak[2][lo_p:hi_p + 1] = svr[lo_p:hi_p + 1]
+                peak[3][lo_p:hi_p + 1] = str_[lo_p:hi_p + 1]
             wmax[:] = swm
             return 2, rows, -1, lo, hi
         # series grains out of reach: constant u and overlaps, v = 0
@@ -746,7 +852,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
 
     @jit(**_INLINE)
     def no_block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
-                 track, events, series, rows, cfg, work):
+                 track, events, series, rows, cfg, work, peak, h):
         """Take every step one by one (status 0): the kernel without blocking."""
         return 0, rows, -1, lo, hi
 
@@ -775,7 +881,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     # ------------------------------------------------------------------ one step
     @jit(**_INLINE)
     def step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, mx, umax, track, do_umax,
-             sp, vsp):
+             sp, vsp, peak, gstep):
         """All substeps of one step on the window, grown as needed; returns (lo, hi).
 
         ``vsp`` receives the synchronous velocities of the special grains ``sp``.
@@ -809,7 +915,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 vl = 0.0 if lo == 0 else v[lo - 1] + c1 * a[lo - 1]
                 vr = 0.0 if hi == n - 1 else v[hi + 1] + c1 * a[hi + 1]
             advance(st, con, p, mx, umax, lo, hi + 1, ul, ur, vl, vr, dc, c1, c2, dt,
-                    final and track, final and track and do_umax, sp if final else none, vsp)
+                    final and track, final and track and do_umax, sp if final else none, vsp,
+                    peak, dt, gstep)
         return lo, hi
 
     # -------------------------------------------------------- chunk (entry points)
@@ -818,7 +925,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
 
         def run_chunk(st, con, p, wl, wr, dt, drift, kick, nsteps, lo, hi, vmax, umax, rmax,
                       track, track_r, watch, wmax, wthr, ts_idx, ts_every, step0, ts_out, cfg,
-                      erow):
+                      erow, peak):
             """Advance ``nsteps`` steps on the window ``lo..hi`` in place.
 
             Parameters
@@ -865,6 +972,14 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 closes like the last step of a chunk (synchronous v, a recomputed) and the
                 next one opens with its kick: bitwise the arithmetic of ending the chunk
                 there, so the grid costs no kernel call per row.
+            peak : tuple
+                ``(refine, state, vref, tref, t0)``: with ``refine`` and ``track`` the
+                refined maxima of v (section "Refined maxima"): ``vref`` (N,) m/s, ``tref``
+                (N,) the time each was reached, ``t0 + (fractional global step) dt`` (s),
+                ``state``
+                (``PEAK_ROWS``, N) the peak state carried between steps and chunks (row 0
+                the gate copy, NaN while pending; 1, 2 v and a at the last step; 3 the
+                start of the searched interval, -1 or 0; 4 that step's global number).
 
             Returns
             -------
@@ -891,13 +1006,15 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             nsub_max = max(block_steps, 1) * ns if BLOCKS else 1
             keep = n if watch.size > 0 and BLOCKS else 0
             keep_r = keep + 1 if keep and track_r else 0
+            keep_p = keep if keep and peak[0] else 0
             ntile_max = (n // max(tile, 1)) + nt_max + 2
             work = ((np.empty(nsub_max), np.empty(nsub_max), np.empty(nsub_max),
                      np.zeros(nsub_max, np.bool_), np.zeros(nsub_max, np.bool_),
-                     np.zeros(nsub_max, np.bool_)),
+                     np.zeros(nsub_max, np.bool_), np.zeros(nsub_max)),
                     np.zeros((nsub_max, sp_w.size)),
                     (np.empty(keep), np.empty(keep), np.empty(keep), np.empty(keep),
-                     np.empty(keep_r)),
+                     np.empty(keep_r), np.empty((PEAK_ROWS, keep_p)), np.empty(keep_p),
+                     np.empty(keep_p)),
                     np.empty(watch.size), np.empty(ntile_max + 1, np.int64),
                     np.empty(ntile_max), np.empty(ntile_max))
             events = (watch, wmax, wthr, sp_w, pos_w)
@@ -918,7 +1035,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                     close = e_every > 0 and (step0 + s + nb) % e_every == 0
                     status, rows, hit, lo_b, hi_b = try_block(
                         st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
-                        track, events, (ts_idx, ts_every, step0, ts_out), rows, bcfg, work)
+                        track, events, (ts_idx, ts_every, step0, ts_out), rows, bcfg, work,
+                        peak, dt)
                     if status == 1:
                         s += nb
                         fired = hit
@@ -936,7 +1054,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 sample = ts_idx.size > 0 and (step0 + s) % ts_every == 0
                 lo, hi = step(st, con, p, wl, wr, drift, kick, dt, last or erow_now, lo, hi,
                               mx, umax, track, (step0 + s) % UMAX_EVERY == 0,
-                              sp_ws if sample else sp_w, vsp)
+                              sp_ws if sample else sp_w, vsp, peak, float(step0 + s))
                 if erow_now:
                     erows = take_row(st, con, p, wl, wr, kick, lo, hi, e_coarsen, e_out,
                                      erows, mass)

@@ -208,7 +208,17 @@ class Record:
     series : (R, S, 4) array
         u (m), v (m/s), left- and right-contact overlap (m) of each series grain.
     vmax, umax : (N,) arrays or None
-        Running maxima of v (m/s) and u (m) since the start.
+        Running maxima of v (m/s) and u (m) since the start: the largest *sampled*
+        values (at the steps; v̄max's of paper Fig. 2 as the figures read them).
+    vmax_refined, vmax_time : (N,) arrays or None
+        Refined running maxima of v (m/s), taken between the steps on the cubic Hermite
+        interpolant of (v, a) (:mod:`discrete.interpolation`, :mod:`discrete.kernels`
+        "Refined maxima"): they converge at the integrator's order, where ``vmax`` is
+        O(h²) off; ``vmax_refined >= vmax``.  ``vmax_time``: the time each was
+        reached, s.  None for files of older versions.
+    peak_state : (PEAK_ROWS, N) array or None
+        The kernels' per-grain peak state behind ``vmax_refined`` (carried so that a
+        continued run is bit for bit the uninterrupted one).
     energy_t : (T,) array, s
     energy_kinetic, energy_potential : (T, Nc) arrays, J
         Per-grain (or per-block of ``energy_coarsen`` grains) energies (Fig. 8).
@@ -244,6 +254,9 @@ class Record:
     wall_forces: bool = False
     wall_force: list = field(default_factory=list)
     overlap_max: np.ndarray | None = None
+    vmax_refined: np.ndarray | None = None
+    vmax_time: np.ndarray | None = None
+    peak_state: np.ndarray | None = None
 
     _MONITOR = ("monitor_t", "monitor_energy", "monitor_shadow", "monitor_dissipated")
 
@@ -278,6 +291,18 @@ class Record:
             if self.vmax is None or self.umax is None or self.vmax.shape != (n,) \
                     or self.umax.shape != (n,):
                 raise ValueError(f"record/vmax and record/umax must have shape ({n},)")
+        refined = (self.vmax_refined, self.vmax_time, self.peak_state)
+        if any(x is not None for x in refined):
+            from .kernels import PEAK_ROWS
+
+            if (self.vmax is None or any(x is None for x in refined)
+                    or self.vmax_refined.shape != (n,) or self.vmax_time.shape != (n,)
+                    or self.peak_state.shape != (PEAK_ROWS, n)):
+                raise ValueError(f"record/vmax_refined, vmax_time ({n},) and peak_state "
+                                 f"({PEAK_ROWS}, {n}) must come together, with vmax")
+            if not np.all(self.vmax_refined >= self.vmax):
+                raise ValueError("record/vmax_refined must be >= record/vmax everywhere "
+                                 "(the refined maximum includes the samples)")
 
     def arrays(self) -> dict[str, np.ndarray]:
         """The list-valued fields as stacked arrays."""

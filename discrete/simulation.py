@@ -323,6 +323,10 @@ class Simulation:
         if rec.maxima:
             self.record.vmax = self.v.copy()
             self.record.umax = self.u.copy()
+            self.record.vmax_refined = self.v.copy()
+            self.record.vmax_time = np.full(n, self.t0)
+            self.record.peak_state = np.zeros((K.PEAK_ROWS, n))
+            self.record.peak_state[0] = self.v  # the gate's copy (discrete.kernels)
         if rec.strain_maxima:
             self.record.overlap_max = self.overlaps()
         self._pending = rec.events()
@@ -756,6 +760,10 @@ class Simulation:
         Returns (steps, series rows, fired, energy rows written into ``erow``'s buffer).
         """
         rec = self.recording
+        r = self.record
+        refine = rec.maxima and r.vmax_refined is not None
+        peak = ((refine, r.peak_state, r.vmax_refined, r.vmax_time, self.t0) if refine
+                else (False, np.zeros((K.PEAK_ROWS, 0)), np.zeros(0), np.zeros(0), self.t0))
         nthreads, nsteps = self._tune_choose(nsteps)
         clock = time.perf_counter()
         threads0 = numba.get_num_threads()
@@ -768,7 +776,7 @@ class Simulation:
                 self._lo, self._hi, vmax, umax, rmax, rec.maxima, rec.strain_maxima, watch,
                 wmax, wthr, self._ts_grains, int(rec.series_every), self.steps, ts_buf,
                 (nthreads, self.min_parallel, self.block_steps, TILE_GRAINS,
-                 SERIAL_BLOCK_MIN_GRAINS), erow)
+                 SERIAL_BLOCK_MIN_GRAINS), erow, peak)
         finally:
             if nthreads != threads0:
                 numba.set_num_threads(threads0)

@@ -110,6 +110,8 @@ def _sim_state(sim) -> dict:
     out.update(u=sim.u.tobytes(), v=sim.v.tobytes(), a=sim.a.tobytes(), steps=sim.steps,
                vmax=None if rec.vmax is None else rec.vmax.tobytes(),
                umax=None if rec.umax is None else rec.umax.tobytes(),
+               **{name: None if getattr(rec, name) is None else getattr(rec, name).tobytes()
+                  for name in ("vmax_refined", "vmax_time", "peak_state")},
                snaps=[(s.label, s.step, s.u.tobytes(), s.v.tobytes()) for s in rec.snapshots],
                drift=sim.energy_drift)
     return out

@@ -26,6 +26,10 @@ def _same(a, b):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
     assert np.array_equal(a.record.vmax, b.record.vmax)
     assert np.array_equal(a.record.umax, b.record.umax)
+    for name in ("vmax_refined", "vmax_time", "peak_state"):  # refined maxima, their state
+        assert np.array_equal(getattr(a.record, name), getattr(b.record, name),
+                              equal_nan=True), name
+    assert np.any(a.record.vmax_refined > a.record.vmax)  # (refined maxima were taken)
     for name in ("series", "series_t", "monitor_energy", "monitor_shadow", "energy_kinetic"):
         assert np.array_equal(ra[name], rb[name]), name
     assert [(s.label, s.step) for s in a.record.snapshots] == [
