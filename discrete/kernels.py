@@ -88,7 +88,9 @@ arithmetic is therefore the same however the window is cut, which gives
   start while a watched grain is within reach) and redone step by step.
 
 The recording (running maxima of v every step, of u every ``UMAX_EVERY`` steps, the
-event test on watched grains, time series of chosen grains) is fused into these passes.
+event test on watched grains, time series of chosen grains) is fused into these passes;
+the refined maxima of v between the steps (section "Refined maxima" in ``_build``) run
+after each step's final substep on the same range, per grain.
 No ``fastmath``: the tests rely on bitwise determinism.
 
 Arguments are grouped in tuples (numba passes them at no cost): ``st = (u, v, a, dis)``
@@ -587,42 +589,39 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     # rose, so the steps on both sides of its largest sample are searched.  If the gate
     # is first exceeded with a1 < 0 (a new peak already behind within that step; v at
     # the step before is not kept) the next step's interpolant is searched one step
-    # back as well (``hermite_max_from(..., -1)``, still O(h^4)).  Grains are
-    # independent: bitwise the same with blocks and threads.
+    # back as well (``hermite_max_from(..., -1)``, still O(h^4)).  Cheap paths: where
+    # the gate rose, a1 = (v - v1)/c2 from the velocity the pass left (no force); where
+    # v rises at both ends of the step (a0, a1 >= 0) its maximum there is the end, v1.
+    # Grains are independent: bitwise the same with blocks and threads.
     @jit(**_INLINE)
-    def refine_one(st, con, p, vmax, pk, vref, tref, t0, i, left, right, c2, h, gstep):
-        """The refined maximum of grain i after a step whose gate test flagged it.
+    def refine_one(pk, vref, tref, t0, i, g, v1, a1, h, gstep):
+        """The refined maximum of a flagged grain i after a step (section above).
 
-        Section "Refined maxima" above ``advance``; ``left``, ``right`` are the drifted
-        neighbours of the pass, ``gstep`` the global number of the step just taken, ``t0``
-        the time of step 0 (s): ``tref`` is t0 + (fractional step) h.
+        ``g`` its gate, ``v1``, ``a1`` its synchronous velocity and acceleration at the
+        step's end, ``gstep`` the step's global number, ``t0`` the time of step 0 (s):
+        ``tref`` is t0 + (fractional step) h.
         """
-        g = vmax[i]
-        a1 = accel_at(st, con, p, i, left, right)
-        if pk[0, i] == pk[0, i]:  # not pending: the gate was first exceeded at this step
-            if g > vref[i]:
-                vref[i] = g
+        pending = pk[0, i] != pk[0, i]
+        changed = (not pending) or g != pk[1, i]
+        if not pending or pk[4, i] != gstep - 1.0 or (
+                changed and pk[3, i] == 0.0 and pk[2, i] >= 0.0 and a1 >= 0.0):
+            # first exceeded; or (not reached: a pending grain stays in the window) a
+            # stale state; or rising at both ends: the step's maximum is its end
+            if v1 > vref[i]:
+                vref[i] = v1
                 tref[i] = t0 + gstep * h
-            pk[0, i] = np.nan
-            pk[1, i] = g
-            pk[2, i] = a1
-            pk[3, i] = -1.0 if a1 < 0.0 else 0.0  # peak already passed: look one step back
-            pk[4, i] = gstep
-            return
-        changed = g != pk[1, i]
-        v1 = g if changed else st[1][i] - c2 * a1  # the synchronous velocity
-        if pk[4, i] == gstep - 1.0:
+        else:
             s_, y = hermite_max_from(h, pk[1, i], v1, pk[2, i], a1, pk[3, i])
             if y > vref[i]:
                 vref[i] = y
                 tref[i] = t0 + (gstep - 1.0 + s_) * h
-        elif v1 > vref[i]:  # (not reached: a pending grain stays in the window)
-            vref[i] = v1
-            tref[i] = t0 + gstep * h
         if changed:
+            pk[0, i] = np.nan
             pk[1, i] = v1
             pk[2, i] = a1
-            pk[3, i] = 0.0
+            # first exceeded after the peak (a1 < 0): search the next step's cubic one
+            # step back as well
+            pk[3, i] = -1.0 if not pending and a1 < 0.0 else 0.0
             pk[4, i] = gstep
         else:
             pk[0, i] = g  # the peak is behind: no longer pending
@@ -632,25 +631,59 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         """``refine_one`` on every grain of [lo_t, hi_t) whose gate changed or is pending.
 
         The test ``vmax != pk[0]`` (NaN while pending) is a vectorised count over blocks
-        of 64 grains; only blocks with a flagged grain are walked grain by grain.
+        of 64 grains (a constant trip count: LLVM vectorises it; a variable one of 16
+        measured 10x slower); only blocks with a flagged grain are walked.  Where the
+        gate rose, a1 = (v - g)/c2 from the velocity the pass left; only a pending grain
+        whose gate did not rise (once per peak) or the closing step of a chunk (c2 = 0)
+        recomputes a1 from its contacts (``accel_at``), in a walk of its own (inside the
+        first it doubled a 2,000-grain impact's CPU time).  At c2 = 0 the velocity a
+        mid-chunk pass would have left, v + k0 a1 (k0 = ``peak[5]``, the opening kick),
+        is rebuilt first, so that every grain's arithmetic is the same bits wherever a
+        chunk ends.
         """
-        u = st[0]
-        pk, vref, tref, t0 = peak[1], peak[2], peak[3], peak[4]
+        u, v = st[0], st[1]
+        pk, vref, tref, t0, k0 = peak[1], peak[2], peak[3], peak[4], peak[5]
         gate = pk[0]
         b0 = lo_t
         while b0 < hi_t:
-            b1 = min(b0 + 64, hi_t)
-            flagged = 0
-            for i in range(b0, b1):
-                flagged += vmax[i] != gate[i]
+            m = min(64, hi_t - b0)
+            flagged = 1
+            if m == 64:
+                x = vmax[b0:b0 + 64]
+                y = gate[b0:b0 + 64]
+                flagged = 0
+                for j in range(64):
+                    flagged += x[j] != y[j]
             if flagged:
-                for i in range(b0, b1):
-                    if vmax[i] != gate[i]:
-                        left = ul if i == lo_t else u[i - 1]
-                        right = ur if i == hi_t - 1 else u[i + 1]
-                        refine_one(st, con, p, vmax, pk, vref, tref, t0, i, left, right, c2,
-                                   h, gstep)
-            b0 = b1
+                # where the gate rose (first time, or again while pending): a1 from v;
+                # the others (a pending grain whose gate did not rise, once per peak;
+                # every grain at c2 = 0) in a walk of their own, ``accel_at``
+                slow = 0
+                for i in range(b0, b0 + m):
+                    g = vmax[i]
+                    if g != gate[i]:
+                        if c2 != 0.0 and (gate[i] == gate[i] or g != pk[1, i]):
+                            refine_one(pk, vref, tref, t0, i, g, g, (v[i] - g) / c2, h,
+                                       gstep)
+                        else:
+                            slow += 1
+                if slow:
+                    for i in range(b0, b0 + m):
+                        g = vmax[i]
+                        if g != gate[i] and pk[4, i] != gstep:  # (not done above)
+                            left = ul if i == lo_t else u[i - 1]
+                            right = ur if i == hi_t - 1 else u[i + 1]
+                            acc = accel_at(st, con, p, i, left, right)
+                            # v as a mid-chunk pass leaves it (c2 = k0): the same bits
+                            # wherever the chunks end (resume, threads' chunk lengths)
+                            vaft = v[i] if c2 != 0.0 else v[i] + k0 * acc
+                            if gate[i] == gate[i] or g != pk[1, i]:  # (c2 = 0)
+                                refine_one(pk, vref, tref, t0, i, g, g, (vaft - g) / k0,
+                                           h, gstep)
+                            else:
+                                refine_one(pk, vref, tref, t0, i, g, vaft - k0 * acc, acc,
+                                           h, gstep)
+            b0 += m
 
     @jit(**_INLINE)
     def advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk, umx,
@@ -973,10 +1006,10 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 next one opens with its kick: bitwise the arithmetic of ending the chunk
                 there, so the grid costs no kernel call per row.
             peak : tuple
-                ``(refine, state, vref, tref, t0)``: with ``refine`` and ``track`` the
+                ``(refine, state, vref, tref, t0, k0)``: with ``refine`` and ``track`` the
                 refined maxima of v (section "Refined maxima"): ``vref`` (N,) m/s, ``tref``
                 (N,) the time each was reached, ``t0 + (fractional global step) dt`` (s),
-                ``state``
+                ``k0`` the opening kick coefficient ``kick[0]`` (s), ``state``
                 (``PEAK_ROWS``, N) the peak state carried between steps and chunks (row 0
                 the gate copy, NaN while pending; 1, 2 v and a at the last step; 3 the
                 start of the searched interval, -1 or 0; 4 that step's global number).

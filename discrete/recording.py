@@ -83,6 +83,14 @@ class Recording:
     strain_maxima : bool
         Keep the running maximum of every contact's overlap (needs ``maxima``); the
         strain maxima are (max overlap - δ0)/d.
+    refined_maxima : bool or None
+        Also keep the *refined* running maxima of v, between the steps
+        (:attr:`Record.vmax_refined`; needs ``maxima``).  None (default): with a time step
+        chosen for ``rtol`` (whose accuracy statement is about them), not otherwise —
+        they cost the recording kernel a per-step test of every grain and a Hermite
+        search for every grain whose maximum rises (measured on ``benchmarks/kernel.py``'s
+        random-velocity chain, where ~1 % of the grains rise at every step: 0.5x; in a
+        wave, where only the front rises, a few per cent).
     """
 
     snapshots: Sequence[AtTime | WaveAt | float | int] = ()
@@ -95,6 +103,7 @@ class Recording:
     sensors: Sequence[int] = ()
     wall_forces: bool = False
     strain_maxima: bool = False
+    refined_maxima: bool | None = None
 
     def events(self) -> list[Event]:
         """The snapshot events as :class:`AtTime` / :class:`WaveAt` objects."""
@@ -110,7 +119,9 @@ class Recording:
                 "monitor_every": int(self.monitor_every),
                 "sensors": [int(g) for g in self.sensors],
                 "wall_forces": bool(self.wall_forces),
-                "strain_maxima": bool(self.strain_maxima)}
+                "strain_maxima": bool(self.strain_maxima),
+                "refined_maxima": (None if self.refined_maxima is None
+                                   else bool(self.refined_maxima))}
 
     @classmethod
     def from_dict(cls, d: dict) -> Recording:
@@ -120,7 +131,8 @@ class Recording:
                    maxima=d["maxima"], energy_every=d["energy_every"],
                    energy_coarsen=d["energy_coarsen"], monitor_every=d["monitor_every"],
                    sensors=d.get("sensors", ()), wall_forces=d.get("wall_forces", False),
-                   strain_maxima=d.get("strain_maxima", False))
+                   strain_maxima=d.get("strain_maxima", False),
+                   refined_maxima=d.get("refined_maxima"))
 
     def validate(self, n: int) -> None:
         """Raise ValueError for anything that cannot work on a chain of ``n`` grains."""
@@ -134,6 +146,11 @@ class Recording:
                 raise ValueError(f"sensor grain {g!r} outside the chain [0, {n})")
         if self.strain_maxima and not self.maxima:
             raise ValueError("strain_maxima needs maxima=True (the running maxima)")
+        if self.refined_maxima not in (None, True, False):
+            raise ValueError(f"refined_maxima must be None, True or False "
+                             f"(got {self.refined_maxima!r})")
+        if self.refined_maxima and not self.maxima:
+            raise ValueError("refined_maxima needs maxima=True (the running maxima)")
         for name in ("series_every", "monitor_every", "energy_coarsen"):
             val = getattr(self, name)
             if int(val) != val or val < 1:
@@ -292,6 +309,9 @@ class Record:
                     or self.umax.shape != (n,):
                 raise ValueError(f"record/vmax and record/umax must have shape ({n},)")
         refined = (self.vmax_refined, self.vmax_time, self.peak_state)
+        if recording.refined_maxima and self.vmax_refined is None:
+            raise ValueError("record/vmax_refined missing (the recording keeps refined "
+                             "maxima)")
         if any(x is not None for x in refined):
             from .kernels import PEAK_ROWS
 

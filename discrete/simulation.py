@@ -257,7 +257,8 @@ class Simulation:
             dt = TimeStep.choose(chain, self.u, self.v, self.wall_left, self.wall_right,
                                  rtol=rtol, integrator=None if integrator == "auto"
                                  else integrator, law=self.law, drag=self.drag,
-                                 check=check_dt, recording=self.recording)
+                                 check=check_dt, recording=self.recording,
+                                 drift_tolerance=drift_tolerance)
             integrator = dt.integrator
         method = get_integrator(integrator)
         self.kernels = K.make_kernels(self.law, self.drag > 0, self.recording.strain_maxima)
@@ -323,10 +324,14 @@ class Simulation:
         if rec.maxima:
             self.record.vmax = self.v.copy()
             self.record.umax = self.u.copy()
-            self.record.vmax_refined = self.v.copy()
-            self.record.vmax_time = np.full(n, self.t0)
-            self.record.peak_state = np.zeros((K.PEAK_ROWS, n))
-            self.record.peak_state[0] = self.v  # the gate's copy (discrete.kernels)
+            refined = rec.refined_maxima
+            if refined is None:  # (by default: with an rtol step, whose accuracy it is)
+                refined = self.time_step.source == "rtol"
+            if refined:
+                self.record.vmax_refined = self.v.copy()
+                self.record.vmax_time = np.full(n, self.t0)
+                self.record.peak_state = np.zeros((K.PEAK_ROWS, n))
+                self.record.peak_state[0] = self.v  # the gate's copy (discrete.kernels)
         if rec.strain_maxima:
             self.record.overlap_max = self.overlaps()
         self._pending = rec.events()
@@ -762,8 +767,10 @@ class Simulation:
         rec = self.recording
         r = self.record
         refine = rec.maxima and r.vmax_refined is not None
-        peak = ((refine, r.peak_state, r.vmax_refined, r.vmax_time, self.t0) if refine
-                else (False, np.zeros((K.PEAK_ROWS, 0)), np.zeros(0), np.zeros(0), self.t0))
+        k0 = float(self._kick[0])
+        peak = ((refine, r.peak_state, r.vmax_refined, r.vmax_time, self.t0, k0) if refine
+                else (False, np.zeros((K.PEAK_ROWS, 0)), np.zeros(0), np.zeros(0), self.t0,
+                      k0))
         nthreads, nsteps = self._tune_choose(nsteps)
         clock = time.perf_counter()
         threads0 = numba.get_num_threads()

@@ -13,7 +13,8 @@ from discrete.io import load, save
 def test_save_load_roundtrip_and_continue(tmp_path):
     ch = Chain.two_section(150, 150, alpha_kn=5.0, delta0_over_d=1e-4)
     rec = Recording(snapshots=[100, 2e-4, WaveAt(250)], series_grains=[149, 150],
-                    series_every=10, energy_every=2000, energy_coarsen=5)
+                    series_every=10, energy_every=2000, energy_coarsen=5,
+                    refined_maxima=True)
     sim = impact(ch).simulation(record=rec)
     sim.run(until=WaveAt(120), progress=False)
     path = save(tmp_path / "run.h5", sim)

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import theory
-from discrete import Chain, Section
+from discrete import Chain, Recording, Section
 from discrete import reference as R
 from discrete.initial import exact_wave, impact
 from discrete.interpolation import hermite_max, hermite_max_from
@@ -21,6 +21,7 @@ from discrete.recording import Record
 
 MAT = theory.PAPER_MATERIAL
 D = 5e-3
+REFINED = Recording(maxima=True, refined_maxima=True)
 
 
 def _impact(n=100):
@@ -39,7 +40,7 @@ def test_kernel_matches_numpy_reference(integrator, factor):
     # (measured 7e-13).
     init = _impact()
     dt = init.simulation(integrator=integrator).dt * factor
-    sim = init.simulation(integrator=integrator, dt=dt, check_dt=False)
+    sim = init.simulation(integrator=integrator, dt=dt, check_dt=False, record=REFINED)
     nsteps = 1200
     sim.run(max_steps=nsteps, progress=False)
     vm, vr, tr = R.refined_maxima(init.chain, init.u, init.v, dt, nsteps,
@@ -76,7 +77,7 @@ def test_refined_maxima_converge_at_the_integrators_order(integrator, refined_or
     t_end = 8e-4
 
     def run(dt):
-        sim = init.simulation(integrator=integrator, dt=dt, check_dt=False)
+        sim = init.simulation(integrator=integrator, dt=dt, check_dt=False, record=REFINED)
         sim.run(t_end=t_end, progress=False)
         return sim
 
@@ -125,8 +126,6 @@ def test_hermite_max_one_step_back_is_exact_for_cubics():
 def test_record_check_rejects_inconsistent_refined_maxima():
     rec = Record(series_grains=np.zeros(0, np.int64), vmax=np.ones(3), umax=np.zeros(3),
                  vmax_refined=np.ones(3), vmax_time=np.zeros(3), peak_state=np.zeros((5, 3)))
-    from discrete import Recording
-
     rec.check(3, Recording())
     rec.vmax_refined = np.array([1.0, 0.5, 1.0])  # below the sampled maximum
     with pytest.raises(ValueError, match="vmax_refined must be >="):
@@ -135,3 +134,18 @@ def test_record_check_rejects_inconsistent_refined_maxima():
     rec.peak_state = np.zeros((4, 3))
     with pytest.raises(ValueError, match="must come together"):
         rec.check(3, Recording())
+
+
+def test_refined_maxima_are_kept_with_rtol_or_when_asked():
+    # default (None): only with a step chosen for rtol (whose accuracy they carry)
+    init = _impact(60)
+    assert init.simulation().record.vmax_refined is None
+    assert init.simulation(record=REFINED).record.vmax_refined is not None
+    sim = init.simulation(rtol=1e-3)
+    assert sim.time_step.source == "rtol" and sim.record.vmax_refined is not None
+    off = Recording(maxima=True, refined_maxima=False)
+    assert init.simulation(rtol=1e-3, record=off).record.vmax_refined is None
+    with pytest.raises(ValueError, match="needs maxima"):
+        Recording(maxima=False, refined_maxima=True).validate(60)
+    with pytest.raises(ValueError, match="vmax_refined missing"):
+        init.simulation().record.check(60, REFINED)
