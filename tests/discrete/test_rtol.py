@@ -10,6 +10,7 @@ estimate must bound the true error, and must not overstate it by more than a fac
 (else rtol would buy nothing).
 """
 
+import dataclasses
 import math
 
 import numpy as np
@@ -165,6 +166,18 @@ def test_error_bounds_and_step_choice():
         h = pr.step_for(target)
         assert pr.error_at(h) <= target * (1 + 1e-12)
         assert h == 4.0 or pr.error_at(h * (1 + 1e-6)) > target  # the largest such step
+
+
+def test_step_for_drift():
+    """The coarsest probe step whose run drifted at most the cap; below the finest, h²."""
+    e, p_obs, p, clean = error_bounds([4e-4, 1e-4], 2)
+    pr = ProbeResult("verlet", (4.0, 2.0, 1.0), e, (4e-4, 1e-4), p_obs, p, clean, 1.0, 1, 1,
+                     True, (8e-4, 2e-4, 5e-5))
+    assert pr.step_for_drift(1e-3) == 4.0
+    assert pr.step_for_drift(2e-4) == 2.0
+    assert pr.step_for_drift(1e-4) == 1.0
+    assert pr.step_for_drift(1.25e-5) == pytest.approx(0.5)  # 1.0 * sqrt(1.25e-5 / 5e-5)
+    assert dataclasses.replace(pr, drifts=()).step_for_drift(1e-9) == math.inf
 
 
 def test_explicit_dt_wins_and_bad_rtol():
