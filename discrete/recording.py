@@ -232,7 +232,8 @@ class Record:
         interpolant of (v, a) (:mod:`discrete.interpolation`, :mod:`discrete.kernels`
         "Refined maxima"): they converge at the integrator's order, where ``vmax`` is
         O(h²) off; ``vmax_refined >= vmax``.  ``vmax_time``: the time each was
-        reached, s.  None for files of older versions.
+        reached, s.  None unless recorded (``Recording.refined_maxima``; by default in
+        rtol runs) and in files of older versions.
     peak_state : (PEAK_ROWS, N) array or None
         The kernels' per-grain peak state behind ``vmax_refined`` (carried so that a
         continued run is bit for bit the uninterrupted one).
