@@ -31,7 +31,7 @@ import math
 import numba
 import numpy as np
 
-__all__ = ["hermite_value", "hermite_max", "hermite_max_np", "peak_time"]
+__all__ = ["hermite_value", "hermite_max", "hermite_max_from", "hermite_max_np", "peak_time"]
 
 
 @numba.njit(inline="always", nogil=True, error_model="numpy")
@@ -50,6 +50,22 @@ def hermite_max(h, y0, y1, d0, d1):
     Endpoints included; interior stationary points with p'' < 0 from the quadratic
     p'(s) = 0 (module docstring), solved without cancellation.
     """
+    return hermite_max_from(h, y0, y1, d0, d1, 0.0)
+
+
+@numba.njit(inline="always", nogil=True, error_model="numpy")
+def hermite_max_from(h, y0, y1, d0, d1, s_lo):
+    r"""(s, p(s)): the largest of y0, y1 and the local maxima of p on (s_lo, 1), s_lo <= 0.
+
+    With ``s_lo = -1`` the interpolant of [t_n, t_n + h] is also searched one step
+    back, on [t_n - h, t_n]: a maximum that lies in the step before the data's first
+    end (the kernels' running maxima, when a grain's velocity first exceeds its old
+    maximum after its peak: :mod:`discrete.kernels`).  There
+    :math:`v - p = \tfrac{h^4}{24} v^{(4)}(\xi)\, s^2 (s-1)^2`, at most
+    :math:`h^4 |v^{(4)}|/6` at s = -1 (64 times the largest error inside the interval,
+    :math:`h^4 |v^{(4)}|/384` at s = 1/2): still the integrator's fourth order.  p(s_lo) itself
+    is not a candidate (an extrapolated value, not a datum).
+    """
     best_s = 0.0
     best = y0
     if y1 > best:
@@ -58,8 +74,8 @@ def hermite_max(h, y0, y1, d0, d1):
     a = 6.0 * (y0 - y1) + 3.0 * h * (d0 + d1)
     b = 6.0 * (y1 - y0) - h * (4.0 * d0 + 2.0 * d1)
     c = h * d0
-    r1 = -1.0
-    r2 = -1.0
+    r1 = -2.0
+    r2 = -2.0
     if a == 0.0:
         if b != 0.0:
             r1 = -c / b
@@ -71,7 +87,7 @@ def hermite_max(h, y0, y1, d0, d1):
             if q != 0.0:
                 r2 = c / q
     for r in (r1, r2):
-        if 0.0 < r < 1.0 and 2.0 * a * r + b < 0.0:
+        if s_lo < r < 1.0 and r != 0.0 and 2.0 * a * r + b < 0.0:
             val = hermite_value(r, h, y0, y1, d0, d1)
             if val > best:
                 best_s = r

@@ -57,6 +57,7 @@ UNITS = {
     "monitor_t": "s", "monitor_energy": "J", "monitor_shadow": "J", "monitor_dissipated": "J",
     "vmax": "m/s", "umax": "m", "dissipated": "J", "delta_expected": "m", "drag": "1/s",
     "sensor_grains": "1", "sensor_force": "N", "wall_force": "N", "overlap_max": "m",
+    "vmax_refined": "m/s", "vmax_time": "s", "peak_state": "mixed (discrete.kernels)",
     "dt_default": "s", "dissipation_rate0": "W",
 }
 
@@ -148,6 +149,9 @@ def _write(f: h5py.File, saved: SavedSimulation, compress: bool) -> None:
         _ds(g, "umax", rec.umax, compress)
     if rec.overlap_max is not None:
         _ds(g, "overlap_max", rec.overlap_max, compress)
+    if rec.vmax_refined is not None:
+        for name in ("vmax_refined", "vmax_time", "peak_state"):
+            _ds(g, name, getattr(rec, name), compress)
     g.attrs["energy_coarsen"] = rec.energy_coarsen
     g.attrs["wall_forces"] = bool(rec.wall_forces)
     sg = f.create_group("snapshots")
@@ -274,6 +278,9 @@ def _read(r: _Reader, threads: int | None) -> Simulation:
                               if "monitor_dissipated" in g else [0.0] * len(rec.monitor_t))
     if recording.maxima or "vmax" in g:
         rec.vmax, rec.umax = r.data("vmax", g), r.data("umax", g)
+    if "vmax_refined" in g:  # (older files: none; the run continues without them)
+        rec.vmax_refined, rec.vmax_time, rec.peak_state = (
+            r.data(name, g) for name in ("vmax_refined", "vmax_time", "peak_state"))
     snaps = r.group("snapshots")
     for key in sorted(snaps):
         h = snaps[key]

@@ -117,7 +117,9 @@ arithmetic is therefore the same however the window is cut, which gives
   start while a watched grain is within reach) and redone step by step.
 
 The recording (running maxima of v every step, of u every ``UMAX_EVERY`` steps, the
-event test on watched grains, time series of chosen grains) is fused into these passes.
+event test on watched grains, time series of chosen grains) is fused into these passes;
+the refined maxima of v between the steps (section "Refined maxima" in ``_build``) run
+after each step's final substep on the same range, per grain.
 No ``fastmath``: the tests rely on bitwise determinism.
 
 Arguments are grouped in tuples (numba passes them at no cost): ``st = (u, v, a, dis)``
@@ -146,12 +148,13 @@ import numpy as np  # noqa: E402
 
 from theory import jitcache  # noqa: E402
 
+from .interpolation import hermite_max_from  # noqa: E402
 from .laws import N_PARAMS, ContactLaw, as_law, source_digest  # noqa: E402
 
 jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
 
 __all__ = ["Kernels", "make_kernels", "kernel_params", "chain_runs", "active_window",
-           "UMAX_EVERY", "RUNS_MIN_LENGTH"]
+           "UMAX_EVERY", "RUNS_MIN_LENGTH", "PEAK_ROWS"]
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 _INNER = {"nogil": True, "error_model": "numpy"}
@@ -312,6 +315,17 @@ def _entry(py_func, key: str, **options):
     return disp
 
 
+def _interp_digest() -> str:
+    """SHA-256 of :mod:`discrete.interpolation` (compiled into the kernels' refined maxima)."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, "interpolation.py"), "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+PEAK_ROWS = 5
+"""Rows of the per-grain peak state of the refined maxima (``run_chunk``'s ``peak``)."""
+
+
 # ------------------------------------------------------------------------ kernels
 class Kernels(NamedTuple):
     """The compiled kernels of one contact law (:func:`make_kernels`)."""
@@ -392,7 +406,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     DRAG = bool(drag)
     NP = N_PARAMS  # index of the drag rate in p
     RMAX = bool(rmax)  # running maxima of the overlaps
-    ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{source_digest()}"
+    ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{source_digest()}|{_interp_digest()}"
     tag = _tag(law, DRAG, RMAX)
 
     def jit(**options):
@@ -667,14 +681,126 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         phi_r = contact(d0[g + 1] + (u[g] - ur), 0.0, k[g + 1], f0[g + 1], p)
         return (phi_l - phi_r) * inv_m[g]
 
+    # ------------------------------------------------------------ refined maxima
+    # The running maximum ``vmax`` stays the largest *sampled* synchronous velocity (the
+    # gate, the figures' quantity; its test in the fused loops is unchanged: a call in
+    # that branch stops LLVM vectorising the loop, measured 6x slower).  After a step's
+    # final substep, ``refine_range`` compares the gate with its copy (row 0 of the peak
+    # state): a grain whose gate rose at this step, or that is *pending* (its gate rose at
+    # the step before; copy NaN), gets its acceleration a1 recomputed (``accel_at``) and
+    # its synchronous v1 (= the new gate, or v - c2 a1), and the maximum of the cubic
+    # Hermite interpolant of (v, a) on the step (:mod:`discrete.interpolation`) raises
+    # its refined maximum ``vref`` — O(h^p) for an integrator of order p, where the
+    # largest sample is O(h^2) off.  A grain stays pending one step after its gate last
+    # rose, so the steps on both sides of its largest sample are searched.  If the gate
+    # is first exceeded with a1 < 0 (a new peak already behind within that step; v at
+    # the step before is not kept) the next step's interpolant is searched one step
+    # back as well (``hermite_max_from(..., -1)``, still O(h^4)).  Cheap paths: where
+    # the gate rose, a1 = (v - v1)/c2 from the velocity the pass left (no force); where
+    # v rises at both ends of the step (a0, a1 >= 0) its maximum there is the end, v1.
+    # Grains are independent: bitwise the same with blocks and threads.
+    @jit(**_INLINE)
+    def refine_one(pk, vref, tref, t0, i, g, v1, a1, h, gstep):
+        """The refined maximum of a flagged grain i after a step (section above).
+
+        ``g`` its gate, ``v1``, ``a1`` its synchronous velocity and acceleration at the
+        step's end, ``gstep`` the step's global number, ``t0`` the time of step 0 (s):
+        ``tref`` is t0 + (fractional step) h.
+        """
+        pending = pk[0, i] != pk[0, i]
+        changed = (not pending) or g != pk[1, i]
+        if not pending or pk[4, i] != gstep - 1.0 or (
+                changed and pk[3, i] == 0.0 and pk[2, i] >= 0.0 and a1 >= 0.0):
+            # first exceeded; or (not reached: a pending grain stays in the window) a
+            # stale state; or rising at both ends: the step's maximum is its end
+            if v1 > vref[i]:
+                vref[i] = v1
+                tref[i] = t0 + gstep * h
+        else:
+            s_, y = hermite_max_from(h, pk[1, i], v1, pk[2, i], a1, pk[3, i])
+            if y > vref[i]:
+                vref[i] = y
+                tref[i] = t0 + (gstep - 1.0 + s_) * h
+        if changed:
+            pk[0, i] = np.nan
+            pk[1, i] = v1
+            pk[2, i] = a1
+            # first exceeded after the peak (a1 < 0): search the next step's cubic one
+            # step back as well
+            pk[3, i] = -1.0 if not pending and a1 < 0.0 else 0.0
+            pk[4, i] = gstep
+        else:
+            pk[0, i] = g  # the peak is behind: no longer pending
+
+    @jit(**_INLINE)
+    def refine_range(st, con, p, vmax, peak, lo_t, hi_t, ul, ur, c2, h, gstep):
+        """``refine_one`` on every grain of [lo_t, hi_t) whose gate changed or is pending.
+
+        The test ``vmax != pk[0]`` (NaN while pending) is a vectorised count over blocks
+        of 64 grains (a constant trip count: LLVM vectorises it; a variable one of 16
+        measured 10x slower); only blocks with a flagged grain are walked.  Where the
+        gate rose, a1 = (v - g)/c2 from the velocity the pass left; only a pending grain
+        whose gate did not rise (once per peak) or the closing step of a chunk (c2 = 0)
+        recomputes a1 from its contacts (``accel_at``), in a walk of its own (inside the
+        first it doubled a 2,000-grain impact's CPU time).  At c2 = 0 the velocity a
+        mid-chunk pass would have left, v + k0 a1 (k0 = ``peak[5]``, the opening kick),
+        is rebuilt first, so that every grain's arithmetic is the same bits wherever a
+        chunk ends.
+        """
+        u, v = st[0], st[1]
+        pk, vref, tref, t0, k0 = peak[1], peak[2], peak[3], peak[4], peak[5]
+        gate = pk[0]
+        b0 = lo_t
+        while b0 < hi_t:
+            m = min(64, hi_t - b0)
+            flagged = 1
+            if m == 64:
+                x = vmax[b0:b0 + 64]
+                y = gate[b0:b0 + 64]
+                flagged = 0
+                for j in range(64):
+                    flagged += x[j] != y[j]
+            if flagged:
+                # where the gate rose (first time, or again while pending): a1 from v;
+                # the others (a pending grain whose gate did not rise, once per peak;
+                # every grain at c2 = 0) in a walk of their own, ``accel_at``
+                slow = 0
+                for i in range(b0, b0 + m):
+                    g = vmax[i]
+                    if g != gate[i]:
+                        if c2 != 0.0 and (gate[i] == gate[i] or g != pk[1, i]):
+                            refine_one(pk, vref, tref, t0, i, g, g, (v[i] - g) / c2, h,
+                                       gstep)
+                        else:
+                            slow += 1
+                if slow:
+                    for i in range(b0, b0 + m):
+                        g = vmax[i]
+                        if g != gate[i] and pk[4, i] != gstep:  # (not done above)
+                            left = ul if i == lo_t else u[i - 1]
+                            right = ur if i == hi_t - 1 else u[i + 1]
+                            acc = accel_at(st, con, p, i, left, right)
+                            # v as a mid-chunk pass leaves it (c2 = k0): the same bits
+                            # wherever the chunks end (resume, threads' chunk lengths)
+                            vaft = v[i] if c2 != 0.0 else v[i] + k0 * acc
+                            if gate[i] == gate[i] or g != pk[1, i]:  # (c2 = 0)
+                                refine_one(pk, vref, tref, t0, i, g, g, (vaft - g) / k0,
+                                           h, gstep)
+                            else:
+                                refine_one(pk, vref, tref, t0, i, g, vaft - k0 * acc, acc,
+                                           h, gstep)
+            b0 += m
+
     @jit(**_INLINE)
     def advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk, umx,
-                sp, vsp):
+                sp, vsp, peak, h, gstep):
         """One substep of grains [lo_t, hi_t) (``piece``) with the recording.
 
         The synchronous velocities v + c1 a of the special grains ``sp`` (sorted) in the
-        range go to ``vsp`` (``ul``, ``ur`` at the range ends), and with ``umx`` the
-        running maximum of u is updated on the range.
+        range go to ``vsp`` (``ul``, ``ur`` at the range ends), with ``umx`` the
+        running maximum of u is updated on the range, and with ``trk`` and ``peak[0]``
+        the refined maxima (``refine_range``; ``h`` the step, ``gstep`` its global
+        number).
         """
         u = st[0]
         v = st[1]
@@ -693,6 +819,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             umw = umax[lo_t:hi_t]
             for i in range(hi_t - lo_t):
                 umw[i] = max(umw[i], uw[i])
+        if trk and peak[0]:
+            refine_range(st, con, p, mx[0], peak, lo_t, hi_t, ul, ur, c2, h, gstep)
 
     # ---------------------------------------------------------- temporal blocking
     # A block advances the (padded) window by ``nsub`` substeps with trapezoid tiles:
@@ -709,10 +837,10 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
 
     @jit(**_INNER)
     def trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp, none,
-                  vsp2, nsub):
+                  vsp2, nsub, peak, h):
         """Phase A on tile j (shrinking ranges) or phase B around boundary j (growing)."""
         u, v = st[0], st[1]
-        dcs, c1s, c2s, trks, umxs, fins = sub
+        dcs, c1s, c2s, trks, umxs, fins, gss = sub
         n = u.size
         nt = bounds.size - 1
         for tau in range(nsub):
@@ -732,11 +860,12 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 ul = wl if lo_t == 0 else u[lo_t - 1]
                 ur = wr if hi_t == n else u[hi_t]
             advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, 0.0, 0.0, dc, c1s[tau],
-                    c2s[tau], 0.0, trks[tau], umxs[tau], sp if fins[tau] else none, vsp2[tau])
+                    c2s[tau], 0.0, trks[tau], umxs[tau], sp if fins[tau] else none, vsp2[tau],
+                    peak, h, gss[tau])
 
     @jit(parallel=True, **_INNER)
     def phase_tiles(st, con, p, mx, umax, bounds, phase, ulb, urb, wl, wr, sub, sp, none,
-                    vsp2, nsub):
+                    vsp2, nsub, peak, h):
         """Phase ``phase`` (0: A, 1: B) of a block on the tiles ``bounds``, concurrently.
 
         (One prange loop called twice per block: numba compiles the loop body, and all it
@@ -745,11 +874,11 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         count = bounds.size - 1 + phase
         for j in numba.prange(count):
             trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp,
-                      none, vsp2, nsub)
+                      none, vsp2, nsub, peak, h)
 
     @jit(**_INLINE)
     def block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax, track,
-              events, series, rows, cfg, work):
+              events, series, rows, cfg, work, peak, h):
         """Try one temporal block of ``nb`` steps from step ``s`` (section above).
 
         Returns ``(status, rows, fired, lo, hi)``: status 0 = not blocked (too small, a
@@ -762,9 +891,9 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
         ts_idx, ts_every, step0, ts_out = series
         nt_max, min_parallel, tile, min_serial_block = cfg
         sub, vsp2, saved_state, swm, bnd, ulb_b, urb_b = work
-        su, sv, svm, sum_, srm = saved_state
+        su, sv, svm, sum_, srm, spk, svr, str_ = saved_state
         vmax, rmax = mx[0], mx[1]
-        dcs, c1s, c2s, trks, umxs, fins = sub
+        dcs, c1s, c2s, trks, umxs, fins, gss = sub
         n = u.size
         ns = drift.size
         nsub = nb * ns
@@ -802,6 +931,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             trks[tau] = final and track
             umxs[tau] = final and track and (step0 + sidx) % UMAX_EVERY == 0
             fins[tau] = final
+            gss[tau] = float(step0 + sidx)
             for q in range(sp_w.size):
                 vsp2[tau, q] = 0.0  # watched grains outside the window: v = 0
         saved = False
@@ -815,12 +945,17 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             sum_[lo_p:hi_p + 1] = umax[lo_p:hi_p + 1]
             if mx[2]:
                 srm[lo_p:hi_p + 2] = rmax[lo_p:hi_p + 2]
+            if peak[0]:
+                spk[:, lo_p:hi_p + 1] = peak[1][:, lo_p:hi_p + 1]
+                svr[lo_p:hi_p + 1] = peak[2][lo_p:hi_p + 1]
+                str_[lo_p:hi_p + 1] = peak[3][lo_p:hi_p + 1]
         swm[:] = wmax
-        subv = (dcs[:nsub], c1s[:nsub], c2s[:nsub], trks[:nsub], umxs[:nsub], fins[:nsub])
+        subv = (dcs[:nsub], c1s[:nsub], c2s[:nsub], trks[:nsub], umxs[:nsub], fins[:nsub],
+                gss[:nsub])
         none = np.zeros(0, np.int64)
         for phase in range(2):
             phase_tiles(st, con, p, mx, umax, bnd[:ntile + 1], phase, ulb_b[:ntile],
-                        urb_b[:ntile], wl, wr, subv, sp_w, none, vsp2[:nsub], nsub)
+                        urb_b[:ntile], wl, wr, subv, sp_w, none, vsp2[:nsub], nsub, peak, h)
         # events, step by step (the per-step test: the last firing grain wins)
         hit = -1
         hit_q = -1
@@ -839,6 +974,10 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             umax[lo_p:hi_p + 1] = sum_[lo_p:hi_p + 1]
             if mx[2]:
                 rmax[lo_p:hi_p + 2] = srm[lo_p:hi_p + 2]
+            if peak[0]:
+                peak[1][:, lo_p:hi_p + 1] = spk[:, lo_p:hi_p + 1]
+                peak[2][lo_p:hi_p + 1] = svr[lo_p:hi_p + 1]
+                peak[3][lo_p:hi_p + 1] = str_[lo_p:hi_p + 1]
             wmax[:] = swm
             return 2, rows, -1, lo, hi
         # series grains out of reach: constant u and overlaps, v = 0
@@ -852,7 +991,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
 
     @jit(**_INLINE)
     def no_block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
-                 track, events, series, rows, cfg, work):
+                 track, events, series, rows, cfg, work, peak, h):
         """Take every step one by one (status 0): the kernel without blocking."""
         return 0, rows, -1, lo, hi
 
@@ -881,7 +1020,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     # ------------------------------------------------------------------ one step
     @jit(**_INLINE)
     def step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, mx, umax, track, do_umax,
-             sp, vsp, vwork):
+             sp, vsp, vwork, peak, gstep):
         """All substeps of one step on the window, grown as needed; returns (lo, hi).
 
         ``vsp`` receives the synchronous velocities of the special grains ``sp``.  With
@@ -915,7 +1054,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             ur = wr if hi == n - 1 else u[hi + 1] + dc * v[hi + 1]
             advance(st, con, p, (vwork, mx[1], mx[2]) if VD else mx, umax, lo, hi + 1, ul,
                     ur, 0.0, 0.0, dc, c1, c2, dt, final and track,
-                    final and track and do_umax, sp if final else none, vsp)
+                    final and track and do_umax, sp if final else none, vsp,
+                    peak, dt, gstep)
         if VD:  # close with D*_{h/2}; record the synchronous velocities
             lo, hi = dissipate(st, con, p, wl, wr, lo, hi, 0.5 * dt, True)
             v = st[1]
@@ -949,7 +1089,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
 
         def run_chunk(st, con, p, wl, wr, dt, drift, kick, nsteps, lo, hi, vmax, umax, rmax,
                       track, track_r, watch, wmax, wthr, ts_idx, ts_every, step0, ts_out, cfg,
-                      erow):
+                      erow, peak):
             """Advance ``nsteps`` steps on the window ``lo..hi`` in place.
 
             Parameters
@@ -996,6 +1136,14 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 closes like the last step of a chunk (synchronous v, a recomputed) and the
                 next one opens with its kick: bitwise the arithmetic of ending the chunk
                 there, so the grid costs no kernel call per row.
+            peak : tuple
+                ``(refine, state, vref, tref, t0, k0)``: with ``refine`` and ``track`` the
+                refined maxima of v (section "Refined maxima"): ``vref`` (N,) m/s, ``tref``
+                (N,) the time each was reached, ``t0 + (fractional global step) dt`` (s),
+                ``k0`` the opening kick coefficient ``kick[0]`` (s), ``state``
+                (``PEAK_ROWS``, N) the peak state carried between steps and chunks (row 0
+                the gate copy, NaN while pending; 1, 2 v and a at the last step; 3 the
+                start of the searched interval, -1 or 0; 4 that step's global number).
 
             Returns
             -------
@@ -1023,13 +1171,15 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
             nsub_max = max(block_steps, 1) * ns if BLOCKS else 1
             keep = n if watch.size > 0 and BLOCKS else 0
             keep_r = keep + 1 if keep and track_r else 0
+            keep_p = keep if keep and peak[0] else 0
             ntile_max = (n // max(tile, 1)) + nt_max + 2
             work = ((np.empty(nsub_max), np.empty(nsub_max), np.empty(nsub_max),
                      np.zeros(nsub_max, np.bool_), np.zeros(nsub_max, np.bool_),
-                     np.zeros(nsub_max, np.bool_)),
+                     np.zeros(nsub_max, np.bool_), np.zeros(nsub_max)),
                     np.zeros((nsub_max, sp_w.size)),
                     (np.empty(keep), np.empty(keep), np.empty(keep), np.empty(keep),
-                     np.empty(keep_r)),
+                     np.empty(keep_r), np.empty((PEAK_ROWS, keep_p)), np.empty(keep_p),
+                     np.empty(keep_p)),
                     np.empty(watch.size), np.empty(ntile_max + 1, np.int64),
                     np.empty(ntile_max), np.empty(ntile_max))
             events = (watch, wmax, wthr, sp_w, pos_w)
@@ -1049,7 +1199,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                     close = e_every > 0 and (step0 + s + nb) % e_every == 0
                     status, rows, hit, lo_b, hi_b = try_block(
                         st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
-                        track, events, (ts_idx, ts_every, step0, ts_out), rows, bcfg, work)
+                        track, events, (ts_idx, ts_every, step0, ts_out), rows, bcfg, work,
+                        peak, dt)
                     if status == 1:
                         s += nb
                         fired = hit
@@ -1067,7 +1218,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
                 sample = ts_idx.size > 0 and (step0 + s) % ts_every == 0
                 lo, hi = step(st, con, p, wl, wr, drift, kick, dt, last or erow_now, lo, hi,
                               mx, umax, track, (step0 + s) % UMAX_EVERY == 0,
-                              sp_ws if sample else sp_w, vsp, vwork)
+                              sp_ws if sample else sp_w, vsp, vwork, peak,
+                              float(step0 + s))
                 if erow_now:
                     erows, lo, hi = take_row(st, con, p, wl, wr, kick, dt, lo, hi, e_coarsen,
                                              e_out, erows, mass)

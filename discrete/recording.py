@@ -83,6 +83,16 @@ class Recording:
     strain_maxima : bool
         Keep the running maximum of every contact's overlap (needs ``maxima``); the
         strain maxima are (max overlap - δ0)/d.
+    refined_maxima : bool or None
+        Also keep the *refined* running maxima of v, between the steps
+        (:attr:`Record.vmax_refined`; needs ``maxima``).  None (default): with a time step
+        chosen for ``rtol`` (whose accuracy statement is about them), not otherwise —
+        they cost the recording kernel a per-step test of every grain and a Hermite
+        search for every grain whose maximum rises (measured on ``benchmarks/kernel.py``'s
+        random-velocity chain, where ~1 % of the grains rise at every step: 0.5x; in a
+        wave, where only the front rises, a few per cent).  Positions-only forces: with a
+        dissipative law or drag the stored acceleration is the elastic one, not dv/dt,
+        so :class:`discrete.Simulation` refuses True and None means False there.
     """
 
     snapshots: Sequence[AtTime | WaveAt | float | int] = ()
@@ -95,6 +105,7 @@ class Recording:
     sensors: Sequence[int] = ()
     wall_forces: bool = False
     strain_maxima: bool = False
+    refined_maxima: bool | None = None
 
     def events(self) -> list[Event]:
         """The snapshot events as :class:`AtTime` / :class:`WaveAt` objects."""
@@ -110,7 +121,9 @@ class Recording:
                 "monitor_every": int(self.monitor_every),
                 "sensors": [int(g) for g in self.sensors],
                 "wall_forces": bool(self.wall_forces),
-                "strain_maxima": bool(self.strain_maxima)}
+                "strain_maxima": bool(self.strain_maxima),
+                "refined_maxima": (None if self.refined_maxima is None
+                                   else bool(self.refined_maxima))}
 
     @classmethod
     def from_dict(cls, d: dict) -> Recording:
@@ -120,7 +133,8 @@ class Recording:
                    maxima=d["maxima"], energy_every=d["energy_every"],
                    energy_coarsen=d["energy_coarsen"], monitor_every=d["monitor_every"],
                    sensors=d.get("sensors", ()), wall_forces=d.get("wall_forces", False),
-                   strain_maxima=d.get("strain_maxima", False))
+                   strain_maxima=d.get("strain_maxima", False),
+                   refined_maxima=d.get("refined_maxima"))
 
     def validate(self, n: int) -> None:
         """Raise ValueError for anything that cannot work on a chain of ``n`` grains."""
@@ -134,6 +148,11 @@ class Recording:
                 raise ValueError(f"sensor grain {g!r} outside the chain [0, {n})")
         if self.strain_maxima and not self.maxima:
             raise ValueError("strain_maxima needs maxima=True (the running maxima)")
+        if self.refined_maxima not in (None, True, False):
+            raise ValueError(f"refined_maxima must be None, True or False "
+                             f"(got {self.refined_maxima!r})")
+        if self.refined_maxima and not self.maxima:
+            raise ValueError("refined_maxima needs maxima=True (the running maxima)")
         for name in ("series_every", "monitor_every", "energy_coarsen"):
             val = getattr(self, name)
             if int(val) != val or val < 1:
@@ -208,7 +227,18 @@ class Record:
     series : (R, S, 4) array
         u (m), v (m/s), left- and right-contact overlap (m) of each series grain.
     vmax, umax : (N,) arrays or None
-        Running maxima of v (m/s) and u (m) since the start.
+        Running maxima of v (m/s) and u (m) since the start: the largest *sampled*
+        values (at the steps; v̄max's of paper Fig. 2 as the figures read them).
+    vmax_refined, vmax_time : (N,) arrays or None
+        Refined running maxima of v (m/s), taken between the steps on the cubic Hermite
+        interpolant of (v, a) (:mod:`discrete.interpolation`, :mod:`discrete.kernels`
+        "Refined maxima"): they converge at the integrator's order, where ``vmax`` is
+        O(h²) off; ``vmax_refined >= vmax``.  ``vmax_time``: the time each was
+        reached, s.  None unless recorded (``Recording.refined_maxima``; by default in
+        rtol runs) and in files of older versions.
+    peak_state : (PEAK_ROWS, N) array or None
+        The kernels' per-grain peak state behind ``vmax_refined`` (carried so that a
+        continued run is bit for bit the uninterrupted one).
     energy_t : (T,) array, s
     energy_kinetic, energy_potential : (T, Nc) arrays, J
         Per-grain (or per-block of ``energy_coarsen`` grains) energies (Fig. 8).
@@ -244,6 +274,9 @@ class Record:
     wall_forces: bool = False
     wall_force: list = field(default_factory=list)
     overlap_max: np.ndarray | None = None
+    vmax_refined: np.ndarray | None = None
+    vmax_time: np.ndarray | None = None
+    peak_state: np.ndarray | None = None
 
     _MONITOR = ("monitor_t", "monitor_energy", "monitor_shadow", "monitor_dissipated")
 
@@ -278,6 +311,21 @@ class Record:
             if self.vmax is None or self.umax is None or self.vmax.shape != (n,) \
                     or self.umax.shape != (n,):
                 raise ValueError(f"record/vmax and record/umax must have shape ({n},)")
+        refined = (self.vmax_refined, self.vmax_time, self.peak_state)
+        if recording.refined_maxima and self.vmax_refined is None:
+            raise ValueError("record/vmax_refined missing (the recording keeps refined "
+                             "maxima)")
+        if any(x is not None for x in refined):
+            from .kernels import PEAK_ROWS
+
+            if (self.vmax is None or any(x is None for x in refined)
+                    or self.vmax_refined.shape != (n,) or self.vmax_time.shape != (n,)
+                    or self.peak_state.shape != (PEAK_ROWS, n)):
+                raise ValueError(f"record/vmax_refined, vmax_time ({n},) and peak_state "
+                                 f"({PEAK_ROWS}, {n}) must come together, with vmax")
+            if not np.all(self.vmax_refined >= self.vmax):
+                raise ValueError("record/vmax_refined must be >= record/vmax everywhere "
+                                 "(the refined maximum includes the samples)")
 
     def arrays(self) -> dict[str, np.ndarray]:
         """The list-valued fields as stacked arrays."""

@@ -259,7 +259,8 @@ class Simulation:
             dt = TimeStep.choose(chain, self.u, self.v, self.wall_left, self.wall_right,
                                  rtol=rtol, integrator=None if integrator == "auto"
                                  else integrator, law=self.law, drag=self.drag,
-                                 check=check_dt, recording=self.recording)
+                                 check=check_dt, recording=self.recording,
+                                 drift_tolerance=drift_tolerance)
             integrator = dt.integrator
         method = get_integrator(integrator)
         self.kernels = K.make_kernels(self.law, self.drag > 0, self.recording.strain_maxima)
@@ -326,6 +327,23 @@ class Simulation:
         if rec.maxima:
             self.record.vmax = self.v.copy()
             self.record.umax = self.u.copy()
+            refined = rec.refined_maxima
+            vd = self.kernels.velocity_dependent
+            if refined and vd:
+                raise ValueError(
+                    "recording.refined_maxima=True needs forces that depend on positions "
+                    "only: with a dissipative law or drag the stored acceleration is the "
+                    "elastic one, not dv/dt, so the cubic Hermite interpolant of (v, a) "
+                    "would not be the velocity between the steps; use refined_maxima=None "
+                    "or False (sampled maxima)")
+            if refined is None:  # (by default: with an rtol step, whose accuracy it is;
+                # not with velocity-dependent forces, see above)
+                refined = self.time_step.source == "rtol" and not vd
+            if refined:
+                self.record.vmax_refined = self.v.copy()
+                self.record.vmax_time = np.full(n, self.t0)
+                self.record.peak_state = np.zeros((K.PEAK_ROWS, n))
+                self.record.peak_state[0] = self.v  # the gate's copy (discrete.kernels)
         if rec.strain_maxima:
             self.record.overlap_max = self.overlaps()
         self._pending = rec.events()
@@ -758,6 +776,12 @@ class Simulation:
         Returns (steps, series rows, fired, energy rows written into ``erow``'s buffer).
         """
         rec = self.recording
+        r = self.record
+        refine = rec.maxima and r.vmax_refined is not None
+        k0 = float(self._kick[0])
+        peak = ((refine, r.peak_state, r.vmax_refined, r.vmax_time, self.t0, k0) if refine
+                else (False, np.zeros((K.PEAK_ROWS, 0)), np.zeros(0), np.zeros(0), self.t0,
+                      k0))
         nthreads, nsteps = self._tune_choose(nsteps)
         clock = time.perf_counter()
         threads0 = numba.get_num_threads()
@@ -770,7 +794,7 @@ class Simulation:
                 self._lo, self._hi, vmax, umax, rmax, rec.maxima, rec.strain_maxima, watch,
                 wmax, wthr, self._ts_grains, int(rec.series_every), self.steps, ts_buf,
                 (nthreads, self.min_parallel, self.block_steps, TILE_GRAINS,
-                 SERIAL_BLOCK_MIN_GRAINS), erow)
+                 SERIAL_BLOCK_MIN_GRAINS), erow, peak)
         finally:
             if nthreads != threads0:
                 numba.set_num_threads(threads0)

@@ -56,9 +56,11 @@ periods :math:`T_c = 2\pi/\omega_{max}` (or to the run's end if sooner; a whole 
 of steps, so that every probe run ends at the same time) — is integrated at the steps
 :math:`h_k = h_0/2^k`, k = 0, 1, 2, … (:math:`h_0` = :data:`PROBE_FRACTION` × S ×
 :math:`T_c`).  The compared quantities q are what the run records: every grain's
-running maximum of v over the largest |v| (the Fig. 2 v̄max/v0 — sampled at the steps
-or interpolated between them, as the kernel records it; only grains whose peak has
-passed, v < v̄max/2, at the end of the probe), every contact's running maximum overlap
+running maximum of v over the largest |v| (the Fig. 2 v̄max/v0, the *refined* maximum
+``record.vmax_refined``, interpolated between the steps at the method's order — not the
+largest sample ``record.vmax``, which stays O(h²) and is not what rtol bounds; only
+grains whose peak has passed, v < v̄max/2, at the end of the probe), every contact's
+running maximum overlap
 when the run records strain maxima, and the distance travelled by the energy centroid
 of the wave (arrival times and speeds), relative.  The differences
 :math:`d_k = \|q(h_k) - q(h_{k+1})\|_\infty` bound the error at each probe step
@@ -77,8 +79,12 @@ points (below the finest, E_K (h/h_K)^p); the step is the largest h with
 
 .. math:: E(h) \le s\,\mathrm{rtol},\qquad s = 0.5\ (\text{:data:`RTOL_SAFETY`}),
 
-never above :math:`h_0` (no extrapolation beyond the probed steps) nor half the
-stability bound, and the estimate E(h)/s (≤ rtol) is written into the result
+never above :math:`h_0` (no extrapolation beyond the probed steps), half the
+stability bound, nor the step at which the probe's energy drift, scaled to the run's
+length, would reach :data:`RTOL_SAFETY` of the run's drift tolerance (a fourth-order
+method at a large step can meet rtol in the maxima and still fail the run's energy
+monitor: measured on the interface problem, Blanes–Moan 4 at 8× the default step drifted
+1.3e-4 over the run), and the estimate E(h)/s (≤ rtol) is written into the result
 (:attr:`TimeStep.error_estimate`).  Finer probe steps are added while the differences
 do not shrink (not yet asymptotic) or no probe step meets s·rtol, up to
 :data:`PROBE_MAX_LEVELS` runs; an unstable probe run is dropped with the coarser ones.
@@ -91,9 +97,10 @@ once, where the sharper peak of the impacted grain 1 fell badly between two step
 probes the methods of :data:`RTOL_CANDIDATES` — velocity Verlet, Yoshida-4 and
 Blanes–Moan 4 — and takes the one with the fewest force evaluations per unit time,
 S/h; a method's probe stops as soon as its differences show that it cannot beat the
-best so far (E_k ≥ d_k + d_{k+1} + … excludes every step above h_k).  With maxima
-sampled once per step all three need about the same h for the same error, so velocity
-Verlet wins; with maxima interpolated between steps the 4th-order methods can.  The
+best so far (E_k ≥ d_k + d_{k+1} + … excludes every step above h_k).  Maxima sampled
+once per step converge at second order whatever the method (all three would need about
+the same h, and velocity Verlet would win); the refined maxima between the steps
+converge at the method's order, so the 4th-order methods can win.  The
 tests (``tests/discrete/test_rtol.py``) check that the estimate bounds the true error
 (against a run at a 16× smaller step) for an impact, a precompressed solitary wave and
 an interface run, for every method ``integrator=None`` can pick (measured: the true
@@ -204,12 +211,15 @@ def stable_dt(chain: Chain, delta, *, law: ContactLaw | None = None,
 def _probe_recording(recording) -> Recording:
     """The probe's recording: the run's own, without what only costs time in a probe.
 
-    Same kernel variant and maxima as the run; no events, series, sensors, energy grid.
+    Same kernel variant and maxima as the run (refined maxima: an rtol run keeps them,
+    unless its recording says ``refined_maxima=False``); no events, series, sensors,
+    energy grid.
     """
     if recording is None:
-        return Recording(maxima=True)
+        return Recording(maxima=True, refined_maxima=True)
     return dataclasses.replace(recording, snapshots=(), series_grains=(), energy_every=None,
-                               sensors=(), wall_forces=False, maxima=True)
+                               sensors=(), wall_forces=False, maxima=True,
+                               refined_maxima=recording.refined_maxima is not False)
 
 
 class _ProbeRun:
@@ -221,9 +231,12 @@ class _ProbeRun:
         sim = Simulation(chain, u, v, dt=h, wall_left=wl, wall_right=wr, record=recording,
                          integrator=method.name, law=law, drag=drag, check_dt=False)
         x0 = _centroid(sim)
-        sim.run(max_steps=nsteps, progress=False)  # every level ends at the same time
+        info = sim.run(max_steps=nsteps, progress=False)  # every level ends at the same time
+        # the energy monitor's measure (velocity Verlet's modified energy, else E)
+        self.drift = float(info.shadow_drift if method.name == "verlet" else info.energy_drift)
         rec = sim.record
-        vmax = np.asarray(rec.vmax, float)
+        # the refined maxima (between the steps, at the method's order), not the samples
+        vmax = np.asarray(rec.vmax if rec.vmax_refined is None else rec.vmax_refined, float)
         scale = float(np.max(np.abs(vmax))) or 1.0
         self.steps = sim.steps
         self.travel = _centroid(sim) - x0
@@ -290,6 +303,9 @@ class ProbeResult:
         Grains whose maxima were compared.
     complete : bool
         False if the probe stopped early because the method could not beat ``max_cost``.
+    drifts : tuple
+        Relative energy drift of each probe run (the run's energy monitor's measure),
+        for :meth:`step_for_drift`.
     """
 
     method: str
@@ -303,6 +319,7 @@ class ProbeResult:
     probe_steps: int
     compared: int
     complete: bool = True
+    drifts: tuple = ()
 
     @property
     def h0(self) -> float:
@@ -341,6 +358,20 @@ class ProbeResult:
             return hs[k]
         q = math.log(hi / lo) / math.log(hs[k - 1] / hs[k])
         return min(hs[k - 1], hs[k] * (target / lo) ** (1.0 / q))
+
+    def step_for_drift(self, cap: float) -> float:
+        """The largest step the probe's energy drifts allow: drift <= ``cap``, s.
+
+        The coarsest probe step whose run drifted at most ``cap``; below the finest, its
+        drift scaled as h² (every method here is at least second order in the energy,
+        so the true drift at the smaller step is no larger).  inf without drifts.
+        """
+        for h, d in zip(self.h, self.drifts, strict=False):
+            if d <= cap:
+                return h
+        if not self.drifts:
+            return math.inf
+        return self.h[len(self.drifts) - 1] * math.sqrt(cap / self.drifts[-1])
 
     def to_dict(self) -> dict:
         """JSON-able scalars and tuples."""
@@ -411,7 +442,8 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
         hs = tuple(h0 / 2.0**k for k in range(len(runs)))
         e, p_obs, p, clean = error_bounds(d, method.order)
         return ProbeResult(method.name, hs, e, tuple(d), p_obs, p, clean, t_probe, steps,
-                           int(np.count_nonzero(done)), complete)
+                           int(np.count_nonzero(done)), complete,
+                           tuple(r.drift for r in runs))
 
     if stages / h0 >= max_cost:  # even its largest step cannot beat the best so far
         return ProbeResult(method.name, (h0,), (math.inf,), (), math.nan, 1.0, False,
@@ -542,7 +574,8 @@ class TimeStep:
                drag: float = 0.0, fraction: float | None = None,
                check: bool = True, rtol: float | None = None,
                horizon: float | None = None,
-               recording: Recording | None = None) -> TimeStep:
+               recording: Recording | None = None,
+               drift_tolerance: float = 1e-4) -> TimeStep:
         """Choose the step for ``chain`` in the state (u, v, walls).
 
         Parameters
@@ -575,6 +608,10 @@ class TimeStep:
         recording : Recording, optional
             The run's recording: with ``rtol`` the probe records and compares what the
             run records, through the same kernel (default: the running maxima).
+        drift_tolerance : float
+            The run's energy-drift tolerance (:class:`~discrete.Simulation`): with
+            ``rtol`` the step also keeps the probe's measured drift, scaled to the run's
+            length, within :data:`RTOL_SAFETY` of it (:meth:`ProbeResult.step_for_drift`).
 
         Raises
         ------
@@ -591,7 +628,8 @@ class TimeStep:
             if dt is None:
                 return cls._choose_rtol(chain, u, v, wall_left, wall_right, rtol=rtol,
                                         integrator=integrator, law=law, drag=drag,
-                                        horizon=horizon, check=check, recording=recording)
+                                        horizon=horizon, check=check, recording=recording,
+                                        drift_tolerance=drift_tolerance)
         if integrator is None:
             if rtol is None:
                 raise ValueError("integrator=None (choose the method) needs rtol")
@@ -622,7 +660,8 @@ class TimeStep:
 
     @classmethod
     def _choose_rtol(cls, chain, u, v, wall_left, wall_right, *, rtol, integrator, law,
-                     drag, horizon, check, recording=None) -> TimeStep:
+                     drag, horizon, check, recording=None,
+                     drift_tolerance: float = 1e-4) -> TimeStep:
         """The step (and method) meeting ``rtol`` from :func:`probe_error` (module docstring)."""
         names = RTOL_CANDIDATES if integrator is None else (get_integrator(integrator).name,)
         if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
@@ -641,6 +680,11 @@ class TimeStep:
             base = cls.choose(chain, u, v, wall_left, wall_right, integrator=method,
                               law=law, drag=drag, check=False)
             h = min(pr.step_for(target), 0.5 * base.stable)
+            # the run must also pass its energy monitor: the probe's drift, taken to grow
+            # in proportion to the run's length (contacts closing one after another)
+            grow = (horizon / pr.t_probe if horizon is not None and math.isfinite(horizon)
+                    and horizon > pr.t_probe else 1.0)
+            h = min(h, pr.step_for_drift(RTOL_SAFETY * drift_tolerance / grow))
             # the step meets the target by construction; recomputing the estimate there
             # can return rtol (1 + 2e-16), a promise (estimate <= rtol) broken by round-off
             est = min(rtol, pr.error_at(h) / RTOL_SAFETY)

@@ -41,6 +41,12 @@ SCENARIOS = {
     "impact": {"chain": {"sections": [{"n": 120}, {"n": 150, "alpha_rho": 0.2}]},
                "initial": {"kind": "impact", "v0": 1.0}, "run": {"until_front_at": 250},
                "record": {"time_series_grains": [119, 120], "energy_every": 7}},
+    # the impact with rtol: refined maxima (on with rtol) and their per-grain search
+    # state across segment ends, where chunks close (c2 = 0, discrete.kernels)
+    "impact_rtol": {"chain": {"sections": [{"n": 400}, {"n": 500, "alpha_rho": 0.2}]},
+                    "initial": {"kind": "impact", "v0": 1.0},
+                    "run": {"until_front_at": 850, "rtol": 1e-4},
+                    "record": {"time_series_grains": [119, 120], "energy_every": 7}},
     # cut (settled) wave at delta0 = 0 into a stiffer section, t_end and a snapshot
     "cut": {"chain": {"sections": [{"n": 150}, {"n": 200, "alpha_kn": 5.0}]},
             "initial": {"kind": "cut_wave", "center": 60}, "run": {"t_end": 1.5e-3},
@@ -110,6 +116,8 @@ def _sim_state(sim) -> dict:
     out.update(u=sim.u.tobytes(), v=sim.v.tobytes(), a=sim.a.tobytes(), steps=sim.steps,
                vmax=None if rec.vmax is None else rec.vmax.tobytes(),
                umax=None if rec.umax is None else rec.umax.tobytes(),
+               **{name: None if getattr(rec, name) is None else getattr(rec, name).tobytes()
+                  for name in ("vmax_refined", "vmax_time", "peak_state")},
                snaps=[(s.label, s.step, s.u.tobytes(), s.v.tobytes()) for s in rec.snapshots],
                drift=sim.energy_drift)
     return out
@@ -131,6 +139,8 @@ def test_segmented_run_is_bitwise_identical(name, tmp_path):
     C.run_segmented(sim, t_end=sc.run.t_end, until=_until(sc), step_limit=sc.run.max_steps,
                     checkpoint=tmp_path / "x.ckpt", key="k", interval=0.0)
     assert sim.steps > 2 * C.segment_steps(sim)  # at least three segments
+    # an rtol run keeps refined maxima (compared below with their search state)
+    assert (sim.record.vmax_refined is not None) == (sc.run.rtol is not None)
     assert _sim_state(sim) == _sim_state(ref)
     amp = 1.0
     assert canonical_json(summarise(chain, sim, amp)) == canonical_json(

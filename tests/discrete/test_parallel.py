@@ -26,6 +26,10 @@ def _same(a, b):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
     assert np.array_equal(a.record.vmax, b.record.vmax)
     assert np.array_equal(a.record.umax, b.record.umax)
+    for name in ("vmax_refined", "vmax_time", "peak_state"):  # refined maxima, their state
+        assert np.array_equal(getattr(a.record, name), getattr(b.record, name),
+                              equal_nan=True), name
+    assert np.any(a.record.vmax_refined > a.record.vmax)  # (every case records them)
     for name in ("series", "series_t", "monitor_energy", "monitor_shadow", "energy_kinetic"):
         assert np.array_equal(ra[name], rb[name]), name
     assert [(s.label, s.step) for s in a.record.snapshots] == [
@@ -53,11 +57,13 @@ CASES = {
                                                        delta0_over_d=1e-3), 1200).simulation(
         threads=th, chunk=1000, record=Recording(
             snapshots=[1490, WaveAt(1510, threshold=1e-4), 2e-3], series_grains=[20, 2990],
-            series_every=300, energy_every=5000)), {"until": WaveAt(2400)}),
+            series_every=300, energy_every=5000, refined_maxima=True)),
+        {"until": WaveAt(2400)}),
     # δ0 = 0 impact through a soft-hard interface: gaps open, u and v maxima move
     "gaps": (lambda th: impact(Chain.two_section(800, 1600, alpha_kn=5.0)).simulation(
         threads=th, record=Recording(snapshots=[900, AtTime(5e-4)], series_grains=[810],
-                                     series_every=1)), {"until": WaveAt(1500)}),
+                                     series_every=1, refined_maxima=True)),
+        {"until": WaveAt(1500)}),
 }
 
 
@@ -89,7 +95,7 @@ def test_run_table_matches_arrays():
     assert rs.size == 4  # left section, interface grain, right section (walls as sections)
     sims = []
     for runs in (True, False):
-        sim = cut_wave(ch, 500).simulation()
+        sim = cut_wave(ch, 500).simulation(record=Recording(refined_maxima=True))
         if not runs:
             sim._runs = (np.zeros(0, np.int64), np.zeros((0, 4)))
         sim.run(until=WaveAt(900), progress=False)

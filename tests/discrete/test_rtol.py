@@ -10,6 +10,7 @@ estimate must bound the true error, and must not overstate it by more than a fac
 (else rtol would buy nothing).
 """
 
+import dataclasses
 import math
 
 import numpy as np
@@ -35,11 +36,15 @@ def _true_error(init, step: TimeStep, t_end: float, *, strain: bool = False) -> 
     With ``strain`` also the contacts' overlap maxima (dynamic part, relative).
     """
     runs = []
-    for dt, method in ((step.dt, step.integrator), (step.dt / 16, "verlet")):
+    # v̄max: the refined maxima (what rtol bounds); the reference: Blanes-Moan 4 at 1/16
+    # of the step (its error 16^-p, p ≈ 2.5-4, of a fourth-order run's)
+    for dt, method in ((step.dt, step.integrator), (step.dt / 16, "blanes_moan4")):
         sim = init.simulation(dt=dt, integrator=method,
-                              record=Recording(maxima=True, strain_maxima=strain))
+                              record=Recording(maxima=True, strain_maxima=strain,
+                                               refined_maxima=True))
         sim.run(t_end, progress=False)
-        runs.append((np.array(sim.record.vmax), sim.v.copy(), sim.record.overlap_max))
+        runs.append((np.array(sim.record.vmax_refined), sim.v.copy(),
+                     sim.record.overlap_max))
     (vm, _, om), (ref, vref, oref) = runs
     scale = float(np.max(np.abs(ref)))
     done = (vref < 0.5 * ref) & (ref > 0.01 * scale)
@@ -161,6 +166,18 @@ def test_error_bounds_and_step_choice():
         h = pr.step_for(target)
         assert pr.error_at(h) <= target * (1 + 1e-12)
         assert h == 4.0 or pr.error_at(h * (1 + 1e-6)) > target  # the largest such step
+
+
+def test_step_for_drift():
+    """The coarsest probe step whose run drifted at most the cap; below the finest, h²."""
+    e, p_obs, p, clean = error_bounds([4e-4, 1e-4], 2)
+    pr = ProbeResult("verlet", (4.0, 2.0, 1.0), e, (4e-4, 1e-4), p_obs, p, clean, 1.0, 1, 1,
+                     True, (8e-4, 2e-4, 5e-5))
+    assert pr.step_for_drift(1e-3) == 4.0
+    assert pr.step_for_drift(2e-4) == 2.0
+    assert pr.step_for_drift(1e-4) == 1.0
+    assert pr.step_for_drift(1.25e-5) == pytest.approx(0.5)  # 1.0 * sqrt(1.25e-5 / 5e-5)
+    assert dataclasses.replace(pr, drifts=()).step_for_drift(1e-9) == math.inf
 
 
 def test_explicit_dt_wins_and_bad_rtol():
