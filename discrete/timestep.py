@@ -208,18 +208,21 @@ def stable_dt(chain: Chain, delta, *, law: ContactLaw | None = None,
     return 2.0 / math.sqrt(w2) if w2 > 0 else math.inf
 
 
-def _probe_recording(recording) -> Recording:
+def _probe_recording(recording, velocity_dependent: bool = False) -> Recording:
     """The probe's recording: the run's own, without what only costs time in a probe.
 
     Same kernel variant and maxima as the run (refined maxima: an rtol run keeps them,
-    unless its recording says ``refined_maxima=False``); no events, series, sensors,
-    energy grid.
+    unless its recording says ``refined_maxima=False``, or its forces depend on the
+    velocities — a dissipative law or drag, where :class:`discrete.Simulation` keeps
+    sampled maxima only); no events, series, sensors, energy grid.
     """
+    refined = not velocity_dependent and (recording is None
+                                          or recording.refined_maxima is not False)
     if recording is None:
-        return Recording(maxima=True, refined_maxima=True)
+        return Recording(maxima=True, refined_maxima=refined)
     return dataclasses.replace(recording, snapshots=(), series_grains=(), energy_every=None,
                                sensors=(), wall_forces=False, maxima=True,
-                               refined_maxima=recording.refined_maxima is not False)
+                               refined_maxima=refined)
 
 
 class _ProbeRun:
@@ -426,7 +429,7 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     t_probe = PROBE_PERIODS * period
     if horizon is not None and math.isfinite(horizon) and horizon > 0:
         t_probe = min(t_probe, float(horizon))
-    rec = _probe_recording(recording)
+    rec = _probe_recording(recording, bool(law.dissipative or drag))
     stages = method.stages
     # whole steps at h0: every probe run ends at the same time (a probe run that ended
     # up to a step later would carry a first-order "error" in the travelled distance)

@@ -149,3 +149,23 @@ def test_refined_maxima_are_kept_with_rtol_or_when_asked():
         Recording(maxima=False, refined_maxima=True).validate(60)
     with pytest.raises(ValueError, match="vmax_refined missing"):
         init.simulation().record.check(60, REFINED)
+
+
+@pytest.mark.parametrize("kw", [{"law": "kk"}, {"drag": 50.0}])
+def test_velocity_dependent_forces_refuse_refined_maxima(kw):
+    # With a dissipative law or drag the split step stores the elastic acceleration,
+    # not dv/dt (discrete.kernels, "Dissipation"): a Hermite interpolant of (v, a)
+    # would not be the velocity between the steps.  True is refused naming the key;
+    # None (the default, on with rtol) means off there, the sampled maxima stay.
+    from discrete import Simulation
+    from discrete.laws import ViscoelasticHertz
+
+    kw = {"law": ViscoelasticHertz(1e-5)} if "law" in kw else kw
+    init = _impact(60)
+    with pytest.raises(ValueError, match="refined_maxima"):
+        Simulation(init.chain, u=init.u, v=init.v, record=REFINED, **kw)
+    sim = Simulation(init.chain, u=init.u, v=init.v, rtol=1e-3,
+                     record=Recording(maxima=True), **kw)
+    assert sim.record.vmax_refined is None
+    sim.run(max_steps=200, progress=False)
+    assert np.all(np.isfinite(sim.record.vmax)) and sim.record.vmax_refined is None
