@@ -83,6 +83,12 @@ __all__ = ["Simulation", "SavedSimulation", "State", "RunInfo", "InstabilityErro
            "default_dt", "stable_dt", "expected_overlaps", "DT_FRACTION",
            "PARALLEL_MIN_GRAINS"]
 
+RESTORE_A_RTOL = 1e-9
+"""Relative tolerance of a damped run's restored acceleration against the elastic
+acceleration recomputed from its positions (:meth:`Simulation.restore`): the kernels and
+the constructor form it in different orders (round-off, ~1e-15 of its largest value);
+the total acceleration of an older file differs by the damping force."""
+
 BLOCK_SUBSTEPS = 256
 """Substeps (force evaluations) per block of the temporally blocked kernel
 (:mod:`discrete.kernels`): 256 velocity-Verlet steps, 42 of a 6-stage method."""
@@ -598,6 +604,19 @@ class Simulation:
             if x.shape != shape or not np.all(np.isfinite(x)):
                 raise ValueError(f"state/{name} must be finite with shape {shape} "
                                  f"(got {x.shape})")
+        if sim.kernels.velocity_dependent:
+            # The split dissipative step (discrete.kernels, "Dissipation") carries the
+            # elastic acceleration of u; the step before it carried the total one (with
+            # the damping force), which would continue with a wrong first step.
+            a_el = sim.a.copy()  # the constructor's elastic acceleration of state/u
+            scale = float(np.max(np.abs(a_el))) if n else 0.0
+            err = float(np.max(np.abs(np.asarray(st["a"], float) - a_el))) if n else 0.0
+            if err > RESTORE_A_RTOL * scale + 1e-300:
+                raise ValueError(
+                    f"state/a is not the elastic acceleration of state/u (max difference "
+                    f"{err:.3g} m/s^2 of {scale:.3g}; allowed {RESTORE_A_RTOL:g} of it): a "
+                    f"damped run saved before dissipation became a split step (hertzchain "
+                    f"0.1.0 development, 2026-11-27) cannot be continued; run it again")
         sim.a[:] = st["a"]
         if "dissipated" in st:
             sim._dis[:] = st["dissipated"]

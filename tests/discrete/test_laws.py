@@ -414,3 +414,27 @@ def test_documented_way_to_add_a_law(rng, make_composite):
         assert sim.dissipated() > 0
     finally:
         LAWS.pop(cls.name, None)
+
+
+@pytest.mark.parametrize("kw", [{"law": ViscoelasticHertz(1e-5)}, {"drag": 4000.0}])
+def test_damped_restore_checks_the_stored_acceleration(kw):
+    # A damped run carries the elastic acceleration of u (the split step); a file that
+    # carries another one (the total acceleration of the step before the split, with
+    # the damping force) is refused, naming state/a; the run's own state restores and
+    # continues bit for bit.
+    ch = Chain.two_section(60, 40, alpha_kn=2.0)
+    v = np.zeros(ch.n)
+    v[0] = 1.0
+    sim = Simulation(ch, v=v, **kw)
+    sim.run(max_steps=300, progress=False)
+    saved = sim.saved()
+    twin = Simulation.restore(saved)
+    sim.run(max_steps=200, progress=False)
+    twin.run(max_steps=200, progress=False)
+    assert np.array_equal(sim.u, twin.u) and np.array_equal(sim.v, twin.v)
+    bad = sim.saved()
+    moving = np.abs(bad.state["v"]) > 1e-3 * np.max(np.abs(bad.state["v"]))
+    assert moving.sum() >= 2
+    bad.state["a"] = bad.state["a"] - 1e-3 * np.max(np.abs(bad.state["a"])) * moving
+    with pytest.raises(ValueError, match="state/a"):
+        Simulation.restore(bad)
