@@ -42,6 +42,7 @@ from ..cache import atomic_path, cache_path, canonical_json
 from ..paper import DIAMETER, V0
 
 __all__ = ["MODES", "Context", "run_models", "run_scenario_cached", "read_summary",
+           "replace_by_reduced",
            "paper_scenario", "ContinuumProfile", "continuum_profile", "plot_continuum",
            "continuum_sentence", "DIFF_SHOWN", "new_figure", "save_figure", "log_ticks",
            "tqdm_iter", "DIAMETER", "V0", "MATERIAL", "json_float"]
@@ -269,6 +270,18 @@ def read_summary(path: str | Path) -> dict:
     """
     with integrity.open_hdf5(path, what="cached result") as f:
         return json.loads(f.attrs["summary"])
+
+
+def replace_by_reduced(ctx: Context, full: Path, store: Path) -> None:
+    """Let the reduced file ``store`` stand for the run's file ``full``, and delete ``full``.
+
+    For items that keep only what they print (Table 2's points, Fig. 6's passages): the
+    reduced file takes the run's entry in ``ctx.computed``/``ctx.reused`` (one entry per
+    simulation), then the run's own file (snapshots, energy grids) is removed.
+    """
+    for done in (ctx.computed, ctx.reused):
+        done[:] = [store if q == full else q for q in done]
+    Path(full).unlink()
 
 
 DIFF_SHOWN = 0.05

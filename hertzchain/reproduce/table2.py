@@ -52,7 +52,7 @@ from theory import integrity
 
 from ..cache import cache_path, canonical_json
 from ..paper import TABLE2, TABLE2_KEYS
-from .common import Context, run_models, run_scenario_cached
+from .common import Context, replace_by_reduced, run_models, run_scenario_cached
 
 __all__ = ["QUICK", "FULL", "POINTS", "DISTANCES", "PointResult", "point_scenario",
            "run_point", "run", "report", "to_json"]
@@ -136,10 +136,7 @@ def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
     summary, path = run_scenario_cached(ctx, "table2", scenario)
     res = _reduce(point, s, summary, path)
     _write_point(store, params, res)
-    # the reduced file replaces the runner's (one entry per simulation in the counts)
-    for done in (ctx.computed, ctx.reused):
-        done[:] = [store if q == path else q for q in done]
-    path.unlink()
+    replace_by_reduced(ctx, path, store)
     res.path = store
     return res
 
