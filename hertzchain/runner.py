@@ -417,6 +417,18 @@ def _column_argmax(e: np.ndarray, block: int = 64) -> np.ndarray:
     return idx
 
 
+def _stacked_grid(rows: list) -> np.ndarray:
+    """A recorded grid's rows (a :class:`discrete.Record` list) as one (rows, columns) array.
+
+    The list is then made of views of that array's rows (the same values; the blocks the
+    run appended are freed), so that the record and the summary share one copy of the
+    grid instead of holding two (issue 13: the largest Table 2 grid is 39 MB per kind).
+    """
+    grid = np.stack(rows)
+    rows[:] = list(grid)
+    return grid
+
+
 def _front_speed(t, energy, grains: range, i_start: int, d: float, *, skip: int = 10
                  ) -> float:
     """Front speed (m/s) from arrival times of the energy peak at ``grains`` (in order).
@@ -486,7 +498,7 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     rec = sim.record  # (only the grids the summary reads are stacked, once)
     if not rec.energy_kinetic:
         return out
-    ek, t = np.stack(rec.energy_kinetic), np.asarray(rec.energy_t, dtype=float)
+    ek, t = _stacked_grid(rec.energy_kinetic), np.asarray(rec.energy_t, dtype=float)
     coarsen = rec.energy_coarsen
     s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain, if any
     d = float(chain.diameter[s0])
@@ -498,7 +510,7 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
         out["front_speed_tr"] = _front_speed(t, ek, range(ek.shape[1]), 0, d * coarsen)
         return out
     iface = n_left // coarsen
-    ep = np.stack(rec.energy_potential)
+    ep = _stacked_grid(rec.energy_potential)
     e = ek + ep
     try:
         i_in = D.incident_time_index(e, iface)

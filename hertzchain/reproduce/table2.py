@@ -28,8 +28,9 @@ section and Ek_tr drifts with distance (docs/physics.md §6), so the ratios are 
 when the transmitted peak is ``DISTANCES`` grains past the interface.
 
 What is kept on disk: the runner's file of a point holds the per-grain energy grids
-(2,500–4,900 rows × 1,000 grains × 2 in float64, 13–37 MB).  Once it is finished,
-:func:`run_point` computes from it everything the report prints (the quantities above
+(2,500–4,900 rows × 1,000 grains × 2 in float64, 13–37 MB on disk, 40–78 MB in
+memory).  Once the run is finished, :func:`run_point` computes from it (in memory, its
+grids held once) everything the report prints (the quantities above
 and Fig. 8's normalisation and extremes, :func:`.fig8.maps_from_grid`, in float64 from
 the full grids, exactly as before) plus Fig. 8's maps reduced for drawing (at most
 :data:`.fig8.MAP_ROWS` rows of the first :data:`.fig8.GRAINS_SHOWN` grains, float16),
@@ -42,6 +43,7 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -52,7 +54,7 @@ from theory import integrity
 
 from ..cache import cache_path, canonical_json
 from ..paper import TABLE2, TABLE2_KEYS
-from .common import Context, replace_by_reduced, run_models, run_scenario_cached
+from .common import Context, replace_by_reduced, run_models
 
 __all__ = ["QUICK", "FULL", "POINTS", "DISTANCES", "PointResult", "point_scenario",
            "run_point", "run", "report", "to_json"]
@@ -133,8 +135,12 @@ def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
         else:
             ctx.reused.append(store)
             return res
-    summary, path = run_scenario_cached(ctx, "table2", scenario)
-    res = _reduce(point, s, summary, path)
+    result = run_models(ctx, "table2", parse_scenario(scenario))
+    summary, path = dict(result.discrete.summary), Path(result.discrete.path)
+    grids = _Grids.of(result.simulation)
+    del result  # (the run's own record: the grids are now held once, in ``grids``)
+    res = _reduce(point, s, summary, grids, path)
+    del grids
     _write_point(store, params, res)
     replace_by_reduced(ctx, path, store)
     res.path = store
@@ -147,14 +153,33 @@ def _fig8_settings() -> dict:
     return {"grains": GRAINS_SHOWN, "rows": MAP_ROWS, "dtype": "float16"}
 
 
-def _reduce(point: str, s: dict, summary: dict, path) -> PointResult:
-    """Everything the report needs from the runner's full file (float64, full grids)."""
+@dataclass
+class _Grids:
+    """What :func:`_reduce` reads of a finished point run.
+
+    Its chain, first snapshot (t = 0) and energy grids (float64, as recorded).
+    """
+
+    chain: discrete.Chain
+    snapshot: discrete.Snapshot
+    t: np.ndarray
+    ek: np.ndarray
+    ep: np.ndarray
+
+    @classmethod
+    def of(cls, sim: discrete.Simulation) -> _Grids:
+        rec = sim.record
+        arr = rec.arrays()
+        return cls(sim.chain, rec.snapshots[0], arr["energy_t"], arr["energy_kinetic"],
+                   arr["energy_potential"])
+
+
+def _reduce(point: str, s: dict, summary: dict, grids: _Grids, path) -> PointResult:
+    """Everything the report needs from the point's run (float64, full grids)."""
     from .fig8 import maps_from_grid
 
-    sim = discrete.load(path)
-    chain = sim.chain
-    arr = sim.record.arrays()
-    ek, ep, t = arr["energy_kinetic"], arr["energy_potential"], arr["energy_t"]
+    chain = grids.chain
+    ek, ep, t = grids.ek, grids.ep, grids.t
     iface = s["n_left"]
     e = ek + ep
     i_in = D.incident_time_index(e, iface)
@@ -176,8 +201,7 @@ def _reduce(point: str, s: dict, summary: dict, path) -> PointResult:
         if rows.size:
             r = D.energy_ratios_from_grid(ek, ep, chain.section, i_in, int(rows[0]))
             drift[dist] = r.as_dict() | {"interface_activity": float(activity[rows[0]])}
-    snap = sim.record.snapshots[0]
-    sums = D.section_sums(D.snapshot_energies(chain, snap), chain.section)
+    sums = D.section_sums(D.snapshot_energies(chain, grids.snapshot), chain.section)
     left = list(sums["sections"]).index(0)
     inc = {key: float(sums[key][left]) for key in ("kinetic", "linear", "quadratic")}
     ar, ak = theory.PAPER_POINTS[point]
