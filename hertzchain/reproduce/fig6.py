@@ -103,10 +103,11 @@ _SCALARS = ("d", "c0_left", "c0_right", "delta0_right", "c_mat_right")
 def _run(ctx: Context, ar: float, ak: float, s: dict) -> SpeedResult:
     """Run (or load) one (α_ρ, α_kn): the passages, then the window fits.
 
-    The run's file (every grain at each of ~150 passages, ~4.5 MB in ``--quick``) is
-    reduced to what the figure reads (:func:`_passages`: the passage times and ξ_max, in
-    float64) in the sealed ``fig6-passages-<hash>.h5`` (~12 kB) and deleted; that file
-    is what a later call reuses (``--force`` recomputes).
+    The run (every grain at each of ~150 passages, 4.5 MB as a file in ``--quick``) is
+    checkpointed as usual but not written: what the figure reads of it
+    (:func:`_passages`: the passage times and ξ_max, in float64) goes to the sealed
+    ``fig6-passages-<hash>.h5`` (~12 kB), the file a later call reuses (``--force``
+    recomputes).
     """
     sc = scenario(ar, ak, s)
     params = {"scenario": sc.to_dict(), "format": STORE_FORMAT, "half": HALF}
@@ -120,7 +121,7 @@ def _run(ctx: Context, ar: float, ak: float, s: dict) -> SpeedResult:
         else:
             ctx.reused.append(store)
     if passages is None:
-        result = run_models(ctx, "fig6", sc)
+        result = run_models(ctx, "fig6", sc, save=False)
         passages = _passages(result.simulation)
         _write_passages(store, params, passages)
         replace_by_reduced(ctx, result.discrete.path, store)

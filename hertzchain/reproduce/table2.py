@@ -27,15 +27,16 @@ Where it is measured matters for P: its transmitted pulse keeps reshaping in the
 section and Ek_tr drifts with distance (docs/physics.md §6), so the ratios are also tabulated
 when the transmitted peak is ``DISTANCES`` grains past the interface.
 
-What is kept on disk: the runner's file of a point holds the per-grain energy grids
-(2,500–4,900 rows × 1,000 grains × 2 in float64, 13–37 MB on disk, 40–78 MB in
-memory).  Once the run is finished, :func:`run_point` computes from it (in memory, its
-grids held once) everything the report prints (the quantities above
-and Fig. 8's normalisation and extremes, :func:`.fig8.maps_from_grid`, in float64 from
-the full grids, exactly as before) plus Fig. 8's maps reduced for drawing (at most
-:data:`.fig8.MAP_ROWS` rows of the first :data:`.fig8.GRAINS_SHOWN` grains, float16),
-writes them to one sealed file ``table2-point-<hash>.h5`` (~0.2 MB) and deletes the
-runner's file.  A later run reuses that file; ``--force`` recomputes.
+What is kept on disk: a point's run records per-grain energy grids (2,500–4,900 rows ×
+1,000 grains × 2 in float64: 40–78 MB in memory, 13–37 MB as a compressed file).  The
+run is checkpointed as usual but not written (``run_models(..., save=False)``); once it
+is finished, :func:`run_point` computes from it in memory, its grids held once,
+everything the report prints (the quantities above and Fig. 8's normalisation and
+extremes, :func:`.fig8.maps_from_grid`, in float64 from the full grids, exactly as
+before) plus Fig. 8's maps reduced for drawing (at most :data:`.fig8.MAP_ROWS` rows of
+the first :data:`.fig8.GRAINS_SHOWN` grains, float16), and writes them to one sealed
+file ``table2-point-<hash>.h5`` (~0.2 MB).  A later run reuses that file; ``--force``
+recomputes.
 """
 
 from __future__ import annotations
@@ -43,7 +44,6 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -117,8 +117,8 @@ STORE_FORMAT = "hertzchain.reproduce.table2-point/1"
 def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
     """Run (or load) one point: discrete ratios, drift, incident split, theory, Fig. 8 maps.
 
-    The runner's full file is reduced to the sealed ``table2-point-<hash>.h5`` and
-    deleted (module docstring); that file is what a later call reuses.
+    The run is reduced to the sealed ``table2-point-<hash>.h5`` (module docstring), the
+    file a later call reuses.
     """
     from ..scenario import parse_scenario
 
@@ -135,11 +135,11 @@ def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
         else:
             ctx.reused.append(store)
             return res
-    result = run_models(ctx, "table2", parse_scenario(scenario))
-    summary, path = dict(result.discrete.summary), Path(result.discrete.path)
+    result = run_models(ctx, "table2", parse_scenario(scenario), save=False)
+    summary, path = dict(result.discrete.summary), result.discrete.path
     grids = _Grids.of(result.simulation)
     del result  # (the run's own record: the grids are now held once, in ``grids``)
-    res = _reduce(point, s, summary, grids, path)
+    res = _reduce(point, s, summary, grids)
     del grids
     _write_point(store, params, res)
     replace_by_reduced(ctx, path, store)
@@ -174,7 +174,7 @@ class _Grids:
                    arr["energy_potential"])
 
 
-def _reduce(point: str, s: dict, summary: dict, grids: _Grids, path) -> PointResult:
+def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
     """Everything the report needs from the point's run (float64, full grids)."""
     from .fig8 import maps_from_grid
 
@@ -207,7 +207,7 @@ def _reduce(point: str, s: dict, summary: dict, grids: _Grids, path) -> PointRes
     ar, ak = theory.PAPER_POINTS[point]
     res = PointResult(point, ar, ak, summary, ratios,
                       float(front[i_out]) if i_out is not None else math.nan, drift, inc,
-                      _prediction(ar, ak, inc), path=path)
+                      _prediction(ar, ak, inc))
     del e, tot, activity  # (each as large as a grid)
     res.maps = maps_from_grid(t, ek, ep, iface, i_in)
     return res
