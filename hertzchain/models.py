@@ -596,7 +596,7 @@ def _outcome(scenario: Scenario, summary: dict, sim: discrete.Simulation) -> dic
 
 def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, force,
                   checkpoint_interval, resume, progress, threads, log, check,
-                  wave_cache, init) -> tuple[ModelRun, discrete.Simulation]:
+                  wave_cache, init, save) -> tuple[ModelRun, discrete.Simulation]:
     eff = _effective(scenario, times, keep_name=out is not None)
     key = eff.discrete_dict()
     path = Path(out) if out is not None else (
@@ -626,14 +626,15 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
             eff, out=path, progress=progress,
             checkpoint_interval=checkpoint_interval,
             resume=resume and not force, threads=threads, check=check, log=log,
-            cache_dir=wave_cache)
+            cache_dir=wave_cache, save=save)
     ts, vs, ss = _samples_from_sim(sim, times, init)
     summary = {**summary, **_outcome(scenario, summary, sim)}
     completed, stopped = bool(summary["completed"]), str(summary["stopped_by"])
     params = {"scenario": key, "dt": float(sim.dt), "integrator": scenario.run.integrator}
     return ModelRun("discrete", _discrete_label(scenario), ts, vs, ss, float(sim.t),
                     completed=completed, stopped_by=stopped, summary=dict(summary),
-                    params=params, path=path, cached=cached), sim
+                    params=params, path=path if cached or save else None,
+                    cached=cached), sim
 
 
 # -- continuum -------------------------------------------------------------------------
@@ -1056,7 +1057,8 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         out: str | Path | None = None, force: bool = False,
         checkpoint_interval: float | None = None, resume: bool = True,
         progress: bool = False, threads: int | None = None, check: bool = True,
-        log=None, wave_cache: str | Path | None = None, samples: bool | None = None) -> Run:
+        log=None, wave_cache: str | Path | None = None, samples: bool | None = None,
+        save_discrete: bool = True) -> Run:
     """Run every model of ``scenario`` from one initial grain state (module docstring).
 
     Parameters
@@ -1093,6 +1095,11 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         Sample the discrete run at the common times (:func:`sample_grid`); default: only
         if a continuum runs (otherwise the discrete run is the plain scenario's, with
         the initial and final states as its samples).
+    save_discrete : bool
+        Write the discrete run to its file in ``cache`` (or ``out``).  False: the file
+        names only the run's checkpoint; a finished file already there is still reused,
+        otherwise the discrete :class:`ModelRun` has no ``path`` and the caller keeps
+        what it needs of :attr:`Run.simulation`.
 
     Returns
     -------
@@ -1132,7 +1139,8 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         d_run, sim = _run_discrete(
             scenario, times, cache=cache, stem=stem, out=out, force=force,
             checkpoint_interval=checkpoint_interval, resume=resume, progress=progress,
-            threads=threads, log=log, check=check, wave_cache=wave_cache, init=init)
+            threads=threads, log=log, check=check, wave_cache=wave_cache, init=init,
+            save=save_discrete)
         result.discrete, result.simulation = d_run, sim
         t_final = float(d_run.times[-1])  # the last sample (t_end, or the stop event)
         if scenario.initial.kind == "impact":

@@ -417,6 +417,18 @@ def _column_argmax(e: np.ndarray, block: int = 64) -> np.ndarray:
     return idx
 
 
+def _stacked_grid(rows: list) -> np.ndarray:
+    """A recorded grid's rows (a :class:`discrete.Record` list) as one (rows, columns) array.
+
+    The list is then made of views of that array's rows (the same values; the blocks the
+    run appended are freed), so that the record and the summary share one copy of the
+    grid instead of holding two (issue 13: the largest Table 2 grid is 39 MB per kind).
+    """
+    grid = np.stack(rows)
+    rows[:] = list(grid)
+    return grid
+
+
 def _front_speed(t, energy, grains: range, i_start: int, d: float, *, skip: int = 10
                  ) -> float:
     """Front speed (m/s) from arrival times of the energy peak at ``grains`` (in order).
@@ -486,7 +498,7 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     rec = sim.record  # (only the grids the summary reads are stacked, once)
     if not rec.energy_kinetic:
         return out
-    ek, t = np.stack(rec.energy_kinetic), np.asarray(rec.energy_t, dtype=float)
+    ek, t = _stacked_grid(rec.energy_kinetic), np.asarray(rec.energy_t, dtype=float)
     coarsen = rec.energy_coarsen
     s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain, if any
     d = float(chain.diameter[s0])
@@ -498,7 +510,7 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
         out["front_speed_tr"] = _front_speed(t, ek, range(ek.shape[1]), 0, d * coarsen)
         return out
     iface = n_left // coarsen
-    ep = np.stack(rec.energy_potential)
+    ep = _stacked_grid(rec.energy_potential)
     e = ek + ep
     try:
         i_in = D.incident_time_index(e, iface)
@@ -671,7 +683,8 @@ def run_scenario(scenario: Scenario, **kwargs) -> dict:
 def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
                    progress: bool = False, checkpoint_interval: float | None = None,
                    resume: bool = True, threads: int | None = None, check: bool = True,
-                   log=None, cache_dir=None) -> tuple[dict, discrete.Simulation]:
+                   log=None, cache_dir=None, save: bool = True
+                   ) -> tuple[dict, discrete.Simulation]:
     """Run ``scenario`` with the discrete solver; return its summary and the Simulation.
 
     Parameters
@@ -703,6 +716,10 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
         Receives one-line messages (resuming, checkpoint removed); default: silent.
     cache_dir : path, optional
         Cache of settled waves (:func:`build_initial`).
+    save : bool
+        Write the finished run to ``out`` (default).  False: ``out`` names only the
+        checkpoint (removed at the end as usual) and the lock; the caller keeps what it
+        needs of the returned Simulation (``hertzchain reproduce``'s reduced files).
 
     Returns
     -------
@@ -740,7 +757,7 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
 
     kwargs = {"out": out, "progress": progress, "checkpoint_interval": checkpoint_interval,
               "resume": resume, "threads": threads, "check": check, "log": log,
-              "cache_dir": cache_dir}
+              "cache_dir": cache_dir, "save": save}
     if out is None:
         return _run_simulation(scenario, **kwargs)
     with C.output_lock(out):  # one process per output file (and its checkpoint)
@@ -748,7 +765,8 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
 
 
 def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, resume,
-                    threads, check, log, cache_dir) -> tuple[dict, discrete.Simulation]:
+                    threads, check, log, cache_dir, save
+                    ) -> tuple[dict, discrete.Simulation]:
     from . import checkpoint as C
 
     start = time.perf_counter()
@@ -809,18 +827,18 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
         summary.update(integrator=sim.integrator, dt_source=ts.source,
                        rtol=ts.rtol, rtol_estimate=ts.error_estimate)
         summary["wall_time"] = elapsed + time.perf_counter() - start
-        if out is not None:
+        if out is not None and save:
             try:
                 discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
                                                "summary": canonical_json(summary)})
             except OSError as exc:  # disk full, ...: the summary and checkpoint survive
                 kept = ckpt if ckpt is not None and ckpt.exists() else None
                 raise C.OutputWriteError(out, exc, summary, kept) from None
-            if ckpt is not None:
-                ckpt.unlink(missing_ok=True)
-                C.remove_stale_temporaries(out)
+        if ckpt is not None:
+            ckpt.unlink(missing_ok=True)
+            C.remove_stale_temporaries(out)
     if late_signal:
         done = f"the run had finished: results written to {out}" if out is not None \
-            else "the run had finished (no output file)"
+            and save else "the run had finished (no output file)"
         raise C.Interrupted(late_signal[0], None, sim.t, sim.steps, note=done)
     return summary, sim

@@ -27,10 +27,11 @@ from __future__ import annotations
 
 import importlib
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["ITEMS", "ItemRun", "run_item", "reproduce", "check_items"]
+__all__ = ["ITEMS", "ItemRun", "run_item", "reproduce", "check_items", "kernel_threads"]
 
 ITEMS = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "table2", "validity")
 """Items in report order."""
@@ -75,9 +76,44 @@ def run_item(ctx, name: str) -> ItemRun:
     return run
 
 
+QUICK_THREADS = 1
+"""Kernel threads of ``--quick`` (:func:`reproduce`'s default there).
+
+Results are bitwise the same for every thread count (``tests/discrete/test_parallel.py``);
+what one thread saves is the first compile.  On two cores a run whose window reaches
+:data:`discrete.simulation.PARALLEL_MIN_GRAINS` (10,000; in ``--quick`` the settling of
+the incident wave, Figs. 2 and 5) uses the blocked, threaded kernel, a second compiled
+variant; on one thread every ``--quick`` run uses the plain kernel only (blocking pays on
+one thread from :data:`discrete.simulation.SERIAL_BLOCK_MIN_GRAINS` grains).  Measured
+(issue 13): settling the δ0/d = 1e-3 wave with an empty kernel cache, 29 s CPU on one
+thread against 78 s on two, the same wave bit for bit."""
+
+
+@contextmanager
+def kernel_threads(threads: int | None):
+    """Set numba's thread count for the solvers' kernels inside the block (None: unchanged).
+
+    Capped at ``numba.config.NUMBA_NUM_THREADS``; the previous count is restored.
+    """
+    if threads is None:
+        yield
+        return
+    import numba
+
+    if int(threads) != threads or threads < 1:
+        raise ValueError(f"threads must be None or an integer >= 1 (got {threads!r})")
+    before = numba.get_num_threads()
+    numba.set_num_threads(min(int(threads), int(numba.config.NUMBA_NUM_THREADS)))
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
+
+
 def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-reproduce",
               force: bool = False, progress: bool = True, report: bool = True,
-              checkpoint_interval: float | None = 300.0) -> dict:
+              checkpoint_interval: float | None = 300.0,
+              threads: int | None = None) -> dict:
     """Reproduce the given items and write the report.
 
     Parameters
@@ -98,6 +134,10 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
         Wall time between checkpoints of a simulation, s (>= 0); after a kill, calling
         again with the same arguments resumes from the last one, bit for bit
         (:mod:`.common`).  None: no checkpoints.
+    threads : int, optional
+        Kernel threads of the discrete runs (:func:`kernel_threads`; the results are
+        the same, bit for bit, for every count).  Default: :data:`QUICK_THREADS` in
+        ``"quick"`` mode, numba's own count in ``"full"`` (Fig. 5's 50,000 grains).
 
     Returns
     -------
@@ -115,11 +155,15 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     names = check_items(items)
     ctx = Context(Path(out), mode=mode, force=force, progress=progress,
                   checkpoint_interval=checkpoint_interval)
+    if threads is None and mode == "quick":
+        threads = QUICK_THREADS
     start = time.perf_counter()
     runs = []
-    for k, name in enumerate(names, 1):   # "item k of n" before each item's own messages
-        ctx.log(f"[{k}/{len(names)}] {name} ({time.perf_counter() - start:.0f} s elapsed)")
-        runs.append(run_item(ctx, name))
+    with kernel_threads(threads):
+        for k, name in enumerate(names, 1):  # "item k of n" before each item's messages
+            ctx.log(f"[{k}/{len(names)}] {name} ({time.perf_counter() - start:.0f} s "
+                    "elapsed)")
+            runs.append(run_item(ctx, name))
     wall = time.perf_counter() - start
     paths = ()
     if report:

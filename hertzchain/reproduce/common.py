@@ -42,6 +42,7 @@ from ..cache import atomic_path, cache_path, canonical_json
 from ..paper import DIAMETER, V0
 
 __all__ = ["MODES", "Context", "run_models", "run_scenario_cached", "read_summary",
+           "replace_by_reduced",
            "paper_scenario", "ContinuumProfile", "continuum_profile", "plot_continuum",
            "continuum_sentence", "DIFF_SHOWN", "new_figure", "save_figure", "log_ticks",
            "tqdm_iter", "DIAMETER", "V0", "MATERIAL", "json_float"]
@@ -162,7 +163,8 @@ def _count(ctx: Context, run_) -> None:
         (ctx.reused if m.cached else ctx.computed).append(Path(m.path))
 
 
-def run_models(ctx: Context, stem: str, scenario, *, samples: bool | None = None):
+def run_models(ctx: Context, stem: str, scenario, *, samples: bool | None = None,
+               save: bool = True):
     """Run every model of a scenario through :func:`hertzchain.models.run`, cached.
 
     The one run path of ``hertzchain run``, ``compare`` and ``sweep``: the discrete run
@@ -181,6 +183,11 @@ def run_models(ctx: Context, stem: str, scenario, *, samples: bool | None = None
         A scenario (a dict is validated by :func:`hertzchain.scenario.parse_scenario`).
     samples : bool, optional
         Passed to :func:`hertzchain.models.run`.
+    save : bool
+        Write the discrete run to its file (default).  False: for items that keep a
+        reduction of it (:func:`replace_by_reduced`); the run is still checkpointed
+        beside that file name and resumed after a kill, but the finished run is not
+        written (its discrete ``path`` is None unless a finished file was reused).
 
     Returns
     -------
@@ -203,14 +210,16 @@ def run_models(ctx: Context, stem: str, scenario, *, samples: bool | None = None
         result = run(sc, cache=ctx.runs, stem=stem, force=ctx.force,
                      checkpoint_interval=ctx.checkpoint_interval, progress=ctx.progress,
                      log=lambda m: ctx.log(f"{stem}: {m}".replace("--restart", "--force")),
-                     wave_cache=ctx.cache, samples=samples)
+                     wave_cache=ctx.cache, samples=samples, save_discrete=save)
     except C.CheckpointError as exc:
         raise _checkpoint_error(exc) from None
     except C.Interrupted as exc:
         if exc.checkpoint is not None:
             note = f"checkpoint written to {exc.checkpoint}"
-        else:
+        elif save:
             note = f"the {stem} simulation had finished and was written"
+        else:
+            note = f"the {stem} simulation had finished but was not kept"
         raise _retell(exc, ctx, note) from None
     _count(ctx, result)
     return result
@@ -269,6 +278,23 @@ def read_summary(path: str | Path) -> dict:
     """
     with integrity.open_hdf5(path, what="cached result") as f:
         return json.loads(f.attrs["summary"])
+
+
+def replace_by_reduced(ctx: Context, full: Path | None, store: Path) -> None:
+    """Count the reduced file ``store`` for a run, in place of the run's own file ``full``.
+
+    For items that keep only what they print (Table 2's points, Fig. 6's passages), run
+    with ``run_models(..., save=False)``: the run was not written (``full`` None) and
+    ``store`` is counted as computed; or a finished file of the run was reused
+    (``full``): ``store`` takes its entry in ``ctx.computed``/``ctx.reused`` (one entry
+    per simulation) and that file (snapshots, energy grids) is removed.
+    """
+    if full is None:
+        ctx.computed.append(store)
+        return
+    for done in (ctx.computed, ctx.reused):
+        done[:] = [store if q == full else q for q in done]
+    Path(full).unlink()
 
 
 DIFF_SHOWN = 0.05

@@ -56,7 +56,9 @@ def maps_from_grid(t, ek, ep, interface: int, i_incident: int) -> dict:
     # stop the maps when the reflected wave reaches the left wall (its echo is not
     # part of the paper's figure)
     act = np.abs(ek[:, :3] + ep[:, :3]).sum(axis=1)
-    tot = np.abs(ek + ep).sum(axis=1)
+    e = ek + ep
+    tot = np.abs(e, out=e).sum(axis=1)  # (in place: one grid-sized temporary, not two)
+    del e
     hit = np.flatnonzero(act > 1e-3 * tot)
     stop = int(hit[0]) if hit.size else tot.size
     every = max(1, -(-stop // MAP_ROWS))
@@ -64,14 +66,19 @@ def maps_from_grid(t, ek, ep, interface: int, i_incident: int) -> dict:
            "interface": int(interface), "stop": stop, "max_right": {}, "min_left": {},
            "limits": {}}
     for i, (kind, key) in enumerate((("k", "k"), ("p", "p"), ("t", "t_"))):
-        # elementwise as D.normalise_to_incident_peak: e / e0 (bit for bit)
-        e = ek[:stop] if kind == "k" else ep[:stop] if kind == "p" else ek[:stop] + ep[:stop]
-        a = e / refs[i]
-        del e
+        # elementwise as D.normalise_to_incident_peak: e / e0 (bit for bit); one
+        # grid-sized temporary per kind, divided and then partitioned in place
+        if kind == "t":
+            a = ek[:stop] + ep[:stop]
+            a /= refs[i]
+        else:
+            a = (ek if kind == "k" else ep)[:stop] / refs[i]
         out["max_right"][kind] = float(a[:, interface:].max())
         out["min_left"][kind] = float(a[-1, :interface].min())
-        out["limits"][kind] = tuple(float(np.percentile(a, q)) for q in PERCENTILES)
         out[key] = np.ascontiguousarray(a[::every, :GRAINS_SHOWN])
+        # (a percentile depends on the values only, not on their order in a)
+        out["limits"][kind] = tuple(float(np.percentile(a, q, overwrite_input=True))
+                                    for q in PERCENTILES)
         del a
     return out
 

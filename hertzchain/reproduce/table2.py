@@ -27,14 +27,16 @@ Where it is measured matters for P: its transmitted pulse keeps reshaping in the
 section and Ek_tr drifts with distance (docs/physics.md §6), so the ratios are also tabulated
 when the transmitted peak is ``DISTANCES`` grains past the interface.
 
-What is kept on disk: the runner's file of a point holds the per-grain energy grids
-(2,500–4,900 rows × 1,000 grains × 2 in float64, 13–37 MB).  Once it is finished,
-:func:`run_point` computes from it everything the report prints (the quantities above
-and Fig. 8's normalisation and extremes, :func:`.fig8.maps_from_grid`, in float64 from
-the full grids, exactly as before) plus Fig. 8's maps reduced for drawing (at most
-:data:`.fig8.MAP_ROWS` rows of the first :data:`.fig8.GRAINS_SHOWN` grains, float16),
-writes them to one sealed file ``table2-point-<hash>.h5`` (~0.2 MB) and deletes the
-runner's file.  A later run reuses that file; ``--force`` recomputes.
+What is kept on disk: a point's run records per-grain energy grids (2,500–4,900 rows ×
+1,000 grains × 2 in float64: 40–78 MB in memory, 13–37 MB as a compressed file).  The
+run is checkpointed as usual but not written (``run_models(..., save=False)``); once it
+is finished, :func:`run_point` computes from it in memory, its grids held once,
+everything the report prints (the quantities above and Fig. 8's normalisation and
+extremes, :func:`.fig8.maps_from_grid`, in float64 from the full grids, exactly as
+before) plus Fig. 8's maps reduced for drawing (at most :data:`.fig8.MAP_ROWS` rows of
+the first :data:`.fig8.GRAINS_SHOWN` grains, float16), and writes them to one sealed
+file ``table2-point-<hash>.h5`` (~0.2 MB).  A later run reuses that file; ``--force``
+recomputes.
 """
 
 from __future__ import annotations
@@ -52,7 +54,7 @@ from theory import integrity
 
 from ..cache import cache_path, canonical_json
 from ..paper import TABLE2, TABLE2_KEYS
-from .common import Context, run_models, run_scenario_cached
+from .common import Context, replace_by_reduced, run_models
 
 __all__ = ["QUICK", "FULL", "POINTS", "DISTANCES", "PointResult", "point_scenario",
            "run_point", "run", "report", "to_json"]
@@ -115,8 +117,8 @@ STORE_FORMAT = "hertzchain.reproduce.table2-point/1"
 def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
     """Run (or load) one point: discrete ratios, drift, incident split, theory, Fig. 8 maps.
 
-    The runner's full file is reduced to the sealed ``table2-point-<hash>.h5`` and
-    deleted (module docstring); that file is what a later call reuses.
+    The run is reduced to the sealed ``table2-point-<hash>.h5`` (module docstring), the
+    file a later call reuses.
     """
     from ..scenario import parse_scenario
 
@@ -133,13 +135,14 @@ def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
         else:
             ctx.reused.append(store)
             return res
-    summary, path = run_scenario_cached(ctx, "table2", scenario)
-    res = _reduce(point, s, summary, path)
+    result = run_models(ctx, "table2", parse_scenario(scenario), save=False)
+    summary, path = dict(result.discrete.summary), result.discrete.path
+    grids = _Grids.of(result.simulation)
+    del result  # (the run's own record: the grids are now held once, in ``grids``)
+    res = _reduce(point, s, summary, grids)
+    del grids
     _write_point(store, params, res)
-    # the reduced file replaces the runner's (one entry per simulation in the counts)
-    for done in (ctx.computed, ctx.reused):
-        done[:] = [store if q == path else q for q in done]
-    path.unlink()
+    replace_by_reduced(ctx, path, store)
     res.path = store
     return res
 
@@ -150,14 +153,33 @@ def _fig8_settings() -> dict:
     return {"grains": GRAINS_SHOWN, "rows": MAP_ROWS, "dtype": "float16"}
 
 
-def _reduce(point: str, s: dict, summary: dict, path) -> PointResult:
-    """Everything the report needs from the runner's full file (float64, full grids)."""
+@dataclass
+class _Grids:
+    """What :func:`_reduce` reads of a finished point run.
+
+    Its chain, first snapshot (t = 0) and energy grids (float64, as recorded).
+    """
+
+    chain: discrete.Chain
+    snapshot: discrete.Snapshot
+    t: np.ndarray
+    ek: np.ndarray
+    ep: np.ndarray
+
+    @classmethod
+    def of(cls, sim: discrete.Simulation) -> _Grids:
+        rec = sim.record
+        arr = rec.arrays()
+        return cls(sim.chain, rec.snapshots[0], arr["energy_t"], arr["energy_kinetic"],
+                   arr["energy_potential"])
+
+
+def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
+    """Everything the report needs from the point's run (float64, full grids)."""
     from .fig8 import maps_from_grid
 
-    sim = discrete.load(path)
-    chain = sim.chain
-    arr = sim.record.arrays()
-    ek, ep, t = arr["energy_kinetic"], arr["energy_potential"], arr["energy_t"]
+    chain = grids.chain
+    ek, ep, t = grids.ek, grids.ep, grids.t
     iface = s["n_left"]
     e = ek + ep
     i_in = D.incident_time_index(e, iface)
@@ -179,14 +201,13 @@ def _reduce(point: str, s: dict, summary: dict, path) -> PointResult:
         if rows.size:
             r = D.energy_ratios_from_grid(ek, ep, chain.section, i_in, int(rows[0]))
             drift[dist] = r.as_dict() | {"interface_activity": float(activity[rows[0]])}
-    snap = sim.record.snapshots[0]
-    sums = D.section_sums(D.snapshot_energies(chain, snap), chain.section)
+    sums = D.section_sums(D.snapshot_energies(chain, grids.snapshot), chain.section)
     left = list(sums["sections"]).index(0)
     inc = {key: float(sums[key][left]) for key in ("kinetic", "linear", "quadratic")}
     ar, ak = theory.PAPER_POINTS[point]
     res = PointResult(point, ar, ak, summary, ratios,
                       float(front[i_out]) if i_out is not None else math.nan, drift, inc,
-                      _prediction(ar, ak, inc), path=path)
+                      _prediction(ar, ak, inc))
     del e, tot, activity  # (each as large as a grid)
     res.maps = maps_from_grid(t, ek, ep, iface, i_in)
     return res

@@ -71,6 +71,31 @@ def test_check_items_and_jsonable():
         {"a": 1.5, "b": [None, 2]}
 
 
+def test_kernel_threads_quick_default_and_restore(tmp_path, monkeypatch):
+    # --quick runs its items on one kernel thread (QUICK_THREADS: the plain kernel only,
+    # results bitwise the same), --full on numba's own count; the count is restored after
+    import numba
+
+    import hertzchain.reproduce as R
+
+    seen = []
+
+    def fake_item(ctx, name):
+        seen.append((ctx.mode, numba.get_num_threads()))
+        return R.ItemRun(name, None, None)
+
+    monkeypatch.setattr(R, "run_item", fake_item)
+    before = numba.get_num_threads()
+    for mode in ("quick", "full"):
+        reproduce(["fig4"], mode=mode, out=tmp_path, progress=False, report=False)
+    reproduce(["fig4"], mode="full", out=tmp_path, progress=False, report=False, threads=1)
+    assert seen == [("quick", R.QUICK_THREADS), ("full", before), ("full", 1)]
+    assert numba.get_num_threads() == before
+    with pytest.raises(ValueError, match="threads"), R.kernel_threads(0):
+        pass
+    assert numba.get_num_threads() == before
+
+
 def test_api_counts_reuse(tmp_path):
     r1 = reproduce(["fig4"], out=tmp_path, progress=False, report=False)
     assert len(r1["computed"]) == 2 and not r1["reused"]

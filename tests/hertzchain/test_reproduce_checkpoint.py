@@ -160,6 +160,33 @@ def test_run_models_reuses_the_finished_file(tmp_path):
         run_models(ctx, "y", {**sc, "run": {"until_front_at": 60}})
 
 
+def test_run_models_save_false_checkpoints_but_writes_nothing(tmp_path, monkeypatch):
+    # save=False (the items that keep a reduction of the run): checkpointed beside the
+    # file name and resumed bit for bit, but the finished run is not written, not
+    # counted (path None), and no checkpoint is left
+    from hertzchain.reproduce.common import run_models
+
+    sc = {"chain": {"sections": [{"n": 600}]}, "initial": {"kind": "impact"},
+          "run": {"until_front_at": 500}, "record": {"energy_every": 50}}
+    ref = run_models(Context(tmp_path / "ref", progress=False, checkpoint_interval=None),
+                     "x", sc).simulation
+    ctx = Context(tmp_path / "run", progress=False, checkpoint_interval=0.0)
+    count = _interrupt_after_each_checkpoint(monkeypatch)
+    with pytest.raises(C.Interrupted, match="checkpoint written to"):
+        run_models(ctx, "x", sc, save=False)
+    assert count[0] == 1 and len(list(ctx.runs.glob("*.ckpt"))) == 1
+    monkeypatch.undo()
+    got = run_models(ctx, "x", sc, save=False)
+    assert got.discrete.path is None and got.discrete.completed
+    assert ctx.computed == ctx.reused == []
+    assert not [p for p in ctx.runs.iterdir() if not p.name.startswith(".")]
+    sim = got.simulation
+    assert sim.steps == ref.steps > 0 and sim.t == ref.t
+    assert np.array_equal(sim.u, ref.u) and np.array_equal(sim.v, ref.v)
+    a, b = sim.record.arrays(), ref.record.arrays()
+    assert all(np.array_equal(a[k], b[k]) for k in a)
+
+
 def test_checkpoint_interval_option(tmp_path, capsys):
     with pytest.raises(SystemExit):
         main(["reproduce", "fig3", "--checkpoint-interval", "-1", "--out", str(tmp_path)])
@@ -217,7 +244,7 @@ def test_real_process_sigkill_sigint_resume(tmp_path, monkeypatch):
     proc.send_signal(signal.SIGKILL)
     proc.communicate(timeout=60)
     assert proc.returncode == -signal.SIGKILL
-    assert not ckpt.with_suffix("").exists(), "the run finished before the kill"
+    assert not list(runs.glob("fig6-passages-*")), "the run finished before the kill"
     steps_killed = _ckpt_steps(ckpt)
     assert steps_killed > 0
 
