@@ -333,6 +333,8 @@ class Kernels(NamedTuple):
     law: ContactLaw
     drag: bool
     overlap_maxima: bool
+    refined_maxima: bool
+    """Compiled with the refined maxima between the steps (``refine_range``)."""
     velocity_dependent: bool
     """The law or the drag depends on velocities: dissipative sub-steps, no blocking."""
     run_steps: object
@@ -355,7 +357,7 @@ _BUILT: dict[tuple, Kernels] = {}
 
 
 def make_kernels(law: ContactLaw | None = None, drag: bool = False,
-                 overlap_maxima: bool = False) -> Kernels:
+                 overlap_maxima: bool = False, refined_maxima: bool = False) -> Kernels:
     """The kernels of ``law`` (default Hertz), with on-site drag if ``drag``; built once.
 
     Parameters
@@ -369,6 +371,11 @@ def make_kernels(law: ContactLaw | None = None, drag: bool = False,
         Keep running maxima of the contact overlaps (``Recording.strain_maxima``): a
         variant of its own, so that the passes without it carry no extra test per grain
         (measured: a run-time switch cost the recording kernel ~40 %).
+    refined_maxima : bool
+        Search the refined maxima between the steps (``Recording.refined_maxima``,
+        section "Refined maxima"): a variant of its own, because the search, inlined
+        into every pass, nearly doubled the compile time of every kernel (measured: a
+        100-grain impact's first run 23 -> 37 s CPU with it compiled in but unused).
 
     Returns
     -------
@@ -376,13 +383,13 @@ def make_kernels(law: ContactLaw | None = None, drag: bool = False,
         Entry points compiled on first call (or loaded from the disk cache).
     """
     law = as_law(law)
-    key = (law.key(), bool(drag), bool(overlap_maxima))
+    key = (law.key(), bool(drag), bool(overlap_maxima), bool(refined_maxima))
     if key not in _BUILT:
-        _BUILT[key] = _build(law, bool(drag), bool(overlap_maxima))
+        _BUILT[key] = _build(law, bool(drag), bool(overlap_maxima), bool(refined_maxima))
     return _BUILT[key]
 
 
-def _tag(law: ContactLaw, drag: bool, rmax: bool) -> str:
+def _tag(law: ContactLaw, drag: bool, rmax: bool, refined: bool) -> str:
     """A name suffix per law for every compiled function of its kernels.
 
     The closures of different laws share their Python names; compiled by different
@@ -390,11 +397,12 @@ def _tag(law: ContactLaw, drag: bool, rmax: bool) -> str:
     names too (numba names a function by name, a per-process counter and argument
     types), and one law's code would run for another's.  The suffix keeps them apart.
     """
-    text = f"{law.key()!r}|drag={drag}|rmax={rmax}"
+    text = f"{law.key()!r}|drag={drag}|rmax={rmax}" + ("|refined" if refined else "")
     return "L" + hashlib.sha256(text.encode()).hexdigest()[:12]
 
 
-def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
+def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
+           refined: bool = False) -> Kernels:
     """Close the passes over the law's compiled pieces (module docstring)."""
     force = law.make_force()
     elastic = law.make_elastic()
@@ -407,7 +415,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     NP = N_PARAMS  # index of the drag rate in p
     RMAX = bool(rmax)  # running maxima of the overlaps
     ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{source_digest()}|{_interp_digest()}"
-    tag = _tag(law, DRAG, RMAX)
+    tag = _tag(law, DRAG, RMAX, refined)
 
     def jit(**options):
         """numba.njit with the law's tag in the function's name (see :func:`_tag`)."""
@@ -699,97 +707,103 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     # the gate rose, a1 = (v - v1)/c2 from the velocity the pass left (no force); where
     # v rises at both ends of the step (a0, a1 >= 0) its maximum there is the end, v1.
     # Grains are independent: bitwise the same with blocks and threads.
-    @jit(**_INLINE)
-    def refine_one(pk, vref, tref, t0, i, g, v1, a1, h, gstep):
-        """The refined maximum of a flagged grain i after a step (section above).
+    if refined:
+        @jit(**_INLINE)
+        def refine_one(pk, vref, tref, t0, i, g, v1, a1, h, gstep):
+            """The refined maximum of a flagged grain i after a step (section above).
 
-        ``g`` its gate, ``v1``, ``a1`` its synchronous velocity and acceleration at the
-        step's end, ``gstep`` the step's global number, ``t0`` the time of step 0 (s):
-        ``tref`` is t0 + (fractional step) h.
-        """
-        pending = pk[0, i] != pk[0, i]
-        changed = (not pending) or g != pk[1, i]
-        if not pending or pk[4, i] != gstep - 1.0 or (
-                changed and pk[3, i] == 0.0 and pk[2, i] >= 0.0 and a1 >= 0.0):
-            # first exceeded; or (not reached: a pending grain stays in the window) a
-            # stale state; or rising at both ends: the step's maximum is its end
-            if v1 > vref[i]:
-                vref[i] = v1
-                tref[i] = t0 + gstep * h
-        else:
-            s_, y = hermite_max_from(h, pk[1, i], v1, pk[2, i], a1, pk[3, i])
-            if y > vref[i]:
-                vref[i] = y
-                tref[i] = t0 + (gstep - 1.0 + s_) * h
-        if changed:
-            pk[0, i] = np.nan
-            pk[1, i] = v1
-            pk[2, i] = a1
-            # first exceeded after the peak (a1 < 0): search the next step's cubic one
-            # step back as well
-            pk[3, i] = -1.0 if not pending and a1 < 0.0 else 0.0
-            pk[4, i] = gstep
-        else:
-            pk[0, i] = g  # the peak is behind: no longer pending
+            ``g`` its gate, ``v1``, ``a1`` its synchronous velocity and acceleration at the
+            step's end, ``gstep`` the step's global number, ``t0`` the time of step 0 (s):
+            ``tref`` is t0 + (fractional step) h.
+            """
+            pending = pk[0, i] != pk[0, i]
+            changed = (not pending) or g != pk[1, i]
+            if not pending or pk[4, i] != gstep - 1.0 or (
+                    changed and pk[3, i] == 0.0 and pk[2, i] >= 0.0 and a1 >= 0.0):
+                # first exceeded; or (not reached: a pending grain stays in the window) a
+                # stale state; or rising at both ends: the step's maximum is its end
+                if v1 > vref[i]:
+                    vref[i] = v1
+                    tref[i] = t0 + gstep * h
+            else:
+                s_, y = hermite_max_from(h, pk[1, i], v1, pk[2, i], a1, pk[3, i])
+                if y > vref[i]:
+                    vref[i] = y
+                    tref[i] = t0 + (gstep - 1.0 + s_) * h
+            if changed:
+                pk[0, i] = np.nan
+                pk[1, i] = v1
+                pk[2, i] = a1
+                # first exceeded after the peak (a1 < 0): search the next step's cubic one
+                # step back as well
+                pk[3, i] = -1.0 if not pending and a1 < 0.0 else 0.0
+                pk[4, i] = gstep
+            else:
+                pk[0, i] = g  # the peak is behind: no longer pending
 
-    @jit(**_INLINE)
-    def refine_range(st, con, p, vmax, peak, lo_t, hi_t, ul, ur, c2, h, gstep):
-        """``refine_one`` on every grain of [lo_t, hi_t) whose gate changed or is pending.
+        @jit(**_INLINE)
+        def refine_range(st, con, p, vmax, peak, lo_t, hi_t, ul, ur, c2, h, gstep):
+            """``refine_one`` on every grain of [lo_t, hi_t) whose gate changed or is pending.
 
-        The test ``vmax != pk[0]`` (NaN while pending) is a vectorised count over blocks
-        of 64 grains (a constant trip count: LLVM vectorises it; a variable one of 16
-        measured 10x slower); only blocks with a flagged grain are walked.  Where the
-        gate rose, a1 = (v - g)/c2 from the velocity the pass left; only a pending grain
-        whose gate did not rise (once per peak) or the closing step of a chunk (c2 = 0)
-        recomputes a1 from its contacts (``accel_at``), in a walk of its own (inside the
-        first it doubled a 2,000-grain impact's CPU time).  At c2 = 0 the velocity a
-        mid-chunk pass would have left, v + k0 a1 (k0 = ``peak[5]``, the opening kick),
-        is rebuilt first, so that every grain's arithmetic is the same bits wherever a
-        chunk ends.
-        """
-        u, v = st[0], st[1]
-        pk, vref, tref, t0, k0 = peak[1], peak[2], peak[3], peak[4], peak[5]
-        gate = pk[0]
-        b0 = lo_t
-        while b0 < hi_t:
-            m = min(64, hi_t - b0)
-            flagged = 1
-            if m == 64:
-                x = vmax[b0:b0 + 64]
-                y = gate[b0:b0 + 64]
-                flagged = 0
-                for j in range(64):
-                    flagged += x[j] != y[j]
-            if flagged:
-                # where the gate rose (first time, or again while pending): a1 from v;
-                # the others (a pending grain whose gate did not rise, once per peak;
-                # every grain at c2 = 0) in a walk of their own, ``accel_at``
-                slow = 0
-                for i in range(b0, b0 + m):
-                    g = vmax[i]
-                    if g != gate[i]:
-                        if c2 != 0.0 and (gate[i] == gate[i] or g != pk[1, i]):
-                            refine_one(pk, vref, tref, t0, i, g, g, (v[i] - g) / c2, h,
-                                       gstep)
-                        else:
-                            slow += 1
-                if slow:
+            The test ``vmax != pk[0]`` (NaN while pending) is a vectorised count over blocks
+            of 64 grains (a constant trip count: LLVM vectorises it; a variable one of 16
+            measured 10x slower); only blocks with a flagged grain are walked.  Where the
+            gate rose, a1 = (v - g)/c2 from the velocity the pass left; only a pending grain
+            whose gate did not rise (once per peak) or the closing step of a chunk (c2 = 0)
+            recomputes a1 from its contacts (``accel_at``), in a walk of its own (inside the
+            first it doubled a 2,000-grain impact's CPU time).  At c2 = 0 the velocity a
+            mid-chunk pass would have left, v + k0 a1 (k0 = ``peak[5]``, the opening kick),
+            is rebuilt first, so that every grain's arithmetic is the same bits wherever a
+            chunk ends.
+            """
+            u, v = st[0], st[1]
+            pk, vref, tref, t0, k0 = peak[1], peak[2], peak[3], peak[4], peak[5]
+            gate = pk[0]
+            b0 = lo_t
+            while b0 < hi_t:
+                m = min(64, hi_t - b0)
+                flagged = 1
+                if m == 64:
+                    x = vmax[b0:b0 + 64]
+                    y = gate[b0:b0 + 64]
+                    flagged = 0
+                    for j in range(64):
+                        flagged += x[j] != y[j]
+                if flagged:
+                    # where the gate rose (first time, or again while pending): a1 from v;
+                    # the others (a pending grain whose gate did not rise, once per peak;
+                    # every grain at c2 = 0) in a walk of their own, ``accel_at``
+                    slow = 0
                     for i in range(b0, b0 + m):
                         g = vmax[i]
-                        if g != gate[i] and pk[4, i] != gstep:  # (not done above)
-                            left = ul if i == lo_t else u[i - 1]
-                            right = ur if i == hi_t - 1 else u[i + 1]
-                            acc = accel_at(st, con, p, i, left, right)
-                            # v as a mid-chunk pass leaves it (c2 = k0): the same bits
-                            # wherever the chunks end (resume, threads' chunk lengths)
-                            vaft = v[i] if c2 != 0.0 else v[i] + k0 * acc
-                            if gate[i] == gate[i] or g != pk[1, i]:  # (c2 = 0)
-                                refine_one(pk, vref, tref, t0, i, g, g, (vaft - g) / k0,
-                                           h, gstep)
+                        if g != gate[i]:
+                            if c2 != 0.0 and (gate[i] == gate[i] or g != pk[1, i]):
+                                refine_one(pk, vref, tref, t0, i, g, g, (v[i] - g) / c2, h,
+                                           gstep)
                             else:
-                                refine_one(pk, vref, tref, t0, i, g, vaft - k0 * acc, acc,
-                                           h, gstep)
-            b0 += m
+                                slow += 1
+                    if slow:
+                        for i in range(b0, b0 + m):
+                            g = vmax[i]
+                            if g != gate[i] and pk[4, i] != gstep:  # (not done above)
+                                left = ul if i == lo_t else u[i - 1]
+                                right = ur if i == hi_t - 1 else u[i + 1]
+                                acc = accel_at(st, con, p, i, left, right)
+                                # v as a mid-chunk pass leaves it (c2 = k0): the same bits
+                                # wherever the chunks end (resume, threads' chunk lengths)
+                                vaft = v[i] if c2 != 0.0 else v[i] + k0 * acc
+                                if gate[i] == gate[i] or g != pk[1, i]:  # (c2 = 0)
+                                    refine_one(pk, vref, tref, t0, i, g, g, (vaft - g) / k0,
+                                               h, gstep)
+                                else:
+                                    refine_one(pk, vref, tref, t0, i, g, vaft - k0 * acc, acc,
+                                               h, gstep)
+                b0 += m
+    else:
+        @jit(**_INLINE)
+        def refine_range(st, con, p, vmax, peak, lo_t, hi_t, ul, ur, c2, h, gstep):
+            """No refined maxima in this variant (``make_kernels(refined_maxima=False)``)."""
+            return
 
     @jit(**_INLINE)
     def advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk, umx,
@@ -1364,6 +1378,6 @@ def _build(law: ContactLaw, drag: bool, rmax: bool) -> Kernels:  # noqa: C901
     accelerations = entry(accelerations, inline="always")
     run_steps = entry(make_run_chunk(no_block, False), "_steps")
     run_blocked = None if VD else entry(make_run_chunk(block, True), "_blocked")
-    return Kernels(law, DRAG, RMAX, VD, run_steps, run_blocked, accelerations,
+    return Kernels(law, DRAG, RMAX, refined, VD, run_steps, run_blocked, accelerations,
                    entry(contact_energies), entry(grain_energies), entry(shadow_correction),
                    entry(static_forces), entry(dissipation_rate), entry(grid_row))

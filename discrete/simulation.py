@@ -269,8 +269,8 @@ class Simulation:
                                  drift_tolerance=drift_tolerance)
             integrator = dt.integrator
         method = get_integrator(integrator)
-        self.kernels = K.make_kernels(self.law, self.drag > 0, self.recording.strain_maxima)
-        if self.kernels.velocity_dependent and method.name != "verlet":
+        vd = bool(self.law.dissipative or self.drag > 0)  # velocity-dependent forces
+        if vd and method.name != "verlet":
             raise ValueError(f"integrator {method.name!r} needs forces that depend on "
                              "positions only; a dissipative law or drag runs with 'verlet' "
                              "(velocity Verlet between exact dissipative sub-steps, "
@@ -284,6 +284,8 @@ class Simulation:
                                              self.wall_right, dt=dt, integrator=method,
                                              law=self.law, drag=self.drag, check=check_dt)
         self.dt = self.time_step.dt
+        self.kernels = K.make_kernels(self.law, self.drag > 0, self.recording.strain_maxima,
+                                      self._refined_maxima(vd))
         if not (drift_tolerance > 0):
             raise ValueError(f"drift_tolerance must be > 0 (got {drift_tolerance!r})")
         self.drift_tolerance = float(drift_tolerance)
@@ -333,19 +335,7 @@ class Simulation:
         if rec.maxima:
             self.record.vmax = self.v.copy()
             self.record.umax = self.u.copy()
-            refined = rec.refined_maxima
-            vd = self.kernels.velocity_dependent
-            if refined and vd:
-                raise ValueError(
-                    "recording.refined_maxima=True needs forces that depend on positions "
-                    "only: with a dissipative law or drag the stored acceleration is the "
-                    "elastic one, not dv/dt, so the cubic Hermite interpolant of (v, a) "
-                    "would not be the velocity between the steps; use refined_maxima=None "
-                    "or False (sampled maxima)")
-            if refined is None:  # (by default: with an rtol step, whose accuracy it is;
-                # not with velocity-dependent forces, see above)
-                refined = self.time_step.source == "rtol" and not vd
-            if refined:
+            if self.kernels.refined_maxima:
                 self.record.vmax_refined = self.v.copy()
                 self.record.vmax_time = np.full(n, self.t0)
                 self.record.peak_state = np.zeros((K.PEAK_ROWS, n))
@@ -551,6 +541,28 @@ class Simulation:
             f"likely cause: dt too large for the contact stiffness. "
             f"{self.time_step.explain()}")
 
+    def _refined_maxima(self, velocity_dependent: bool) -> bool:
+        """Whether this run keeps refined maxima (``Recording.refined_maxima``).
+
+        None (default): with a time step chosen for ``rtol`` (whose accuracy statement is
+        about them).  Never with velocity-dependent forces: the split step stores the
+        elastic acceleration, not dv/dt, so the cubic Hermite interpolant of (v, a) would
+        not be the velocity between the steps (True is refused there).  The kernels are
+        compiled with or without them (:func:`discrete.kernels.make_kernels`).
+        """
+        rec = self.recording
+        refined = rec.refined_maxima
+        if refined and velocity_dependent:
+            raise ValueError(
+                "recording.refined_maxima=True needs forces that depend on positions "
+                "only: with a dissipative law or drag the stored acceleration is the "
+                "elastic one, not dv/dt, so the cubic Hermite interpolant of (v, a) "
+                "would not be the velocity between the steps; use refined_maxima=None "
+                "or False (sampled maxima)")
+        if refined is None:
+            refined = self.time_step.source == "rtol" and not velocity_dependent
+        return bool(rec.maxima and refined)
+
     # ------------------------------------------------------------------ writing, reading
     def saved(self) -> SavedSimulation:
         """Everything that continues this simulation bit for bit (module docstring).
@@ -639,6 +651,13 @@ class Simulation:
         sim._pending = list(saved.pending)
         rec = saved.record
         rec.check(n, saved.recording)
+        refined = rec.vmax_refined is not None
+        if refined and sim.kernels.velocity_dependent:
+            raise ValueError("record/vmax_refined with a dissipative law or drag: refined "
+                             "maxima need forces that depend on positions only")
+        if refined != sim.kernels.refined_maxima:  # (the kernels of the saved run)
+            sim.kernels = K.make_kernels(sim.law, sim.drag > 0,
+                                         sim.recording.strain_maxima, refined)
         sim.record = rec
         return sim
 
@@ -797,6 +816,10 @@ class Simulation:
         rec = self.recording
         r = self.record
         refine = rec.maxima and r.vmax_refined is not None
+        if refine != self.kernels.refined_maxima:  # (never silently unrefined)
+            raise RuntimeError(f"the record {'has' if refine else 'lacks'} refined maxima "
+                               f"but the kernels were built "
+                               f"{'without' if refine else 'with'} them")
         k0 = float(self._kick[0])
         peak = ((refine, r.peak_state, r.vmax_refined, r.vmax_time, self.t0, k0) if refine
                 else (False, np.zeros((K.PEAK_ROWS, 0)), np.zeros(0), np.zeros(0), self.t0,
