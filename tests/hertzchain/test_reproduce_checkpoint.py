@@ -88,6 +88,9 @@ def test_interrupt_at_every_segment_and_resume(item, tmp_path, monkeypatch):
     # Ctrl-C after each checkpoint: every call integrates one segment, writes a
     # checkpoint and stops (Interrupted, exit code 130, "rerun ... to resume"); the next
     # call resumes from it.  fig2: running maxima of v and u; fig3: time series.
+    # The SIGINT handler is restored to what it was (Python's default_int_handler in a
+    # foreground process; SIG_IGN when the suite runs as a background job).
+    sigint = signal.getsignal(signal.SIGINT)
     monkeypatch.setattr(fig2, "QUICK", FIG2_TINY)
     ref = reproduce([item], out=tmp_path / "ref", progress=False, report=False,
                     checkpoint_interval=None)
@@ -109,7 +112,7 @@ def test_interrupt_at_every_segment_and_resume(item, tmp_path, monkeypatch):
             assert f"checkpoint written to {exc.checkpoint}" in str(exc)
             assert "rerun the same command to resume" in str(exc)
     assert sessions >= 4 and count[0] == sessions - 1
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    assert signal.getsignal(signal.SIGINT) is sigint
     assert got["items"] == ref["items"]
     assert json.dumps(jsonable(got["items"])) == json.dumps(jsonable(ref["items"]))
     _assert_same_runs(tmp_path / "ref" / "runs", out / "runs")
