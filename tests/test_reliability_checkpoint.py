@@ -182,6 +182,8 @@ def test_interrupt_at_every_segment_and_resume(name, tmp_path, monkeypatch):
     # SIGINT after the first checkpoint of every session: each session does one segment,
     # checkpoints, stops with Interrupted (exit code 130); the next one resumes from the
     # loaded checkpoint.  The final file equals the uninterrupted run's bit for bit.
+    # The SIGINT handler ends as it was (SIG_IGN in a background job).
+    sigint = signal.getsignal(signal.SIGINT)
     sc = parse_scenario(SCENARIOS[name])
     ref = run_scenario(sc, out=tmp_path / "ref.h5")
     out = tmp_path / "run.h5"
@@ -199,7 +201,7 @@ def test_interrupt_at_every_segment_and_resume(name, tmp_path, monkeypatch):
             assert not out.exists() and C.checkpoint_path(out).exists()
         assert sessions < 50
     assert sessions >= 3
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    assert signal.getsignal(signal.SIGINT) is sigint
     assert _same_summary(summary, ref)
     assert not C.checkpoint_path(out).exists()
     _assert_same_file(out, tmp_path / "ref.h5")
@@ -357,6 +359,8 @@ def test_signal_after_the_integration_still_writes_the_output(tmp_path, monkeypa
     # run reports the interruption (exit code 130 in the CLI).
     import hertzchain.runner as R
 
+    sigint = signal.getsignal(signal.SIGINT)
+
     real = R.summarise
 
     def summarise_then_signal(*args, **kwargs):
@@ -370,4 +374,4 @@ def test_signal_after_the_integration_still_writes_the_output(tmp_path, monkeypa
     monkeypatch.setattr(R, "summarise", real)
     run_scenario(parse_scenario(SCENARIOS["exact"]), out=tmp_path / "ref.h5")
     _assert_same_file(out, tmp_path / "ref.h5")
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    assert signal.getsignal(signal.SIGINT) is sigint
