@@ -426,25 +426,16 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
 
     # ------------------------------------------------------------------ contacts
     @jit(**_INLINE)
-    def contact(r, rd, kj, f0j, p):
-        """φ = F(r, ṙ) - f0 of one contact (r the overlap, not yet clipped), N.
+    def contact(r, kj, f0j, p):
+        """φ = F(r) - f0 of one contact (r the overlap, not yet clipped), N.
 
-        With velocity-dependent forces the elastic part only (the damping is the
-        dissipative sub-step's, "Dissipation" above).
+        The elastic force only: a conservative law's force does not read the overlap
+        rate (ṙ = 0 passed), and with velocity-dependent forces the damping is the
+        dissipative sub-step's ("Dissipation" above).
         """
         if VD:
             return elastic(r, kj) - f0j
-        return force(r, rd, kj, p) - f0j
-
-    @jit(**_INLINE)
-    def book(dis, j, hb, r, rd, kj, p, phi, f0j):
-        """Nothing: the elastic passes dissipate nothing (``dissipate`` books)."""
-        return
-
-    @jit(**_INLINE)
-    def kick_accel(phi_l, phi_r, im, vs, dis, j, hb, p):
-        """(φ_l - φ_r)/m, m/s² (the drag is the dissipative sub-step's)."""
-        return (phi_l - phi_r) * im
+        return force(r, 0.0, kj, p) - f0j
 
     # --------------------------------------------------- dissipative sub-step
     @jit(**_INLINE)
@@ -523,9 +514,9 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
 
     # -------------------------------------------------------------------- passes
     # The fused loops advance grains 0..m-1 of the views (uw, vw, ... start at the first
-    # grain), drifting grain i+1 at grain i; ``un``/``vn``/``phi_l`` are the drifted
-    # position and predicted velocity of grain 0 and the force of its left contact.
-    # They return the carried triple for grain m.  Views starting at the loop's first
+    # grain), drifting grain i+1 at grain i; ``un``/``phi_l`` are the drifted
+    # position of grain 0 and the force of its left contact.
+    # They return the carried pair for grain m.  Views starting at the loop's first
     # grain let numba prove the indices non-negative (no wrap-around test) and use one
     # base pointer for u[i], u[i+1] (LLVM then sees the distance-1 dependence and
     # vectorises without a run-time alias check).  The kick is v = (v + c1 a) + c2 a
@@ -534,8 +525,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     # of composition methods (adding 0·a is exact).  Two loop variants per constant
     # layout (track or not: the untracked one vectorises); both inline.
     @jit(**_INLINE)
-    def loop_const(uw, vw, vmw, rmw, aw, dw, m, un, vn, phi_l, dc, c1, c2, hb, p, im, kr, d0r,
-                   f0r, track, trk_r):
+    def loop_const(uw, vw, vmw, rmw, aw, m, un, phi_l, dc, c1, c2, im, kr, d0r, f0r, p,
+                   track, trk_r):
         """Fused pass over m grains sharing the constants (1/m, k, δ0, f0) of the right contact."""
         if track:
             for i in range(m):
@@ -544,11 +535,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 r = d0r + (un - unr)
                 if RMAX and trk_r and r > rmw[i]:
                     rmw[i] = r
-                vnr = vw[i + 1] + c1 * aw[i + 1] if VD else 0.0
-                rd = vn - vnr
-                phi_r = contact(r, rd, kr, f0r, p)
-                book(dw, i + 1, hb, r, rd, kr, p, phi_r, f0r)
-                ai = kick_accel(phi_l, phi_r, im, vn, dw, i + 1, hb, p)
+                phi_r = contact(r, kr, f0r, p)
+                ai = (phi_l - phi_r) * im
                 if VD:
                     aw[i] = ai
                 vi = vw[i] + c1 * ai
@@ -557,28 +545,23 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 vw[i] = vi + c2 * ai
                 phi_l = phi_r
                 un = unr
-                vn = vnr
         else:
             for i in range(m):
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0r + (un - unr)
-                vnr = vw[i + 1] + c1 * aw[i + 1] if VD else 0.0
-                rd = vn - vnr
-                phi_r = contact(r, rd, kr, f0r, p)
-                book(dw, i + 1, hb, r, rd, kr, p, phi_r, f0r)
-                ai = kick_accel(phi_l, phi_r, im, vn, dw, i + 1, hb, p)
+                phi_r = contact(r, kr, f0r, p)
+                ai = (phi_l - phi_r) * im
                 if VD:
                     aw[i] = ai
                 vw[i] = (vw[i] + c1 * ai) + c2 * ai
                 phi_l = phi_r
                 un = unr
-                vn = vnr
-        return un, vn, phi_l
+        return un, phi_l
 
     @jit(**_INLINE)
-    def loop_arrays(uw, vw, vmw, rmw, aw, dw, imw, kw, d0w, f0w, m, un, vn, phi_l, dc, c1, c2,
-                    hb, p, track, trk_r):
+    def loop_arrays(uw, vw, vmw, rmw, aw, imw, kw, d0w, f0w, m, un, phi_l, dc, c1, c2, p,
+                    track, trk_r):
         """Fused pass over m grains with per-grain constants (kw etc. from the right contact)."""
         if track:
             for i in range(m):
@@ -587,11 +570,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 r = d0w[i] + (un - unr)
                 if RMAX and trk_r and r > rmw[i]:
                     rmw[i] = r
-                vnr = vw[i + 1] + c1 * aw[i + 1] if VD else 0.0
-                rd = vn - vnr
-                phi_r = contact(r, rd, kw[i], f0w[i], p)
-                book(dw, i + 1, hb, r, rd, kw[i], p, phi_r, f0w[i])
-                ai = kick_accel(phi_l, phi_r, imw[i], vn, dw, i + 1, hb, p)
+                phi_r = contact(r, kw[i], f0w[i], p)
+                ai = (phi_l - phi_r) * imw[i]
                 if VD:
                     aw[i] = ai
                 vi = vw[i] + c1 * ai
@@ -600,30 +580,24 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 vw[i] = vi + c2 * ai
                 phi_l = phi_r
                 un = unr
-                vn = vnr
         else:
             for i in range(m):
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0w[i] + (un - unr)
-                vnr = vw[i + 1] + c1 * aw[i + 1] if VD else 0.0
-                rd = vn - vnr
-                phi_r = contact(r, rd, kw[i], f0w[i], p)
-                book(dw, i + 1, hb, r, rd, kw[i], p, phi_r, f0w[i])
-                ai = kick_accel(phi_l, phi_r, imw[i], vn, dw, i + 1, hb, p)
+                phi_r = contact(r, kw[i], f0w[i], p)
+                ai = (phi_l - phi_r) * imw[i]
                 if VD:
                     aw[i] = ai
                 vw[i] = (vw[i] + c1 * ai) + c2 * ai
                 phi_l = phi_r
                 un = unr
-                vn = vnr
-        return un, vn, phi_l
+        return un, phi_l
 
     @jit(**_INLINE)
-    def piece(st, con, p, mx, i0, i1, ul, ur, vl, vr, dc, c1, c2, hb, track):
+    def piece(st, con, p, mx, i0, i1, ul, ur, dc, c1, c2, track):
         """One substep of grains [i0, i1) given the drifted outer neighbours ``ul``, ``ur``.
 
-        (And, for velocity-dependent laws, their predicted velocities ``vl``, ``vr``.)
         Returns the synchronous velocity (v + c1 a) of grain i1-1.
         """
         u, v, a, dis = st
@@ -632,13 +606,10 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         trk_r = track and trk_r
         un = u[i0] + dc * v[i0]
         u[i0] = un
-        vn = v[i0] + c1 * a[i0] if VD else 0.0
         r = d0[i0] + (ul - un)
         if RMAX and trk_r and r > rmax[i0]:
             rmax[i0] = r
-        rd = vl - vn
-        phi_l = contact(r, rd, k[i0], f0[i0], p)
-        book(dis, i0, hb, r, rd, k[i0], p, phi_l, f0[i0])
+        phi_l = contact(r, k[i0], f0[i0], p)
         j = i0
         last = i1 - 1
         if last > j:
@@ -646,26 +617,23 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 q = _first_at_least(rs, j + 1) - 1  # the run containing grain j
                 while j < last:
                     e = min(rs[q + 1], last)
-                    un, vn, phi_l = loop_const(u[j:e + 1], v[j:e + 1], vmax[j:e + 1],
-                                               rmax[j + 1:e + 1], a[j:e + 1], dis[j:e + 1],
-                                               e - j, un, vn, phi_l, dc, c1, c2, hb, p,
-                                               rc[q, 0], rc[q, 1], rc[q, 2], rc[q, 3], track,
-                                               trk_r)
+                    un, phi_l = loop_const(u[j:e + 1], v[j:e + 1], vmax[j:e + 1],
+                                           rmax[j + 1:e + 1], a[j:e + 1], e - j, un, phi_l,
+                                           dc, c1, c2, rc[q, 0], rc[q, 1], rc[q, 2],
+                                           rc[q, 3], p, track, trk_r)
                     j = e
                     q += 1
             else:
-                un, vn, phi_l = loop_arrays(u[j:i1], v[j:i1], vmax[j:i1], rmax[j + 1:i1],
-                                            a[j:i1], dis[j:i1], inv_m[j:i1], k[j + 1:i1],
-                                            d0[j + 1:i1], f0[j + 1:i1], last - j, un, vn,
-                                            phi_l, dc, c1, c2, hb, p, track, trk_r)
+                un, phi_l = loop_arrays(u[j:i1], v[j:i1], vmax[j:i1], rmax[j + 1:i1],
+                                        a[j:i1], inv_m[j:i1], k[j + 1:i1], d0[j + 1:i1],
+                                        f0[j + 1:i1], last - j, un, phi_l, dc, c1, c2, p,
+                                        track, trk_r)
         # last grain: right neighbour given
         r = d0[i1] + (un - ur)
         if RMAX and trk_r and r > rmax[i1]:
             rmax[i1] = r
-        rd = vn - vr
-        phi_r = contact(r, rd, k[i1], f0[i1], p)
-        book(dis, i1, hb, r, rd, k[i1], p, phi_r, f0[i1])
-        ai = kick_accel(phi_l, phi_r, inv_m[last], vn, dis, i1, hb, p)
+        phi_r = contact(r, k[i1], f0[i1], p)
+        ai = (phi_l - phi_r) * inv_m[last]
         if VD:
             a[last] = ai
         vi = v[last] + c1 * ai
@@ -685,8 +653,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         inv_m, k, d0, f0, rs, rc = con
         if VD:
             return a[g]
-        phi_l = contact(d0[g] + (ul - u[g]), 0.0, k[g], f0[g], p)
-        phi_r = contact(d0[g + 1] + (u[g] - ur), 0.0, k[g + 1], f0[g + 1], p)
+        phi_l = contact(d0[g] + (ul - u[g]), k[g], f0[g], p)
+        phi_r = contact(d0[g + 1] + (u[g] - ur), k[g + 1], f0[g + 1], p)
         return (phi_l - phi_r) * inv_m[g]
 
     # ------------------------------------------------------------ refined maxima
@@ -806,8 +774,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             return
 
     @jit(**_INLINE)
-    def advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk, umx,
-                sp, vsp, peak, h, gstep):
+    def advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, dc, c1, c2, trk, umx, sp, vsp, peak,
+                h, gstep):
         """One substep of grains [lo_t, hi_t) (``piece``) with the recording.
 
         The synchronous velocities v + c1 a of the special grains ``sp`` (sorted) in the
@@ -822,7 +790,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         q1 = _first_at_least(sp, hi_t)
         for q in range(q0, q1):
             vsp[q] = v[sp[q]]
-        piece(st, con, p, mx, lo_t, hi_t, ul, ur, vl, vr, dc, c1, c2, hb, trk)
+        piece(st, con, p, mx, lo_t, hi_t, ul, ur, dc, c1, c2, trk)
         for q in range(q0, q1):
             g = sp[q]
             left = ul if g == lo_t else u[g - 1]
@@ -873,9 +841,9 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                     continue
                 ul = wl if lo_t == 0 else u[lo_t - 1]
                 ur = wr if hi_t == n else u[hi_t]
-            advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, 0.0, 0.0, dc, c1s[tau],
-                    c2s[tau], 0.0, trks[tau], umxs[tau], sp if fins[tau] else none, vsp2[tau],
-                    peak, h, gss[tau])
+            advance(st, con, p, mx, umax, lo_t, hi_t, ul, ur, dc, c1s[tau], c2s[tau],
+                    trks[tau], umxs[tau], sp if fins[tau] else none, vsp2[tau], peak, h,
+                    gss[tau])
 
     @jit(parallel=True, **_INNER)
     def phase_tiles(st, con, p, mx, umax, bounds, phase, ulb, urb, wl, wr, sub, sp, none,
@@ -1067,7 +1035,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             ul = wl if lo == 0 else u[lo - 1] + dc * v[lo - 1]
             ur = wr if hi == n - 1 else u[hi + 1] + dc * v[hi + 1]
             advance(st, con, p, (vwork, mx[1], mx[2]) if VD else mx, umax, lo, hi + 1, ul,
-                    ur, 0.0, 0.0, dc, c1, c2, dt, final and track,
+                    ur, dc, c1, c2, final and track,
                     final and track and do_umax, sp if final else none, vsp,
                     peak, dt, gstep)
         if VD:  # close with D*_{h/2}; record the synchronous velocities
@@ -1274,17 +1242,16 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         """Set a[lo:hi+1] = (φ_i - φ_{i+1})/m_i (Eq. 2), m/s²; others untouched.
 
         With velocity-dependent forces the elastic part only: the damping and the drag
-        are the dissipative sub-step's (module docstring, "Dissipation").
+        are the dissipative sub-step's (module docstring, "Dissipation"); ``v`` is not
+        read (kept in the entry point's signature).
         """
         inv_m, k, d0, f0, rs, rc = con
         n = u.size
         ul = wl if lo == 0 else u[lo - 1]
-        vl = 0.0 if lo == 0 else v[lo - 1]
-        phi_l = contact(d0[lo] + (ul - u[lo]), vl - v[lo], k[lo], f0[lo], p)
+        phi_l = contact(d0[lo] + (ul - u[lo]), k[lo], f0[lo], p)
         for i in range(lo, hi + 1):
             ur = wr if i == n - 1 else u[i + 1]
-            vr = 0.0 if i == n - 1 else v[i + 1]
-            phi_r = contact(d0[i + 1] + (u[i] - ur), v[i] - vr, k[i + 1], f0[i + 1], p)
+            phi_r = contact(d0[i + 1] + (u[i] - ur), k[i + 1], f0[i + 1], p)
             a[i] = (phi_l - phi_r) * inv_m[i]
             phi_l = phi_r
 
