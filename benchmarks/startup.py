@@ -1,0 +1,147 @@
+"""Start-up of a small run as a whole process (issue 17, item 3: target ≤ 0.8 s warm).
+
+A warm ``hertzchain run`` of a 100-grain impact (kernels already in numba's cache) timed
+as a whole process, beside the floors any numba program pays on the same machine in
+the same run, interleaved round by round so that load changes hit every row alike:
+
+* ``python``: the interpreter alone (``python -c pass``);
+* ``numpy``: ``import numpy``;
+* ``numba``: ``import numba``;
+* ``cached @njit``: ``import numba`` and the first call of one trivial ``@njit(cache=True)``
+  function loaded from its cache — numba's target initialisation (its array
+  registries, SciPy's BLAS for ``np.linalg``, and every installed numba extension's entry
+  point: rocket-fft, which imports ``scipy.fft`` and ``scipy.special``) is paid here;
+* ``hertzchain run``: ``hertzchain run impact100.toml --json`` (parse, chain, kernels
+  loaded from the cache, run, summary, JSON).
+
+Each row prints the median and the minimum over ``--repeats`` rounds of the wall time
+(``time.perf_counter`` around the child) and of the child's CPU time (user + system,
+``resource.getrusage(RUSAGE_CHILDREN)``); on a shared machine the CPU figure is the
+steadier one.  ``PYTHONDONTWRITEBYTECODE`` is removed from the children's environment
+(with it set, Python recompiles every module of ours at every start).
+
+    python benchmarks/startup.py              # 9 rounds
+    python benchmarks/startup.py --repeats 21
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+SCENARIO = """\
+name = "impact100"
+[chain]
+delta0_over_d = 0.0
+[[chain.sections]]
+n = 100
+[initial]
+kind = "impact"
+v0 = 1.0
+[run]
+until_front_at = 80
+[record]
+running_max = true
+"""
+
+NJIT = """\
+import numba
+
+
+@numba.njit(cache=True)
+def f(x):
+    return x + 1.0
+"""
+
+TARGET = 0.8
+"""Issue 17 item 3: a warm run of a small scenario, as a whole process, s."""
+
+
+def cpu_name() -> str:
+    """The CPU's model name and whether it has AVX-512 (``/proc/cpuinfo``)."""
+    try:
+        info = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return platform.processor() or "unknown CPU"
+    name = next((ln.split(":", 1)[1].strip() for ln in info.splitlines()
+                 if ln.startswith("model name")), "unknown CPU")
+    fam = next((ln.split(":", 1)[1].strip() for ln in info.splitlines()
+                if ln.startswith("cpu family")), "?")
+    model = next((ln.split(":", 1)[1].strip() for ln in info.splitlines()
+                  if ln.startswith("model\t") or ln.startswith("model ")), "?")
+    avx = "AVX-512" if " avx512f" in info else "AVX2" if " avx2" in info else "no AVX2"
+    return f"{name} (family {fam} model {model}, {avx}, {os.cpu_count()} cores)"
+
+
+def timed(cmd: list[str], env: dict, cwd: str) -> tuple[float, float]:
+    """Wall and CPU (user + system) time of one child process, s; raises if it fails."""
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    p = subprocess.run(cmd, env=env, cwd=cwd, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.PIPE, text=True)
+    wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed ({p.returncode}):\n{p.stderr}")
+    return wall, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+
+
+def main(argv=None) -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--repeats", type=int, default=9, help="rounds (>= 1; default 9)")
+    a = p.parse_args(argv)
+    if a.repeats < 1:
+        p.error(f"--repeats must be >= 1, got {a.repeats}")
+    exe = sys.executable
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    with tempfile.TemporaryDirectory(prefix="hc-startup-") as tmp:
+        Path(tmp, "impact100.toml").write_text(SCENARIO)
+        Path(tmp, "njit1.py").write_text(NJIT)
+        env_tmp = {**env, "PYTHONPATH": os.pathsep.join(
+            [tmp] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))}
+        rows = {
+            "python": [exe, "-c", "pass"],
+            "numpy": [exe, "-c", "import numpy"],
+            "numba": [exe, "-c", "import numba"],
+            "cached @njit": [exe, "-c", "import njit1; njit1.f(1.0)"],
+            "hertzchain run": [exe, "-m", "hertzchain", "run", "impact100.toml", "--json"],
+        }
+        # warm-up: numba's caches of both programs, the .pyc files
+        for cmd in rows.values():
+            timed(cmd, env_tmp, tmp)
+        times = {k: [] for k in rows}
+        load0 = os.getloadavg()
+        for _ in range(a.repeats):
+            for k, cmd in rows.items():
+                times[k].append(timed(cmd, env_tmp, tmp))
+        load1 = os.getloadavg()
+    print(f"CPU: {cpu_name()}; Python {platform.python_version()}; "
+          f"load average {load0[0]:.1f} → {load1[0]:.1f}; {a.repeats} interleaved rounds")
+    print(f"{'process':<16} {'wall median':>12} {'wall min':>9} {'CPU median':>11} "
+          f"{'CPU min':>8}")
+    med = {}
+    for k, t in times.items():
+        w = [x[0] for x in t]
+        c = [x[1] for x in t]
+        med[k] = (statistics.median(w), statistics.median(c))
+        print(f"{k:<16} {med[k][0]:>11.3f}s {min(w):>8.3f}s {med[k][1]:>10.3f}s "
+              f"{min(c):>7.3f}s")
+    hc, floor = med["hertzchain run"], med["cached @njit"]
+    print(f"hertzchain run above the cached-@njit floor: {hc[0] - floor[0]:+.3f} s wall, "
+          f"{hc[1] - floor[1]:+.3f} s CPU; ratio {hc[0] / floor[0]:.2f} (wall), "
+          f"{hc[1] / floor[1]:.2f} (CPU)")
+    verdict = "meets" if hc[0] <= TARGET else "misses"
+    print(f"target: warm run ≤ {TARGET} s as a whole process: {verdict} it "
+          f"(median wall {hc[0]:.3f} s, CPU {hc[1]:.3f} s)")
+
+
+if __name__ == "__main__":
+    main()
