@@ -165,3 +165,27 @@ def test_reproduce_item_quick(tmp_path, monkeypatch):
     text = rep.to_markdown(tmp_path)
     assert "within 10 %" in text and "sonic vacuum" in text
     assert "continuum (Eq. 4)" in text and "continuum (Eq. 7)" in text
+
+
+@pytest.mark.parametrize("mode", ["quick", "full"])
+def test_reproduce_maps_are_points_of_the_shipped_sweep(mode, tmp_path):
+    # --quick and --full run a subset of the shipped map's points (the 175-point map
+    # itself is ``hertzchain sweep model_validity``, ~1 h): every axis value is one of the
+    # sweep's (the sweep's logspace ratios to round-off: 2.0 vs 10**(log10(4)/2)...)
+    from hertzchain.reproduce import validity
+    from hertzchain.reproduce.common import Context
+
+    sub = validity.FULL if mode == "full" else validity.QUICK
+    ctx = Context(tmp_path, mode=mode, progress=False)
+    points = validity._points(ctx)
+    assert len(points) == (len(sub["alpha_rho"]) * len(sub["alpha_kn"])
+                           * len(sub["amplitudes"]))
+    shipped = load_sweep_spec(SPEC).points()
+    for p in points:
+        same = [q for q in shipped if q.values.keys() == p.values.keys()
+                and all(np.isclose(q.values[k], v, rtol=1e-12, atol=0)
+                        for k, v in p.values.items())]
+        assert len(same) == 1, p.label()
+    amps = sorted({float(p.scenario.initial.strain_max / p.scenario.chain.delta0_over_d)
+                   if p.scenario.chain.delta0_over_d else math.inf for p in points})
+    assert amps == pytest.approx(sorted(sub["amplitudes"]))
