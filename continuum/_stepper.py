@@ -617,19 +617,14 @@ def _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, d
 
 
 @nb.njit(inline="always", **_JIT)
-def _nesterenko_pass(u, v, L, R, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
-                     mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
-                     comp):
-    """One kick (β Δt) of the regularised Eq. 7 over nodes [L, R] (after the drift).
+def _nesterenko_forces(u, L, R, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps, disp,
+                       c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
+    """Face forces of the regularised Eq. 7 for nodes [L, R], into ``fh`` (N).
 
-    Sweeps: faces (δ, Hertz flux, φ, y); the saturated operator H y; face forces
-    F = w k(δ^{3/2} - δ0^{3/2}) + disp √k φ H y scattered by the transpose of the strain
-    stencil (node force density -Gᵀ F) and the kick v_i += β Δt (-Gᵀ F)_i/m_i.  Inlined
-    into :func:`nesterenko_chunk` (compiled once, within it); it takes 30 arguments, the
-    most a call numba can inline (CPython passes more as a tuple, ``*args``).
+    Sweeps: faces (δ, Hertz flux, φ, y: :func:`_nesterenko_faces`); the saturated
+    operator H y (:func:`_saturated_apply`); F = w k(δ^{3/2} - δ0^{3/2}) + disp √k φ H y.
+    Leaves δ, y and H y in ``dl``, ``y``, ``hy`` (the monitor's energy reads them).
     """
-    n = u.size
-    width = gidx.shape[1]
     qa = L
     qb = R if bc == PERIODIC else R + 1
     ncomp = _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl,
@@ -641,9 +636,21 @@ def _nesterenko_pass(u, v, L, R, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
                            hy[qa:qb + 1])
     for i in range(qb + 1 - qa):
         fq[i] = wq[i] * fq[i] + disp * skq[i] * pq[i] * hq[i]
-    # node force density -Gᵀ F: the plain weights where faces i-1 .. i+2 are interior
-    # faces inside [qa, qb] (nodes [ja, jb]), else the scatter of the table; one loop
-    # for both orders (second order: weights 1 and 0 over h, i.e. (F_i - F_{i+1})/h)
+
+
+@nb.njit(inline="always", **_JIT)
+def _nesterenko_kick(v, L, R, beta, bc, h, gidx, gcoef, fh, inv_m):
+    """Kick v_i += β Δt (-Gᵀ F)_i / m_i of nodes [L, R] by the face forces ``fh``.
+
+    The node force density -Gᵀ F is the transpose of the strain stencil: the plain
+    weights where faces i-1 .. i+2 are interior faces inside [qa, qb] (nodes [ja, jb]),
+    else the scatter of the table; one loop for both orders (second order: weights 1
+    and 0 over h, i.e. (F_i - F_{i+1})/h).
+    """
+    n = v.size
+    width = gidx.shape[1]
+    qa = L
+    qb = R if bc == PERIODIC else R + 1
     ja = max(L, max(qa, 2) + 1)
     jb = min(R, min(qb, n - 2) - 2)
     for i in range(L, min(ja, R + 1)):
@@ -684,6 +691,34 @@ def _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m):
     v[i] += beta * f * inv_m[i]
 
 
+@nb.njit(inline="always", **_JIT)
+def _nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, disp, mass, dl, y, hy):
+    """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
+
+    E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q)
+    + (disp/2.5) y_q (Hy)_q] (NesterenkoPDE.energy_density), P = h Σ m v, from δ, y and
+    H y of every face (:func:`_nesterenko_forces` over the whole chain).
+    """
+    n = u.size
+    ek = 0.0
+    mom = 0.0
+    for i in range(n):
+        ek += mass[i] * v[i] * v[i]
+        mom += mass[i] * v[i]
+    qb = n - 1 if bc == PERIODIC else n
+    ep = 0.0
+    width = gidx.shape[1]
+    for q in range(qb + 1):
+        x = dl[q]
+        s = 0.0
+        for j in range(width):
+            s += gcoef[q, j] * u[gidx[q, j]]
+        pot = k[q] * (0.4 * (x * x * np.sqrt(x) - d0[q] * d0[q] * np.sqrt(d0[q]))
+                      - d0[q] * np.sqrt(d0[q]) * s)
+        ep += w[q] * pot + (disp / 2.5) * y[q] * hy[q]
+    return h * (0.5 * ek + ep), h * mom
+
+
 @nb.njit(**_JIT)
 def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
                      mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
@@ -699,22 +734,23 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0
     swept.  Returns the node-updates performed.
 
     With ``mon.size == 2`` it then writes the energy functional (J) and momentum
-    (kg m/s) of the state into ``mon`` (E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} -
-    δ0^{5/2}) - δ0^{3/2} s_q) + (disp/2.5) y_q (Hy)_q], as
-    ``NesterenkoPDE.energy_density``; ``mass`` in kg per grain).  The monitor is this
-    kernel with ``nsteps`` = 0 and scratch arrays of its own: one compiled kernel for
-    stepping and monitoring (its first compilation is the continuum's largest,
-    docs/physics.md §4).
+    (kg m/s) of the state into ``mon`` (:func:`_nesterenko_energy`; ``mass`` in kg per
+    grain).  The monitor is this kernel with ``nsteps`` = 0 and scratch arrays of its
+    own: one compiled kernel, in which the face pass and H are called from one place
+    (the loop's last evaluation is the monitor's), so that they are compiled once —
+    this kernel's first compilation is the continuum's largest.
     """
     n = u.size
     nsub = beta.size
+    nev = nsteps * nsub
     work = 0
-    for step in range(nsteps):
-        for j in range(nsub):
+    for e in range(nev + 1):
+        if e < nev:
+            step = e // nsub
+            j = e - step * nsub
             a = alpha[j] * dt
             if j == 0 and step > 0:
                 a = (alpha[nsub] + alpha[0]) * dt
-            b = beta[j] * dt
             if windowed:
                 if win[0] < 0:
                     continue
@@ -727,80 +763,50 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0
             vv = v[lo:hi + 1]
             for i in range(hi + 1 - lo):
                 uu[i] += a * vv[i]
-            _nesterenko_pass(u, v, lo, hi, b, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
-                             mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y,
-                             hy, comp)
-            work += hi - lo + 1
-            if windowed:
-                new_lo = -1
-                for i in range(lo, hi + 1):
-                    if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                        new_lo = i
-                        break
-                if new_lo < 0:
-                    win[0] = -1
-                    win[1] = -1
-                else:
-                    new_hi = new_lo
-                    for i in range(hi, new_lo, -1):
-                        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                            new_hi = i
-                            break
-                    win[0] = new_lo
-                    win[1] = new_hi
-    if nsteps > 0:
-        a = alpha[nsub] * dt
-        if windowed:
-            if win[0] >= 0:
-                for i in range(max(win[0] - margin, 0), min(win[1] + margin, n - 1) + 1):
-                    u[i] += a * v[i]
         else:
-            for i in range(n):
-                u[i] += a * v[i]
-    if mon.size == 2:
-        e, p = _nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps,
-                                  disp, mass, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y,
-                                  hy, comp)
-        mon[0] = e
-        mon[1] = p
+            # closing drift α_S, then (monitor) the whole chain's forces and energy
+            if nsteps > 0:
+                a = alpha[nsub] * dt
+                if windowed:
+                    if win[0] >= 0:
+                        for i in range(max(win[0] - margin, 0),
+                                       min(win[1] + margin, n - 1) + 1):
+                            u[i] += a * v[i]
+                else:
+                    for i in range(n):
+                        u[i] += a * v[i]
+            if mon.size != 2:
+                break
+            lo = 0
+            hi = n - 1
+        _nesterenko_forces(u, lo, hi, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps,
+                           disp, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp)
+        if e == nev:
+            en, mo = _nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, disp, mass, dl,
+                                        y, hy)
+            mon[0] = en
+            mon[1] = mo
+            break
+        _nesterenko_kick(v, lo, hi, beta[j] * dt, bc, h, gidx, gcoef, fh, inv_m)
+        work += hi - lo + 1
+        if windowed:
+            new_lo = -1
+            for i in range(lo, hi + 1):
+                if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+                    new_lo = i
+                    break
+            if new_lo < 0:
+                win[0] = -1
+                win[1] = -1
+            else:
+                new_hi = new_lo
+                for i in range(hi, new_lo, -1):
+                    if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+                        new_hi = i
+                        break
+                win[0] = new_lo
+                win[1] = new_hi
     return work
-
-
-@nb.njit(inline="always", **_JIT)
-def _nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps, disp, mass,
-                       c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
-    """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
-
-    Part of :func:`nesterenko_chunk` (``monitor``), not a kernel of its own: a separate
-    kernel would compile and optimise the face pass and H a second time.
-
-    E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q)
-    + (disp/2.5) y_q (Hy)_q] (NesterenkoPDE.energy_density), P = h Σ m v.
-    """
-    n = u.size
-    ek = 0.0
-    mom = 0.0
-    for i in range(n):
-        ek += mass[i] * v[i] * v[i]
-        mom += mass[i] * v[i]
-    # np.int64(0), not 0: a literal would compile second copies of the helpers
-    qa = np.int64(0)
-    qb = n - 1 if bc == PERIODIC else n
-    ncomp = _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl,
-                              fh, ph, y, comp)
-    _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
-                     bc == PERIODIC)
-    ep = 0.0
-    width = gidx.shape[1]
-    for q in range(qa, qb + 1):
-        x = dl[q]
-        s = 0.0
-        for j in range(width):
-            s += gcoef[q, j] * u[gidx[q, j]]
-        pot = k[q] * (0.4 * (x * x * np.sqrt(x) - d0[q] * d0[q] * np.sqrt(d0[q]))
-                      - d0[q] * np.sqrt(d0[q]) * s)
-        ep += w[q] * pot + (disp / 2.5) * y[q] * hy[q]
-    return h * (0.5 * ek + ep), h * mom
 
 
 # ------------------------------------------------------------------------------ KdV
