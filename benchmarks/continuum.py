@@ -27,14 +27,29 @@ relative.  ``--table2`` prints the error of the Table-2 energy ratios
 (:func:`continuum.energy_ratios`, points M, N, P, Q) and of the transmitted peak's
 position against 11 nodes/grain at stable_dt(0.125).
 
+``--compile`` measures the continuum's first compilation instead: in a fresh process with
+an empty ``NUMBA_CACHE_DIR``, a short Eq. 7 run (sonic vacuum, Yoshida-4, fourth-order
+stencil: what ``hertzchain reproduce`` runs) and a short Eq. 4 run, recording numba's
+``numba:compile`` events; it prints each kernel's own compile CPU time (without the
+kernels it calls) and the total.
+
+``--baseline-tree DIR`` runs this script on another checkout's packages (e.g. ``git
+archive <commit> | tar -x -C /tmp/old``) and on this one, ``--rounds`` times alternating,
+each in its own process (``PYTHONPATH``), and prints the best CPU times of the "after"
+rows (or, with ``--compile``, the compile times) and their ratio: a change is measured
+against its baseline in one run, the load drifting equally over both.
+
 Usage: ``python benchmarks/continuum.py [--no-accuracy] [--table2] [--no-before]
-[--repeats 3]``.
+[--repeats 3] [--compile] [--baseline-tree DIR [--rounds 3]]``.
 """
 
 import argparse
+import json
 import os
 import platform
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -264,6 +279,111 @@ def table2_accuracy():
         print(f"  {point:6s} " + " ".join(f"{e:8.1e}" for e in errs) + f" {dpk:+8.3f} {wall:7.2f}")
 
 
+# ------------------------------------------------------------------------------ compile
+def compile_workload():
+    """Short Eq. 7 and Eq. 4 runs (60 grains, 5 nodes per grain, Yoshida-4): the first calls."""
+    med = Medium.uniform(60, 0.0)
+    par0 = compacton_parameters(NesterenkoPDE(med, 1, delta_floor=0.0), velocity_max=V_VAC)
+    pde = NesterenkoPDE(med, 5, delta_floor=1e-2 * par0["amplitude"])
+    run(pde, compacton(pde, 20.0, velocity_max=V_VAC), 5.0 / par0["speed"], order=4)
+    pde = BoussinesqPDE(Medium.uniform(60, 1e-3 * D), 5)
+    run(pde, solitary_wave(pde, 20.0, velocity_max=V_PRE), 1e-5, order=4)
+
+
+def measure_compile() -> dict:
+    """Compile CPU time (s) per kernel of :func:`compile_workload`, own time only.
+
+    Must run in a fresh process with an empty ``NUMBA_CACHE_DIR`` (:func:`compile_rows`).
+    A kernel's own time excludes the kernels it calls (compiled on their first call, as
+    nested events) and includes LLVM's optimisation of their code linked into it.
+    """
+    from numba.core import event
+
+    class Listener(event.Listener):
+        def __init__(self):
+            self.stack, self.own = [], {}
+
+        def on_start(self, ev):
+            self.stack.append([time.process_time(), 0.0])
+
+        def on_end(self, ev):
+            t0, nested = self.stack.pop()
+            dt = time.process_time() - t0
+            if self.stack:
+                self.stack[-1][1] += dt
+            py = ev.data["dispatcher"].py_func
+            name = f"{py.__module__}.{py.__qualname__}"
+            self.own[name] = self.own.get(name, 0.0) + dt - nested
+
+    lst = Listener()
+    event.register("numba:compile", lst)
+    c0 = time.process_time()
+    compile_workload()
+    return {"total_cpu": time.process_time() - c0, "kernels": lst.own}
+
+
+def compile_rows(tree: str | None) -> dict:
+    """:func:`measure_compile` in a fresh process, empty cache; ``tree``'s packages or ours."""
+    env = dict(os.environ)
+    if tree is not None:
+        env["PYTHONPATH"] = str(Path(tree).resolve()) + os.pathsep + env.get("PYTHONPATH", "")
+    with tempfile.TemporaryDirectory(prefix="numba-cold-") as cache:
+        env["NUMBA_CACHE_DIR"] = cache
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--_compile-json"]
+        out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def after_rows(repeats: int) -> dict:
+    """CPU and wall time (s) and node-updates of the "after" rows (--baseline-tree)."""
+    out = {}
+    for name, fn, cfg in (("eq4 Yoshida-4", eq4, AFTER["eq4"]),
+                          ("eq4 Verlet-2", eq4, AFTER["eq4-verlet"]),
+                          ("kdv RK4", kdv, AFTER["kdv"]), ("eq7 Verlet-2", eq7, AFTER["eq7"])):
+        wall, cpu, res, _ = fn(cfg, repeats=repeats)
+        out[name] = {"wall": wall, "cpu": cpu, "node_updates": int(res["info"]["node_updates"])}
+    return out
+
+
+def tree_rows(tree: str | None, repeats: int) -> dict:
+    """:func:`after_rows` in a fresh process on ``tree``'s packages (None: this tree's)."""
+    env = dict(os.environ)
+    if tree is not None:
+        env["PYTHONPATH"] = str(Path(tree).resolve()) + os.pathsep + env.get("PYTHONPATH", "")
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--_rows-json",
+           "--repeats", str(repeats)]
+    out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def compare_trees(tree: str, rounds: int, repeats: int, compile_: bool) -> None:
+    """Best CPU times of this tree and of ``tree``, rounds alternating; their ratio."""
+    print(f"CPU: {cpu_name()}; baseline: packages of {tree}; best of {rounds} rounds "
+          f"alternating" + ("" if compile_ else f", each best of {repeats}"))
+    best = {"base": {}, "new": {}}
+    work = {}  # node-updates per row (the same in both trees: the same steps and windows)
+    for _ in range(rounds):
+        for who, t in (("base", tree), ("new", None)):
+            if compile_:
+                r = compile_rows(t)
+                rows = {"total (first compile, CPU s)": r["total_cpu"],
+                        **{f"  {k}": v for k, v in r["kernels"].items()
+                           if k.startswith("continuum.")}}
+            else:
+                r = tree_rows(t, repeats)
+                rows = {k: v["cpu"] for k, v in r.items()}
+                work.update({k: v["node_updates"] for k, v in r.items()})
+            for k, v in rows.items():
+                best[who][k] = min(best[who].get(k, float("inf")), v)
+    print(f"{'row':48s} {'baseline s':>10s} {'this s':>8s} {'ratio':>7s}"
+          + ("" if compile_ else f" {'node-upd/s (this)':>18s}"))
+    for k in list(best["base"]) + [k for k in best["new"] if k not in best["base"]]:
+        b, c = best["base"].get(k, float("nan")), best["new"].get(k, float("nan"))
+        rate = "" if compile_ else f" {work[k] / c:18.3g}"
+        print(f"{k:48s} {b:10.3f} {c:8.3f} {c / b:7.2f}{rate}")
+    print(f"load average after: {os.getloadavg()[0]:.2f} (1 min)")
+
+
 # ------------------------------------------------------------------------------ main
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -272,9 +392,32 @@ def main(argv=None):
                     help="errors against the converged references (default: on)")
     ap.add_argument("--table2", action="store_true")
     ap.add_argument("--no-before", action="store_true", help="skip the old-path rows")
+    ap.add_argument("--compile", action="store_true",
+                    help="measure the first compilation (fresh process, empty cache)")
+    ap.add_argument("--baseline-tree", metavar="DIR",
+                    help="compare with another checkout's packages, in one run")
+    ap.add_argument("--rounds", type=int, default=3, help="alternating rounds (--baseline-tree)")
+    ap.add_argument("--_compile-json", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--_rows-json", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     np.seterr(all="ignore")
     rep = args.repeats
+    if args._compile_json:
+        print(json.dumps(measure_compile()))
+        return None
+    if args._rows_json:
+        print(json.dumps(after_rows(rep)))
+        return None
+    if args.baseline_tree:
+        compare_trees(args.baseline_tree, args.rounds, rep, args.compile)
+        return None
+    if args.compile:
+        r = compile_rows(None)
+        print(f"CPU: {cpu_name()}; load average {os.getloadavg()[0]:.2f} (1 min)")
+        print(f"first compile, fresh process and empty cache: {r['total_cpu']:.2f} s CPU")
+        for k, v in sorted(r["kernels"].items(), key=lambda kv: -kv[1]):
+            print(f"  {v:6.2f} s  {k}")
+        return None
 
     med = _pre_medium()
     v_pre = solitary_wave_parameters(BoussinesqPDE(med, 1), START, velocity_max=V_PRE)["speed"]

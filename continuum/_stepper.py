@@ -234,8 +234,11 @@ def _rosenau_pass_periodic(u, v, y, alpha, beta, h, nl, kk, bb, kh, d0, f0,
 
 @nb.njit(**_JIT)
 def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0,
-                  fac, z, vfac, win, margin, tau_s, tau_v):
+                  fac, win, margin, tau_s, tau_v):
     """Advance the Rosenau form of Eq. 4 by ``nsteps`` steps of ``dt`` (s), in place.
+
+    Free or wall ends (periodic chains: :func:`rosenau_chunk_periodic`, a kernel of its
+    own so that neither compiles the other's pass).
 
     Parameters
     ----------
@@ -250,7 +253,7 @@ def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f
     kk, bb, kh, d0, f0 : float64[faces]
         Linear stiffness K (N/m), quadratic coefficient K/(4δ0) (N/m²), Hertz constant
         (N/m^{3/2}), static overlap (m) and static force k δ0^{3/2} (N) per face.
-    fac, z, vfac :
+    fac :
         Factors of the mass operator (:func:`rosenau_factors`).
     win : int64[2]
         Active window [lo, hi] (in/out; lo = -1: the chain is at rest).
@@ -273,11 +276,6 @@ def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f
             if j == 0 and step > 0:
                 a = (alpha[nsub] + alpha[0]) * dt
             b = beta[j] * dt
-            if bc == PERIODIC:
-                _rosenau_pass_periodic(u, v, y, a, b, h, nl, kk, bb, kh, d0, f0,
-                                       fac[0], fac[1], fac[2], z, vfac)
-                work += n
-                continue
             if win[0] < 0:
                 # at rest: drifts are no-ops (v = 0 to within tau), kicks vanish
                 continue
@@ -288,16 +286,36 @@ def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f
             work += hi - lo + 1
     # closing drift α_S
     a = alpha[nsub] * dt
-    if nsteps > 0:
-        if bc == PERIODIC:
-            for i in range(n):
-                u[i] += a * v[i]
-        elif win[0] >= 0:
-            lo = max(win[0] - margin, 0)
-            hi = min(win[1] + margin, n - 1)
-            for i in range(lo, hi + 1):
-                u[i] += a * v[i]
+    if nsteps > 0 and win[0] >= 0:
+        lo = max(win[0] - margin, 0)
+        hi = min(win[1] + margin, n - 1)
+        for i in range(lo, hi + 1):
+            u[i] += a * v[i]
     return work
+
+
+@nb.njit(**_JIT)
+def rosenau_chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, nl, kk, bb, kh, d0, f0,
+                           fac, z, vfac):
+    """:func:`rosenau_chunk` for a periodic chain, swept whole (cyclic solve).
+
+    ``fac``, ``z``, ``vfac``: the Sherman–Morrison factors of :func:`rosenau_factors`.
+    Returns the node-updates performed.
+    """
+    n = u.size
+    nsub = beta.size
+    for step in range(nsteps):
+        for j in range(nsub):
+            a = alpha[j] * dt
+            if j == 0 and step > 0:
+                a = (alpha[nsub] + alpha[0]) * dt
+            _rosenau_pass_periodic(u, v, y, a, beta[j] * dt, h, nl, kk, bb, kh, d0, f0,
+                                   fac[0], fac[1], fac[2], z, vfac)
+    if nsteps > 0:
+        a = alpha[nsub] * dt
+        for i in range(n):
+            u[i] += a * v[i]
+    return nsteps * nsub * n
 
 
 def rosenau_factors(diag, off, corner):
@@ -429,6 +447,23 @@ def fft_size(need):
         m += 8
 
 
+@nb.njit(**_JIT)
+def _rfft(x, out):
+    """Real FFT of x into out (unscaled; DUCC through rocket-fft), out.size = x.size//2 + 1.
+
+    One compiled copy shared by every call site of the Nesterenko kernels: rocket-fft's
+    overloads are expanded at each call, so calling them in one place halves the
+    first compilation of :func:`_saturated_apply` (docs/physics.md §4).
+    """
+    r2c(x, out, _AXES, True, 1.0, 1)
+
+
+@nb.njit(**_JIT)
+def _irfft(x, out):
+    """Inverse real FFT of x into out, scaled by 1/out.size (the inverse of :func:`_rfft`)."""
+    c2r(x, out, _AXES, False, 1.0 / out.size, 1)
+
+
 @nb.njit(inline="always", **_JIT)
 def _direct_sum(ncomp, w):
     """Apply H by a direct sum over the ``ncomp`` compressed faces (else an FFT over w)."""
@@ -451,10 +486,10 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
     if periodic:
         m = nf
         nh = m // 2 + 1
-        r2c(y, fft_c[:nh], _AXES, True, 1.0, 1)
+        _rfft(y, fft_c[:nh])
         for i in range(nh):
             fft_c[i] *= spec[i]
-        c2r(fft_c[:nh], hy, _AXES, False, 1.0 / m, 1)
+        _irfft(fft_c[:nh], hy)
         return
     w = qb - qa + 1
     need = 2 * w - 1
@@ -483,7 +518,7 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
             fft_re[j] = c[j]
             fft_re[m - j] = c[j]
         nh = m // 2 + 1
-        r2c(fft_re[:m], fft_c[:nh], _AXES, True, 1.0, 1)
+        _rfft(fft_re[:m], fft_c[:nh])
         for i in range(nh):
             spec[i] = fft_c[i].real
     nh = m // 2 + 1
@@ -493,26 +528,13 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
     pad = fft_re[w:m]
     for i in range(m - w):
         pad[i] = 0.0
-    r2c(fft_re[:m], fft_c[:nh], _AXES, True, 1.0, 1)
+    _rfft(fft_re[:m], fft_c[:nh])
     for i in range(nh):
         fft_c[i] *= spec[i]
-    c2r(fft_c[:nh], fft_re[:m], _AXES, False, 1.0 / m, 1)
+    _irfft(fft_c[:nh], fft_re[:m])
     hw = hy[qa:qb + 1]
     for i in range(w):
         hw[i] = fft_re[i]
-
-
-@nb.njit(inline="always", **_JIT)
-def _face_strain(u, q, ih, bc):
-    """Strain s = -u_X of face q (m per grain), with the ghosts of ``bc``."""
-    n = u.size
-    if bc == PERIODIC:
-        return (u[q - 1 if q > 0 else n - 1] - u[q]) * ih
-    if q == 0:
-        return -2.0 * u[0] * ih if bc == WALL else 0.0
-    if q == n:
-        return 2.0 * u[n - 1] * ih if bc == WALL else 0.0
-    return (u[q - 1] - u[q]) * ih
 
 
 @nb.njit(inline="always", **_JIT)
@@ -531,24 +553,25 @@ def _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, d
     """Overlap δ, Hertz flux k δ^{3/2} - f0, φ and y = mask √k (ζ(δ) - ζ0) per face.
 
     Faces [qa, qb]; the strain is s_q = Σ_j gcoef[q, j] u[gidx[q, j]]
-    (:func:`continuum._kernels.staggered_gradient`), with the plain weights (1/h, or
-    27/24h and 1/24h) written out for the interior faces (``half <= q <= n - half``,
-    whose stencil rows are the plain ones: checked by the caller,
+    (:func:`continuum._kernels.staggered_gradient`), with the plain weights (1/h and 0,
+    or 27/24h and 1/24h) written out for the faces 2 <= q <= n - 2 (interior for either
+    order, whose stencil rows are the plain ones: checked by the caller,
     :meth:`NesterenkoPDE.make_chunk_stepper`) in a loop without branches.  Returns
     how many faces carry a nonzero y or φ; when H is then applied by a direct sum
     (:func:`_direct_sum`) they are listed in ``comp``.
     """
     width = gidx.shape[1]
     n = u.size
-    half = width // 2
     e4 = np.sqrt(np.sqrt(eps))
     e54 = eps * e4
+    # one loop for both orders (one compiled copy): the four-point formula, whose outer
+    # weight is 0 at second order (then x = δ0 + (u_{q-1} - u_q)/h exactly)
     if width == 4:
         c1, c3 = 27.0 / (24.0 * h), 1.0 / (24.0 * h)
     else:
         c1, c3 = 1.0 / h, 0.0
-    ia = max(qa, half)
-    ib = min(qb, n - half)
+    ia = max(qa, 2)
+    ib = min(qb, n - 2)
     # overlaps δ of the interior faces.  Every hot loop runs over zero-based views with
     # a zero-based index, so that numba emits no negative-index wrap-around check and
     # LLVM vectorises it (with an index starting at a runtime value it does neither)
@@ -556,16 +579,10 @@ def _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, d
         mi = ib + 1 - ia
         dd = dl[ia:ib + 1]
         zz = d0[ia:ib + 1]
-        if width == 4:
-            uu = u[ia - 2:ib + 2]  # uu[i] = u[q - 2] for q = ia + i
-            for i in range(mi):
-                x = zz[i] + (c1 * (uu[i + 1] - uu[i + 2]) - c3 * (uu[i] - uu[i + 3]))
-                dd[i] = 0.0 if x < 0.0 else x  # (NaN kept)
-        else:
-            uu = u[ia - 1:ib + 1]  # uu[i] = u[q - 1]
-            for i in range(mi):
-                x = zz[i] + c1 * (uu[i] - uu[i + 1])
-                dd[i] = 0.0 if x < 0.0 else x  # (NaN kept)
+        uu = u[ia - 2:ib + 2]  # uu[i] = u[q - 2] for q = ia + i
+        for i in range(mi):
+            x = zz[i] + (c1 * (uu[i + 1] - uu[i + 2]) - c3 * (uu[i] - uu[i + 3]))
+            dd[i] = 0.0 if x < 0.0 else x  # (NaN kept)
     # end faces [qa, ia) and (ib, qb]: the stencil table
     for q in range(qa, min(ia, qb + 1)):
         _table_overlap(u, q, gidx, gcoef, d0, dl)
@@ -599,22 +616,15 @@ def _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, d
     return ncomp
 
 
-@nb.njit(**_JIT)
-def _nesterenko_pass(u, v, L, R, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
-                     mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
-                     comp, fn):
-    """One drift (α Δt) and one kick (β Δt) of the regularised Eq. 7 over nodes [L, R].
+@nb.njit(inline="always", **_JIT)
+def _nesterenko_forces(u, L, R, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps, disp,
+                       c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
+    """Face forces of the regularised Eq. 7 for nodes [L, R], into ``fh`` (N).
 
-    Sweeps: drift; faces (δ, Hertz flux, φ, y); the saturated operator H y; face forces
-    F = w k(δ^{3/2} - δ0^{3/2}) + disp √k φ H y scattered by the transpose of the strain
-    stencil (node force density -Gᵀ F) and the kick v_i += β Δt fn_i/m_i.
+    Sweeps: faces (δ, Hertz flux, φ, y: :func:`_nesterenko_faces`); the saturated
+    operator H y (:func:`_saturated_apply`); F = w k(δ^{3/2} - δ0^{3/2}) + disp √k φ H y.
+    Leaves δ, y and H y in ``dl``, ``y``, ``hy`` (the monitor's energy reads them).
     """
-    n = u.size
-    width = gidx.shape[1]
-    uu = u[L:R + 1]
-    vv = v[L:R + 1]
-    for i in range(R + 1 - L):
-        uu[i] += alpha * vv[i]
     qa = L
     qb = R if bc == PERIODIC else R + 1
     ncomp = _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl,
@@ -626,30 +636,40 @@ def _nesterenko_pass(u, v, L, R, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, 
                            hy[qa:qb + 1])
     for i in range(qb + 1 - qa):
         fq[i] = wq[i] * fq[i] + disp * skq[i] * pq[i] * hq[i]
-    half = width // 2
-    # node force density -Gᵀ F: the plain weights where faces i-half+1 .. i+half are
-    # interior faces inside [qa, qb] (nodes [ja, jb]), else the scatter of the table
-    ja = max(L, max(qa, half) + half - 1)
-    jb = min(R, min(qb, n - half) - half)
+
+
+@nb.njit(inline="always", **_JIT)
+def _nesterenko_kick(v, L, R, beta, bc, h, gidx, gcoef, fh, inv_m):
+    """Kick v_i += β Δt (-Gᵀ F)_i / m_i of nodes [L, R] by the face forces ``fh``.
+
+    The node force density -Gᵀ F is the transpose of the strain stencil: the plain
+    weights where faces i-1 .. i+2 are interior faces inside [qa, qb] (nodes [ja, jb]),
+    else the scatter of the table; one loop for both orders (second order: weights 1
+    and 0 over h, i.e. (F_i - F_{i+1})/h).
+    """
+    n = v.size
+    width = gidx.shape[1]
+    qa = L
+    qb = R if bc == PERIODIC else R + 1
+    ja = max(L, max(qa, 2) + 1)
+    jb = min(R, min(qb, n - 2) - 2)
     for i in range(L, min(ja, R + 1)):
         _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m)
     for i in range(max(jb + 1, ja, L), R + 1):
         _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m)
     if jb < ja:
         return
+    if width == 4:
+        w1, w3, den = 27.0, 1.0, 24.0 * h
+    else:
+        w1, w3, den = 1.0, 0.0, h
     mj = jb + 1 - ja
     vj = v[ja:jb + 1]
     im = inv_m[ja:jb + 1]
-    if width == 4:
-        ff = fh[ja - 1:jb + 3]  # ff[j] = fh[i - 1] for i = ja + j
-        for j in range(mj):
-            f = (27.0 * (ff[j + 1] - ff[j + 2]) - (ff[j] - ff[j + 3])) / (24.0 * h)
-            vj[j] += beta * f * im[j]
-    else:
-        ff = fh[ja:jb + 2]  # ff[j] = fh[i]
-        for j in range(mj):
-            f = (ff[j] - ff[j + 1]) / h
-            vj[j] += beta * f * im[j]
+    ff = fh[ja - 1:jb + 3]  # ff[j] = fh[i - 1] for i = ja + j
+    for j in range(mj):
+        f = (w1 * (ff[j + 1] - ff[j + 2]) - w3 * (ff[j] - ff[j + 3])) / den
+        vj[j] += beta * f * im[j]
 
 
 @nb.njit(inline="always", **_JIT)
@@ -671,10 +691,38 @@ def _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m):
     v[i] += beta * f * inv_m[i]
 
 
+@nb.njit(inline="always", **_JIT)
+def _nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, disp, mass, dl, y, hy):
+    """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
+
+    E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q)
+    + (disp/2.5) y_q (Hy)_q] (NesterenkoPDE.energy_density), P = h Σ m v, from δ, y and
+    H y of every face (:func:`_nesterenko_forces` over the whole chain).
+    """
+    n = u.size
+    ek = 0.0
+    mom = 0.0
+    for i in range(n):
+        ek += mass[i] * v[i] * v[i]
+        mom += mass[i] * v[i]
+    qb = n - 1 if bc == PERIODIC else n
+    ep = 0.0
+    width = gidx.shape[1]
+    for q in range(qb + 1):
+        x = dl[q]
+        s = 0.0
+        for j in range(width):
+            s += gcoef[q, j] * u[gidx[q, j]]
+        pot = k[q] * (0.4 * (x * x * np.sqrt(x) - d0[q] * d0[q] * np.sqrt(d0[q]))
+                      - d0[q] * np.sqrt(d0[q]) * s)
+        ep += w[q] * pot + (disp / 2.5) * y[q] * hy[q]
+    return h * (0.5 * ek + ep), h * mom
+
+
 @nb.njit(**_JIT)
 def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
                      mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
-                     comp, fn, win, windowed, margin, tau_v, tau_d):
+                     comp, win, windowed, margin, tau_v, tau_d, mass, mon):
     """Advance the regularised Eq. 7 by ``nsteps`` steps of ``dt`` (s), in place.
 
     With ``windowed`` (sonic vacuum, non-periodic) only nodes [lo - margin, hi + margin]
@@ -684,16 +732,25 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0
     disturbance reaches at most ``margin`` nodes per force evaluation (1 for the
     second-order stencil, 3 for the fourth-order one).  Otherwise the whole chain is
     swept.  Returns the node-updates performed.
+
+    With ``mon.size == 2`` it then writes the energy functional (J) and momentum
+    (kg m/s) of the state into ``mon`` (:func:`_nesterenko_energy`; ``mass`` in kg per
+    grain).  The monitor is this kernel with ``nsteps`` = 0 and scratch arrays of its
+    own: one compiled kernel, in which the face pass and H are called from one place
+    (the loop's last evaluation is the monitor's), so that they are compiled once —
+    this kernel's first compilation is the continuum's largest.
     """
     n = u.size
     nsub = beta.size
+    nev = nsteps * nsub
     work = 0
-    for step in range(nsteps):
-        for j in range(nsub):
+    for e in range(nev + 1):
+        if e < nev:
+            step = e // nsub
+            j = e - step * nsub
             a = alpha[j] * dt
             if j == 0 and step > 0:
                 a = (alpha[nsub] + alpha[0]) * dt
-            b = beta[j] * dt
             if windowed:
                 if win[0] < 0:
                     continue
@@ -702,70 +759,54 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0
             else:
                 lo = 0
                 hi = n - 1
-            _nesterenko_pass(u, v, lo, hi, a, b, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
-                             mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y,
-                             hy, comp, fn)
-            work += hi - lo + 1
-            if windowed:
-                new_lo = -1
-                for i in range(lo, hi + 1):
-                    if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                        new_lo = i
-                        break
-                if new_lo < 0:
-                    win[0] = -1
-                    win[1] = -1
-                else:
-                    new_hi = new_lo
-                    for i in range(hi, new_lo, -1):
-                        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                            new_hi = i
-                            break
-                    win[0] = new_lo
-                    win[1] = new_hi
-    if nsteps > 0:
-        a = alpha[nsub] * dt
-        if windowed:
-            if win[0] >= 0:
-                for i in range(max(win[0] - margin, 0), min(win[1] + margin, n - 1) + 1):
-                    u[i] += a * v[i]
+            uu = u[lo:hi + 1]
+            vv = v[lo:hi + 1]
+            for i in range(hi + 1 - lo):
+                uu[i] += a * vv[i]
         else:
-            for i in range(n):
-                u[i] += a * v[i]
+            # closing drift α_S, then (monitor) the whole chain's forces and energy
+            if nsteps > 0:
+                a = alpha[nsub] * dt
+                if windowed:
+                    if win[0] >= 0:
+                        for i in range(max(win[0] - margin, 0),
+                                       min(win[1] + margin, n - 1) + 1):
+                            u[i] += a * v[i]
+                else:
+                    for i in range(n):
+                        u[i] += a * v[i]
+            if mon.size != 2:
+                break
+            lo = 0
+            hi = n - 1
+        _nesterenko_forces(u, lo, hi, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps,
+                           disp, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp)
+        if e == nev:
+            en, mo = _nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, disp, mass, dl,
+                                        y, hy)
+            mon[0] = en
+            mon[1] = mo
+            break
+        _nesterenko_kick(v, lo, hi, beta[j] * dt, bc, h, gidx, gcoef, fh, inv_m)
+        work += hi - lo + 1
+        if windowed:
+            new_lo = -1
+            for i in range(lo, hi + 1):
+                if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+                    new_lo = i
+                    break
+            if new_lo < 0:
+                win[0] = -1
+                win[1] = -1
+            else:
+                new_hi = new_lo
+                for i in range(hi, new_lo, -1):
+                    if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+                        new_hi = i
+                        break
+                win[0] = new_lo
+                win[1] = new_hi
     return work
-
-
-@nb.njit(**_JIT)
-def nesterenko_monitor(u, v, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps, disp, mass,
-                       c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
-    """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
-
-    E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q)
-    + (disp/2.5) y_q (Hy)_q] (NesterenkoPDE.energy_density), P = h Σ m v.
-    """
-    n = u.size
-    ek = 0.0
-    mom = 0.0
-    for i in range(n):
-        ek += mass[i] * v[i] * v[i]
-        mom += mass[i] * v[i]
-    qa = 0
-    qb = n - 1 if bc == PERIODIC else n
-    ncomp = _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl,
-                              fh, ph, y, comp)
-    _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
-                     bc == PERIODIC)
-    ep = 0.0
-    width = gidx.shape[1]
-    for q in range(qa, qb + 1):
-        x = dl[q]
-        s = 0.0
-        for j in range(width):
-            s += gcoef[q, j] * u[gidx[q, j]]
-        pot = k[q] * (0.4 * (x * x * np.sqrt(x) - d0[q] * d0[q] * np.sqrt(d0[q]))
-                      - d0[q] * np.sqrt(d0[q]) * s)
-        ep += w[q] * pot + (disp / 2.5) * y[q] * hy[q]
-    return h * (0.5 * ek + ep), h * mom
 
 
 # ------------------------------------------------------------------------------ KdV

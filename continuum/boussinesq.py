@@ -207,10 +207,11 @@ class BoussinesqPDE(ChainPDEBase):
     def make_chunk_stepper(self, state, dt: float, alpha, beta) -> Callable:
         """Compiled chunk stepper (:func:`continuum._stepper.rosenau_chunk`).
 
-        Returns ``chunk(state_data, nsteps) -> node_updates`` advancing the (2, N) array
-        in place by ``nsteps`` splitting steps of ``dt`` (s) with drift/kick
-        coefficients ``alpha``/``beta``; it keeps the active window between calls
-        (attribute ``window``).
+        Periodic chains: :func:`~continuum._stepper.rosenau_chunk_periodic`.  Returns
+        ``chunk(state_data, nsteps) -> node_updates`` advancing the (2, N) array in place
+        by ``nsteps`` splitting steps of ``dt`` (s) with drift/kick coefficients
+        ``alpha``/``beta``; it keeps the active window between calls (attribute
+        ``window``).
         """
         if not self._factor_cache:
             self._factor_cache.extend(_stepper.rosenau_factors(*self._bands))
@@ -225,10 +226,16 @@ class BoussinesqPDE(ChainPDEBase):
         beta = np.ascontiguousarray(beta, dtype=float)
         dt = float(dt)
 
-        def chunk(state_data: np.ndarray, nsteps: int) -> int:
-            return _stepper.rosenau_chunk(
-                state_data[0], state_data[1], y, int(nsteps), dt, alpha, beta, h, bc, nl,
-                kk, bb, kh, d0, f0, fac, z, vfac, win, margin, tau_s, tau_v)
+        if self.bc == "periodic":
+            def chunk(state_data: np.ndarray, nsteps: int) -> int:
+                return _stepper.rosenau_chunk_periodic(
+                    state_data[0], state_data[1], y, int(nsteps), dt, alpha, beta, h, nl,
+                    kk, bb, kh, d0, f0, fac, z, vfac)
+        else:
+            def chunk(state_data: np.ndarray, nsteps: int) -> int:
+                return _stepper.rosenau_chunk(
+                    state_data[0], state_data[1], y, int(nsteps), dt, alpha, beta, h, bc,
+                    nl, kk, bb, kh, d0, f0, fac, win, margin, tau_s, tau_v)
 
         chunk.window = win  # type: ignore[attr-defined]
         chunk.margin = margin  # type: ignore[attr-defined]

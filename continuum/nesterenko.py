@@ -316,7 +316,6 @@ class NesterenkoPDE(ChainPDEBase):
             "scratch": [np.zeros(m_max), np.zeros(m_max // 2 + 1, np.complex128),
                         np.zeros(1, np.int64), np.zeros(nf), np.zeros(nf), np.zeros(nf),
                         np.zeros(nf), np.zeros(nf), np.zeros(nf, np.int64)],
-            "fn": np.zeros(d.x_nodes.size),
         }
 
     def make_chunk_stepper(self, state, dt: float, alpha, beta) -> Callable:
@@ -349,6 +348,7 @@ class NesterenkoPDE(ChainPDEBase):
         sc = a["scratch"]
 
         margin = 1 if self.space_order == 2 else 3
+        mass, no_monitor = d.mass.copy(), np.zeros(0)
         # the kernel writes the plain stencil out for the interior faces half..n-half:
         # their rows of the table must be it
         gidx = a["gidx"]
@@ -361,8 +361,8 @@ class NesterenkoPDE(ChainPDEBase):
             return _stepper.nesterenko_chunk(
                 state_data[0], state_data[1], int(nsteps), dt, alpha, beta, bc, h, a["gidx"],
                 a["gcoef"], a["w"], a["k"], a["d0"], a["f0"], a["sk"], a["z0"], a["mask"],
-                eps, self._disp, inv_m, a["c"], a["spec"], *sc, a["fn"], win, windowed,
-                margin, tau_v, tau_d)
+                eps, self._disp, inv_m, a["c"], a["spec"], *sc, win, windowed,
+                margin, tau_v, tau_d, mass, no_monitor)
 
         chunk.window = win  # type: ignore[attr-defined]
         return chunk
@@ -370,20 +370,26 @@ class NesterenkoPDE(ChainPDEBase):
     def make_monitor(self) -> Callable:
         """Compiled ``monitor(state_data) -> (energy J, momentum kg m/s)``.
 
-        The same functional as :meth:`energy` and :meth:`momentum`
-        (:func:`continuum._stepper.nesterenko_monitor`).
+        The same functional as :meth:`energy` and :meth:`momentum`: the chunk kernel
+        (:func:`continuum._stepper.nesterenko_chunk`) run for no step, with scratch
+        arrays of its own, evaluating it.
         """
         a = self._kernel_arrays()
         d = self.disc
         h, bc, eps = float(d.h), int(self._bc_code), float(self.delta_floor)
-        mass = d.mass.copy()
+        mass, inv_m = d.mass.copy(), 1.0 / d.mass
         sc = a["scratch"]
+        no_step = np.zeros(1)
+        win = np.full(2, -1, np.int64)
+        out = np.zeros(2)
 
         def monitor(state_data: np.ndarray) -> tuple[float, float]:
-            return _stepper.nesterenko_monitor(
-                state_data[0], state_data[1], bc, h, a["gidx"], a["gcoef"], a["w"], a["k"],
-                a["d0"], a["f0"], a["sk"], a["z0"], a["mask"], eps, self._disp, mass,
-                a["c"], a["spec"], *sc)
+            _stepper.nesterenko_chunk(
+                state_data[0], state_data[1], 0, 0.0, no_step, no_step, bc, h, a["gidx"],
+                a["gcoef"], a["w"], a["k"], a["d0"], a["f0"], a["sk"], a["z0"], a["mask"],
+                eps, self._disp, inv_m, a["c"], a["spec"], *sc, win, False, 0, 0.0,
+                0.0, mass, out)
+            return float(out[0]), float(out[1])
 
         return monitor
 
