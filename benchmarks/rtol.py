@@ -11,7 +11,11 @@ it, else the largest sample (``record.vmax``; a baseline tree of before issue 17
 2); both errors are printed ("err N/2" and "max err" of the run's refined maxima,
 "sampled" the max error of its samples).  "Converged" is the refined maxima of the same
 run with Blanes-Moan 4 at half the default dt (measured on a 150-grain impact: ~1e-9
-off; the target is 1e-4).  Each
+off; the target is 1e-4).  An rtol run of this one-section chain records the energy
+grid every grain transit instead of every half (``runner.GRID_ROWS_PER_GRAIN_RTOL``):
+"rows" is the grid's row count and "front dev" the relative difference of the run's
+front speed (the one number its summary reads from the grid) from the converged run's
+(:func:`converged`).  Each
 row is timed by the run's own summary (``wall_time``: chain, initial state, the rtol
 probe when there is one, integration, summary), best of ``--repeats`` interleaved
 repeats; the ratios are measured in the same run of this script.  The CPU time of the
@@ -22,7 +26,8 @@ is the steadier figure.
     python benchmarks/rtol.py --grains 2000 --baseline-tree /tmp/base
 
 ``--baseline-tree DIR`` also times the default run of another checkout (``git archive``
-of an older commit) in a fresh process: "today's default run" of the issue.
+of an older commit) in a fresh process: "today's default run" of the issue; the
+speed-ups are then against it, and "vs def" against this tree's default run.
 """
 
 from __future__ import annotations
@@ -58,22 +63,39 @@ def measure(n: int, **run) -> dict:
     cpu = time.process_time() - cpu
     refined = getattr(sim.record, "vmax_refined", None)  # (None: before issue 17 item 2)
     return {"wall_time": summary["wall_time"], "cpu": cpu, "dt": summary["dt"],
-            "steps": summary["steps"],
+            "steps": summary["steps"], "front_speed": summary["front_speed_tr"],
+            "rows": len(sim.record.energy_t),
             "integrator": sim.integrator, "estimate": summary.get("rtol_estimate"),
             "vmax": np.asarray(sim.record.vmax, float).tolist(),
             "vmax_refined": None if refined is None else np.asarray(refined, float).tolist()}
 
 
-def converged(n: int, dt: float) -> list:
-    """Refined v̄max/v0 of the scenario's chain and state, Blanes-Moan 4 at step ``dt``."""
-    from discrete import Recording, WaveAt
-    from hertzchain.runner import build_simulation
+def converged(n: int, dt: float) -> tuple[list, float]:
+    """Refined v̄max/v0 and front speed (m/s) of the scenario, Blanes-Moan 4 at step ``dt``.
 
-    _, init, _ = build_simulation(scenario(n), energy_grid=False)
+    The front speed is the summary's estimator on an energy grid with rows every
+    ``GRID_ROWS_PER_GRAIN`` transits, coarsened by 1 (N <= 2,000) or 2 (measured on the
+    2,000-grain impact: 8e-8 apart; by 8, as the default run's grid at 5,000 grains,
+    1.3e-4).
+    """
+    from discrete import Recording, WaveAt
+    from hertzchain.runner import (
+        GRID_ROWS_PER_GRAIN,
+        _wave_speed_estimate,
+        build_simulation,
+        summarise,
+    )
+
+    chain, init, _ = build_simulation(scenario(n), energy_grid=False)
+    d = float(np.mean(init.chain.diameter))
+    every = max(1, int(GRID_ROWS_PER_GRAIN * d / (_wave_speed_estimate(chain, init.v) * dt)))
     sim = init.simulation(dt=dt, integrator="blanes_moan4",
-                          record=Recording(maxima=True, refined_maxima=True))
+                          record=Recording(maxima=True, refined_maxima=True,
+                                           energy_every=every,
+                                           energy_coarsen=1 if n <= 2000 else 2))
     sim.run(until=WaveAt(int(0.75 * n)), progress=False)
-    return np.asarray(sim.record.vmax_refined, float).tolist()
+    front = summarise(chain, sim)["front_speed_tr"]
+    return np.asarray(sim.record.vmax_refined, float).tolist(), front
 
 
 def _tree_default(tree: str, n: int) -> dict:
@@ -121,7 +143,7 @@ def main() -> None:
         measure(max(200, n // 10))  # warm: kernels loaded, imports done
         measure(max(200, n // 10), rtol=a.rtol, integrator="auto")
         ref_dt = measure(n)["dt"] / 2
-        ref = converged(n, ref_dt)
+        ref, fs_ref = converged(n, ref_dt)
         rows = {"default": [], f"rtol {a.rtol:g}": [], f"rtol {a.rtol:g} auto": []}
         if a.baseline_tree:
             rows["baseline default"] = []
@@ -135,11 +157,12 @@ def main() -> None:
                     "cpu": min(r.get("cpu", math.nan) for r in v)} for k, v in rows.items()}
         base = best.get("baseline default", best["default"])["wall_time"]
         print(f"\n## N = {n} (converged: Blanes-Moan 4, dt = {ref_dt:.4g} s; v̄max/v0 at "
-              f"N/2 = {ref[n // 2]:.7f})")
+              f"N/2 = {ref[n // 2]:.7f}; front speed {fs_ref:.7g} m/s)")
         cpu_base = best.get("baseline default", best["default"]).get("cpu", math.nan)
         print(f"{'run':>18} {'integ.':>9} {'dt s':>10} {'steps':>8} {'wall s':>8} "
               f"{'speed-up':>8} {'cpu s':>7} {'cpu x':>6} {'err N/2':>9} {'max err':>9} "
-              f"{'sampled':>9} {'estimate':>9}")
+              f"{'sampled':>9} {'estimate':>9} {'rows':>6} {'front dev':>9} {'vs def':>7}")
+        own_base = best["default"]["wall_time"]  # this tree's default run, same run
         for k, r in best.items():
             own = r["vmax"] if r.get("vmax_refined") is None else r["vmax_refined"]
             e_mid, e_max = errors(own, ref, n)
@@ -147,15 +170,18 @@ def main() -> None:
             est = r.get("estimate")
             est = "" if est is None or not np.isfinite(est) else f"{est:.2e}"
             cpu = r.get("cpu", math.nan)
+            fs_dev = abs(r.get("front_speed", math.nan) / fs_ref - 1)
             print(f"{k:>18} {r['integrator']:>9} {r['dt']:>10.4g} {r['steps']:>8} "
                   f"{r['wall_time']:>8.3f} {base / r['wall_time']:>7.2f}× {cpu:>7.3f} "
                   f"{cpu_base / cpu:>5.2f}× {e_mid:>9.2e} {e_max:>9.2e} {e_samp:>9.2e} "
-                  f"{est:>9}")
+                  f"{est:>9} {r.get('rows', -1):>6} {fs_dev:>9.1e} "
+                  f"{own_base / r['wall_time']:>6.2f}×")
             results.append({"grains": n, "run": k, "wall_time": r["wall_time"], "cpu": cpu,
                             "dt": r["dt"], "steps": r["steps"], "err_mid": e_mid,
                             "err_max": e_max, "err_sampled": e_samp,
                             "speedup": base / r["wall_time"],
-                            "speedup_cpu": cpu_base / cpu})
+                            "speedup_cpu": cpu_base / cpu, "rows": r.get("rows"),
+                            "front_dev": fs_dev})
     if a.json:
         print(json.dumps(results))
 

@@ -991,13 +991,28 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         n = u.size
         ul = wl if lo == 0 else u[lo - 1]
         e_l = energy(d0[lo] + (ul - u[lo]), k[lo], d0[lo])
-        for i in range(lo, hi + 1):
-            ur = wr if i == n - 1 else u[i + 1]
-            e_r = energy(d0[i + 1] + (u[i] - ur), k[i + 1], d0[i + 1])
+        if c == 1:
+            for i in range(lo, hi + 1):
+                ur = wr if i == n - 1 else u[i + 1]
+                e_r = energy(d0[i + 1] + (u[i] - ur), k[i + 1], d0[i + 1])
+                ek_out[i] += 0.5 * mass[i] * v[i] * v[i]
+                ep_out[i] += ((e_l if i == 0 else 0.5 * e_l)
+                              + (e_r if i == n - 1 else 0.5 * e_r))
+                e_l = e_r
+            return
+        i = lo
+        while i <= hi:  # block by block: the sums in registers, no division per grain
             b = i // c
-            ek_out[b] += 0.5 * mass[i] * v[i] * v[i]
-            ep_out[b] += (e_l if i == 0 else 0.5 * e_l) + (e_r if i == n - 1 else 0.5 * e_r)
-            e_l = e_r
+            end = min(hi, (b + 1) * c - 1)
+            sk, sp = ek_out[b], ep_out[b]  # (the same additions in the same order)
+            for j in range(i, end + 1):
+                ur = wr if j == n - 1 else u[j + 1]
+                e_r = energy(d0[j + 1] + (u[j] - ur), k[j + 1], d0[j + 1])
+                sk += 0.5 * mass[j] * v[j] * v[j]
+                sp += (e_l if j == 0 else 0.5 * e_l) + (e_r if j == n - 1 else 0.5 * e_r)
+                e_l = e_r
+            ek_out[b], ep_out[b] = sk, sp
+            i = end + 1
 
     # ------------------------------------------------------------------ one step
     @jit(**_INLINE)

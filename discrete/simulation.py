@@ -722,8 +722,8 @@ class Simulation:
         e_every = int(rec.energy_every or 0)
         e_kernel = e_every > 0 and not self.chain.gravity
         c = int(self.record.energy_coarsen)
-        e_buf = np.zeros((self.chunk // e_every + 1 if e_kernel else 0, 2,
-                          -(-n // c) if e_kernel else 1))
+        e_cols = -(-n // c) if e_kernel else 1
+        e_buf = np.zeros((0, 2, e_cols))
         erow = (e_every if e_kernel else 0, c, e_buf, self.chain.mass)
         vmax = self.record.vmax if rec.maxima else np.zeros(n)
         umax = self.record.umax if rec.maxima else np.zeros(n)
@@ -767,6 +767,10 @@ class Simulation:
                         self._append_rows(self._series_row(),
                                           np.array([self.t0 + self.steps * self.dt]))
                 else:
+                    if e_kernel:  # a block of its own for each chunk's rows (each row
+                        # zeroed by the kernel): the record keeps views of them, no copy
+                        e_buf = np.empty((nsteps // e_every + 1, 2, e_cols))
+                        erow = (e_every, c, e_buf, self.chain.mass)
                     done, rows, fired, erows = self._chunk(nsteps, vmax, umax, rmax, watch,
                                                            wmax, wthr, ts_buf, erow)
                     if erows:  # the rows at the multiples of e_every inside the chunk
@@ -774,8 +778,8 @@ class Simulation:
                         r = self.record
                         r.energy_t.extend((self.t0 + (first + e_every * np.arange(erows))
                                            * self.dt).tolist())
-                        r.energy_kinetic.extend(e_buf[:erows, 0].copy())
-                        r.energy_potential.extend(e_buf[:erows, 1].copy())
+                        r.energy_kinetic.extend(e_buf[:erows, 0])
+                        r.energy_potential.extend(e_buf[:erows, 1])
                     phase = self.steps % s_every
                     if rows:
                         first = self.steps + (s_every - phase if phase else s_every)

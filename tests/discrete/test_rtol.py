@@ -169,13 +169,23 @@ def test_error_bounds_and_step_choice():
 
 
 def test_step_for_drift():
-    """The coarsest probe step whose run drifted at most the cap; below the finest, h²."""
+    """The largest step whose drift, read off the power law through the neighbouring
+    probe steps' drifts, is at most the cap; below the finest, h²."""
     e, p_obs, p, clean = error_bounds([4e-4, 1e-4], 2)
     pr = ProbeResult("verlet", (4.0, 2.0, 1.0), e, (4e-4, 1e-4), p_obs, p, clean, 1.0, 1, 1,
                      True, (8e-4, 2e-4, 5e-5))
     assert pr.step_for_drift(1e-3) == 4.0
-    assert pr.step_for_drift(2e-4) == 2.0
-    assert pr.step_for_drift(1e-4) == 1.0
+    assert pr.step_for_drift(2e-4) == pytest.approx(2.0)
+    assert pr.step_for_drift(4e-4) == pytest.approx(2.0 * math.sqrt(2.0))  # slope 2
+    assert pr.step_for_drift(1e-4) == pytest.approx(math.sqrt(2.0))
+    steep = dataclasses.replace(pr, drifts=(8e-4, 5e-5, 1e-5))  # slope 4 between 4 and 2
+    assert steep.step_for_drift(1e-4) == pytest.approx(2.0 * 2.0 ** 0.25)
+    for cap in (7e-4, 3e-4, 1e-4, 6e-5, 2e-5):  # the power law meets the cap there
+        h = steep.step_for_drift(cap)
+        k = 1 if h >= 2.0 else 2
+        hi, lo = steep.drifts[k - 1], steep.drifts[k]
+        q = math.log(hi / lo) / math.log(steep.h[k - 1] / steep.h[k])
+        assert lo * (h / steep.h[k]) ** q == pytest.approx(cap)
     assert pr.step_for_drift(1.25e-5) == pytest.approx(0.5)  # 1.0 * sqrt(1.25e-5 / 5e-5)
     assert dataclasses.replace(pr, drifts=()).step_for_drift(1e-9) == math.inf
 
@@ -260,3 +270,19 @@ def test_probe_drops_unstable_steps():
     pr = probe_error(init.chain, init.u, init.v, integrator="verlet", h0=8 * stable)
     assert pr.h0 < stable and len(pr.h) >= 3 and pr.complete
     assert all(math.isfinite(e) for e in pr.errors)
+
+
+def test_probe_halved_after_instability_still_stops_when_it_cannot_win():
+    """The cost check (S/h_0 against the best method so far) is repeated after an
+    unstable h_0 was halved: a method whose stable steps cannot beat the best is not
+    probed on (it was: Yoshida-4 on the 2,000-grain impact, 10,008 wasted probe steps)."""
+    init, _ = _impact()
+    stable = TimeStep.choose(init.chain, init.u, init.v).stable
+    # 8 and 4 × stable blow up; at 2 × stable the cost 1/h_0 reaches max_cost: stop there
+    pr = probe_error(init.chain, init.u, init.v, integrator="verlet", h0=8 * stable,
+                     max_cost=1.0 / (2.0 * stable))
+    assert not pr.complete and pr.h == (pytest.approx(2.0 * stable),)
+    assert pr.probe_steps == 0 and pr.errors == (math.inf,)
+    # without the bound the same probe goes on at finer, stable steps
+    assert probe_error(init.chain, init.u, init.v, integrator="verlet",
+                       h0=8 * stable).complete
