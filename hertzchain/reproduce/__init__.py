@@ -15,6 +15,11 @@ saving the PNGs, ``report(rep, result, figures)`` adding its section to the repo
 * :mod:`.table2` — Table 2 (discrete, linear theory, continuum);
 * :mod:`.common` — context, cached runs, figures; :mod:`.report` — the report.
 
+With ``workers=2`` (``--workers 2``) the items run in two processes (:data:`LANES`):
+Figs. 5 and 7 in a worker forked after Fig. 3, the others in the calling process, which
+then writes the report; every number, file and count is that of one process, bit for
+bit (the default is one process, :data:`QUICK_WORKERS`).
+
 Examples
 --------
 >>> from hertzchain.reproduce import reproduce
@@ -25,9 +30,11 @@ Examples
 
 from __future__ import annotations
 
+import gc
 import importlib
 import os
 import signal
+import sys
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -82,23 +89,10 @@ def run_item(ctx, name: str) -> ItemRun:
     run = ItemRun(name, mod, result, figs, mod.to_json(result), time.perf_counter() - start,
                   list(ctx.computed[c0:]), list(ctx.reused[r0:]))
     ctx.timings[name] = run.seconds
-    _trim_heap()
+    from .common import trim_heap
+
+    trim_heap()  # (measured: the process kept +0.1 GB after Fig. 8 without it)
     return run
-
-
-def _trim_heap() -> None:
-    """Give the C heap's free pages back to the system (glibc ``malloc_trim``; else no-op).
-
-    An item's large temporaries (Table 2's energy grids are recorded row by row, 8 kB
-    each) leave free holes in the heap that ``free`` does not return, so the process
-    would carry them into every later item (measured: +0.1 GB after Fig. 8).
-    """
-    try:
-        import ctypes
-
-        ctypes.CDLL(None).malloc_trim(0)
-    except (OSError, AttributeError):
-        pass
 
 
 QUICK_THREADS = 1
@@ -152,10 +146,18 @@ Fig. 5 settles the δ0/d = 1e-3 wave first in its lane, ~15 s before Fig. 6 need
 the other; had both settled it at once, they would have computed the same wave, bit for
 bit."""
 
-QUICK_WORKERS = 2
+QUICK_WORKERS = 1
 """Worker processes of ``--quick`` (:func:`reproduce`'s default there; capped at the cores
-this process may use).  Every simulation is computed by the same code on one kernel
-thread either way, so the numbers are the same, bit for bit."""
+this process may use).  Either count computes every simulation with the same code on one
+kernel thread: the numbers are the same, bit for bit.
+
+One, because two did not pay on the shared 2-core development machine (issue 13, AMD
+EPYC Zen 4, 2026-11-27, warm, fresh ``--out``, runs alternated 1-2-2-1 under load
+3.7-5.4 from other jobs): one worker 131 and 146 s wall, 68 s CPU, peak 0.50 GB RSS /
+0.40-0.43 GB PSS; two workers 170 and 172 s wall, 72 s CPU, 0.55-0.58 GB PSS for the
+two processes (0.56 GB the larger RSS).  On an idle machine two should approach the
+lanes' CPU critical path, ~41 s against 68 s (fig3 4 s, then 34 s in the worker
+against 37 s here, measured under that load), at +0.15-0.18 GB."""
 
 _JOIN_GRACE = 10.0
 """Seconds the calling process waits, after a SIGINT/SIGTERM, for the worker to stop by
@@ -245,22 +247,29 @@ def _stop_worker(proc, exc: BaseException) -> None:
 def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
     """Run the lanes ``parts`` (:func:`lanes`); the runs in report order.
 
-    ``parts[1][0]`` here, then ``parts[0]`` in a forked worker and the rest of
-    ``parts[1]`` here.
+    ``parts[1][0]`` here if it is the second lane's first item (Fig. 3, :data:`LANES`),
+    then ``parts[0]`` in a forked worker and the rest of ``parts[1]`` here.
     """
     import multiprocessing as mp
 
     from ..checkpoint import Interrupted
 
-    first = _run_lane(ctx, parts[1][:1], order, start, threads)  # (loads the kernels)
+    k = 1 if parts[1][0] == LANES[1][0] else 0  # (fig3 first: it loads the kernels)
+    first = _run_lane(ctx, parts[1][:k], order, start, threads)
     fork = mp.get_context("fork")
     recv, send = fork.Pipe(duplex=False)
     proc = fork.Process(target=_lane_worker, name="hertzchain-reproduce-lane",
                         args=(send, ctx, parts[0], order, start, threads))
-    proc.start()
+    for stream in (sys.stdout, sys.stderr):  # (else the worker would write their buffers too)
+        stream.flush()
+    gc.freeze()  # the worker's collector leaves the inherited objects (and their pages) alone
+    try:
+        proc.start()
+    finally:
+        gc.unfreeze()
     send.close()
     try:
-        mine = first + _run_lane(ctx, parts[1][1:], order, start, threads)
+        mine = first + _run_lane(ctx, parts[1][k:], order, start, threads)
         try:
             payload = recv.recv()
         except EOFError:
@@ -328,8 +337,9 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     workers : {1, 2}, optional
         Processes: 2 runs the items in the two :data:`LANES`, one in a forked worker
         (POSIX only), each on ``threads`` kernel threads; the numbers, files and counts
-        are those of one process, bit for bit.  Default: :data:`QUICK_WORKERS` (at most
-        the usable cores) in ``"quick"`` mode, 1 in ``"full"`` (its kernels are threaded).
+        are those of one process, bit for bit; 2 needs ``threads`` 1 (``--quick``'s
+        default).  Default: :data:`QUICK_WORKERS` (at most the usable cores) in
+        ``"quick"`` mode, 1 in ``"full"`` (its kernels are threaded).
 
     Returns
     -------

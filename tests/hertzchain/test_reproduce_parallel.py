@@ -126,3 +126,28 @@ def test_error_here_stops_the_worker(tmp_path, monkeypatch):
 def test_bad_workers(tmp_path, kwargs, match):
     with pytest.raises(ValueError, match=match):
         reproduce(["fig2", "fig5"], out=tmp_path, progress=False, report=False, **kwargs)
+
+
+def test_default_is_one_process_and_cli_option(tmp_path, monkeypatch, capsys):
+    # QUICK_WORKERS (1: two did not pay on the shared machine); --workers 2 forks
+    from hertzchain.cli import main
+
+    seen = []
+    real = R._run_parallel
+
+    def spy(*args):
+        seen.append("parallel")
+        return real(*args)
+
+    monkeypatch.setattr(R, "_run_parallel", spy)
+    monkeypatch.setattr(R, "run_item", _fake((None, None)))
+    monkeypatch.setattr("hertzchain.reproduce.report.write_report", lambda *a: ())
+    reproduce(["fig2", "fig5"], out=tmp_path, progress=False, report=False)
+    assert seen == ["parallel"] * (R.QUICK_WORKERS == 2)
+    seen.clear()
+    assert main(["reproduce", "fig2", "fig5", "--json", "--workers", "2", "--out",
+                 str(tmp_path)]) == 0
+    assert json.loads(capsys.readouterr().out) == {"fig2": {"n": 4}, "fig5": {"n": 4}}
+    assert seen == ["parallel"]
+    with pytest.raises(SystemExit):
+        main(["reproduce", "--workers", "3", "--out", str(tmp_path)])
