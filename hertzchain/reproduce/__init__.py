@@ -91,7 +91,7 @@ def run_item(ctx, name: str) -> ItemRun:
     ctx.timings[name] = run.seconds
     from .common import trim_heap
 
-    trim_heap()  # (measured: the process kept +0.1 GB after Fig. 8 without it)
+    trim_heap()  # (measured: 36 MB less kept after Fig. 8, 345 against 381 MB)
     return run
 
 
@@ -135,7 +135,8 @@ LANES = (("fig5", "fig7"), ("fig3", "fig2", "fig4", "fig6", "fig8", "table2", "v
 The calling process runs the second lane's first item, then forks a worker for the first
 lane and goes on with the rest of the second.  Fig. 3 goes first because it loads what
 every item uses (the discrete and continuum kernels, py-pde, matplotlib): forked after
-it, the worker shares those pages instead of loading its own copies (~0.15 GB).
+it, the worker shares those pages instead of loading its own copies (measured: 0.08 GB
+less PSS over both processes than forking before any item, 0.56 against 0.64 GB).
 Balanced by the items' CPU time in ``--quick`` (measured warm, AMD EPYC Zen 4, issue 13):
 fig5 22 s + fig7 12 s = 34 s in the worker against fig2 16 + fig4 0.8 + fig6 5.1 + fig8
 3.2 + table2 0.6 + validity 3.5 = 29 s after fig3's 3.4 s.  Items that share files stay
@@ -151,13 +152,14 @@ QUICK_WORKERS = 1
 this process may use).  Either count computes every simulation with the same code on one
 kernel thread: the numbers are the same, bit for bit.
 
-One, because two did not pay on the shared 2-core development machine (issue 13, AMD
-EPYC Zen 4, 2026-11-27, warm, fresh ``--out``, runs alternated 1-2-2-1 under load
-3.7-5.4 from other jobs): one worker 131 and 146 s wall, 68 s CPU, peak 0.50 GB RSS /
-0.40-0.43 GB PSS; two workers 170 and 172 s wall, 72 s CPU, 0.55-0.58 GB PSS for the
-two processes (0.56 GB the larger RSS).  On an idle machine two should approach the
-lanes' CPU critical path, ~41 s against 68 s (fig3 4 s, then 34 s in the worker
-against 37 s here, measured under that load), at +0.15-0.18 GB."""
+One, because two did not pay measurably on the shared 2-core development machine (issue
+13, AMD EPYC Zen 4, 2026-11-27 10:20-10:50 UTC, warm, fresh ``--out``, three series of
+runs alternated 1-2-2-1 under load 2.7-5.4 from other jobs): one worker 84-146 s wall
+(median 111 s), 63-68 s CPU, largest RSS 0.49-0.51 GB; two workers 78-172 s (median
+103 s), 64-72 s CPU, 0.55-0.58 GB PSS over both processes (largest RSS 0.52-0.57 GB),
+the load deciding more than the count.  On an idle machine two should approach the
+lanes' CPU critical path, ~41 s against 68 s (fig3 4 s, then 34 s in the worker against
+37 s here), at +0.13-0.18 GB: above issue 13's 0.40 GB, hence not the default."""
 
 _JOIN_GRACE = 10.0
 """Seconds the calling process waits, after a SIGINT/SIGTERM, for the worker to stop by
@@ -302,8 +304,6 @@ def _cores() -> int:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux
         return os.cpu_count() or 1
-
-
 
 
 def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-reproduce",
