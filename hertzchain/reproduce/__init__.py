@@ -15,6 +15,11 @@ saving the PNGs, ``report(rep, result, figures)`` adding its section to the repo
 * :mod:`.table2` — Table 2 (discrete, linear theory, continuum);
 * :mod:`.common` — context, cached runs, figures; :mod:`.report` — the report.
 
+With ``workers=2`` (``--workers 2``) the items run in two processes (:data:`LANES`):
+Figs. 5 and 7 in a worker forked after Fig. 3, the others in the calling process, which
+then writes the report; every number, file and count is that of one process, bit for
+bit (the default is one process, :data:`QUICK_WORKERS`).
+
 Examples
 --------
 >>> from hertzchain.reproduce import reproduce
@@ -25,13 +30,18 @@ Examples
 
 from __future__ import annotations
 
+import gc
 import importlib
+import os
+import signal
+import sys
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["ITEMS", "ItemRun", "run_item", "reproduce", "check_items", "kernel_threads"]
+__all__ = ["ITEMS", "LANES", "ItemRun", "run_item", "reproduce", "check_items",
+           "kernel_threads", "lanes"]
 
 ITEMS = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "table2", "validity")
 """Items in report order."""
@@ -52,6 +62,10 @@ class ItemRun:
     figures: list = field(default_factory=list)
     numbers: dict = field(default_factory=dict)
     seconds: float = 0.0
+    computed: list = field(default_factory=list)
+    """Files this item computed (its share of ``Context.computed``)."""
+    reused: list = field(default_factory=list)
+    """Files this item reused (its share of ``Context.reused``)."""
 
 
 def check_items(items) -> list[str]:
@@ -69,10 +83,15 @@ def run_item(ctx, name: str) -> ItemRun:
     mod_name, kwargs = _MODULES[name]
     mod = importlib.import_module(f"{__name__}.{mod_name}")
     start = time.perf_counter()
+    c0, r0 = len(ctx.computed), len(ctx.reused)
     result = mod.run(ctx, **kwargs)
     figs = mod.figures(ctx, result) if hasattr(mod, "figures") else []
-    run = ItemRun(name, mod, result, figs, mod.to_json(result), time.perf_counter() - start)
+    run = ItemRun(name, mod, result, figs, mod.to_json(result), time.perf_counter() - start,
+                  list(ctx.computed[c0:]), list(ctx.reused[r0:]))
     ctx.timings[name] = run.seconds
+    from .common import trim_heap
+
+    trim_heap()  # (measured: 36 MB less kept after Fig. 8, 345 against 381 MB)
     return run
 
 
@@ -110,10 +129,187 @@ def kernel_threads(threads: int | None):
         numba.set_num_threads(before)
 
 
+LANES = (("fig5", "fig7"), ("fig3", "fig2", "fig4", "fig6", "fig8", "table2", "validity"))
+"""The two lanes of a parallel reproduction (``workers=2``), each run in its order.
+
+The calling process runs the second lane's first item, then forks a worker for the first
+lane and goes on with the rest of the second.  Fig. 3 goes first because it loads what
+every item uses (the discrete and continuum kernels, py-pde, matplotlib): forked after
+it, the worker shares those pages instead of loading its own copies (measured: 0.08 GB
+less PSS over both processes than forking before any item, 0.56 against 0.64 GB).
+Balanced by the items' CPU time in ``--quick`` (measured warm, AMD EPYC Zen 4, issue 13):
+fig5 22 s + fig7 12 s = 34 s in the worker against fig2 16 + fig4 0.8 + fig6 5.1 + fig8
+3.2 + table2 0.6 + validity 3.5 = 29 s after fig3's 3.4 s.  Items that share files stay
+in one lane, in report order: Table 2 reuses Fig. 8's point files (in two lanes both
+would compute them, and Table 2 would count them as computed rather than reused).  The
+lanes share only the cache of settled waves (``Context.cache``, written atomically):
+Fig. 5 settles the δ0/d = 1e-3 wave first in its lane, ~15 s before Fig. 6 needs it in
+the other; had both settled it at once, they would have computed the same wave, bit for
+bit."""
+
+QUICK_WORKERS = 1
+"""Worker processes of ``--quick`` (:func:`reproduce`'s default there; capped at the cores
+this process may use).  Either count computes every simulation with the same code on one
+kernel thread: the numbers are the same, bit for bit.
+
+One, because two did not pay measurably on the shared 2-core development machine (issue
+13, AMD EPYC Zen 4, 2026-11-27 10:20-10:50 UTC, warm, fresh ``--out``, three series of
+runs alternated 1-2-2-1 under load 2.7-5.4 from other jobs): one worker 84-146 s wall
+(median 111 s), 63-68 s CPU, largest RSS 0.49-0.51 GB; two workers 78-172 s (median
+103 s), 64-72 s CPU, 0.55-0.58 GB PSS over both processes (largest RSS 0.52-0.57 GB),
+the load deciding more than the count.  On an idle machine two should approach the
+lanes' CPU critical path, ~41 s against 68 s (fig3 4 s, then 34 s in the worker against
+37 s here), at +0.13-0.18 GB: above issue 13's 0.40 GB, hence not the default."""
+
+_JOIN_GRACE = 10.0
+"""Seconds the calling process waits, after a SIGINT/SIGTERM, for the worker to stop by
+itself (a terminal's Ctrl-C reaches both) before passing the signal on."""
+
+
+def lanes(names, workers: int) -> list[list[str]]:
+    """The items ``names`` (report order) split into :data:`LANES`, empty lanes dropped.
+
+    One lane (all of ``names``) if ``workers`` is 1 or only one lane has items.
+    """
+    if workers == 1:
+        return [list(names)]
+    out = [[n for n in lane if n in names] for lane in LANES]
+    out[1] += [n for n in names if n not in LANES[0] + LANES[1]]
+    return [lane for lane in out if lane]
+
+
+def _run_lane(ctx, names, order: dict, start: float, threads) -> list[ItemRun]:
+    runs = []
+    with kernel_threads(threads):
+        for name in names:  # "item k of n" before each item's messages
+            ctx.log(f"[{order[name]}/{len(order)}] {name} ({time.perf_counter() - start:.0f} "
+                    "s elapsed)")
+            runs.append(run_item(ctx, name))
+    return runs
+
+
+def _die_with_parent() -> None:
+    """Ask Linux to send this (worker) process SIGTERM when its parent dies (best effort)."""
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
+def _lane_worker(conn, ctx, names, order, start, threads) -> None:
+    """Body of the worker process: run a lane, send its runs (modules dropped) back."""
+    import pickle
+
+    from ..checkpoint import Interrupted
+
+    _die_with_parent()
+    try:
+        runs = _run_lane(ctx, names, order, start, threads)
+        payload = ("ok", [(r.name, r.result, r.figures, r.numbers, r.seconds, r.computed,
+                           r.reused) for r in runs], ctx.notes)
+    except Interrupted as exc:
+        note = str(exc).split("; ", 1)[1] if "; " in str(exc) else None
+        payload = ("interrupted", exc.signum, exc.checkpoint, exc.t, exc.steps, note)
+    except BaseException as exc:  # noqa: BLE001 (re-raised in the calling process)
+        import traceback
+
+        try:
+            pickle.dumps(exc)
+        except Exception:  # noqa: BLE001
+            exc = RuntimeError(f"reproduce worker failed: {exc!r}")
+        payload = ("error", exc, traceback.format_exc())
+    try:
+        conn.send(payload)
+    except (OSError, EOFError):  # the calling process is gone
+        pass
+    finally:
+        conn.close()
+
+
+def _stop_worker(proc, exc: BaseException) -> None:
+    """After ``exc`` in the calling process: let the worker stop (checkpoint), then reap it."""
+    from ..checkpoint import Interrupted
+
+    proc.join(_JOIN_GRACE)  # a terminal's Ctrl-C (process group) reached it too
+    if proc.is_alive():
+        sig = (exc.signum if isinstance(exc, Interrupted) else
+               signal.SIGINT if isinstance(exc, KeyboardInterrupt) else signal.SIGTERM)
+        try:
+            os.kill(proc.pid, sig)
+        except ProcessLookupError:
+            pass
+        proc.join(60.0)
+    if proc.is_alive():
+        proc.kill()
+        proc.join()
+
+
+def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
+    """Run the lanes ``parts`` (:func:`lanes`); the runs in report order.
+
+    ``parts[1][0]`` here if it is the second lane's first item (Fig. 3, :data:`LANES`),
+    then ``parts[0]`` in a forked worker and the rest of ``parts[1]`` here.
+    """
+    import multiprocessing as mp
+
+    from ..checkpoint import Interrupted
+
+    k = 1 if parts[1][0] == LANES[1][0] else 0  # (fig3 first: it loads the kernels)
+    first = _run_lane(ctx, parts[1][:k], order, start, threads)
+    fork = mp.get_context("fork")
+    recv, send = fork.Pipe(duplex=False)
+    proc = fork.Process(target=_lane_worker, name="hertzchain-reproduce-lane",
+                        args=(send, ctx, parts[0], order, start, threads))
+    for stream in (sys.stdout, sys.stderr):  # (else the worker would write their buffers too)
+        stream.flush()
+    gc.freeze()  # the worker's collector leaves the inherited objects (and their pages) alone
+    try:
+        proc.start()
+    finally:
+        gc.unfreeze()
+    send.close()
+    try:
+        mine = first + _run_lane(ctx, parts[1][k:], order, start, threads)
+        try:
+            payload = recv.recv()
+        except EOFError:
+            payload = ("error", RuntimeError(
+                f"the reproduce worker (items {', '.join(parts[0])}) died "
+                f"(exit code {proc.exitcode})"), "")
+    except BaseException as exc:
+        _stop_worker(proc, exc)
+        raise
+    finally:
+        recv.close()
+    proc.join()
+    if payload[0] == "interrupted":
+        raise Interrupted(*payload[1:5], note=payload[5])
+    if payload[0] == "error":
+        raise payload[1]
+    theirs = [ItemRun(name, importlib.import_module(f"{__name__}.{_MODULES[name][0]}"),
+                      *rest) for name, *rest in payload[1]]
+    ctx.notes.update(payload[2])
+    runs = sorted(mine + theirs, key=lambda r: order[r.name])
+    ctx.computed[:] = [p for r in runs for p in r.computed]
+    ctx.reused[:] = [p for r in runs for p in r.reused]
+    ctx.timings.clear()
+    ctx.timings.update({r.name: r.seconds for r in runs})
+    return runs
+
+
+def _cores() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
 def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-reproduce",
               force: bool = False, progress: bool = True, report: bool = True,
               checkpoint_interval: float | None = 300.0,
-              threads: int | None = None) -> dict:
+              threads: int | None = None, workers: int | None = None) -> dict:
     """Reproduce the given items and write the report.
 
     Parameters
@@ -138,6 +334,12 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
         Kernel threads of the discrete runs (:func:`kernel_threads`; the results are
         the same, bit for bit, for every count).  Default: :data:`QUICK_THREADS` in
         ``"quick"`` mode, numba's own count in ``"full"`` (Fig. 5's 50,000 grains).
+    workers : {1, 2}, optional
+        Processes: 2 runs the items in the two :data:`LANES`, one in a forked worker
+        (POSIX only), each on ``threads`` kernel threads; the numbers, files and counts
+        are those of one process, bit for bit; 2 needs ``threads`` 1 (``--quick``'s
+        default).  Default: :data:`QUICK_WORKERS` (at most the usable cores) in
+        ``"quick"`` mode, 1 in ``"full"`` (its kernels are threaded).
 
     Returns
     -------
@@ -148,22 +350,37 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     Raises
     ------
     hertzchain.checkpoint.Interrupted
-        SIGINT/SIGTERM during a simulation, after writing its checkpoint.
+        SIGINT/SIGTERM during a simulation, after writing its checkpoint (with two
+        workers: once both have stopped, each after writing its checkpoint).
+    ValueError
+        ``workers`` not 1 or 2.
     """
     from .common import Context
 
     names = check_items(items)
-    ctx = Context(Path(out), mode=mode, force=force, progress=progress,
-                  checkpoint_interval=checkpoint_interval)
+    if workers is None:
+        workers = (min(QUICK_WORKERS, _cores()) if mode == "quick" and threads in (None, 1)
+                   else 1)
+    if workers not in (1, 2) or isinstance(workers, bool):
+        raise ValueError(f"workers must be 1 or 2 (got {workers!r})")
     if threads is None and mode == "quick":
         threads = QUICK_THREADS
+    if workers == 2 and threads != 1:
+        raise ValueError(f"workers=2 runs each lane on one kernel thread (threads=1; got "
+                         f"threads={threads!r}): a forked process must not start the "
+                         "threaded kernel after its parent has (GNU OpenMP)")
+    if workers == 2 and not hasattr(os, "fork"):
+        workers = 1
+    ctx = Context(Path(out), mode=mode, force=force, progress=progress,
+                  checkpoint_interval=checkpoint_interval)
     start = time.perf_counter()
-    runs = []
-    with kernel_threads(threads):
-        for k, name in enumerate(names, 1):  # "item k of n" before each item's messages
-            ctx.log(f"[{k}/{len(names)}] {name} ({time.perf_counter() - start:.0f} s "
-                    "elapsed)")
-            runs.append(run_item(ctx, name))
+    order = {name: k for k, name in enumerate(names, 1)}
+    parts = lanes(names, workers)
+    if len(parts) == 1:
+        runs = sorted(_run_lane(ctx, parts[0], order, start, threads),
+                      key=lambda r: order[r.name])
+    else:
+        runs = _run_parallel(ctx, parts, order, start, threads)
     wall = time.perf_counter() - start
     paths = ()
     if report:

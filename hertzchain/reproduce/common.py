@@ -45,7 +45,7 @@ __all__ = ["MODES", "Context", "run_models", "run_scenario_cached", "read_summar
            "replace_by_reduced",
            "paper_scenario", "ContinuumProfile", "continuum_profile", "plot_continuum",
            "continuum_sentence", "DIFF_SHOWN", "new_figure", "save_figure", "log_ticks",
-           "tqdm_iter", "DIAMETER", "V0", "MATERIAL", "json_float"]
+           "tqdm_iter", "DIAMETER", "V0", "MATERIAL", "json_float", "trim_heap"]
 
 MODES = ("quick", "full")
 MATERIAL = theory.PAPER_MATERIAL
@@ -428,3 +428,18 @@ def json_float(x: Any) -> Any:
         return None
     x = float(x)
     return x if np.isfinite(x) else None
+
+
+def trim_heap() -> None:
+    """Give the C heap's free pages back to the system (glibc ``malloc_trim``; else no-op).
+
+    Arrays below glibc's mmap threshold (a recorded energy-grid row: 8 kB) live in the
+    heap; freed, they leave holes that ``free`` does not return, so a process would carry
+    an item's largest temporaries into every later item.  Costs milliseconds.
+    """
+    try:
+        import ctypes
+
+        ctypes.CDLL(None).malloc_trim(0)
+    except (OSError, AttributeError):
+        pass

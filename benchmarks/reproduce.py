@@ -1,0 +1,108 @@
+"""Wall time, CPU time and memory of ``hertzchain reproduce --quick``, one and two workers.
+
+What is measured: the command itself (``python -m hertzchain reproduce --quick --json
+--out <fresh dir> --workers W``), warm (numba's kernel cache filled by a first run,
+which is not timed), into a fresh output directory each time, so every simulation is
+computed.  Rounds alternate ``--workers 1`` and ``--workers 2`` (ABBA…) so that the
+machine's load drifts equally over both; the ratio of the median walls is printed.
+Memory is sampled every 0.1 s over the whole process tree (the command and its forked
+worker): the sum of RSS (counts pages the two processes share twice), of PSS (shared
+pages split between the processes: the physical memory the tree uses) and of USS, and
+the largest single RSS (what ``/usr/bin/time -v`` reports).  Every run's ``--json``
+output must be byte-identical to the first one's (else the script fails).
+
+The machine is shared: the CPU model and the load average before and after are printed;
+compare only ratios within one run.
+
+Usage::
+
+    python benchmarks/reproduce.py                 # 2 rounds (1, 2, 2, 1)
+    python benchmarks/reproduce.py --rounds 1 --skip-warmup
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import psutil
+
+
+def _cpu() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown CPU"
+
+
+def run_once(out: Path, workers: int) -> dict:
+    """One ``reproduce --quick`` into ``out``: wall, CPU (s), memory peaks (bytes), JSON."""
+    cmd = [sys.executable, "-m", "hertzchain", "reproduce", "--quick", "--json", "--out",
+           str(out), "--workers", str(workers)]
+    before = os.times()
+    t0 = time.perf_counter()
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    top = psutil.Process(p.pid)
+    peak = {"rss_sum": 0, "pss_sum": 0, "uss_sum": 0, "rss_max1": 0}
+    while p.poll() is None:
+        try:
+            mem = [q.memory_full_info() for q in [top, *top.children(recursive=True)]]
+        except psutil.Error:
+            continue
+        peak["rss_sum"] = max(peak["rss_sum"], sum(m.rss for m in mem))
+        peak["pss_sum"] = max(peak["pss_sum"], sum(m.pss for m in mem))
+        peak["uss_sum"] = max(peak["uss_sum"], sum(m.uss for m in mem))
+        peak["rss_max1"] = max(peak["rss_max1"], max(m.rss for m in mem))
+        time.sleep(0.1)
+    stdout = p.communicate()[0]
+    wall = time.perf_counter() - t0
+    after = os.times()
+    if p.returncode:
+        raise SystemExit(f"reproduce failed (exit {p.returncode}): {' '.join(cmd)}")
+    cpu = (after.children_user + after.children_system
+           - before.children_user - before.children_system)
+    return {"workers": workers, "wall": wall, "cpu": cpu, **peak, "json": stdout}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--rounds", type=int, default=2, help="ABBA rounds (default 2)")
+    ap.add_argument("--skip-warmup", action="store_true",
+                    help="do not run once first to fill numba's kernel cache")
+    args = ap.parse_args(argv)
+    print(f"CPU: {_cpu()}, {psutil.cpu_count()} logical cores; load average before "
+          f"{os.getloadavg()[0]:.1f}")
+    rows = []
+    with tempfile.TemporaryDirectory(prefix="bench-reproduce-") as tmp:
+        if not args.skip_warmup:
+            run_once(Path(tmp) / "warmup", 1)
+        order = [w for r in range(args.rounds) for w in ((1, 2) if r % 2 == 0 else (2, 1))]
+        for k, w in enumerate(order):
+            rows.append(run_once(Path(tmp) / f"run{k}", w))
+            r = rows[-1]
+            print(f"  workers={w}: wall {r['wall']:6.1f} s  CPU {r['cpu']:6.1f} s  "
+                  f"peak MB: PSS sum {r['pss_sum'] / 1e6:4.0f}, USS sum "
+                  f"{r['uss_sum'] / 1e6:4.0f}, RSS sum {r['rss_sum'] / 1e6:4.0f}, "
+                  f"largest RSS {r['rss_max1'] / 1e6:4.0f}  (load {os.getloadavg()[0]:.1f})",
+                  flush=True)
+    if any(r["json"] != rows[0]["json"] for r in rows):
+        raise SystemExit("FAIL: the --json output differs between runs")
+    print("--json output byte-identical in every run")
+    med = {w: statistics.median(r["wall"] for r in rows if r["workers"] == w) for w in (1, 2)}
+    print(f"median wall: workers=1 {med[1]:.1f} s, workers=2 {med[2]:.1f} s; "
+          f"ratio {med[1] / med[2]:.2f}x; load average after {os.getloadavg()[0]:.1f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
