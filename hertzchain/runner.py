@@ -201,6 +201,37 @@ def _wave_speed_estimate(chain: discrete.Chain, v: np.ndarray) -> float:
     return float(theory.nesterenko_speed(cm, chain.delta0[jc] / d, xi))
 
 
+RUN_LENGTH_MARGIN = 1.5
+"""Safety factor on the time an ``until_front_at`` run is estimated to take.
+
+The estimate is the distance from the initial velocity peak to the target grain over
+:func:`_wave_speed_estimate`, which takes the initial peak velocity as the wave's: an
+impact's solitary wave carries ~0.68 v0 (Eq. 8: speed ∝ v^{1/5}, 8 % slower than
+estimated) and needs a few tens of grains to form.  Measured (benchmarks/rtol.py,
+impact, until 0.75 N): the run lasts 1.07-1.10 times the bare estimate at 2,000 and
+5,000 grains, so 1.5 over-estimates it, the safe side for both uses (grid
+coarsening, the rtol probe's drift scaled to the run's length)."""
+
+
+def _run_length_estimate(scenario: Scenario, chain: discrete.Chain, v: np.ndarray,
+                         speed: float) -> float:
+    """The run's expected length, s: ``t_end``, or the time to ``until_front_at``.
+
+    ``until_front_at`` on a chain of one section: :data:`RUN_LENGTH_MARGIN` × (distance
+    from the initial velocity peak to the target grain, m) / ``speed`` (m/s, the
+    incident wave's, :func:`_wave_speed_estimate`), at most ``t_end``.  A chain with an
+    interface keeps the bound 3 N d / speed (the wave's speed changes at the interface
+    by a factor the estimate does not know); so does a run with neither.
+    """
+    run = scenario.run
+    d = float(np.mean(chain.diameter))
+    t = 3.0 * chain.n * d / speed
+    if run.until_front_at is not None and not interfaces(chain):
+        j = int(np.argmax(np.abs(v)))
+        t = RUN_LENGTH_MARGIN * (abs(run.until_front_at - j) + 1) * d / speed
+    return min(t, run.t_end) if run.t_end is not None else t
+
+
 MAX_OVERLAP_OVER_D = 0.1
 """Largest expected contact overlap / d an initial state may reach (Hertz small strain;
 the same bound as ``[chain] delta0_over_d``)."""
@@ -368,6 +399,8 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
     law, drag = build_law(scenario.chain)
+    speed = _wave_speed_estimate(init.chain, init.v)
+    horizon = _run_length_estimate(scenario, init.chain, init.v, speed)
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             # k/m may overflow (alpha_rho = 1e-300): dt = 0, refused below by name
@@ -375,7 +408,7 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
                 init.chain, init.u, init.v, init.wall_left, init.wall_right, dt=run.dt,
                 integrator=None if run.integrator == "auto" else run.integrator, law=law,
                 drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol,
-                horizon=run.t_end, recording=discrete.Recording(
+                horizon=horizon, recording=discrete.Recording(
                     maxima=True, strain_maxima=rec.strain_maxima))
     except ValueError as exc:  # e.g. v0 = 1e-300: the expected overlaps underflow to 0
         amp = {"impact": "v0", "cut_wave": "v0"}.get(scenario.initial.kind, "velocity_max")
@@ -391,7 +424,6 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
             f"frequency sqrt(k/m) overflows a double, so the time step is {dt!r} s; "
             "allowed: ratios (and diameter, material) for which every contact's k/m is a "
             "finite double")
-    speed = _wave_speed_estimate(init.chain, init.v)
     d = float(np.mean(init.chain.diameter))
     every = rec.energy_every or None
     coarsen = 1
@@ -402,8 +434,7 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     if every:
         # (never beyond max_steps: t_end = 1e300 with max_steps = 10 is refused by
         # check_stop, not by a coarsening factor overflowing int64)
-        t_est = min(scenario.run.t_end or 3.0 * init.chain.n * d / speed,
-                    scenario.run.max_steps * dt)
+        t_est = min(horizon, scenario.run.max_steps * dt)
         rows = t_est / (every * dt)
         while rows * init.chain.n / coarsen > _MAX_GRID and coarsen < init.chain.n:
             coarsen *= 2

@@ -186,3 +186,35 @@ def test_rtol_run_records_fewer_grid_rows_and_meets_rtol_in_the_front_speed():
     two = sim.recording.energy_every * sim.dt
     # the default spacing (same wave speed), rounded down to whole steps of the rtol run
     assert rows["default"] - sim.dt < two <= rows["default"] * 1.01
+
+
+def test_run_length_estimate_bounds_an_until_front_at_run_tightly():
+    # The run's length the grid's coarsening and the rtol probe's drift use: for
+    # until_front_at on one section, the distance to the target over the wave-speed
+    # estimate, times RUN_LENGTH_MARGIN (1.5).  It must bound the run (measured: the run
+    # lasts 1.064 bare estimates at 600, 2,000 and 5,000 grains) and not overestimate it
+    # ~4x as the former 3 N d / speed did (which coarsened long chains' grids 8x).
+    import discrete
+    from hertzchain import runner
+
+    for n, extra in ((600, {}), (600, {"t_end": 1e-4})):
+        sc = parse_scenario({"chain": {"sections": [{"n": n}]},
+                             "initial": {"kind": "impact", "v0": 1.0},
+                             "run": {"until_front_at": 450, **extra}})
+        chain, init, sim = runner.build_simulation(sc)
+        speed = runner._wave_speed_estimate(init.chain, init.v)
+        est = runner._run_length_estimate(sc, init.chain, init.v, speed)
+        sim.run(until=discrete.WaveAt(450), t_end=extra.get("t_end"), progress=False)
+        if extra:
+            assert est == 1e-4  # t_end bounds it
+        else:
+            assert sim.t <= est <= 1.5 * sim.t, (sim.t, est)
+    # an interface: the speed changes there, the bound 3 N d / speed stays
+    sc = parse_scenario({"chain": {"sections": [{"n": 300}, {"n": 300, "alpha_kn": 0.3}]},
+                         "initial": {"kind": "impact", "v0": 1.0},
+                         "run": {"until_front_at": 450}})
+    chain, init, _ = runner.build_simulation(sc)
+    speed = runner._wave_speed_estimate(init.chain, init.v)
+    d = float(np.mean(init.chain.diameter))
+    assert runner._run_length_estimate(sc, init.chain, init.v, speed) == pytest.approx(
+        3.0 * init.chain.n * d / speed)
