@@ -396,6 +396,27 @@ class ProbeResult:
         q = math.log(hi / lo) / math.log(hs[k - 1] / hs[k])
         return min(hs[k - 1], hs[k] * (target / lo) ** (1.0 / q))
 
+    def drift_at(self, h: float, horizon: float | None = None) -> float:
+        """The drift expected at step h over a run of length ``horizon`` (relative).
+
+        The power law through the neighbouring probe steps' extrapolated drifts
+        (:meth:`drifts_at`), below the finest ∝ h² (as :meth:`step_for_drift` reads
+        them); inf above h_0, 0 without drifts.
+        """
+        if not self.drifts:
+            return 0.0
+        ds = self.drifts_at(horizon)
+        hs = self.h[:len(ds)]
+        if h > hs[0] * (1 + 1e-12):
+            return math.inf
+        if h <= hs[-1]:
+            return ds[-1] * (h / hs[-1]) ** 2
+        k = next(i for i in range(1, len(hs)) if h >= hs[i])
+        lo, hi = ds[k], ds[k - 1]
+        if lo <= 0 or hi <= lo:
+            return max(lo, hi)
+        return lo * (h / hs[k]) ** (math.log(hi / lo) / math.log(hs[k - 1] / hs[k]))
+
     def step_for_drift(self, cap: float, horizon: float | None = None) -> float:
         """The largest step the probe's energy drifts allow: drift <= ``cap``, s.
 
@@ -631,7 +652,7 @@ class TimeStep:
                check: bool = True, rtol: float | None = None,
                horizon: float | None = None,
                recording: Recording | None = None,
-               drift_tolerance: float = 1e-4) -> TimeStep:
+               drift_tolerance: float = 1e-4, energy_ratios: bool = False) -> TimeStep:
         """Choose the step for ``chain`` in the state (u, v, walls).
 
         Parameters
@@ -669,6 +690,13 @@ class TimeStep:
             ``rtol`` the step also keeps the probe's measured drift, extrapolated to the
             run's length (``horizon``, :meth:`ProbeResult.drifts_at`), within
             :data:`RTOL_SAFETY` of it (:meth:`ProbeResult.step_for_drift`).
+        energy_ratios : bool
+            With ``rtol``: the run reports energy ratios (energies over the initial
+            energy, Table 2).  Their error is the energy error: an absolute one, in
+            units of the initial energy, that rtol then bounds too — the drift is kept
+            within :data:`RTOL_SAFETY` of min(``drift_tolerance``, rtol), and the
+            error estimate is the larger of the maxima's and the drift's
+            (:meth:`ProbeResult.drift_at` / :data:`RTOL_SAFETY`, at most rtol).
 
         Raises
         ------
@@ -686,7 +714,8 @@ class TimeStep:
                 return cls._choose_rtol(chain, u, v, wall_left, wall_right, rtol=rtol,
                                         integrator=integrator, law=law, drag=drag,
                                         horizon=horizon, check=check, recording=recording,
-                                        drift_tolerance=drift_tolerance)
+                                        drift_tolerance=drift_tolerance,
+                                        energy_ratios=energy_ratios)
         if integrator is None:
             if rtol is None:
                 raise ValueError("integrator=None (choose the method) needs rtol")
@@ -718,7 +747,8 @@ class TimeStep:
     @classmethod
     def _choose_rtol(cls, chain, u, v, wall_left, wall_right, *, rtol, integrator, law,
                      drag, horizon, check, recording=None,
-                     drift_tolerance: float = 1e-4) -> TimeStep:
+                     drift_tolerance: float = 1e-4, energy_ratios: bool = False
+                     ) -> TimeStep:
         """The step (and method) meeting ``rtol`` from :func:`probe_error` (module docstring)."""
         names = RTOL_CANDIDATES if integrator is None else (get_integrator(integrator).name,)
         if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
@@ -739,10 +769,13 @@ class TimeStep:
             h = min(pr.step_for(target), 0.5 * base.stable)
             # the run must also pass its energy monitor: the probe's drift, extrapolated
             # to the run's length at the rate measured over the probe's second half
-            h = min(h, pr.step_for_drift(RTOL_SAFETY * drift_tolerance, horizon))
+            cap = min(drift_tolerance, rtol) if energy_ratios else drift_tolerance
+            h = min(h, pr.step_for_drift(RTOL_SAFETY * cap, horizon))
             # the step meets the target by construction; recomputing the estimate there
             # can return rtol (1 + 2e-16), a promise (estimate <= rtol) broken by round-off
             est = min(rtol, pr.error_at(h) / RTOL_SAFETY)
+            if energy_ratios:  # the energy ratios' absolute error: the run's drift
+                est = max(est, min(rtol, pr.drift_at(h, horizon) / RTOL_SAFETY))
             cost = method.stages / h
             if best is None or cost < best[0]:
                 best = (cost, method, h, est, pr, base)

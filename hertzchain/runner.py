@@ -17,7 +17,10 @@ Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, `
 ``energy_drift``, ``n_grains`` and ``wall_time`` are always finite; ``integrator``,
 ``dt_source`` (``"default"``, ``"explicit"`` or ``"rtol"``), ``rtol`` (None unless
 given) and ``rtol_estimate`` (the estimated relative error of an rtol run, NaN
-otherwise; :mod:`discrete.timestep`) say how the step was chosen; the six energy
+otherwise; :mod:`discrete.timestep`; for the total-energy ratios ``Et_*`` of a chain
+with an interface an absolute error in units of the incident energy, which does not
+cover the kinetic/potential split ``Ek_*``, ``Ep_*``: docs/guide/accuracy_and_speed.md)
+say how the step was chosen; the six energy
 ratios are finite exactly when ``separated`` is True (False: the waves did not leave
 the interface region on the recorded grid, the incident wave was already at the
 interface at t = 0, or the chain has one section); the front speeds are NaN when fewer
@@ -413,7 +416,8 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
                 integrator=None if run.integrator == "auto" else run.integrator, law=law,
                 drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol,
                 horizon=horizon, recording=discrete.Recording(
-                    maxima=True, strain_maxima=rec.strain_maxima))
+                    maxima=True, strain_maxima=rec.strain_maxima),
+                energy_ratios=bool(interfaces(init.chain)))  # (the summary's, Table 2)
     except ValueError as exc:  # e.g. v0 = 1e-300: the expected overlaps underflow to 0
         amp = {"impact": "v0", "cut_wave": "v0"}.get(scenario.initial.kind, "velocity_max")
         raise ScenarioError(

@@ -208,6 +208,21 @@ def test_drifts_at_extrapolates_the_late_growth():
     assert base.step_for_drift(2e-3, 10.0) == base.step_for_drift(2e-3)  # no late drifts
 
 
+def test_drift_at_reads_the_drifts_as_step_for_drift():
+    """drift_at is the inverse of step_for_drift: the drift at the step it returns is
+    the cap; inf above h_0, h² below the finest, 0 without drifts."""
+    e, p_obs, p, clean = error_bounds([4e-4, 1e-4], 2)
+    pr = ProbeResult("verlet", (4.0, 2.0, 1.0), e, (4e-4, 1e-4), p_obs, p, clean, 1.0, 1, 1,
+                     True, (8e-4, 5e-5, 1e-5), (2e-4, 1e-5, 2e-6))
+    for horizon in (None, 10.0):
+        for cap in (7e-4, 3e-4, 1e-4, 6e-5, 2e-5, 1e-6):
+            h = pr.step_for_drift(cap, horizon)
+            assert pr.drift_at(h, horizon) == pytest.approx(cap), (cap, horizon)
+    assert pr.drift_at(8.0) == math.inf
+    assert pr.drift_at(0.5) == pytest.approx(1e-5 / 4)
+    assert dataclasses.replace(pr, drifts=()).drift_at(1.0) == 0.0
+
+
 def test_probe_late_drift_is_measured():
     """Each probe run measures its drift in two halves: the total bounds the drift over
     the probe, the late part is a part of it."""
