@@ -70,7 +70,9 @@ GRID_ROWS_PER_GRAIN = 0.5
 """Energy space-time grid: one row per this many grain transits of the incident wave."""
 
 GRID_ROWS_PER_GRAIN_RTOL = 1.0
-"""The same in a run whose step is chosen for ``rtol`` on a chain of one section.
+"""The same in a run whose step is chosen for ``rtol`` on a chain of one section
+without running maxima (with them, such a run records no grid: its front speed comes
+from the refined peak times, :func:`_front_speed_from_maxima`).
 
 There the summary reads only the transmitted front speed from the grid (arrival times
 refined by a parabola through three rows, a straight-line fit over the grains), and
@@ -435,7 +437,12 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     d = float(np.mean(init.chain.diameter))
     every = rec.energy_every or None
     coarsen = 1
-    if energy_grid and rec.energy_grid and every is None:
+    # an rtol run of one section with running maxima keeps them refined between the steps
+    # (Simulation: rtol, forces of positions only): their peak times give the front
+    # speed, the one number its summary read from the grid (_front_speed_from_maxima)
+    maxima_front = (step.source == "rtol" and rec.running_max and not interfaces(init.chain)
+                    and not (law.dissipative or drag > 0))
+    if energy_grid and rec.energy_grid and every is None and not maxima_front:
         per = GRID_ROWS_PER_GRAIN_RTOL if step.source == "rtol" and not interfaces(
             init.chain) else GRID_ROWS_PER_GRAIN
         every = max(1, int(per * d / (speed * dt)))
@@ -562,6 +569,30 @@ def _front_speed(t, energy, grains: range, i_start: int, d: float, *, skip: int 
     return abs(slope) * d
 
 
+def _front_speed_from_maxima(vmax, vmax_time, v, d: float, *, skip: int = 10) -> float:
+    """Front speed (m/s) from the times of every grain's refined velocity peak.
+
+    The same estimator as :func:`_front_speed` on the kinetic-energy grid (a grain's
+    kinetic energy peaks when its speed does), with the peak times the kernel found
+    between the steps (``record.vmax_time``: cubic Hermite, O(h⁴); the grid's are a
+    parabola through rows half a transit apart): a straight-line fit
+    (:func:`discrete.diagnostics.fit_speed`) of grain index against peak time over the
+    grains from ``skip`` on whose peak has passed (v below half of it, as the rtol probe
+    counts a maximum, ``discrete.timestep``) and is above 0.2 of the largest, times the
+    grain diameter ``d`` (m).  NaN if fewer than 5 grains qualify.
+    """
+    vmax, tpk, v = (np.asarray(a, dtype=float) for a in (vmax, vmax_time, v))
+    done = (v < 0.5 * vmax) & np.isfinite(tpk) & (vmax > 0)
+    if not done.any():
+        return math.nan
+    ok = done & (vmax > 0.2 * vmax[done].max())
+    ok[:skip] = False
+    cols = np.flatnonzero(ok)
+    if cols.size < 5:
+        return math.nan
+    return abs(D.fit_speed(cols, tpk[cols]).speed) * d
+
+
 def incident_amplitude(chain: discrete.Chain, u, v, wall_left: float = 0.0,
                        wall_right: float = 0.0) -> float:
     """Amplitude of the incident wave: max dynamic strain (r - δ0)/δ0, or max |v| at δ0 = 0."""
@@ -598,6 +629,10 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
                n_transmitted_pulses=None, separated=False, separation_fraction=math.nan)
     rec = sim.record  # (only the grids the summary reads are stacked, once)
     if not rec.energy_kinetic:
+        if not interfaces(chain) and rec.vmax_time is not None:  # an rtol run's maxima
+            s0 = int(np.count_nonzero(chain.section < 0))
+            out["front_speed_tr"] = _front_speed_from_maxima(
+                rec.vmax_refined, rec.vmax_time, sim.v, float(chain.diameter[s0]))
         return out
     ek, t = _stacked_grid(rec.energy_kinetic), np.asarray(rec.energy_t, dtype=float)
     coarsen = rec.energy_coarsen

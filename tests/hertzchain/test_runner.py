@@ -163,15 +163,16 @@ def test_rtol_run_records_fewer_grid_rows_and_meets_rtol_in_the_front_speed():
     # not converged in the row spacing).
     from hertzchain.runner import GRID_ROWS_PER_GRAIN, GRID_ROWS_PER_GRAIN_RTOL, run_simulation
 
-    def impact(sections, **run):
+    def impact(sections, running_max=False, **run):
         return parse_scenario({"chain": {"sections": sections},
                                "initial": {"kind": "impact", "v0": 1.0},
-                               "run": {"until_front_at": 450, **run}})
+                               "run": {"until_front_at": 450, **run},
+                               "record": {"running_max": running_max}})
 
     rows = {}
     speeds = {}
     for key, run in (("default", {}), ("rtol", {"rtol": 1e-4, "integrator": "auto"})):
-        s, sim = run_simulation(impact([{"n": 600}], **run))
+        s, sim = run_simulation(impact([{"n": 600}], **run))  # (no maxima: a grid)
         assert sim.record.energy_coarsen == 1
         rows[key] = sim.recording.energy_every * sim.dt  # s between rows
         speeds[key] = s["front_speed_tr"]
@@ -275,3 +276,48 @@ def test_rtol_bounds_total_energy_ratios_absolutely():
         for key in ("Et_tr", "Et_re"):
             assert abs(s[key] - ref[key]) <= s["rtol_estimate"], (rtol, key, s[key], ref[key])
         assert s["energy_drift"] <= rtol
+
+
+def test_rtol_run_with_maxima_reads_the_front_speed_off_them_without_a_grid():
+    # An rtol run of one section with running maxima records no energy grid: its front
+    # speed comes from the refined peak times (record.vmax_time).  It must meet rtol
+    # against a converged reference (Blanes-Moan 4 at half the default step, the grid
+    # estimator on rows every half transit; measured 4.2e-6 apart at 600 grains), and on
+    # one run the two estimators must agree (the same quantity: a grain's kinetic energy
+    # peaks with its speed; measured 9.3e-7 apart on the reference run).
+    import discrete
+    from hertzchain.runner import (
+        GRID_ROWS_PER_GRAIN,
+        _front_speed,
+        _front_speed_from_maxima,
+        _wave_speed_estimate,
+        build_simulation,
+        run_simulation,
+        summarise,
+    )
+
+    def impact(**run):
+        return parse_scenario({"chain": {"sections": [{"n": 600}]},
+                               "initial": {"kind": "impact", "v0": 1.0},
+                               "run": {"until_front_at": 450, **run},
+                               "record": {"running_max": True}})
+
+    s, sim = run_simulation(impact(rtol=1e-4, integrator="auto"))
+    assert s["dt_source"] == "rtol" and sim.record.vmax_time is not None
+    assert not sim.record.energy_t and not sim.recording.energy_every  # no grid
+    default, _ = run_simulation(impact())
+    assert default["dt_source"] == "default"
+    chain, init, _ = build_simulation(impact(), energy_grid=False)
+    d = float(chain.diameter[0])
+    dt = default["dt"] / 2
+    every = max(1, int(GRID_ROWS_PER_GRAIN * d / (_wave_speed_estimate(chain, init.v) * dt)))
+    ref = init.simulation(dt=dt, integrator="blanes_moan4", record=discrete.Recording(
+        maxima=True, refined_maxima=True, energy_every=every))
+    ref.run(until=discrete.WaveAt(450), progress=False)
+    grid = summarise(chain, ref)["front_speed_tr"]
+    ek, t = np.asarray(ref.record.energy_kinetic), np.asarray(ref.record.energy_t)
+    assert grid == _front_speed(t, ek, range(ek.shape[1]), 0, d)
+    maxima = _front_speed_from_maxima(ref.record.vmax_refined, ref.record.vmax_time,
+                                      ref.v, d)
+    assert abs(maxima / grid - 1) <= 1e-5, (maxima, grid)
+    assert abs(s["front_speed_tr"] / grid - 1) <= 1e-4, (s["front_speed_tr"], grid)
