@@ -223,6 +223,18 @@ def test_drift_at_reads_the_drifts_as_step_for_drift():
     assert dataclasses.replace(pr, drifts=()).drift_at(1.0) == 0.0
 
 
+def test_predicted_step_is_richardsons():
+    """E(h_K) = d_{K-1}/(2^p - 1), h = h_K (target/E)^(1/p), at most h_0."""
+    from discrete.timestep import _predicted_step
+
+    e, p_obs, p, clean = error_bounds([3e-4], 2)
+    pr = ProbeResult("verlet", (4.0, 2.0), e, (3e-4,), p_obs, p, clean, 1.0, 1, 1)
+    assert _predicted_step(pr, 1e-4, 2) == pytest.approx(2.0)  # E = 1e-4 at h = 2
+    assert _predicted_step(pr, 2.5e-5, 2) == pytest.approx(1.0)
+    assert _predicted_step(pr, 1.0, 2) == 4.0  # never above h_0
+    assert _predicted_step(pr, None, 2) == 4.0
+
+
 def test_probe_late_drift_is_measured():
     """Each probe run measures its drift in two halves: the total bounds the drift over
     the probe, the late part is a part of it."""
