@@ -87,7 +87,8 @@ rows also need less coarsening (coarsening by 8 moved it 1.3e-4).  Chains with a
 interface keep :data:`GRID_ROWS_PER_GRAIN`: their reflected front speed is not
 converged in the row spacing (266, 294 and 279 m/s at 0.25, 0.5 and 2 transits a row
 behind a precompressed interface, δ0/d = 1e-3), so a coarser grid would change a
-reported number by more than rtol (``tests/hertzchain/test_runner.py``)."""
+reported number by more than rtol (``tests/hertzchain/test_runner.py``); such a speed
+is now NaN (:data:`FRONT_ROWS_RTOL`), and finer rows let more of them converge."""
 
 SEPARATION_FRACTIONS = (1e-6, 1e-5, 1e-4, 1e-3)
 """Energy fractions near the interface tried, strictest first, to call the waves separated."""
