@@ -11,11 +11,11 @@ it, else the largest sample (``record.vmax``; a baseline tree of before issue 17
 2); both errors are printed ("err N/2" and "max err" of the run's refined maxima,
 "sampled" the max error of its samples).  "Converged" is the refined maxima of the same
 run with Blanes-Moan 4 at half the default dt (measured on a 150-grain impact: ~1e-9
-off; the target is 1e-4).  An rtol run of this one-section chain records the energy
-grid every grain transit instead of every half (``runner.GRID_ROWS_PER_GRAIN_RTOL``):
-"rows" is the grid's row count and "front dev" the relative difference of the run's
-front speed (the one number its summary reads from the grid) from the converged run's
-(:func:`converged`).  Each
+off; the target is 1e-4).  An rtol run of this one-section chain records no energy
+grid: its summary's front speed (the one number it read from the grid) comes from the
+refined peak times (``runner._front_speed_from_maxima``).  "rows" is the grid's row
+count (0: none) and "front dev" the relative difference of the run's front speed from
+the converged run's (the grid estimator, :func:`converged`).  Each
 row is timed by the run's own summary (``wall_time``: chain, initial state, the rtol
 probe when there is one, integration, summary), best of ``--repeats`` interleaved
 repeats; the ratios are measured in the same run of this script.  The CPU time of the

@@ -80,13 +80,14 @@ points (below the finest, E_K (h/h_K)^p); the step is the largest h with
 .. math:: E(h) \le s\,\mathrm{rtol},\qquad s = 0.5\ (\text{:data:`RTOL_SAFETY`}),
 
 never above :math:`h_0` (no extrapolation beyond the probed steps), half the
-stability bound, nor the step at which the probe's energy drift, scaled to the run's
-length, would reach :data:`RTOL_SAFETY` of the run's drift tolerance (a fourth-order
-method at a large step can meet rtol in the maxima and still fail the run's energy
-monitor: measured on the interface problem, Blanes–Moan 4 at 8× the default step drifted
-1.3e-4 over the run), and the estimate E(h)/s (≤ rtol) is written into the result
-(:attr:`TimeStep.error_estimate`).  Finer probe steps are added while the differences
-do not shrink (not yet asymptotic) or no probe step meets s·rtol, up to
+stability bound, nor the step at which the probe's energy drift, extrapolated to the
+run's length at the rate measured over the probe's second half
+(:meth:`ProbeResult.drifts_at`), would reach :data:`RTOL_SAFETY` of the run's drift
+tolerance (a fourth-order method at a large step can meet rtol in the maxima and still
+fail the run's energy monitor: measured on the interface problem, Blanes–Moan 4 at 8×
+the default step drifted 1.3e-4 over the run), and the estimate E(h)/s (≤ rtol) is
+written into the result (:attr:`TimeStep.error_estimate`).  Finer probe steps are
+added while the differences do not shrink (not yet asymptotic) or no probe step meets s·rtol, up to
 :data:`PROBE_MAX_LEVELS` runs; an unstable probe run is dropped with the coarser ones.
 The factor 1/s is measured, not decoration: a maximum sampled once per step has an
 error that depends on where the peak falls within the step, so it is not a smooth
@@ -97,7 +98,10 @@ once, where the sharper peak of the impacted grain 1 fell badly between two step
 probes the methods of :data:`RTOL_CANDIDATES` — velocity Verlet, Yoshida-4 and
 Blanes–Moan 4 — and takes the one with the fewest force evaluations per unit time,
 S/h; a method's probe stops as soon as its differences show that it cannot beat the
-best so far (E_k ≥ d_k + d_{k+1} + … excludes every step above h_k).  Maxima sampled
+best so far (E_k ≥ d_k + d_{k+1} + … excludes every step above h_k), or once
+:data:`PREDICTION_SLACK` × its Richardson-predicted step would cost more; the methods
+are probed from the highest order down, so that a fourth-order winner's cost stops the
+others early.  Maxima sampled
 once per step converge at second order whatever the method (all three would need about
 the same h, and velocity Verlet would win); the refined maxima between the steps
 converge at the method's order, so the 4th-order methods can win.  The
@@ -234,9 +238,16 @@ class _ProbeRun:
         sim = Simulation(chain, u, v, dt=h, wall_left=wl, wall_right=wr, record=recording,
                          integrator=method.name, law=law, drag=drag, check_dt=False)
         x0 = _centroid(sim)
-        info = sim.run(max_steps=nsteps, progress=False)  # every level ends at the same time
-        # the energy monitor's measure (velocity Verlet's modified energy, else E)
-        self.drift = float(info.shadow_drift if method.name == "verlet" else info.energy_drift)
+        # every level ends at the same time; in two halves, so that the drift's growth
+        # over the second half is measured (ProbeResult.drifts_at)
+        first = sim.run(max_steps=nsteps // 2, progress=False)
+        late = sim.run(max_steps=nsteps - nsteps // 2, progress=False)
+
+        def measure(info):  # the energy monitor's (Verlet's modified energy, else E)
+            return float(info.shadow_drift if method.name == "verlet" else info.energy_drift)
+
+        self.drift_late = measure(late)
+        self.drift = measure(first) + self.drift_late  # >= the drift over the probe
         rec = sim.record
         # the refined maxima (between the steps, at the method's order), not the samples
         vmax = np.asarray(rec.vmax if rec.vmax_refined is None else rec.vmax_refined, float)
@@ -307,8 +318,11 @@ class ProbeResult:
     complete : bool
         False if the probe stopped early because the method could not beat ``max_cost``.
     drifts : tuple
-        Relative energy drift of each probe run (the run's energy monitor's measure),
-        for :meth:`step_for_drift`.
+        Relative energy drift of each probe run (the run's energy monitor's measure,
+        a bound: the first half's plus the second half's), for :meth:`step_for_drift`.
+    drifts_late : tuple
+        The drift of each probe run over its second half alone (from the state at
+        t_probe/2): the growth rate :meth:`drifts_at` extrapolates with.
     """
 
     method: str
@@ -323,6 +337,29 @@ class ProbeResult:
     compared: int
     complete: bool = True
     drifts: tuple = ()
+    drifts_late: tuple = ()
+
+    def drifts_at(self, horizon: float | None) -> tuple:
+        """Each probe run's drift extrapolated to a run of length ``horizon`` (s).
+
+        D(T) = D(t_p) + (T - t_p) · D_late / (t_p / 2): the drift keeps growing at the
+        rate the probe measured over its second half (t_p the probe's length, D_late
+        the drift from t_p/2 to t_p; the first half holds the wave's formation).  A
+        drift that accumulates steadily (contacts closing one after another) is
+        extrapolated linearly; one that has settled (a solitary wave's modified energy
+        error is bounded, Hairer, Lubich & Wanner 2006, §IX) is not inflated by the
+        run's length.  Measured on the impact of ``benchmarks/rtol.py`` (velocity
+        Verlet, default step): the run's drift is 2.70e-6 at 600, 2,000 and 5,000
+        grains, the same at 8 times the length, which a linear scaling of the
+        whole drift (T / t_p) would overestimate by T / t_p.  ``drifts``
+        for a horizon of None, not finite, or not beyond t_p.
+        """
+        if (horizon is None or not math.isfinite(horizon) or horizon <= self.t_probe
+                or len(self.drifts_late) != len(self.drifts)):
+            return self.drifts
+        grow = 2.0 * (float(horizon) - self.t_probe) / self.t_probe
+        return tuple(d + grow * dl for d, dl in zip(self.drifts, self.drifts_late,
+                                                       strict=True))
 
     @property
     def h0(self) -> float:
@@ -362,8 +399,32 @@ class ProbeResult:
         q = math.log(hi / lo) / math.log(hs[k - 1] / hs[k])
         return min(hs[k - 1], hs[k] * (target / lo) ** (1.0 / q))
 
-    def step_for_drift(self, cap: float) -> float:
+    def drift_at(self, h: float, horizon: float | None = None) -> float:
+        """The drift expected at step h over a run of length ``horizon`` (relative).
+
+        The power law through the neighbouring probe steps' extrapolated drifts
+        (:meth:`drifts_at`), below the finest ∝ h² (as :meth:`step_for_drift` reads
+        them); inf above h_0, 0 without drifts.
+        """
+        if not self.drifts:
+            return 0.0
+        ds = self.drifts_at(horizon)
+        hs = self.h[:len(ds)]
+        if h > hs[0] * (1 + 1e-12):
+            return math.inf
+        if h <= hs[-1]:
+            return ds[-1] * (h / hs[-1]) ** 2
+        k = next(i for i in range(1, len(hs)) if h >= hs[i])
+        lo, hi = ds[k], ds[k - 1]
+        if lo <= 0 or hi <= lo:
+            return max(lo, hi)
+        return lo * (h / hs[k]) ** (math.log(hi / lo) / math.log(hs[k - 1] / hs[k]))
+
+    def step_for_drift(self, cap: float, horizon: float | None = None) -> float:
         """The largest step the probe's energy drifts allow: drift <= ``cap``, s.
+
+        The drifts are those extrapolated to a run of length ``horizon``
+        (:meth:`drifts_at`; None: the probe's own).
 
         Between two probe steps the power law through their measured drifts (as
         :meth:`step_for` reads the errors: a drift that grows like h^q, q the local
@@ -376,7 +437,8 @@ class ProbeResult:
         """
         if not self.drifts:
             return math.inf
-        hs, ds = self.h[:len(self.drifts)], self.drifts
+        ds = self.drifts_at(horizon)
+        hs = self.h[:len(ds)]
         if ds[0] <= cap:
             return hs[0]
         for k in range(1, len(ds)):
@@ -458,7 +520,7 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
         e, p_obs, p, clean = error_bounds(d, method.order)
         return ProbeResult(method.name, hs, e, tuple(d), p_obs, p, clean, t_probe, steps,
                            int(np.count_nonzero(done)), complete,
-                           tuple(r.drift for r in runs))
+                           tuple(r.drift for r in runs), tuple(r.drift_late for r in runs))
 
     restarts = 0
     while True:
@@ -487,6 +549,9 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
         pr = result()
         if stages / _upper_step(pr, target) >= max_cost:
             return dataclasses.replace(pr, complete=False)  # cannot beat the best so far
+        if stages / (PREDICTION_SLACK * _predicted_step(pr, target, method.order)) \
+                >= max_cost:
+            return dataclasses.replace(pr, complete=False)  # will not beat it
         if len(runs) < 3:
             continue
         # finer while the differences do not shrink (not yet asymptotic) or no probe step
@@ -518,6 +583,29 @@ def error_bounds(differences, method_order: int) -> tuple[tuple, float, float, b
     for dk in reversed(d):
         e.append(dk + e[-1])
     return tuple(reversed(e)), p_obs, p, clean
+
+
+PREDICTION_SLACK = 1.25
+"""A method's probe stops once even this multiple of its predicted step
+(:func:`_predicted_step`) costs more force evaluations per unit time than the best
+method so far.  This spares a finer probe level of a method that will lose (measured on
+the 2,000-grain impact at rtol 1e-4: velocity Verlet's third level, 10,000 of the
+probe's 20,412 steps, predicted step 1.54e-7 against the 1.50e-7 it would take); it
+costs no accuracy (the chosen method's own probe is complete), at worst a method
+25 % cheaper than the one chosen is missed."""
+
+
+def _predicted_step(pr: ProbeResult, target: float | None, order: int) -> float:
+    """The step a method's probe will end at, predicted from its finest difference.
+
+    Richardson (module docstring): E(h_K) ≈ d_{K-1}/(2^p - 1) with the method's order p,
+    then h = h_K (target/E)^{1/p}, at most h_0.  A prediction, not a bound: it only
+    decides when a losing method's probe may stop (:data:`PREDICTION_SLACK`).
+    """
+    if target is None or not pr.differences or pr.differences[-1] <= 0:
+        return pr.h[0]
+    err = pr.differences[-1] / (2.0**order - 1.0)
+    return min(pr.h[0], pr.h[len(pr.differences)] * (target / err) ** (1.0 / order))
 
 
 def _upper_step(pr: ProbeResult, target: float | None) -> float:
@@ -593,7 +681,7 @@ class TimeStep:
                check: bool = True, rtol: float | None = None,
                horizon: float | None = None,
                recording: Recording | None = None,
-               drift_tolerance: float = 1e-4) -> TimeStep:
+               drift_tolerance: float = 1e-4, energy_ratios: bool = False) -> TimeStep:
         """Choose the step for ``chain`` in the state (u, v, walls).
 
         Parameters
@@ -628,8 +716,16 @@ class TimeStep:
             run records, through the same kernel (default: the running maxima).
         drift_tolerance : float
             The run's energy-drift tolerance (:class:`~discrete.Simulation`): with
-            ``rtol`` the step also keeps the probe's measured drift, scaled to the run's
-            length, within :data:`RTOL_SAFETY` of it (:meth:`ProbeResult.step_for_drift`).
+            ``rtol`` the step also keeps the probe's measured drift, extrapolated to the
+            run's length (``horizon``, :meth:`ProbeResult.drifts_at`), within
+            :data:`RTOL_SAFETY` of it (:meth:`ProbeResult.step_for_drift`).
+        energy_ratios : bool
+            With ``rtol``: the run reports energy ratios (energies over the initial
+            energy, Table 2).  Their error is the energy error: an absolute one, in
+            units of the initial energy, that rtol then bounds too — the drift is kept
+            within :data:`RTOL_SAFETY` of min(``drift_tolerance``, rtol), and the
+            error estimate is the larger of the maxima's and the drift's
+            (:meth:`ProbeResult.drift_at` / :data:`RTOL_SAFETY`, at most rtol).
 
         Raises
         ------
@@ -647,7 +743,8 @@ class TimeStep:
                 return cls._choose_rtol(chain, u, v, wall_left, wall_right, rtol=rtol,
                                         integrator=integrator, law=law, drag=drag,
                                         horizon=horizon, check=check, recording=recording,
-                                        drift_tolerance=drift_tolerance)
+                                        drift_tolerance=drift_tolerance,
+                                        energy_ratios=energy_ratios)
         if integrator is None:
             if rtol is None:
                 raise ValueError("integrator=None (choose the method) needs rtol")
@@ -679,9 +776,14 @@ class TimeStep:
     @classmethod
     def _choose_rtol(cls, chain, u, v, wall_left, wall_right, *, rtol, integrator, law,
                      drag, horizon, check, recording=None,
-                     drift_tolerance: float = 1e-4) -> TimeStep:
+                     drift_tolerance: float = 1e-4, energy_ratios: bool = False
+                     ) -> TimeStep:
         """The step (and method) meeting ``rtol`` from :func:`probe_error` (module docstring)."""
-        names = RTOL_CANDIDATES if integrator is None else (get_integrator(integrator).name,)
+        # probed from the highest order down: at the accuracies asked for (rtol <= 1e-3)
+        # a fourth-order method usually wins, and the best cost found first lets the
+        # others' probes stop early (_predicted_step)
+        names = (tuple(reversed(RTOL_CANDIDATES)) if integrator is None
+                 else (get_integrator(integrator).name,))
         if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
             names = ("verlet",)
         target = RTOL_SAFETY * rtol
@@ -698,14 +800,15 @@ class TimeStep:
             base = cls.choose(chain, u, v, wall_left, wall_right, integrator=method,
                               law=law, drag=drag, check=False)
             h = min(pr.step_for(target), 0.5 * base.stable)
-            # the run must also pass its energy monitor: the probe's drift, taken to grow
-            # in proportion to the run's length (contacts closing one after another)
-            grow = (horizon / pr.t_probe if horizon is not None and math.isfinite(horizon)
-                    and horizon > pr.t_probe else 1.0)
-            h = min(h, pr.step_for_drift(RTOL_SAFETY * drift_tolerance / grow))
+            # the run must also pass its energy monitor: the probe's drift, extrapolated
+            # to the run's length at the rate measured over the probe's second half
+            cap = min(drift_tolerance, rtol) if energy_ratios else drift_tolerance
+            h = min(h, pr.step_for_drift(RTOL_SAFETY * cap, horizon))
             # the step meets the target by construction; recomputing the estimate there
             # can return rtol (1 + 2e-16), a promise (estimate <= rtol) broken by round-off
             est = min(rtol, pr.error_at(h) / RTOL_SAFETY)
+            if energy_ratios:  # the energy ratios' absolute error: the run's drift
+                est = max(est, min(rtol, pr.drift_at(h, horizon) / RTOL_SAFETY))
             cost = method.stages / h
             if best is None or cost < best[0]:
                 best = (cost, method, h, est, pr, base)

@@ -17,12 +17,19 @@ Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, `
 ``energy_drift``, ``n_grains`` and ``wall_time`` are always finite; ``integrator``,
 ``dt_source`` (``"default"``, ``"explicit"`` or ``"rtol"``), ``rtol`` (None unless
 given) and ``rtol_estimate`` (the estimated relative error of an rtol run, NaN
-otherwise; :mod:`discrete.timestep`) say how the step was chosen; the six energy
+otherwise; :mod:`discrete.timestep`; for the total-energy ratios ``Et_*`` of a chain
+with an interface an absolute error in units of the incident energy, which does not
+cover the kinetic/potential split ``Ek_*``, ``Ep_*``: docs/guide/accuracy_and_speed.md)
+say how the step was chosen; the six energy
 ratios are finite exactly when ``separated`` is True (False: the waves did not leave
 the interface region on the recorded grid, the incident wave was already at the
 interface at t = 0, or the chain has one section); the front speeds are NaN when fewer
 than 5 grains gave an arrival time or the wave never reached the interface,
-``front_speed_tr_over_c0L`` also at δ0 = 0.
+``front_speed_tr_over_c0L`` also at δ0 = 0.  Behind and beyond an interface a front
+speed is also NaN when it is no measurement: when it changes by more than
+:data:`FRONT_ROWS_RTOL` on every other row of the energy grid (a dispersive tail or
+drifting grains have no arrival time), and ``front_speed_re`` when the reflected wave
+is classified "none".
 
 How the run ended (issue 14): ``stopped_by`` names what ended it (``t_end``,
 ``until_front_at`` or ``max_steps``) and ``completed`` says whether that is what the
@@ -63,7 +70,9 @@ GRID_ROWS_PER_GRAIN = 0.5
 """Energy space-time grid: one row per this many grain transits of the incident wave."""
 
 GRID_ROWS_PER_GRAIN_RTOL = 1.0
-"""The same in a run whose step is chosen for ``rtol`` on a chain of one section.
+"""The same in a run whose step is chosen for ``rtol`` on a chain of one section
+without running maxima (with them, such a run records no grid: its front speed comes
+from the refined peak times, :func:`_front_speed_from_maxima`).
 
 There the summary reads only the transmitted front speed from the grid (arrival times
 refined by a parabola through three rows, a straight-line fit over the grains), and
@@ -78,7 +87,8 @@ rows also need less coarsening (coarsening by 8 moved it 1.3e-4).  Chains with a
 interface keep :data:`GRID_ROWS_PER_GRAIN`: their reflected front speed is not
 converged in the row spacing (266, 294 and 279 m/s at 0.25, 0.5 and 2 transits a row
 behind a precompressed interface, δ0/d = 1e-3), so a coarser grid would change a
-reported number by more than rtol (``tests/hertzchain/test_runner.py``)."""
+reported number by more than rtol (``tests/hertzchain/test_runner.py``); such a speed
+is now NaN (:data:`FRONT_ROWS_RTOL`), and finer rows let more of them converge."""
 
 SEPARATION_FRACTIONS = (1e-6, 1e-5, 1e-4, 1e-3)
 """Energy fractions near the interface tried, strictest first, to call the waves separated."""
@@ -199,6 +209,37 @@ def _wave_speed_estimate(chain: discrete.Chain, v: np.ndarray) -> float:
     vm = max(float(np.max(np.abs(v))), 1e-12)
     xi = (vm / cm) ** 0.8  # v ≈ V ξ and V ≈ c_mat ξ^{1/4} (Eq. 8)
     return float(theory.nesterenko_speed(cm, chain.delta0[jc] / d, xi))
+
+
+RUN_LENGTH_MARGIN = 1.5
+"""Safety factor on the time an ``until_front_at`` run is estimated to take.
+
+The estimate is the distance from the initial velocity peak to the target grain over
+:func:`_wave_speed_estimate`, which takes the initial peak velocity as the wave's: an
+impact's solitary wave carries ~0.68 v0 (Eq. 8: speed ∝ v^{1/5}, 8 % slower than
+estimated) and needs a few tens of grains to form.  Measured (benchmarks/rtol.py,
+impact, until 0.75 N): the run lasts 1.07-1.10 times the bare estimate at 2,000 and
+5,000 grains, so 1.5 over-estimates it, the safe side for both uses (grid
+coarsening, the rtol probe's drift scaled to the run's length)."""
+
+
+def _run_length_estimate(scenario: Scenario, chain: discrete.Chain, v: np.ndarray,
+                         speed: float) -> float:
+    """The run's expected length, s: ``t_end``, or the time to ``until_front_at``.
+
+    ``until_front_at`` on a chain of one section: :data:`RUN_LENGTH_MARGIN` × (distance
+    from the initial velocity peak to the target grain, m) / ``speed`` (m/s, the
+    incident wave's, :func:`_wave_speed_estimate`), at most ``t_end``.  A chain with an
+    interface keeps the bound 3 N d / speed (the wave's speed changes at the interface
+    by a factor the estimate does not know); so does a run with neither.
+    """
+    run = scenario.run
+    d = float(np.mean(chain.diameter))
+    t = 3.0 * chain.n * d / speed
+    if run.until_front_at is not None and not interfaces(chain):
+        j = int(np.argmax(np.abs(v)))
+        t = RUN_LENGTH_MARGIN * (abs(run.until_front_at - j) + 1) * d / speed
+    return min(t, run.t_end) if run.t_end is not None else t
 
 
 MAX_OVERLAP_OVER_D = 0.1
@@ -368,6 +409,8 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
     law, drag = build_law(scenario.chain)
+    speed = _wave_speed_estimate(init.chain, init.v)
+    horizon = _run_length_estimate(scenario, init.chain, init.v, speed)
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             # k/m may overflow (alpha_rho = 1e-300): dt = 0, refused below by name
@@ -375,8 +418,9 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
                 init.chain, init.u, init.v, init.wall_left, init.wall_right, dt=run.dt,
                 integrator=None if run.integrator == "auto" else run.integrator, law=law,
                 drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol,
-                horizon=run.t_end, recording=discrete.Recording(
-                    maxima=True, strain_maxima=rec.strain_maxima))
+                horizon=horizon, recording=discrete.Recording(
+                    maxima=True, strain_maxima=rec.strain_maxima),
+                energy_ratios=bool(interfaces(init.chain)))  # (the summary's, Table 2)
     except ValueError as exc:  # e.g. v0 = 1e-300: the expected overlaps underflow to 0
         amp = {"impact": "v0", "cut_wave": "v0"}.get(scenario.initial.kind, "velocity_max")
         raise ScenarioError(
@@ -391,19 +435,22 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
             f"frequency sqrt(k/m) overflows a double, so the time step is {dt!r} s; "
             "allowed: ratios (and diameter, material) for which every contact's k/m is a "
             "finite double")
-    speed = _wave_speed_estimate(init.chain, init.v)
     d = float(np.mean(init.chain.diameter))
     every = rec.energy_every or None
     coarsen = 1
-    if energy_grid and rec.energy_grid and every is None:
+    # an rtol run of one section with running maxima keeps them refined between the steps
+    # (Simulation: rtol, forces of positions only): their peak times give the front
+    # speed, the one number its summary read from the grid (_front_speed_from_maxima)
+    maxima_front = (step.source == "rtol" and rec.running_max and not interfaces(init.chain)
+                    and not (law.dissipative or drag > 0))
+    if energy_grid and rec.energy_grid and every is None and not maxima_front:
         per = GRID_ROWS_PER_GRAIN_RTOL if step.source == "rtol" and not interfaces(
             init.chain) else GRID_ROWS_PER_GRAIN
         every = max(1, int(per * d / (speed * dt)))
     if every:
         # (never beyond max_steps: t_end = 1e300 with max_steps = 10 is refused by
         # check_stop, not by a coarsening factor overflowing int64)
-        t_est = min(scenario.run.t_end or 3.0 * init.chain.n * d / speed,
-                    scenario.run.max_steps * dt)
+        t_est = min(horizon, scenario.run.max_steps * dt)
         rows = t_est / (every * dt)
         while rows * init.chain.n / coarsen > _MAX_GRID and coarsen < init.chain.n:
             coarsen *= 2
@@ -451,24 +498,35 @@ def _stacked_grid(rows: list) -> np.ndarray:
     return grid
 
 
-def _front_speed(t, energy, grains: range, i_start: int, d: float, *, skip: int = 10
-                 ) -> float:
-    """Front speed (m/s) from arrival times of the energy peak at ``grains`` (in order).
+FRONT_ROWS_RTOL = 1e-3
+"""Largest relative change of the reflected front speed when every other grid row is
+dropped for it to be reported (else NaN, :func:`_front_speed` with ``check_rows``).
 
-    For each grain the row of its largest energy after ``i_start`` is refined by a
-    parabola through the neighbouring rows; a straight-line fit of grain position against
-    arrival time over the grains from ``skip`` past the start to the last grain the peak
-    reached gives the speed (Fig. 6).  NaN if fewer than 5 grains qualify.  ``grains``
-    is a range of columns (step ±1): the grid is read through a view, never copied.
-    """
-    stop = None if grains.stop < 0 else grains.stop
-    e = np.asarray(energy)[i_start:, slice(grains.start, stop, grains.step)]
-    tt = np.asarray(t)[i_start:]
-    if e.shape[0] < 3 or len(grains) < skip + 5:
+The reflected wave is often no travelling pulse at all: at δ0 = 0 an expansive
+"reflection" is grains drifting apart, and behind many interfaces the reflected energy
+is a dispersive tail.  Its energy peak per grain is then no arrival time, and the fitted
+"speed" depended on the grid: measured on 300 | 300-grain chains (``until_front_at``
+500, rows every 25 … 400 steps), point b (δ0/d = 1e-3) 885.59 at 25-100 steps, 869 at
+200 and 672 at 400; point b at δ0 = 0 550, 576, 438, 404 m/s; points c and d gave
+389 and 897 m/s at 400 steps and none at finer rows.  Where the reflected wave is a
+pulse the speed is converged in the rows: point N 898.19-898.45 m/s (δ0/d = 1e-3,
+25-200 steps), 523.66-523.76 (δ0 = 0), a change of <= 3e-4 per halving of the rows,
+inside this tolerance; the transmitted front speed changes by <= 4e-4 between 200 and
+400 steps (point a) and is not checked."""
+
+
+def _arrival_fit(e: np.ndarray, tt: np.ndarray, x: np.ndarray, skip: int,
+                 floor_after_skip: bool) -> float:
+    """Grains per second from the energy peaks of the columns of ``e`` (rows at ``tt``)."""
+    if e.shape[0] < 3:
         return math.nan
     i = _column_argmax(e)
     peak = np.take_along_axis(e, i[None, :], axis=0)[0]  # = e.max(axis=0)
-    ok = (i > 0) & (i < e.shape[0] - 1) & (peak > 0.2 * peak.max())
+    # the floor is a fraction of the largest peak: of every grain's, or (reflected
+    # front) of the fitted grains' only: the grains next to the interface still hold the
+    # incident wave's tail, which would put every reflected peak below the floor
+    top = peak[skip:].max(initial=0.0) if floor_after_skip else peak.max()
+    ok = (i > 0) & (i < e.shape[0] - 1) & (peak > 0.2 * top)
     ok[:skip] = False
     cols = np.flatnonzero(ok)
     if cols.size < 5:
@@ -478,9 +536,62 @@ def _front_speed(t, energy, grains: range, i_start: int, d: float, *, skip: int 
     frac = np.where(den != 0, 0.5 * (y0 - y2) / np.where(den != 0, den, 1), 0.0)
     dt_row = tt[1] - tt[0]
     arrival = tt[i[cols]] + frac * dt_row
-    x = np.asarray(grains)[cols]
-    slope = np.polyfit(arrival, x, 1)[0]  # grains per second
-    return abs(float(slope)) * d
+    return float(np.polyfit(arrival, x[cols], 1)[0])
+
+
+def _front_speed(t, energy, grains: range, i_start: int, d: float, *, skip: int = 10,
+                 check_rows: bool = False, floor_after_skip: bool = False) -> float:
+    """Front speed (m/s) from arrival times of the energy peak at ``grains`` (in order).
+
+    For each grain the row of its largest energy after ``i_start`` is refined by a
+    parabola through the neighbouring rows; a straight-line fit of grain position against
+    arrival time over the grains from ``skip`` past the start to the last grain the peak
+    reached gives the speed (Fig. 6).  NaN if fewer than 5 grains qualify.  ``grains``
+    is a range of columns (step ±1): the grid is read through a view, never copied.
+
+    ``floor_after_skip`` (the reflected front): the peaks count from 0.2 of the largest
+    one past ``skip``, not of all (the grains next to the interface still hold the
+    incident wave's tail).  ``check_rows`` (the fronts behind and beyond an interface):
+    the speed is measured again on every other row, and is NaN unless both exist and
+    agree within :data:`FRONT_ROWS_RTOL` (a number that depends on the grid is not a
+    front speed).
+    """
+    stop = None if grains.stop < 0 else grains.stop
+    e = np.asarray(energy)[i_start:, slice(grains.start, stop, grains.step)]
+    tt = np.asarray(t)[i_start:]
+    if len(grains) < skip + 5:
+        return math.nan
+    x = np.asarray(grains)
+    slope = _arrival_fit(e, tt, x, skip, floor_after_skip)
+    if check_rows and math.isfinite(slope) and slope != 0:
+        half = _arrival_fit(e[::2], tt[::2], x, skip, floor_after_skip)
+        if not (math.isfinite(half) and abs(half / slope - 1) <= FRONT_ROWS_RTOL):
+            return math.nan
+    return abs(slope) * d
+
+
+def _front_speed_from_maxima(vmax, vmax_time, v, d: float, *, skip: int = 10) -> float:
+    """Front speed (m/s) from the times of every grain's refined velocity peak.
+
+    The same estimator as :func:`_front_speed` on the kinetic-energy grid (a grain's
+    kinetic energy peaks when its speed does), with the peak times the kernel found
+    between the steps (``record.vmax_time``: cubic Hermite, O(h⁴); the grid's are a
+    parabola through rows half a transit apart): a straight-line fit
+    (:func:`discrete.diagnostics.fit_speed`) of grain index against peak time over the
+    grains from ``skip`` on whose peak has passed (v below half of it, as the rtol probe
+    counts a maximum, ``discrete.timestep``) and is above 0.2 of the largest, times the
+    grain diameter ``d`` (m).  NaN if fewer than 5 grains qualify.
+    """
+    vmax, tpk, v = (np.asarray(a, dtype=float) for a in (vmax, vmax_time, v))
+    done = (v < 0.5 * vmax) & np.isfinite(tpk) & (vmax > 0)
+    if not done.any():
+        return math.nan
+    ok = done & (vmax > 0.2 * vmax[done].max())
+    ok[:skip] = False
+    cols = np.flatnonzero(ok)
+    if cols.size < 5:
+        return math.nan
+    return abs(D.fit_speed(cols, tpk[cols]).speed) * d
 
 
 def incident_amplitude(chain: discrete.Chain, u, v, wall_left: float = 0.0,
@@ -519,6 +630,10 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
                n_transmitted_pulses=None, separated=False, separation_fraction=math.nan)
     rec = sim.record  # (only the grids the summary reads are stacked, once)
     if not rec.energy_kinetic:
+        if not interfaces(chain) and rec.vmax_time is not None:  # an rtol run's maxima
+            s0 = int(np.count_nonzero(chain.section < 0))
+            out["front_speed_tr"] = _front_speed_from_maxima(
+                rec.vmax_refined, rec.vmax_time, sim.v, float(chain.diameter[s0]))
         return out
     ek, t = _stacked_grid(rec.energy_kinetic), np.asarray(rec.energy_t, dtype=float)
     coarsen = rec.energy_coarsen
@@ -560,8 +675,10 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
         return out  # no transmitted or reflected wave yet: no speeds, no labels
     # arrival times after the incident peak has reached the interface
     i_hit = int(np.argmax(ek[:, max(iface - 1, 0)]))
-    vtr = _front_speed(t, ek, range(iface, ek.shape[1]), i_hit, d * coarsen)
-    vre = _front_speed(t, ek, range(iface - 1, -1, -1), i_hit + 1, d * coarsen)
+    vtr = _front_speed(t, ek, range(iface, ek.shape[1]), i_hit, d * coarsen,
+                       check_rows=True)
+    vre = _front_speed(t, ek, range(iface - 1, -1, -1), i_hit + 1, d * coarsen,
+                       check_rows=True, floor_after_skip=True)
     out["front_speed_tr"], out["front_speed_re"] = vtr, vre
     precompressed = chain.delta0[s0 + 1] > 0
     if precompressed:
@@ -587,6 +704,8 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
             cre = D.classify_reflected(velocity=sim.v, lo=lo, hi=n_left - 1,
                                        reference=incident)
         out["reflected"] = cre.label
+    if out["reflected"] == "none":  # measured: no reflected wave, so no front to time
+        out["front_speed_re"] = math.nan
     return out
 
 
@@ -748,7 +867,8 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
     summary : dict
         Keys ``Ek_tr, Ek_re, Ep_tr, Ep_re, Et_tr, Et_re`` (NaN unless ``separated``),
         ``front_speed_tr, front_speed_re`` (m/s; NaN if fewer than 5 grains gave an
-        arrival time or the wave never reached the interface), ``front_speed_tr_over_c0L``
+        arrival time, the wave never reached the interface, or the speed is not
+        converged in the grid's rows, module docstring), ``front_speed_tr_over_c0L``
         (NaN also at δ0 = 0), ``transmitted`` (fracture/squeeze/none), ``reflected``
         (compressive/expansive/none), ``n_transmitted_pulses`` (these three None unless
         ``separated``), ``separated``, ``separation_fraction``, ``stopped_by``

@@ -190,6 +190,60 @@ def test_step_for_drift():
     assert dataclasses.replace(pr, drifts=()).step_for_drift(1e-9) == math.inf
 
 
+def test_drifts_at_extrapolates_the_late_growth():
+    """D(T) = D(t_p) + (T - t_p) D_late / (t_p/2): a settled drift (D_late = 0) is not
+    inflated by the run's length, a steady one (D_late = D/2) grows in proportion to it;
+    step_for_drift reads the extrapolated drifts."""
+    e, p_obs, p, clean = error_bounds([4e-4, 1e-4], 2)
+    base = ProbeResult("verlet", (4.0, 2.0, 1.0), e, (4e-4, 1e-4), p_obs, p, clean, 1.0, 1,
+                       1, True, (8e-4, 2e-4, 5e-5))
+    settled = dataclasses.replace(base, drifts_late=(0.0, 0.0, 0.0))
+    assert settled.drifts_at(100.0) == base.drifts
+    steady = dataclasses.replace(base, drifts_late=(4e-4, 1e-4, 2.5e-5))
+    assert steady.drifts_at(10.0) == pytest.approx((8e-3, 2e-3, 5e-4))  # x T / t_p
+    for h in (None, math.inf, 0.5, 1.0):  # no horizon, or not beyond the probe
+        assert steady.drifts_at(h) == base.drifts
+    assert steady.step_for_drift(2e-3, 10.0) == pytest.approx(2.0)
+    assert settled.step_for_drift(2e-3, 10.0) == base.step_for_drift(2e-3)
+    assert base.step_for_drift(2e-3, 10.0) == base.step_for_drift(2e-3)  # no late drifts
+
+
+def test_drift_at_reads_the_drifts_as_step_for_drift():
+    """drift_at is the inverse of step_for_drift: the drift at the step it returns is
+    the cap; inf above h_0, h² below the finest, 0 without drifts."""
+    e, p_obs, p, clean = error_bounds([4e-4, 1e-4], 2)
+    pr = ProbeResult("verlet", (4.0, 2.0, 1.0), e, (4e-4, 1e-4), p_obs, p, clean, 1.0, 1, 1,
+                     True, (8e-4, 5e-5, 1e-5), (2e-4, 1e-5, 2e-6))
+    for horizon in (None, 10.0):
+        for cap in (7e-4, 3e-4, 1e-4, 6e-5, 2e-5, 1e-6):
+            h = pr.step_for_drift(cap, horizon)
+            assert pr.drift_at(h, horizon) == pytest.approx(cap), (cap, horizon)
+    assert pr.drift_at(8.0) == math.inf
+    assert pr.drift_at(0.5) == pytest.approx(1e-5 / 4)
+    assert dataclasses.replace(pr, drifts=()).drift_at(1.0) == 0.0
+
+
+def test_predicted_step_is_richardsons():
+    """E(h_K) = d_{K-1}/(2^p - 1), h = h_K (target/E)^(1/p), at most h_0."""
+    from discrete.timestep import _predicted_step
+
+    e, p_obs, p, clean = error_bounds([3e-4], 2)
+    pr = ProbeResult("verlet", (4.0, 2.0), e, (3e-4,), p_obs, p, clean, 1.0, 1, 1)
+    assert _predicted_step(pr, 1e-4, 2) == pytest.approx(2.0)  # E = 1e-4 at h = 2
+    assert _predicted_step(pr, 2.5e-5, 2) == pytest.approx(1.0)
+    assert _predicted_step(pr, 1.0, 2) == 4.0  # never above h_0
+    assert _predicted_step(pr, None, 2) == 4.0
+
+
+def test_probe_late_drift_is_measured():
+    """Each probe run measures its drift in two halves: the total bounds the drift over
+    the probe, the late part is a part of it."""
+    init, _ = _impact()
+    pr = probe_error(init.chain, init.u, init.v, integrator="blanes_moan4")
+    assert len(pr.drifts_late) == len(pr.drifts) == len(pr.h)
+    assert all(0 <= dl <= d for d, dl in zip(pr.drifts, pr.drifts_late, strict=True))
+
+
 def test_explicit_dt_wins_and_bad_rtol():
     init, _ = _impact()
     step = TimeStep.choose(init.chain, init.u, init.v, dt=1e-8, rtol=1e-4)
