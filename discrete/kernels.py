@@ -232,6 +232,28 @@ def active_window(u, v, a, k, wl, wr, lo, hi, use_a):
 
 
 @numba.njit(inline="always", **_INNER)
+def _raised(g, x):
+    """The running maximum g raised to x: ``x if x > g else g``, bit for bit, for g not NaN.
+
+    Written as ``x if x > g else (g if g == g else x)`` so that LLVM cannot turn the
+    store of its result back into a conditional (masked) store of x (see the passes in
+    ``_build``); the extra test is the same bits because a running maximum is never NaN
+    (it starts finite and a NaN x never raises it).
+    """
+    return x if x > g else (g if g == g else x)
+
+
+def _target_has_avx512() -> bool:
+    """The compile target (numba's, ``NUMBA_CPU_NAME``/``NUMBA_CPU_FEATURES``) has AVX-512F."""
+    from numba.core import config
+    from numba.core.codegen import get_host_cpu_features
+
+    features = config.CPU_FEATURES if config.CPU_FEATURES is not None else (
+        get_host_cpu_features())
+    return "+avx512f" in features.split(",")
+
+
+@numba.njit(inline="always", **_INNER)
 def _first_at_least(x, value):
     """Index of the first entry of the sorted int array ``x`` that is >= ``value``."""
     lo, hi = 0, x.size
@@ -416,6 +438,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     RMAX = bool(rmax)  # running maxima of the overlaps
     ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{source_digest()}|{_interp_digest()}"
     tag = _tag(law, DRAG, RMAX, refined)
+    MASKED = _target_has_avx512()  # the running max as a conditional store (passes)
 
     def jit(**options):
         """numba.njit with the law's tag in the function's name (see :func:`_tag`)."""
@@ -523,7 +546,13 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     # with the running max of v taken on v + c1 a (the synchronous velocity) when
     # ``track``; c2 = 0 for the closing step of a chunk and for the intermediate kicks
     # of composition methods (adding 0·a is exact).  Two loop variants per constant
-    # layout (track or not: the untracked one vectorises); both inline.
+    # layout (track or not: the untracked one vectorises); both inline.  The running
+    # maximum is the conditional store ``if v > vmax: vmax = v`` where the target has
+    # AVX-512 (``MASKED``: it vectorises to a masked store, cheap there), else the
+    # select :func:`_raised` stored at every grain: with AVX2 the conditional store
+    # becomes vmaskmovpd, microcoded on AMD (the recording kernel 0.55x of the bare one
+    # with the Zen 3 code path on a Zen 4, 0.75x with the select; the select costs ~5 %
+    # with AVX-512; benchmarks/kernel.py --roofline --cpu znver3).
     @jit(**_INLINE)
     def loop_const(uw, vw, vmw, rmw, aw, m, un, phi_l, dc, c1, c2, im, kr, d0r, f0r, p,
                    track, trk_r):
@@ -540,8 +569,11 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 if VD:
                     aw[i] = ai
                 vi = vw[i] + c1 * ai
-                if vi > vmw[i]:
-                    vmw[i] = vi
+                if MASKED:  # the running max (see above)
+                    if vi > vmw[i]:
+                        vmw[i] = vi
+                else:
+                    vmw[i] = _raised(vmw[i], vi)
                 vw[i] = vi + c2 * ai
                 phi_l = phi_r
                 un = unr
@@ -575,8 +607,11 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 if VD:
                     aw[i] = ai
                 vi = vw[i] + c1 * ai
-                if vi > vmw[i]:
-                    vmw[i] = vi
+                if MASKED:  # the running max (see above)
+                    if vi > vmw[i]:
+                        vmw[i] = vi
+                else:
+                    vmw[i] = _raised(vmw[i], vi)
                 vw[i] = vi + c2 * ai
                 phi_l = phi_r
                 un = unr
@@ -800,7 +835,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             uw = u[lo_t:hi_t]
             umw = umax[lo_t:hi_t]
             for i in range(hi_t - lo_t):
-                umw[i] = max(umw[i], uw[i])
+                umw[i] = _raised(umw[i], uw[i])  # (see the passes)
         if trk and peak[0]:
             refine_range(st, con, p, mx[0], peak, lo_t, hi_t, ul, ur, c2, h, gstep)
 
