@@ -122,6 +122,14 @@ the refined maxima of v between the steps (section "Refined maxima" in ``_build`
 after each step's final substep on the same range, per grain.
 No ``fastmath``: the tests rely on bitwise determinism.
 
+Compile time: numba inlines an ``inline="always"`` function by copying its IR into
+every caller before typing, so the first compile grows with the inlined code.  The
+one-per-substep or rarer pieces (``piece``, ``energy_row``, ``take_row``, ``block``,
+``dissipate``) are separate compiled functions (LLVM may still inline them); the
+per-grain helpers stay inlined so that the fused loops vectorise.  Measured (first run
+of a 200-grain chain with maxima and an energy grid, cold cache, CPU s, Zen 4 under
+load 4): 17.0 s with everything inlined, 8.9 s so.
+
 Arguments are grouped in tuples (numba passes them at no cost): ``st = (u, v, a, dis)``
 the state (displacements m, velocities m/s, accelerations m/s², dissipated energy
 booked per contact J), ``con = (inv_m, k, d0, f0, rs, rc)`` the chain constants
@@ -503,7 +511,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             v[i] = vn
             dis[i + 1] += 0.5 * ((vi - vn) * (vi + vn)) / inv_m[i]
 
-    @jit(**_INLINE)
+    @jit(**_INNER)
     def dissipate(st, con, p, wl, wr, lo, hi, tau, adjoint):
         """The dissipative sub-step D_τ (``adjoint``: D*_τ) on the window; new (lo, hi).
 
@@ -629,7 +637,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 un = unr
         return un, phi_l
 
-    @jit(**_INLINE)
+    @jit(**_INNER)
     def piece(st, con, p, mx, i0, i1, ul, ur, dc, c1, c2, track):
         """One substep of grains [i0, i1) given the drifted outer neighbours ``ul``, ``ur``.
 
@@ -893,7 +901,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp,
                       none, vsp2, nsub, peak, h)
 
-    @jit(**_INLINE)
+    @jit(**_INNER)
     def block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax, track,
               events, series, rows, cfg, work, peak, h):
         """Try one temporal block of ``nb`` steps from step ``s`` (section above).
@@ -1014,7 +1022,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
 
 
     # ------------------------------------------------------------ energy rows
-    @jit(**_INLINE)
+    @jit(**_INNER)
     def energy_row(u, v, mass, k, d0, wl, wr, lo, hi, c, ek_out, ep_out):
         """One row of the per-grain energy grid, summed over blocks of ``c`` grains, J.
 
@@ -1254,7 +1262,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
 
         return run_chunk
 
-    @jit(**_INLINE)
+    @jit(**_INNER)
     def take_row(st, con, p, wl, wr, kick, dt, lo, hi, c, e_out, erows, mass):
         """An energy row inside a chunk (``run_chunk``'s ``erow``); returns (rows, lo, hi).
 
