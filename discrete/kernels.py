@@ -1212,7 +1212,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             bcfg = (nt_max, min_parallel, tile, min_serial_block)
             no_block_before = 0
             e_every, e_coarsen, e_out, mass = erow
-            erows = 0
+            erows = np.int64(0)  # (not a literal 0: one take_row signature for both calls)
             # opening kick of the first step: v^{n+1/2} (or the first stage velocity)
             lo, hi = open_step(st, con, p, wl, wr, kick[0], dt, lo, hi)
             s = 0
