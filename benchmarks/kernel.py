@@ -28,7 +28,21 @@ Usage::
     python benchmarks/kernel.py --grains 10000 --json
     python benchmarks/kernel.py --grains 50000 --threads 2
     python benchmarks/kernel.py --threshold-scan
-    python benchmarks/kernel.py --roofline           # what limits the kernel
+    python benchmarks/kernel.py --roofline           # what limits the kernel, and C
+    python benchmarks/kernel.py --roofline --grains 10000 --cpu native --cpu znver3
+        # also the AVX2 code path (issue 17 item 4), emulated on this machine
+
+``--roofline`` times, in CPU seconds, a bare C velocity Verlet (``leapfrog.c`` beside this
+script; compiled at run time with ``gcc -O3 -march=<cpu> -fno-math-errno`` into a
+temporary directory, loaded with ctypes; skipped, and said so, without gcc) after
+checking it against the kernel (bitwise with ``-ffp-contract=off``, to 1e-9 with the
+FMAs gcc makes by default, which is the build timed), our bare kernel, the paper
+recording and that recording plus Table 2's energy grid, and their ratios to C.
+``--cpu NAME`` (not ``native``) runs all of it in a subprocess for another CPU kind:
+numba with ``NUMBA_CPU_NAME=NAME`` and this host's features minus AVX-512
+(``NUMBA_CPU_NAME`` alone keeps the host's features), a fresh numba cache so that the
+kernel's assembly can be inspected (its zmm count is printed), gcc ``-march=NAME``.
+This is an emulation: the other kind's code path on this machine's cores and memory.
     python benchmarks/kernel.py --baseline-tree /tmp/old --grains 10000
         # this code against another checkout of the package (e.g. ``git archive <commit>
         # | tar -x -C /tmp/old``), in one run: rounds of the two alternate, each in its
