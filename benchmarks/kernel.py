@@ -28,7 +28,21 @@ Usage::
     python benchmarks/kernel.py --grains 10000 --json
     python benchmarks/kernel.py --grains 50000 --threads 2
     python benchmarks/kernel.py --threshold-scan
-    python benchmarks/kernel.py --roofline           # what limits the kernel
+    python benchmarks/kernel.py --roofline           # what limits the kernel, and C
+    python benchmarks/kernel.py --roofline --grains 10000 --cpu native --cpu znver3
+        # also the AVX2 code path (issue 17 item 4), emulated on this machine
+
+``--roofline`` times, in CPU seconds, a bare C velocity Verlet (``leapfrog.c`` beside this
+script; compiled at run time with ``gcc -O3 -march=<cpu> -fno-math-errno`` into a
+temporary directory, loaded with ctypes; skipped, and said so, without gcc) after
+checking it against the kernel (bitwise with ``-ffp-contract=off``, to 1e-9 with the
+FMAs gcc makes by default, which is the build timed), our bare kernel, the paper
+recording and that recording plus Table 2's energy grid, and their ratios to C.
+``--cpu NAME`` (not ``native``) runs all of it in a subprocess for another CPU kind:
+numba with ``NUMBA_CPU_NAME=NAME`` and this host's features minus AVX-512
+(``NUMBA_CPU_NAME`` alone keeps the host's features), a fresh numba cache so that the
+kernel's assembly can be inspected (its zmm count is printed), gcc ``-march=NAME``.
+This is an emulation: the other kind's code path on this machine's cores and memory.
     python benchmarks/kernel.py --baseline-tree /tmp/old --grains 10000
         # this code against another checkout of the package (e.g. ``git archive <commit>
         # | tar -x -C /tmp/old``), in one run: rounds of the two alternate, each in its
@@ -203,41 +217,270 @@ def _ceilings():
                 u[i] = ui
                 vi = v[i] - 1e-9 * ui
                 v[i] = vi
-                if vi > w[i]:  # never (w = 1e9): read only, like the running maximum
-                    w[i] = vi
+                w[i] = np.fmax(w[i], vi)  # the kernel's running maximum (w = 1e9)
 
     return sqrt_only, traffic
 
 
-def roofline(grains: list[int], repeats: int) -> None:
-    """What limits the kernel: its rate beside a square-root-only loop and a loop with
-    the kernel's memory traffic (both vectorised numba loops over the same N)."""
+# --------------------------------------------------------------- bare C reference
+C_SOURCE = _here / "leapfrog.c"
+"""The bare C velocity Verlet (same chain, force law, state layout; see its header)."""
+
+GRID_EVERY = 20
+"""Energy-grid row interval of the paper recording: Table 2's ``energy_every`` (the
+densest grid the paper's runs record; the automatic one is a row per half grain transit)."""
+
+GRID_COARSEN = 16
+"""Grains per energy-grid column in the benchmark (keeps a benchmark's grid under the
+runner's 2e7 entries; the per-row pass over all grains is the same for any value)."""
+
+_AVX512_PREFIXES = ("avx512", "amx", "avx10", "evex512")
+
+
+def emulated_features(cpu: str) -> str | None:
+    """``NUMBA_CPU_FEATURES`` for ``--cpu``: this host's features without AVX-512.
+
+    ``NUMBA_CPU_NAME`` alone keeps the *host's* feature list (numba passes both to
+    LLVM), so AVX-512 would stay on; every avx512*/amx*/avx10*/evex512 feature is
+    switched off here.  None for ``native``.
+    """
+    if cpu == "native":
+        return None
+    from numba.core.codegen import get_host_cpu_features
+
+    out = []
+    for f in get_host_cpu_features().split(","):
+        name = f[1:]
+        out.append("-" + name if name.startswith(_AVX512_PREFIXES) else f)
+    return ",".join(out)
+
+
+def build_c(march: str, contract: bool, outdir: str):
+    """Compile :data:`C_SOURCE` with ``gcc -O3 -march=<march>``; the ctypes function.
+
+    ``contract``: gcc's default ``-ffp-contract=fast`` (FMAs; what is timed); else
+    ``-ffp-contract=off`` (the numba kernel's arithmetic, bit for bit: the check).
+    Returns ``(leapfrog, zmm)``, zmm the number of zmm-register operands in the
+    library's disassembly (None without objdump); None if gcc is absent.
+    """
+    import ctypes
+    import shutil
+
+    gcc = shutil.which("gcc")
+    if gcc is None:
+        return None
+    lib = Path(outdir) / f"leapfrog_{march}_{'fma' if contract else 'nofma'}.so"
+    flags = ["-O3", f"-march={march}", "-fno-math-errno", "-shared", "-fPIC",
+             "-ffp-contract=" + ("fast" if contract else "off")]
+    subprocess.run([gcc, *flags, str(C_SOURCE), "-o", str(lib), "-lm"], check=True)
+    zmm = None
+    if shutil.which("objdump"):
+        asm = subprocess.run(["objdump", "-d", str(lib)], capture_output=True, text=True)
+        zmm = asm.stdout.count("%zmm")
+    f = ctypes.CDLL(str(lib)).leapfrog
+    dp = np.ctypeslib.ndpointer(np.float64, flags="C_CONTIGUOUS")
+    f.argtypes = [ctypes.c_long, ctypes.c_long, dp, dp, dp, dp, dp, dp, dp, dp,
+                  ctypes.c_double, ctypes.c_double, ctypes.c_double]
+    f.restype = None
+    return f, zmm
+
+
+class CStep:
+    """The bare C leapfrog on a Simulation's chain and (u, v, a) state."""
+
+    def __init__(self, fn, sim: Simulation):
+        self.fn = fn
+        self.n = sim.chain.n
+        self.u, self.v, self.a = sim.u.copy(), sim.v.copy(), sim.a.copy()
+        self.f = np.zeros(self.n + 1)
+        self.const = (np.ascontiguousarray(1.0 / sim.chain.mass), sim._k, sim._d0, sim._f0)
+        self.walls = (float(sim.wall_left), float(sim.wall_right), float(sim.dt))
+
+    def run(self, steps: int) -> None:
+        self.fn(self.n, steps, self.u, self.v, self.a, self.f, *self.const, *self.walls)
+
+    def rate(self, steps: int) -> float:
+        """Grain-updates per CPU second (``time.process_time``)."""
+        t0 = time.process_time()
+        self.run(steps)
+        return self.n * steps / (time.process_time() - t0)
+
+
+def check_c(fn_exact, fn_fast, ch: Chain, v: np.ndarray, steps: int = 500) -> dict:
+    """The C leapfrog against our kernel after ``steps`` steps from the same state.
+
+    Raises RuntimeError unless the ``-ffp-contract=off`` build equals the kernel bit for
+    bit and the timed (FMA) build agrees to round-off: max |Δu|, |Δv| <= 1e-9 of max
+    |u|, |v| (the FMAs change the last bit of a few products per step; growth over 500
+    steps of a chain at rest but for σ = 1 mm/s noise stays many orders below this).
+    """
+    sim = Simulation(ch, v=v.copy(), record=Recording(maxima=False, monitor_every=10**9),
+                     threads=1)
+    exact, fast = CStep(fn_exact, sim), CStep(fn_fast, sim)
+    sim.run(max_steps=steps, progress=False)
+    exact.run(steps)
+    fast.run(steps)
+    bitwise = all(np.array_equal(x, y) for x, y in
+                  ((exact.u, sim.u), (exact.v, sim.v), (exact.a, sim.a)))
+    du = float(np.max(np.abs(fast.u - sim.u)) / np.max(np.abs(sim.u)))
+    dv = float(np.max(np.abs(fast.v - sim.v)) / np.max(np.abs(sim.v)))
+    if not bitwise or not (du <= 1e-9 and dv <= 1e-9):
+        raise RuntimeError(f"the C leapfrog disagrees with the kernel after {steps} steps: "
+                           f"bitwise (fp-contract=off) {bitwise}, FMA build relative "
+                           f"max |du| {du:.2e}, |dv| {dv:.2e} (allowed 1e-9)")
+    return {"bitwise_nofma": bitwise, "rel_du_fma": du, "rel_dv_fma": dv}
+
+
+def grid_recording(n: int) -> Recording:
+    """The paper recording plus Table 2's energy grid (a row every :data:`GRID_EVERY`
+    steps; the paper's 10,000-grain runs, Figs. 2b and 5, record no grid)."""
+    return Recording(maxima=True, snapshots=[WaveAt(n // 2, threshold=1.0)],
+                     monitor_every=10_000, energy_every=GRID_EVERY,
+                     energy_coarsen=GRID_COARSEN)
+
+
+def kernel_zmm(sim: Simulation) -> int | None:
+    """zmm-register operands in the assembly of the kernel the Simulation runs.
+
+    None if numba loaded it from its disk cache (no assembly kept): ``--cpu`` runs use a
+    fresh cache directory so that the emulated code is always inspected.
+    """
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numba warns (and returns junk) for cached code
+        try:
+            asm = sim._kernel(1).inspect_asm()
+        except Exception:
+            return None
+    return sum(a.count("%zmm") for a in asm.values()) if asm else None
+
+
+def cpu_rates(grains: list[int], repeats: int, march: str) -> list[dict]:
+    """Per N: the ceilings, the bare C leapfrog, our bare kernel and the paper recording.
+
+    Rates in grain-updates per CPU second (``time.process_time``; one thread each), the
+    best of ``repeats``, the three codes' repeats interleaved.
+    """
+    import tempfile
+
     sqrt_only, traffic = _ceilings()
-    print("# per grain-update: one r·sqrt(r) (compute ceiling) | the kernel's traffic, "
-          "24 B read + 16 B written (memory ceiling) | bare kernel | with recording")
-    print(f"{'N':>9} {'sqrt only':>11} {'traffic':>11} {'bare':>11} {'recording':>11}")
-    for n in grains:
-        x = np.random.default_rng(0).uniform(1.0, 2.0, n)
-        y, z = np.zeros(n), np.full(n, 1e9)
-        reps = max(1, int(2e8 / n))
-        sqrt_only(x, y, 1)
-        traffic(x.copy(), y, z, 1)
-        r_sqrt = r_mem = 0.0
-        for _ in range(repeats):
-            t0 = time.perf_counter()
-            sqrt_only(x, y, reps)
-            r_sqrt = max(r_sqrt, n * reps / (time.perf_counter() - t0))
-            u = x.copy()
-            t0 = time.perf_counter()
-            traffic(u, y, z, reps)
-            r_mem = max(r_mem, n * reps / (time.perf_counter() - t0))
-        ch, v = chain_and_state(n)
-        bare = production(ch, v, 1, recording=False)
-        full = production(ch, v, 1)
-        steps = steps_for(n, 2.5e9, 0.3)
-        r_bare = max(time_sim(bare, steps) for _ in range(repeats))
-        r_full = max(time_sim(full, steps) for _ in range(repeats))
-        print(f"{n:>9} {r_sqrt:>11.3e} {r_mem:>11.3e} {r_bare:>11.3e} {r_full:>11.3e}")
+    out = []
+    with tempfile.TemporaryDirectory() as tmp:
+        built = build_c(march, True, tmp)
+        exact = build_c(march, False, tmp) if built else None
+        for n in grains:
+            x = np.random.default_rng(0).uniform(1.0, 2.0, n)
+            y, z = np.zeros(n), np.full(n, 1e9)
+            reps = max(1, int(2e8 / n))
+            sqrt_only(x, y, 1)
+            traffic(x.copy(), y, z, 1)
+            r_sqrt = r_mem = 0.0
+            for _ in range(repeats):
+                t0 = time.process_time()
+                sqrt_only(x, y, reps)
+                r_sqrt = max(r_sqrt, n * reps / (time.process_time() - t0))
+                u = x.copy()
+                t0 = time.process_time()
+                traffic(u, y, z, reps)
+                r_mem = max(r_mem, n * reps / (time.process_time() - t0))
+            ch, v = chain_and_state(n)
+            bare = production(ch, v, 1, recording=False)
+            full = production(ch, v, 1)
+            grid = Simulation(ch, v=v.copy(), record=grid_recording(n), threads=1)
+            grid.run(max_steps=600, progress=False)
+            row = {"grains": n, "sqrt": r_sqrt, "traffic": r_mem, "march": march,
+                   "zmm_kernel": kernel_zmm(full)}
+            cref = None
+            if built:
+                row["check"] = check_c(exact[0], built[0], ch, v)
+                row["zmm_c"] = built[1]
+                cref = CStep(built[0], bare)
+                cref.run(600)
+            steps = steps_for(n, 2.5e9, 0.3)
+            rates = {"c": [], "bare": [], "recording": [], "grid": []}
+            for _ in range(repeats):
+                if cref is not None:
+                    rates["c"].append(cref.rate(steps))
+                for key, sim in (("bare", bare), ("recording", full), ("grid", grid)):
+                    t0 = time.process_time()
+                    time_sim(sim, steps)
+                    rates[key].append(n * steps / (time.process_time() - t0))
+            row.update({k: (max(r) if r else None) for k, r in rates.items()})
+            out.append(row)
+    return out
+
+
+def _cpu_subprocess(cpu: str, grains: list[int], repeats: int) -> list[dict]:
+    """:func:`cpu_rates` for an emulated CPU kind in a fresh process (module docstring)."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CPU_NAME=cpu, NUMBA_CPU_FEATURES=emulated_features(cpu),
+                   NUMBA_CACHE_DIR=cache)
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--roofline", "--json",
+               "--cpu", cpu, "--repeats", str(repeats)]
+        for n in grains:
+            cmd += ["--grains", str(n)]
+        out = subprocess.run(cmd, env=env, capture_output=True, text=True)
+        if out.returncode != 0:
+            raise RuntimeError(f"--cpu {cpu} subprocess failed:\n{out.stderr[-3000:]}")
+        return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def roofline(grains: list[int], repeats: int, cpus: list[str], as_json: bool) -> None:
+    """What limits the kernel: the bare C leapfrog, a square-root-only loop and a loop
+    with the kernel's memory traffic beside our bare kernel and the paper recording.
+
+    ``cpus``: ``native`` (this process) and/or a CPU name to emulate (e.g. ``znver3``:
+    numba with ``NUMBA_CPU_NAME`` and this host's features minus AVX-512, gcc
+    ``-march=znver3``), each in its own process, in this one run.
+    """
+    emulated = os.environ.get("NUMBA_CPU_NAME")
+    if as_json:  # (the --cpu subprocess, or a single native measurement)
+        print(json.dumps(cpu_rates(grains, repeats, emulated or "native")))
+        return
+    load0 = os.getloadavg()
+    results = []
+    for cpu in cpus:
+        rows = (cpu_rates(grains, repeats, "native") if cpu == "native"
+                else _cpu_subprocess(cpu, grains, repeats))
+        results += rows
+    load1 = os.getloadavg()
+    m = machine()
+    print(f"# {m['cpu']} ({platform.machine()}), host CPU {_host_cpu()}; load average "
+          f"before {load0[0]:.2f}, after {load1[0]:.2f}")
+    print("# grain-updates per CPU second, best of repeats, one thread; C: gcc -O3 "
+          "-march=<cpu> -fno-math-errno, checked against the kernel (bitwise without FMA "
+          "contraction, to round-off with it)")
+    print("# recording: the paper's 10,000-grain runs (Figs. 2b, 5): running maxima of v "
+          "and u, WaveAt trigger, energy monitor; +grid: also Table 2's energy grid, a row "
+          f"every {GRID_EVERY} steps")
+    if any(c != "native" for c in cpus):
+        print("# an emulated CPU kind runs this machine's cores and memory system with "
+              "that CPU's code path (numba NUMBA_CPU_NAME + AVX-512 features off, gcc "
+              "-march): the AVX2 code, not that machine's timings")
+    print(f"{'cpu':>8} {'N':>8} {'sqrt only':>10} {'traffic':>10} {'bare C':>10} "
+          f"{'bare':>10} {'recording':>10} {'+grid':>10} {'bare/C':>7} {'rec/C':>7} "
+          f"{'+grid/C':>7} {'zmm kern/C':>11}")
+    for r in results:
+        c = r.get("c")
+        def ratio(x, c=c):
+            return f"{x / c:>7.2f}" if c else f"{'-':>7}"
+
+        cs = f"{c:>10.3e}" if c else f"{'skipped':>10}"
+        print(f"{r['march']:>8} {r['grains']:>8} {r['sqrt']:>10.3e} {r['traffic']:>10.3e} "
+              f"{cs} {r['bare']:>10.3e} {r['recording']:>10.3e} {r['grid']:>10.3e} "
+              f"{ratio(r['bare'])} {ratio(r['recording'])} {ratio(r['grid'])} "
+              f"{str(r.get('zmm_kernel')):>5}/{r.get('zmm_c')}")
+    if not any(r.get("c") for r in results):
+        print("# gcc not found: the bare C row is skipped")
+
+
+def _host_cpu() -> str:
+    import llvmlite.binding as llb
+
+    return llb.get_host_cpu_name()
 
 
 def threshold_scan(repeats: int, seconds: float) -> None:
@@ -306,7 +549,12 @@ def main(argv=None) -> None:
     p.add_argument("--json", action="store_true", help="one JSON object (one --grains)")
     p.add_argument("--threshold-scan", action="store_true")
     p.add_argument("--roofline", action="store_true",
-                   help="the kernel beside its compute and memory ceilings")
+                   help="the kernel beside a bare C leapfrog and its compute and memory "
+                        "ceilings")
+    p.add_argument("--cpu", action="append",
+                   help="with --roofline: 'native' and/or a CPU kind to emulate (e.g. "
+                        "znver3: AVX2, no AVX-512), each in its own process (repeatable; "
+                        "default native)")
     p.add_argument("--baseline-tree", metavar="DIR",
                    help="compare with the packages of another checkout (see the docstring)")
     p.add_argument("--rounds", type=int, default=5, help="alternating rounds (--baseline-tree)")
@@ -318,7 +566,8 @@ def main(argv=None) -> None:
         threshold_scan(a.repeats, a.seconds)
         return
     if a.roofline:
-        roofline(a.grains or [10_000, 100_000, 1_000_000], a.repeats)
+        roofline(a.grains or [10_000, 100_000, 1_000_000], a.repeats, a.cpu or ["native"],
+                 a.json)
         return
     grains = a.grains or ([50_000] if a.threads > 1 else [10_000, 100_000])
     if a.json and len(grains) != 1:
