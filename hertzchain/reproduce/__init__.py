@@ -147,19 +147,20 @@ Fig. 5 settles the δ0/d = 1e-3 wave first in its lane, ~15 s before Fig. 6 need
 the other; had both settled it at once, they would have computed the same wave, bit for
 bit."""
 
-QUICK_WORKERS = 1
+QUICK_WORKERS = 2
 """Worker processes of ``--quick`` (:func:`reproduce`'s default there; capped at the cores
 this process may use).  Either count computes every simulation with the same code on one
 kernel thread: the numbers are the same, bit for bit.
 
-One, because two did not pay measurably on the shared 2-core development machine (issue
-13, AMD EPYC Zen 4, 2026-11-27 10:20-10:50 UTC, warm, fresh ``--out``, three series of
-runs alternated 1-2-2-1 under load 2.7-5.4 from other jobs): one worker 84-146 s wall
-(median 111 s), 63-68 s CPU, largest RSS 0.49-0.51 GB; two workers 78-172 s (median
-103 s), 64-72 s CPU, 0.55-0.58 GB PSS over both processes (largest RSS 0.52-0.57 GB),
-the load deciding more than the count.  On an idle machine two should approach the
-lanes' CPU critical path, ~41 s against 68 s (fig3 4 s, then 34 s in the worker against
-37 s here), at +0.13-0.18 GB: above issue 13's 0.40 GB, hence not the default."""
+Two, for the wall time (issue 13: ≤ 40 s after compilation).  Measured on an idle 2-core
+AMD EPYC Zen 4 (family 25 model 17, AVX-512; load 0.0-1.5), warm, fresh ``--out``,
+``benchmarks/reproduce.py`` on 2026-11-27 11:18 UTC: one worker 60.9 s wall, 61.4 s CPU,
+peak 0.48 GB (PSS); two workers 36.8 s wall, 62.5 s CPU, 0.59 GB PSS over both processes
+(largest RSS 0.51 GB).  Under load from other jobs (2.7-5.4, earlier that day) the load
+decided the wall time more than the count (one 84-146 s, two 78-172 s).  The price is
+~0.1 GB: issue 13's 0.40 GB is missed either way (one process peaks at 0.48 GB, of
+which ~0.3 GB is the interpreter with NumPy, SciPy, numba and its loaded kernels, py-pde
+and matplotlib).  ``--workers 1`` (``workers=1``) runs everything in one process."""
 
 _JOIN_GRACE = 10.0
 """Seconds the calling process waits, after a SIGINT/SIGTERM, for the worker to stop by

@@ -36,9 +36,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "(discards checkpoints)")
     p.add_argument("--workers", type=int, choices=(1, 2), default=None,
                    help="processes: 2 runs the items in two lanes at once (--quick only; "
-                        "the same numbers bit for bit; ~0.17 GB more memory; faster only "
-                        "on an otherwise idle 2-core machine), 1 one after the other "
-                        "(default)")
+                        "the same numbers bit for bit; ~0.1 GB more memory; the default "
+                        "with --quick on two or more cores), 1 one after the other "
+                        "(the default with --full)")
     p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
                    metavar="SECONDS",
                    help="wall time between checkpoints of a simulation, s (>= 0; default "
