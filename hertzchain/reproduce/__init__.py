@@ -179,9 +179,26 @@ def lanes(names, workers: int) -> list[list[str]]:
     return [lane for lane in out if lane]
 
 
+@contextmanager
+def _compile_timer(ctx):
+    """Add the seconds numba spends compiling to ``ctx.compile_seconds``.
+
+    numba's ``"numba:compile"`` events (:mod:`numba.core.event`) fire only for a real
+    compilation, not for a kernel loaded from its on-disk cache; nested compiles are
+    counted once (the outermost event's duration).
+    """
+    from numba.core import event
+
+    def add(seconds: float) -> None:
+        ctx.compile_seconds += seconds
+
+    with event.install_timer("numba:compile", add):
+        yield
+
+
 def _run_lane(ctx, names, order: dict, start: float, threads) -> list[ItemRun]:
     runs = []
-    with kernel_threads(threads):
+    with kernel_threads(threads), _compile_timer(ctx):
         for name in names:  # "item k of n" before each item's messages
             ctx.log(f"[{order[name]}/{len(order)}] {name} ({time.perf_counter() - start:.0f} "
                     "s elapsed)")
@@ -209,7 +226,7 @@ def _lane_worker(conn, ctx, names, order, start, threads) -> None:
     try:
         runs = _run_lane(ctx, names, order, start, threads)
         payload = ("ok", [(r.name, r.result, r.figures, r.numbers, r.seconds, r.computed,
-                           r.reused) for r in runs], ctx.notes)
+                           r.reused) for r in runs], ctx.notes, ctx.compile_seconds)
     except Interrupted as exc:
         note = str(exc).split("; ", 1)[1] if "; " in str(exc) else None
         payload = ("interrupted", exc.signum, exc.checkpoint, exc.t, exc.steps, note)
@@ -292,6 +309,7 @@ def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
     theirs = [ItemRun(name, importlib.import_module(f"{__name__}.{_MODULES[name][0]}"),
                       *rest) for name, *rest in payload[1]]
     ctx.notes.update(payload[2])
+    ctx.compile_seconds += payload[3]
     runs = sorted(mine + theirs, key=lambda r: order[r.name])
     ctx.computed[:] = [p for r in runs for p in r.computed]
     ctx.reused[:] = [p for r in runs for p in r.reused]
@@ -390,4 +408,4 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
         paths = write_report(ctx, runs, wall)
     return {"items": {r.name: r.numbers for r in runs}, "runs": runs, "report": paths,
             "computed": list(ctx.computed), "reused": list(ctx.reused), "wall_time": wall,
-            "context": ctx}
+            "compile_seconds": ctx.compile_seconds, "context": ctx}

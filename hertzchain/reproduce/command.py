@@ -80,6 +80,10 @@ def _text(result: dict) -> str:
     ctx = result["context"]
     lines.append(f"{len(ctx.computed)} simulations computed, {len(ctx.reused)} reused; "
                  f"wall time {result['wall_time']:.0f} s")
+    if result["compile_seconds"] >= 0.5:  # a cold kernel cache: say what it cost
+        lines.append(f"numba spent {result['compile_seconds']:.0f} s compiling kernels "
+                     "(summed over the processes; the first run after installing or after "
+                     "a change of the code; cached afterwards)")
     for p in result["report"]:
         lines.append(f"written: {p}")
     return "\n".join(lines)

@@ -82,6 +82,9 @@ class Context:
     reused: list[Path] = field(default_factory=list)
     timings: dict[str, float] = field(default_factory=dict)
     notes: dict[str, str] = field(default_factory=dict)
+    compile_seconds: float = 0.0
+    """Seconds numba spent compiling kernels during the items (a cold cache: the first run
+    after installing), summed over the processes (``reproduce``'s ``_compile_timer``)."""
 
     def __post_init__(self) -> None:
         self.out = Path(self.out)

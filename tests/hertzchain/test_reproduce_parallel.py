@@ -151,3 +151,24 @@ def test_default_is_one_process_and_cli_option(tmp_path, monkeypatch, capsys):
     assert seen == ["parallel"]
     with pytest.raises(SystemExit):
         main(["reproduce", "--workers", "3", "--out", str(tmp_path)])
+
+
+def test_compile_seconds_count_real_compiles_only(tmp_path):
+    # the summary's "numba spent N s compiling": numba's compile events, which fire for a
+    # compilation and not for a call of an already compiled (or cache-loaded) kernel
+    import numba
+
+    from hertzchain.reproduce.common import Context
+
+    @numba.njit
+    def fresh(x):  # a new function: its first call compiles
+        return x * 2.0 + 1.0
+
+    ctx = Context(tmp_path, progress=False)
+    with R._compile_timer(ctx):
+        assert fresh(1.0) == 3.0
+    first = ctx.compile_seconds
+    assert first > 0.0
+    with R._compile_timer(ctx):
+        assert fresh(2.0) == 5.0  # compiled already: no event
+    assert ctx.compile_seconds == first
