@@ -82,8 +82,9 @@ def _text(result: dict) -> str:
                  f"wall time {result['wall_time']:.0f} s")
     if result["compile_seconds"] >= 0.5:  # a cold kernel cache: say what it cost
         lines.append(f"numba spent {result['compile_seconds']:.0f} s compiling kernels "
-                     "(summed over the processes; the first run after installing or after "
-                     "a change of the code; cached afterwards)")
+                     "(the first run after installing or after a change of the code; "
+                     "cached afterwards; with two processes the sum of both, which "
+                     "compile at the same time)")
     for p in result["report"]:
         lines.append(f"written: {p}")
     return "\n".join(lines)
