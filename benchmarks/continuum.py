@@ -46,12 +46,13 @@ Usage: ``python benchmarks/continuum.py [--no-accuracy] [--table2] [--no-before]
 import argparse
 import json
 import os
-import platform
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from _machine import cpu_name  # (before this folder leaves sys.path, if it does)
 
 # this file is named like the package it measures: keep its folder off the import path
 _here = Path(__file__).resolve().parent
@@ -110,22 +111,6 @@ def target_verdict(ratio_wall: float, ratio_cpu: float, rate: float, drift: floa
 
     return (f"{yn(ratio_wall <= TARGET_RATIO)}, {yn(ratio_cpu <= TARGET_RATIO)}, "
             f"{yn(rate >= TARGET_RATE)}, {yn(bool(np.isfinite(drift)))}")
-
-
-def cpu_name() -> str:
-    name = platform.processor() or "?"
-    family = avx512 = "?"
-    try:
-        info = Path("/proc/cpuinfo").read_text()
-        for line in info.splitlines():
-            if line.startswith("model name"):
-                name = line.split(":", 1)[1].strip()
-            elif line.startswith("cpu family"):
-                family = line.split(":", 1)[1].strip()
-        avx512 = "yes" if " avx512f" in info else "no"
-    except OSError:
-        pass
-    return f"{name} (family {family}, AVX-512: {avx512})"
 
 
 def timed(fn, warm, repeats):

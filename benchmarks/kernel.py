@@ -65,6 +65,8 @@ import sys
 import time
 from pathlib import Path
 
+from _machine import cpu_name  # (before this folder leaves sys.path, if it does)
+
 # this folder is not a package: keep it off the import path (benchmarks/*.py named like
 # the packages they measure would shadow them)
 _here = Path(__file__).resolve().parent
@@ -80,15 +82,7 @@ SIGMA_V = 1e-3  # m/s, random grain velocities everywhere
 
 def machine() -> dict:
     """CPU model, cores and load (for the README table)."""
-    model = platform.processor() or "?"
-    try:
-        out = subprocess.run(["lscpu"], capture_output=True, text=True, check=True).stdout
-        for line in out.splitlines():
-            if line.startswith("Model name:"):
-                model = line.split(":", 1)[1].strip()
-    except (OSError, subprocess.CalledProcessError):
-        pass
-    return {"cpu": model, "cores": os.cpu_count(), "load": os.getloadavg()}
+    return {"cpu": cpu_name(), "cores": os.cpu_count(), "load": os.getloadavg()}
 
 
 def chain_and_state(n: int, seed: int = 0):

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import platform
 import statistics
 import subprocess
 import sys
@@ -33,16 +32,7 @@ import time
 from pathlib import Path
 
 import psutil
-
-
-def _cpu() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown CPU"
+from _machine import cpu_name
 
 
 def run_once(out: Path, workers: int) -> dict:
@@ -80,7 +70,7 @@ def main(argv=None) -> int:
     ap.add_argument("--skip-warmup", action="store_true",
                     help="do not run once first to fill numba's kernel cache")
     args = ap.parse_args(argv)
-    print(f"CPU: {_cpu()}, {psutil.cpu_count()} logical cores; load average before "
+    print(f"CPU: {cpu_name()}; load average before "
           f"{os.getloadavg()[0]:.1f}")
     rows = []
     with tempfile.TemporaryDirectory(prefix="bench-reproduce-") as tmp:

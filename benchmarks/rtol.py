@@ -36,13 +36,13 @@ import argparse
 import json
 import math
 import os
-import platform
 import subprocess
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
+from _machine import cpu_name  # (before this folder leaves sys.path, if it does)
 
 
 def scenario(n: int, **run):
@@ -130,13 +130,7 @@ def main() -> None:
         return
     from discrete.timestep import default_dt  # noqa: F401 (warm imports, kernels)
 
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(line.split(":", 1)[1].strip() for line in f if "model name" in line)
-    except (OSError, StopIteration):
-        pass
-    print(f"# {cpu}, {os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}; "
+    print(f"# {cpu_name()}, load average {os.getloadavg()[0]:.2f}; "
           f"impact on N grains, delta0 = 0, until grain 0.75 N; rtol = {a.rtol:g}")
     results = []
     for n in a.grains:

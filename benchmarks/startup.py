@@ -40,6 +40,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from _machine import cpu_name
+
 SCENARIO = """\
 name = "impact100"
 [chain]
@@ -66,22 +68,6 @@ def f(x):
 
 TARGET = 0.8
 """Issue 17 item 3: a warm run of a small scenario, as a whole process, s."""
-
-
-def cpu_name() -> str:
-    """The CPU's model name and whether it has AVX-512 (``/proc/cpuinfo``)."""
-    try:
-        info = Path("/proc/cpuinfo").read_text()
-    except OSError:
-        return platform.processor() or "unknown CPU"
-    name = next((ln.split(":", 1)[1].strip() for ln in info.splitlines()
-                 if ln.startswith("model name")), "unknown CPU")
-    fam = next((ln.split(":", 1)[1].strip() for ln in info.splitlines()
-                if ln.startswith("cpu family")), "?")
-    model = next((ln.split(":", 1)[1].strip() for ln in info.splitlines()
-                  if ln.startswith("model\t") or ln.startswith("model ")), "?")
-    avx = "AVX-512" if " avx512f" in info else "AVX2" if " avx2" in info else "no AVX2"
-    return f"{name} (family {fam} model {model}, {avx}, {os.cpu_count()} cores)"
 
 
 def timed(cmd: list[str], env: dict, cwd: str) -> tuple[float, float]:
