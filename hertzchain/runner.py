@@ -234,6 +234,8 @@ def _run_length_estimate(scenario: Scenario, chain: discrete.Chain, v: np.ndarra
     by a factor the estimate does not know); so does a run with neither.
     """
     run = scenario.run
+    if run.until_front_at is None and run.t_end is not None:
+        return run.t_end  # the run stops there, not earlier
     d = float(np.mean(chain.diameter))
     t = 3.0 * chain.n * d / speed
     if run.until_front_at is not None and not interfaces(chain):
@@ -441,11 +443,11 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     # an rtol run of one section with running maxima keeps them refined between the steps
     # (Simulation: rtol, forces of positions only): their peak times give the front
     # speed, the one number its summary read from the grid (_front_speed_from_maxima)
-    maxima_front = (step.source == "rtol" and rec.running_max and not interfaces(init.chain)
+    rtol_one_section = step.source == "rtol" and not interfaces(init.chain)
+    maxima_front = (rtol_one_section and rec.running_max
                     and not (law.dissipative or drag > 0))
     if energy_grid and rec.energy_grid and every is None and not maxima_front:
-        per = GRID_ROWS_PER_GRAIN_RTOL if step.source == "rtol" and not interfaces(
-            init.chain) else GRID_ROWS_PER_GRAIN
+        per = GRID_ROWS_PER_GRAIN_RTOL if rtol_one_section else GRID_ROWS_PER_GRAIN
         every = max(1, int(per * d / (speed * dt)))
     if every:
         # (never beyond max_steps: t_end = 1e300 with max_steps = 10 is refused by
@@ -459,6 +461,8 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
         + [discrete.WaveAt(g) for g in rec.snapshot_grains],
         series_grains=list(rec.time_series_grains), series_every=rec.series_every,
         maxima=rec.running_max, energy_every=every, energy_coarsen=coarsen,
+        # asked for, not left to Simulation's default: the front speed depends on them
+        refined_maxima=True if maxima_front else None,
         sensors=list(rec.sensors), wall_forces=rec.wall_forces,
         strain_maxima=rec.strain_maxima)
     kwargs = {} if threads is None else {"threads": threads}

@@ -282,11 +282,16 @@ def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
                         args=(send, ctx, parts[0], order, start, threads))
     for stream in (sys.stdout, sys.stderr):  # (else the worker would write their buffers too)
         stream.flush()
-    gc.freeze()  # the worker's collector leaves the inherited objects (and their pages) alone
+    # the worker's collector leaves the inherited objects (and their pages) alone; a
+    # ``hertzchain`` command has frozen its imports already (cli._process_gc), and those
+    # stay frozen here: unfreeze only if nothing was frozen before
+    frozen_before = gc.get_freeze_count()
+    gc.freeze()
     try:
         proc.start()
     finally:
-        gc.unfreeze()
+        if not frozen_before:
+            gc.unfreeze()
     send.close()
     try:
         mine = first + _run_lane(ctx, parts[1][k:], order, start, threads)
