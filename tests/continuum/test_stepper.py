@@ -250,3 +250,17 @@ def test_compiled_monitor_equals_numpy(model, rng):
     e_n, p_n = pde.invariants(state)
     assert e_c == pytest.approx(e_n, rel=1e-12)
     assert p_c == pytest.approx(p_n, rel=1e-12, abs=1e-300)
+
+
+def test_nesterenko_precompressed_chain_at_rest_stays_at_rest():
+    """A precompressed Eq. 7 chain at rest is an equilibrium: the compiled stepper's
+    dispersive flux y ∝ ζ(δ) − ζ(δ0) must vanish exactly, so ζ(δ0) is formed with the
+    kernel's own arithmetic (δ·√√δ; δ0^{5/4} differs by an ulp for ~30 % of δ0, which
+    had set the chain moving at ~4e-17 m/s within 100 steps)."""
+    for d0 in (1.005e-3 * D, DELTA0, 0.7e-3 * D):
+        pde = NesterenkoPDE(Medium.uniform(200, d0), 3, delta_floor=1e-8)
+        state = pde.get_initial_condition(np.zeros(pde.grid.shape), np.zeros(pde.grid.shape))
+        dt = pde.stable_dt(state)
+        out = run(pde, state, 100 * dt, dt=dt, interval=50 * dt)
+        assert out["info"]["fused"]
+        assert np.all(out["state"].data == 0.0), d0
