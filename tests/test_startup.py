@@ -70,15 +70,16 @@ def test_version_and_help_import_no_solver(tmp_path):
     assert proc.returncode == 0 and proc.stdout.startswith("hertzchain "), proc
 
 
-def _gc_after(call: str, tmp_path) -> tuple[bool, int, bool]:
-    """Collector enabled, objects frozen by ``call``, numba loaded: in a fresh process."""
+def _gc_after(call: str, tmp_path) -> tuple[bool, int, bool, int]:
+    """Collector enabled, objects frozen by ``call``, numba loaded, the youngest
+    generation's threshold: in a fresh process."""
     code = "\n".join([
         "import gc, json, sys",
         "from hertzchain.cli import main",
         "freeze0 = gc.get_freeze_count()",
         call,
         "print(json.dumps([gc.isenabled(), gc.get_freeze_count() - freeze0,"
-        " 'numba' in sys.modules]), file=sys.stderr)",
+        " 'numba' in sys.modules, gc.get_threshold()[0]]), file=sys.stderr)",
         "sys.exit(status)",
     ])
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
@@ -91,10 +92,13 @@ def test_command_line_process_freezes_the_collector(tmp_path):
     # main() of the process's own command line (argv None): collector re-enabled after
     # the imports, everything alive frozen (never scanned again, skipped at exit)
     argv = ["hertzchain", "theory", "--alpha-rho", "2", "--alpha-kn", "1", "--json"]
-    enabled, frozen, numba_loaded = _gc_after(
+    from hertzchain.cli import GC_THRESHOLD0
+
+    enabled, frozen, numba_loaded, threshold = _gc_after(
         f"sys.argv = {argv!r}; status = main()", tmp_path)
     assert enabled and numba_loaded
     assert frozen > 50_000  # NumPy, numba, SciPy and the solver (~9e4 here)
+    assert threshold == GC_THRESHOLD0 != 700  # young collections spaced out
     # a caller passing argv keeps its collector as it was
-    enabled, frozen, _ = _gc_after(f"status = main({argv[1:]!r})", tmp_path)
-    assert enabled and frozen == 0
+    enabled, frozen, _, threshold = _gc_after(f"status = main({argv[1:]!r})", tmp_path)
+    assert enabled and frozen == 0 and threshold == 700
