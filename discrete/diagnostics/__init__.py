@@ -53,6 +53,8 @@ from .ratios import (
     incident_time_index,
     interface_activity,
     normalise_to_incident_peak,
+    phase_averaged_ratios,
+    phase_window,
     separated_time_index,
     table2_ratios,
 )
@@ -105,6 +107,8 @@ __all__ = [
     "kinetic_energy",
     "leading_pulse",
     "normalise_to_incident_peak",
+    "phase_averaged_ratios",
+    "phase_window",
     "overlaps_from_displacements",
     "section_range",
     "section_sums",
