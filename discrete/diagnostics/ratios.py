@@ -271,19 +271,21 @@ def phase_window(t: ArrayLike, start: float, stop: float) -> tuple[np.ndarray, F
     return rows, np.maximum(w, 0.0)  # (w >= 6e-5 in [0, 1]; the max only clips round-off)
 
 
-def _incident_transit(energy: np.ndarray, t: np.ndarray, i_incident: int,
-                      n_left: int) -> float:
+def _incident_transit(kinetic: np.ndarray, potential: np.ndarray, t: np.ndarray,
+                      i_incident: int, n_left: int) -> float:
     """Transit time d/V of the incident wave, s, from its energy peak's grain vs time.
 
     A straight-line fit of the peak's grain index (argmax of the energy over the left
-    section) against time over the second half of the rows up to ``i_incident``
-    (the first half may hold an impact wave still forming).  NaN if fewer than 4 rows
-    or the peak does not move to the right.
+    section) against time over the second half of the rows up to ``i_incident``, at
+    most the last 256 (the first half may hold an impact wave still forming).  NaN if
+    fewer than 4 rows or the peak does not move to the right.
     """
-    lo = i_incident // 2
+    lo = max(i_incident // 2, i_incident - 256)  # (256 rows: ~100 transits or more)
     if i_incident - lo < 3:
         return float("nan")
-    peak = np.argmax(energy[lo:i_incident + 1, :n_left], axis=1).astype(float)
+    rows = slice(lo, i_incident + 1)
+    energy = kinetic[rows, :n_left] + potential[rows, :n_left]
+    peak = np.argmax(energy, axis=1).astype(float)
     slope = np.polyfit(t[lo:i_incident + 1], peak, 1)[0]  # grains per second
     return float(1.0 / slope) if slope > 0 else float("nan")
 
@@ -355,11 +357,16 @@ def phase_averaged_ratios(
     t = np.asarray(t, dtype=float)
     if not window > 0:
         raise ValueError(f"window = {window!r} transits: allowed range (0, inf)")
-    ek, ep = _f(kinetic, "kinetic"), _f(potential, "potential")
+    # (no whole-grid copies or checks here: energy_ratios_from_grid checks the rows it
+    # reads, and the summary of a 5,000-row grid should not pay for it three times)
+    ek, ep = np.asarray(kinetic), np.asarray(potential)
+    if ek.shape != ep.shape or ek.ndim != 2 or t.shape != ek.shape[:1]:
+        raise ValueError("kinetic and potential must be (n_times, N) arrays of equal "
+                         "shape, t one time per row")
     if transit is None:
         sec = np.asarray(section)
         n_left = int(np.flatnonzero(sec == left)[-1]) + 1 if np.any(sec == left) else 0
-        transit = _incident_transit(ek + ep, t, i_incident, n_left) / coarsen
+        transit = _incident_transit(ek, ep, t, i_incident, n_left) / coarsen
     if not (transit is not None and np.isfinite(transit) and transit > 0):
         r = energy_ratios_from_grid(ek, ep, section, i_incident, i_final, left=left,
                                     right=right)
@@ -383,8 +390,10 @@ def phase_averaged_ratios(
                 return None
             sel.append((rows, wts))
         (ri, wi), (rf, wf) = sel
-        return energy_ratios_from_grid(ek, ep, section, ri, rf, left=left, right=right,
-                                       w_incident=wi, w_final=wf)
+        rows = np.concatenate([ri, rf])  # only the windows' rows are read
+        return energy_ratios_from_grid(ek[rows], ep[rows], section, np.arange(ri.size),
+                                       ri.size + np.arange(rf.size), left=left,
+                                       right=right, w_incident=wi, w_final=wf)
 
     full, short = at(1.0), at(0.75)
     if full is None or short is None:  # fewer than 3 rows in a window: the single rows
