@@ -690,8 +690,9 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     iface = n_left // coarsen
     ep = _stacked_grid(rec.energy_potential)
     e = ek + ep
+    act = D.interface_activity(e, iface)  # (once for the fractions below: 5 grid passes)
     try:
-        i_in = D.incident_time_index(e, iface)
+        i_in = D.incident_time_index(None, iface, activity=act)
     except ValueError:
         i_in = None
     # "Separated": the energy within 5 grains of the interface stays below a fraction of
@@ -701,7 +702,7 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     # the ratios by less than that fraction).
     i_out, used = None, math.nan
     for fraction in SEPARATION_FRACTIONS:
-        i_out = D.separated_time_index(e, iface, fraction=fraction)
+        i_out = D.separated_time_index(None, iface, fraction=fraction, activity=act)
         if i_out is not None:
             used = fraction
             break

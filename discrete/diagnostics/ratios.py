@@ -434,15 +434,23 @@ def interface_activity(energy: ArrayLike, interface: int, halfwidth: int = 5) ->
     return np.divide(loc, tot, out=np.zeros_like(tot), where=tot > 0)
 
 
-def incident_time_index(energy: ArrayLike, interface: int, *, halfwidth: int = 5,
-                        fraction: float = 1e-6) -> int:
+def _activity(energy, interface, halfwidth, activity) -> FloatArray:
+    if activity is not None:  # computed once by the caller for several fractions
+        return np.asarray(activity, dtype=float)
+    return interface_activity(energy, interface, halfwidth)
+
+
+def incident_time_index(energy: ArrayLike | None, interface: int, *, halfwidth: int = 5,
+                        fraction: float = 1e-6, activity: ArrayLike | None = None) -> int:
     """Last time index before the wave's energy near the interface exceeds ``fraction``.
 
     Where to measure the incident energy (docs/physics.md §6: "on the left section before the
-    wave arrives").  See :func:`interface_activity`.  Raises ``ValueError`` if the wave is
-    already at the interface in the first row.
+    wave arrives").  See :func:`interface_activity`; ``activity`` is its result for
+    ``energy``, ``interface`` and ``halfwidth`` if already computed (``energy`` is then
+    not read).  Raises ``ValueError`` if the wave is already at the interface in the
+    first row.
     """
-    act = interface_activity(energy, interface, halfwidth)
+    act = _activity(energy, interface, halfwidth, activity)
     above = np.nonzero(act > fraction)[0]
     if above.size == 0:
         return act.size - 1
@@ -451,16 +459,18 @@ def incident_time_index(energy: ArrayLike, interface: int, *, halfwidth: int = 5
     return int(above[0] - 1)
 
 
-def separated_time_index(energy: ArrayLike, interface: int, *, halfwidth: int = 5,
-                         fraction: float = 1e-6) -> int | None:
+def separated_time_index(energy: ArrayLike | None, interface: int, *, halfwidth: int = 5,
+                         fraction: float = 1e-6,
+                         activity: ArrayLike | None = None) -> int | None:
     """First time index from which the energy near the interface stays below ``fraction``.
 
     "The waves have separated from the interface": after the wave has reached the
     interface, Σ|e| within ``halfwidth`` grains of it is below ``fraction`` of the chain's
     Σ|e| at this and every later time.  ``None`` if that never happens on the grid (or
-    the wave never reached the interface).
+    the wave never reached the interface).  ``activity``: as in
+    :func:`incident_time_index`.
     """
-    act = interface_activity(energy, interface, halfwidth)
+    act = _activity(energy, interface, halfwidth, activity)
     above = np.nonzero(act > fraction)[0]
     if above.size == 0 or above[-1] == act.size - 1:
         return None
