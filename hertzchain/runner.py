@@ -86,7 +86,8 @@ at 0.5, 1, 2 and 4 transits a row against 0.25: 2,000 grains, default dt: 8e-8,
 at the default dt and, at the rtol = 1e-4 step, 6.5e-7 and 3.8e-5 at 1 and 2.  One
 transit keeps that error ~20 times inside rtol = 1e-4 and halves the rows; the fewer
 rows also need less coarsening (coarsening by 8 moved it 1.3e-4).  Chains with an
-interface keep :data:`GRID_ROWS_PER_GRAIN`: their reflected front speed is not
+interface keep :data:`GRID_ROWS_PER_GRAIN` or finer (:func:`split_row_spacing`, for the
+phase-averaged energy split): their reflected front speed is not
 converged in the row spacing (266, 294 and 279 m/s at 0.25, 0.5 and 2 transits a row
 behind a precompressed interface, δ0/d = 1e-3), so a coarser grid would change a
 reported number by more than rtol (``tests/hertzchain/test_runner.py``); such a speed
@@ -399,7 +400,8 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
 
     The energy space-time grid (needed for the energy ratios and front speeds) gets a
     row every :data:`GRID_ROWS_PER_GRAIN` transit times of the incident wave
-    (:data:`GRID_ROWS_PER_GRAIN_RTOL` in an rtol run of a one-section chain) unless the
+    (:data:`GRID_ROWS_PER_GRAIN_RTOL` in an rtol run of a one-section chain,
+    :func:`split_row_spacing` on a chain with an interface) unless the
     scenario sets ``record.energy_every``; long chains are coarsened so that the grid
     stays below ~2e7 entries.
 

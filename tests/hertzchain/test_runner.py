@@ -262,8 +262,10 @@ def test_rtol_bounds_every_energy_ratio_absolutely(point, delta0):
     # incident transits (docs/physics.md §6).  Measured (largest of the six):
     # rtol 1e-3 / 1e-4: P 3.2e-4 / 2.9e-5, a 1.4e-5 / 1.4e-5, d 2.4e-4 / 1.5e-6,
     # d at δ0/d = 1e-3 1.9e-8.  With the old rule (the split of one row, rows half a
-    # transit apart) the split was off by 3e-3 to 2e-2 at δ0 = 0: P's Ek_tr 1.4e-2 at
-    # rtol 1e-4, a's 8e-3 (its reference itself aliased by the rows).
+    # transit apart) this test fails at δ0 = 0: P's default run 9.7e-4 off the
+    # reference, a's rtol 1e-3 run 1.1e-2 (Ek_tr), d's default run 3.1e-2 (its rows
+    # aliased the transmitted wave's oscillation); d at δ0/d = 1e-3 passes either way
+    # (a smooth ~20-grain wave: oscillation ~1e-12).
     from hertzchain.runner import run_simulation
 
     ar, ak = theory.PAPER_POINTS[point]
