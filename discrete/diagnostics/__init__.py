@@ -9,7 +9,8 @@ j-1 and j (0 and N the walls), r_j = δ0_j + u_{j-1} - u_j.
 
 * :mod:`.energies` — energies per grain/contact/section and the linear/quadratic split
   of the potential energy;
-* :mod:`.ratios` — Table 2 ratios, "incident"/"separated" times, Fig. 8 scaling;
+* :mod:`.ratios` — Table 2 ratios (the kinetic/potential split phase-averaged over the
+  lattice period), "incident"/"separated" times, Fig. 8 scaling;
 * :mod:`.waves` — pulses, front position/amplitude/speed (Fig. 6), 1st/2nd parts;
 * :mod:`.classify` — fracture/squeeze and compressive/expansive classification (Fig. 7);
 * :mod:`.modes` — contact-move/free-flight/static modes and gap events (Fig. 3c/d);

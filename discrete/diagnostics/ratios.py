@@ -1,5 +1,9 @@
 r"""Table 2 energy ratios, "incident"/"separated" times and the Fig. 8 normalisation.
 
+The ratios of a run are read with :func:`phase_averaged_ratios`: the kinetic/potential
+split of a lattice wave oscillates with its phase (period one transit d/V), so it is
+averaged over a window of :data:`SPLIT_WINDOW_TRANSITS` transits (docs/physics.md §6).
+
 Paper Section 4 (Fig. 8, Table 2) and docs/physics.md §6: E_Tr/E_In is the energy in the
 right section once the waves have separated from the interface over the incident energy
 measured in the left section before the wave reaches the interface; E_Re/E_In the
