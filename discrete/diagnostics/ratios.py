@@ -165,7 +165,8 @@ def energy_ratios(
     grain (the sum over grains of a sampled profile depends on its phase): by ~1e-12
     relative at δ0/d = 1e-3 (smooth, ~20-grain wave) but by a few per cent at δ0 = 0
     (~5-grain wave).  Averaging stacked states over one grain passage removes it; the
-    total energy is unaffected.
+    total energy is unaffected (:func:`phase_averaged_ratios` does it for a space-time
+    grid, with a window of many passages).
     """
     return _ratios(section_sums(incident, section, interface),
                    section_sums(final, section, interface), left, right, interface)
