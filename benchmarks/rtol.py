@@ -24,6 +24,17 @@ is the steadier figure.
 
     python benchmarks/rtol.py                       # N = 2000 and 5000
     python benchmarks/rtol.py --grains 2000 --baseline-tree /tmp/base
+    python benchmarks/rtol.py --grains 2000 --interface a   # + the energy ratios' cost
+
+``--interface POINT`` also prices the phase-averaged kinetic/potential split of the
+energy ratios (docs/physics.md §6) on the same impact with an interface at N/2 (the
+right half at the paper's POINT): the run with the grid rows the split needs
+(:func:`hertzchain.runner.split_row_spacing`) against the same run with the rows every
+``GRID_ROWS_PER_GRAIN`` transits (the rule before; ``record.energy_every`` set to
+it), default dt and rtol, CPU s best of the repeats; and the summary's ratio step, the
+windowed mean (:func:`discrete.diagnostics.phase_averaged_ratios`) against one row
+(:func:`discrete.diagnostics.energy_ratios_from_grid`) on the run's grid.  Runs
+without an interface record no grid for the split and pay nothing.
 
 ``--baseline-tree DIR`` also times the default run of another checkout (``git archive``
 of an older commit) in a fresh process: "today's default run" of the issue; the
@@ -98,6 +109,67 @@ def converged(n: int, dt: float) -> tuple[list, float]:
     return np.asarray(sim.record.vmax_refined, float).tolist(), front
 
 
+def interface_cost(n: int, point: str, rtol: float, repeats: int) -> None:
+    """Print the energy ratios' extra cost on a two-section impact (``--interface``)."""
+    import theory
+    from discrete import diagnostics as D
+    from hertzchain.runner import (
+        GRID_ROWS_PER_GRAIN,
+        _wave_speed_estimate,
+        build_simulation,
+        run_simulation,
+        split_row_spacing,
+    )
+    from hertzchain.scenario import parse_scenario
+
+    ar, ak = theory.PAPER_POINTS[point]
+
+    def sc(record=None, **run):
+        return parse_scenario({
+            "chain": {"sections": [{"n": n // 2},
+                                   {"n": n - n // 2, "alpha_rho": ar, "alpha_kn": ak}]},
+            "initial": {"kind": "impact", "v0": 1.0},
+            "run": {"until_front_at": int(0.9 * n), **run}, "record": record or {}})
+
+    chain, init, _ = build_simulation(sc(), energy_grid=False)
+    speed, d = _wave_speed_estimate(chain, init.v), float(np.mean(chain.diameter))
+    print(f"\n## energy ratios: impact, N = {n}, interface at N/2, point {point} "
+          f"(rows every {split_row_spacing(chain):.3f} transits for the split, "
+          f"{GRID_ROWS_PER_GRAIN} before)")
+    print(f"{'run':>14} {'rows':>6} {'cpu s':>7} {'old rows':>8} {'cpu s':>7} {'x':>6} "
+          f"{'window ms':>9} {'one row ms':>10} {'split est':>9}")
+    for name, run in (("default", {}), (f"rtol {rtol:g}", {"rtol": rtol, "integrator": "auto"})):
+        new, old = [], []
+        for _ in range(repeats):
+            c = time.process_time()
+            s, sim = run_simulation(sc(**run), save=False)
+            new.append(time.process_time() - c)
+            every_old = max(1, int(GRID_ROWS_PER_GRAIN * d / (speed * s["dt"])))
+            c = time.process_time()
+            _, sim_old = run_simulation(sc({"energy_every": every_old}, **run), save=False)
+            old.append(time.process_time() - c)
+        a = sim.record.arrays()
+        t, ek, ep = a["energy_t"], a["energy_kinetic"], a["energy_potential"]
+        coarsen = sim.record.energy_coarsen
+        iface = (n // 2) // coarsen
+        sec = chain.section[::coarsen][: ek.shape[1]]
+        e = ek + ep
+        i_in = D.incident_time_index(e, iface)
+        i_out = next(i for f in (1e-6, 1e-5, 1e-4, 1e-3)
+                     if (i := D.separated_time_index(e, iface, fraction=f)) is not None)
+        tw = time.process_time()
+        for _ in range(5):
+            D.phase_averaged_ratios(t, ek, ep, sec, i_in, i_out, coarsen=coarsen)
+        tw = (time.process_time() - tw) / 5
+        t1 = time.process_time()
+        for _ in range(5):
+            D.energy_ratios_from_grid(ek, ep, sec, i_in, i_out)
+        t1 = (time.process_time() - t1) / 5
+        print(f"{name:>14} {len(t):>6} {min(new):>7.3f} {len(sim_old.record.energy_t):>8} "
+              f"{min(old):>7.3f} {min(new) / min(old):>5.2f}× {tw * 1e3:>9.2f} "
+              f"{t1 * 1e3:>10.2f} {s['split_estimate']:>9.1e}")
+
+
 def _tree_default(tree: str, n: int) -> dict:
     """The default run of ``tree``'s packages in a fresh process (this file's --child)."""
     env = dict(os.environ)
@@ -122,6 +194,9 @@ def main() -> None:
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--baseline-tree", metavar="DIR", default=None)
     p.add_argument("--json", action="store_true")
+    p.add_argument("--interface", metavar="POINT", default=None,
+                   help="also price the energy ratios' split on an interface at N/2 "
+                        "(a paper point: a, b, c, d, M, N, P, Q)")
     p.add_argument("--child", type=int, default=None, help=argparse.SUPPRESS)
     a = p.parse_args()
     if a.child is not None:  # warm first (imports, kernels loaded), as the rows here
@@ -176,6 +251,9 @@ def main() -> None:
                             "speedup": base / r["wall_time"],
                             "speedup_cpu": cpu_base / cpu, "rows": r.get("rows"),
                             "front_dev": fs_dev})
+    if a.interface:
+        for n in a.grains:
+            interface_cost(n, a.interface, a.rtol, a.repeats)
     if a.json:
         print(json.dumps(results))
 

@@ -18,9 +18,10 @@ Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, `
 ``dt_source`` (``"default"``, ``"explicit"`` or ``"rtol"``), ``rtol`` (None unless
 given) and ``rtol_estimate`` (the estimated relative error of an rtol run, NaN
 otherwise; :mod:`discrete.timestep`; for the total-energy ratios ``Et_*`` of a chain
-with an interface an absolute error in units of the incident energy, which does not
-cover the kinetic/potential split ``Ek_*``, ``Ep_*``: docs/guide/accuracy_and_speed.md)
-say how the step was chosen; the six energy
+with an interface an absolute error in units of the incident energy) say how the step
+was chosen; ``split_estimate`` is the estimated error of the phase-averaged
+kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN unless ``separated``;
+:func:`discrete.diagnostics.phase_averaged_ratios`, docs/physics.md §6); the six energy
 ratios are finite exactly when ``separated`` is True (False: the waves did not leave
 the interface region on the recorded grid, the incident wave was already at the
 interface at t = 0, or the chain has one section); the front speeds are NaN when fewer
@@ -64,6 +65,7 @@ __all__ = ["build_chain", "build_law", "build_section", "build_initial", "interf
            "build_simulation", "check_run", "check_stop", "run_outcome", "run_scenario",
            "run_simulation", "summarise", "incident_amplitude", "partial_path", "STOPPED_BY",
            "GRID_ROWS_PER_GRAIN", "GRID_ROWS_PER_GRAIN_RTOL", "SEPARATION_FRACTIONS",
+           "split_row_spacing",
            "MAX_OVERLAP_OVER_D"]
 
 GRID_ROWS_PER_GRAIN = 0.5
@@ -84,11 +86,44 @@ at 0.5, 1, 2 and 4 transits a row against 0.25: 2,000 grains, default dt: 8e-8,
 at the default dt and, at the rtol = 1e-4 step, 6.5e-7 and 3.8e-5 at 1 and 2.  One
 transit keeps that error ~20 times inside rtol = 1e-4 and halves the rows; the fewer
 rows also need less coarsening (coarsening by 8 moved it 1.3e-4).  Chains with an
-interface keep :data:`GRID_ROWS_PER_GRAIN`: their reflected front speed is not
+interface keep :data:`GRID_ROWS_PER_GRAIN` or finer (:func:`split_row_spacing`, for the
+phase-averaged energy split): their reflected front speed is not
 converged in the row spacing (266, 294 and 279 m/s at 0.25, 0.5 and 2 transits a row
 behind a precompressed interface, δ0/d = 1e-3), so a coarser grid would change a
 reported number by more than rtol (``tests/hertzchain/test_runner.py``); such a speed
 is now NaN (:data:`FRONT_ROWS_RTOL`), and finer rows let more of them converge."""
+
+def split_row_spacing(chain: discrete.Chain) -> float:
+    """Grid row spacing, in incident transits d/V, that lets the split be phase-averaged.
+
+    The kinetic/potential split of each wave oscillates at its lattice frequency
+    f = V_s/d (docs/physics.md §6); :func:`discrete.diagnostics.phase_averaged_ratios`
+    averages it away over a window of W = 16 incident transits only if the rows do not
+    alias f to within 4/W = 0.25/T_in of zero (T_in = d/V_in).  Rows R per incident
+    transit alias f·T_in = r to |r - mR|, so R ≥ r_max + 1 keeps every wave with
+    r ≤ r_max at least 1/T_in away (four times the window's main lobe, so a 30 %
+    error in r_max is still safe).  r_max over the sections s, relative to the first:
+    a solitary wave's speed V ∝ d (k/m)^{1/2} ξ^{1/4} (Eq. 8) with the strain of a
+    force-continuous transmitted wave ξ ∝ (F/k)^{2/3}/d, so V_s/V_0 ≈
+    (k_s/k_0)^{1/3} (m_0/m_s)^{1/2} at δ0 = 0, and c0 ∝ (k_s^{2/3}/m_s)^{1/2} with
+    precompression (δ0 ∝ k^{-2/3}); both are bounded by the larger of
+    (k_s/k_0)^{1/2} and (k_s/k_0)^{1/3} times (m_0/m_s)^{1/2}, which is used.  Points a
+    and d (α = 0.2, 5): r_max = 2.24, rows every 0.25 transit; at 0.5 transit the
+    transmitted wave's oscillation (r = 2.1 at a) aliased to a slow 7e-3 swing of the
+    windowed Ek_tr.  Returns at most :data:`GRID_ROWS_PER_GRAIN`.
+    """
+    starts = [0, *interfaces(chain)]
+    kk = np.asarray(chain.k, dtype=float)
+    mm = np.asarray(chain.mass, dtype=float)
+    s0 = int(np.count_nonzero(chain.section < 0))  # (a striker belongs to no section)
+    k0, m0 = kk[min(s0 + 1, kk.size - 1)], mm[s0]
+    r_max = 1.0
+    for i in starts[1:]:
+        j = min(i + 1, kk.size - 1)  # a contact inside the section, not the interface's
+        q = kk[j] / k0
+        r_max = max(r_max, max(q ** 0.5, q ** (1 / 3)) * (m0 / mm[i]) ** 0.5)
+    return min(GRID_ROWS_PER_GRAIN, 1.0 / (r_max + 1.0))
+
 
 SEPARATION_FRACTIONS = (1e-6, 1e-5, 1e-4, 1e-3)
 """Energy fractions near the interface tried, strictest first, to call the waves separated."""
@@ -365,7 +400,8 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
 
     The energy space-time grid (needed for the energy ratios and front speeds) gets a
     row every :data:`GRID_ROWS_PER_GRAIN` transit times of the incident wave
-    (:data:`GRID_ROWS_PER_GRAIN_RTOL` in an rtol run of a one-section chain) unless the
+    (:data:`GRID_ROWS_PER_GRAIN_RTOL` in an rtol run of a one-section chain,
+    :func:`split_row_spacing` on a chain with an interface) unless the
     scenario sets ``record.energy_every``; long chains are coarsened so that the grid
     stays below ~2e7 entries.
 
@@ -448,6 +484,8 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
                     and not (law.dissipative or drag > 0))
     if energy_grid and rec.energy_grid and every is None and not maxima_front:
         per = GRID_ROWS_PER_GRAIN_RTOL if rtol_one_section else GRID_ROWS_PER_GRAIN
+        if interfaces(init.chain):  # the energy ratios' split: no aliased oscillation
+            per = split_row_spacing(init.chain)
         every = max(1, int(per * d / (speed * dt)))
     if every:
         # (never beyond max_steps: t_end = 1e300 with max_steps = 10 is refused by
@@ -631,7 +669,8 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     out.update(dict.fromkeys(keys, math.nan))
     out.update(front_speed_tr=math.nan, front_speed_re=math.nan,
                front_speed_tr_over_c0L=math.nan, transmitted=None, reflected=None,
-               n_transmitted_pulses=None, separated=False, separation_fraction=math.nan)
+               n_transmitted_pulses=None, separated=False, separation_fraction=math.nan,
+               split_estimate=math.nan)
     rec = sim.record  # (only the grids the summary reads are stacked, once)
     if not rec.energy_kinetic:
         if not interfaces(chain) and rec.vmax_time is not None:  # an rtol run's maxima
@@ -653,8 +692,9 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     iface = n_left // coarsen
     ep = _stacked_grid(rec.energy_potential)
     e = ek + ep
+    act = D.interface_activity(e, iface)  # (once for the fractions below: 5 grid passes)
     try:
-        i_in = D.incident_time_index(e, iface)
+        i_in = D.incident_time_index(None, iface, activity=act)
     except ValueError:
         i_in = None
     # "Separated": the energy within 5 grains of the interface stays below a fraction of
@@ -664,15 +704,20 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     # the ratios by less than that fraction).
     i_out, used = None, math.nan
     for fraction in SEPARATION_FRACTIONS:
-        i_out = D.separated_time_index(e, iface, fraction=fraction)
+        i_out = D.separated_time_index(None, iface, fraction=fraction, activity=act)
         if i_out is not None:
             used = fraction
             break
     if i_in is not None and i_out is not None:
-        r = D.energy_ratios_from_grid(ek, ep, block_section, i_in, i_out)
+        # the kinetic/potential split averaged over the lattice phase in windows of
+        # SPLIT_WINDOW_TRANSITS incident transits before i_in and after i_out (a single
+        # row's split depends on its phase, which moves with dt: docs/physics.md §6)
+        r, split_est = D.phase_averaged_ratios(t, ek, ep, block_section, i_in, i_out,
+                                               coarsen=coarsen)
         ratios = {k: float(v) for k, v in r.as_dict().items() if k in keys}
         if all(math.isfinite(v) for v in ratios.values()):
-            out.update(ratios, separated=True, separation_fraction=used)
+            out.update(ratios, separated=True, separation_fraction=used,
+                       split_estimate=split_est)
     # the wave reached the interface: its energy there passed 1e-6 of the total on the
     # grid (incident_time_index is the last row before), or it started there
     if i_in is not None and i_in >= e.shape[0] - 1:
@@ -976,7 +1021,8 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
         if out is not None and save:
             try:
                 discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
-                                               "summary": canonical_json(summary)})
+                                               "summary": canonical_json(summary),
+                                               "split_estimate": summary["split_estimate"]})
             except OSError as exc:  # disk full, ...: the summary and checkpoint survive
                 kept = ckpt if ckpt is not None and ckpt.exists() else None
                 raise C.OutputWriteError(out, exc, summary, kept) from None

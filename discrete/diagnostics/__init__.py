@@ -9,7 +9,8 @@ j-1 and j (0 and N the walls), r_j = δ0_j + u_{j-1} - u_j.
 
 * :mod:`.energies` — energies per grain/contact/section and the linear/quadratic split
   of the potential energy;
-* :mod:`.ratios` — Table 2 ratios, "incident"/"separated" times, Fig. 8 scaling;
+* :mod:`.ratios` — Table 2 ratios (the kinetic/potential split phase-averaged over the
+  lattice period), "incident"/"separated" times, Fig. 8 scaling;
 * :mod:`.waves` — pulses, front position/amplitude/speed (Fig. 6), 1st/2nd parts;
 * :mod:`.classify` — fracture/squeeze and compressive/expansive classification (Fig. 7);
 * :mod:`.modes` — contact-move/free-flight/static modes and gap events (Fig. 3c/d);
@@ -53,6 +54,8 @@ from .ratios import (
     incident_time_index,
     interface_activity,
     normalise_to_incident_peak,
+    phase_averaged_ratios,
+    phase_window,
     separated_time_index,
     table2_ratios,
 )
@@ -105,6 +108,8 @@ __all__ = [
     "kinetic_energy",
     "leading_pulse",
     "normalise_to_incident_peak",
+    "phase_averaged_ratios",
+    "phase_window",
     "overlaps_from_displacements",
     "section_range",
     "section_sums",
