@@ -21,7 +21,10 @@ otherwise; :mod:`discrete.timestep`; for the total-energy ratios ``Et_*`` of a c
 with an interface an absolute error in units of the incident energy) say how the step
 was chosen; ``split_estimate`` is the estimated error of the phase-averaged
 kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN unless ``separated``;
-:func:`discrete.diagnostics.phase_averaged_ratios`, docs/physics.md §6); the six energy
+:func:`discrete.diagnostics.phase_averaged_ratios`, docs/physics.md §6) and
+``split_meets_rtol`` whether it is within ``rtol`` (None without rtol or unless
+``separated``; False also when the estimate is NaN: not verified — ``hertzchain run``
+then warns); the six energy
 ratios are finite exactly when ``separated`` is True (False: the waves did not leave
 the interface region on the recorded grid, the incident wave was already at the
 interface at t = 0, or the chain has one section); the front speeds are NaN when fewer
@@ -1017,6 +1020,9 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
         ts = sim.time_step  # how dt was chosen, and the accuracy estimate of an rtol run
         summary.update(integrator=sim.integrator, dt_source=ts.source,
                        rtol=ts.rtol, rtol_estimate=ts.error_estimate)
+        # the split's own estimate against rtol (NaN: not verified, so not met)
+        summary["split_meets_rtol"] = (None if ts.rtol is None or not summary["separated"]
+                                       else bool(summary["split_estimate"] <= ts.rtol))
         summary["wall_time"] = elapsed + time.perf_counter() - start
         if out is not None and save:
             try:

@@ -52,8 +52,8 @@ from hertzchain.scenario import ScenarioError, parse_scenario
 RATIOS = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
 KEYS = {*RATIOS, "front_speed_tr", "front_speed_re", "front_speed_tr_over_c0L",
         "transmitted", "reflected", "n_transmitted_pulses", "separated",
-        "separation_fraction", "split_estimate", "energy_drift", "steps", "t", "dt",
-        "n_grains", "wall_time",
+        "separation_fraction", "split_estimate", "split_meets_rtol", "energy_drift", "steps",
+        "t", "dt", "n_grains", "wall_time",
         "stopped_by", "completed", "incomplete_reason",
         "integrator", "dt_source", "rtol", "rtol_estimate"}  # how dt was chosen (issue 17)
 MAX_STEPS = 100_000
