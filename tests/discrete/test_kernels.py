@@ -1,5 +1,6 @@
 """The numba kernel against the NumPy reference; active window; reversibility."""
 
+import numba
 import numpy as np
 import pytest
 
@@ -100,16 +101,30 @@ def test_time_reversibility():
     assert np.max(np.abs(back.v + v0)) <= 1e-8 * np.max(np.abs(v0))
 
 
-def test_raised_is_the_conditional_running_max_bit_for_bit():
-    """``_raised`` (the running max where the target lacks AVX-512) = ``if x > g: g = x``.
+@numba.njit
+def _raised_loop(g, x):
+    """``_raised`` in a loop over arrays, as the passes use it (vectorised by LLVM)."""
+    for i in range(g.size):
+        g[i] = K._raised(g[i], x[i])
 
-    Bit for bit, signed zeros and infinities included, for every g a running maximum can
-    hold (never NaN) and every x (NaN included: it must not raise g).  Compared as int64
-    bit patterns, so -0.0 against 0.0 fails.
+
+def test_raised_is_the_conditional_running_max_bit_for_bit():
+    """``_raised`` (the running max stored at every grain) = ``if x > g: g = x``.
+
+    Bit for bit, signed zeros, infinities and NaN included (a NaN x must not raise g; a
+    NaN g stays), scalar and in a vectorised loop over every pair (13 x 13 = 169 pairs:
+    the vector body and its remainder; the loop's compiled code is the passes' ``maxpd``
+    where LLVM vectorises it).  Compared as int64 bit patterns, so -0.0 against 0.0
+    fails.
     """
-    vals = [0.0, -0.0, 1.0, -1.0, 5e-324, -5e-324, 1e308, np.inf, -np.inf, 0.1, -0.1]
-    for g in vals:
-        for x in vals + [np.nan]:
-            want = x if x > g else g
-            got = K._raised(g, x)
-            assert np.float64(got).view(np.int64) == np.float64(want).view(np.int64), (g, x)
+    vals = [0.0, -0.0, 1.0, -1.0, 5e-324, -5e-324, 1e308, np.inf, -np.inf, 0.1, -0.1,
+            np.nan, -np.nan]
+    gs = np.array([g for g in vals for _ in vals])
+    xs = np.array([x for _ in vals for x in vals])
+    want = np.array([x if x > g else g for g, x in zip(gs, xs, strict=True)])
+    scalar = np.array([K._raised(g, x) for g, x in zip(gs, xs, strict=True)])
+    looped = gs.copy()
+    _raised_loop(looped, xs)
+    for got in (scalar, looped):
+        bad = np.flatnonzero(got.view(np.int64) != want.view(np.int64))
+        assert bad.size == 0, [(gs[i], xs[i], got[i]) for i in bad]
