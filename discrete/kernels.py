@@ -273,7 +273,8 @@ def _raised(g, x):
     the store.  g goes through :func:`_opaque`: otherwise LLVM sees a store of either
     x or the value just loaded from the same address and turns it back into a
     conditional (masked) store of x, ``vmaskmovpd`` with AVX2, microcoded on AMD
-    (measured: the recording kernel 0.55x of the bare one with the Zen 3 code path).
+    (measured: the recording kernel 0.55-0.57x of the bare one with the Zen 3 code
+    path).
     """
     g = _opaque(g)
     return x if x > g else g
@@ -576,9 +577,10 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     # AVX-512 alike (the conditional store ``if v > vmax: vmax = v``, the same bits,
     # vectorises to a masked store: ``vmaskmovpd`` with AVX2, microcoded on AMD).
     # Measured with ``benchmarks/kernel.py --roofline --cpu native --cpu znver3``
-    # (10,000 grains, Zen 4): the recording kernel 0.86-0.90x of the bare one with the
-    # Zen 3 code path (0.55x with the masked store, 0.75-0.79x with the select that
-    # tested g == g), 0.90-0.94x natively (0.88x with the masked store).
+    # (10,000 grains, Zen 4, load 5-9, four runs each): the recording kernel 0.82-0.89x
+    # of the bare one with the Zen 3 code path (0.57x with the masked store, 0.75-0.80x
+    # with the earlier select that also tested g == g: two blends), 0.88-0.95x natively
+    # (0.69-0.88x with the masked store).
     @jit(**_INLINE)
     def loop_const(uw, vw, vmw, rmw, aw, m, un, phi_l, dc, c1, c2, im, kr, d0r, f0r, p,
                    track, trk_r):
