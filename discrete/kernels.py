@@ -590,8 +590,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0r + (un - unr)
-                if RMAX and trk_r and r > rmw[i]:
-                    rmw[i] = r
+                if RMAX:  # (as v's; stored unconditionally: -inf never raises it)
+                    rmw[i] = _raised(rmw[i], r if trk_r else -np.inf)
                 phi_r = contact(r, kr, f0r, p)
                 ai = (phi_l - phi_r) * im
                 if VD:
@@ -624,8 +624,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0w[i] + (un - unr)
-                if RMAX and trk_r and r > rmw[i]:
-                    rmw[i] = r
+                if RMAX:  # (as v's; stored unconditionally: -inf never raises it)
+                    rmw[i] = _raised(rmw[i], r if trk_r else -np.inf)
                 phi_r = contact(r, kw[i], f0w[i], p)
                 ai = (phi_l - phi_r) * imw[i]
                 if VD:

@@ -128,3 +128,46 @@ def test_raised_is_the_conditional_running_max_bit_for_bit():
     for got in (scalar, looped):
         bad = np.flatnonzero(got.view(np.int64) != want.view(np.int64))
         assert bad.size == 0, [(gs[i], xs[i], got[i]) for i in bad]
+
+
+def test_overlap_maxima_are_the_running_max_of_the_sampled_overlaps(rng, make_composite):
+    # The fused passes raise the overlap maxima (strain_maxima) with ``_raised`` at every
+    # contact and step; the plain NumPy maximum over the initial overlaps and the
+    # overlaps sampled every step (the series, the same arithmetic d0 + (u_left - u)) must
+    # be the same bits, gaps opening and closing (0.3 m/s random kicks).
+    ch = make_composite(rng)
+    v = rng.normal(0.0, 0.3, ch.n)
+    sim = Simulation(ch, v=v, record=Recording(
+        series_grains=list(range(ch.n)), strain_maxima=True, monitor_every=10**6))
+    first = sim.overlaps().copy()
+    sim.run(max_steps=3000, progress=False)
+    s = sim.record.arrays()["series"]
+    sampled = np.concatenate([s[:, :, 2], s[:, -1:, 3]], axis=1)  # contacts 0..N
+    want = np.maximum(first, sampled.max(axis=0))
+    assert np.array_equal(sim.record.overlap_max, want)
+    assert (sampled <= 0).mean() > 0.05  # gaps: the clip [r]_+ is exercised
+
+
+def test_overlap_maxima_blocked_and_threaded_bitwise(monkeypatch):
+    # The same overlap maxima from the temporally blocked kernel on 2 threads (small
+    # tiles and thresholds, as tests/discrete/test_parallel.py) as step by step: the
+    # tiles run the same fused loops on disjoint grains.
+    from discrete import simulation as S
+
+    monkeypatch.setattr(S, "TILE_GRAINS", 256)
+    monkeypatch.setattr(S, "SERIAL_BLOCK_MIN_GRAINS", 0)
+    ch = Chain.two_section(1500, 500, alpha_rho=0.2, delta0_over_d=1e-3)
+    v = np.random.default_rng(1).normal(0.0, 1e-2, ch.n)
+    runs = []
+    for threads, block in ((1, 0), (2, 64)):
+        sim = Simulation(ch, v=v.copy(), threads=threads, record=Recording(
+            strain_maxima=True, monitor_every=10**6))
+        sim.block_steps = block
+        sim.min_parallel = 0
+        sim.run(max_steps=1000, progress=False)
+        runs.append(sim)
+    a, b = runs
+    assert np.array_equal(a.u, b.u) and np.array_equal(a.v, b.v)
+    assert np.array_equal(a.record.overlap_max, b.record.overlap_max)
+    assert np.array_equal(a.record.vmax, b.record.vmax)
+    assert np.any(a.record.overlap_max > a.overlaps())  # (the maxima moved)
