@@ -41,12 +41,15 @@ recording and that recording plus Table 2's energy grid, and their ratios to C.
 ``--cpu NAME`` (not ``native``) runs all of it in a subprocess for another CPU kind:
 numba with ``NUMBA_CPU_NAME=NAME`` and this host's features minus AVX-512
 (``NUMBA_CPU_NAME`` alone keeps the host's features), a fresh numba cache so that the
-kernel's assembly can be inspected (its zmm count is printed), gcc ``-march=NAME``.
+kernel's assembly can be inspected (its zmm and masked-store counts are printed), gcc
+``-march=NAME``.
 This is an emulation: the other kind's code path on this machine's cores and memory.
     python benchmarks/kernel.py --baseline-tree /tmp/old --grains 10000
         # this code against another checkout of the package (e.g. ``git archive <commit>
         # | tar -x -C /tmp/old``), in one run: rounds of the two alternate, each in its
         # own process (PYTHONPATH=<tree>), and the ratio of the best rates is printed
+    python benchmarks/kernel.py --compile --baseline-tree /tmp/old --rounds 3 [--cpu znver3]
+        # the first compile (cold numba cache, CPU s) of both codes, alternating
 
 ``--baseline-tree`` is how a change to the kernels is checked for speed: both codes run
 this same script (which uses only the public API of ``discrete``), on the same machine,
@@ -333,11 +336,13 @@ def grid_recording(n: int) -> Recording:
                      energy_coarsen=GRID_COARSEN)
 
 
-def kernel_zmm(sim: Simulation) -> int | None:
-    """zmm-register operands in the assembly of the kernel the Simulation runs.
+def kernel_asm(sim: Simulation) -> dict:
+    """Counts in the assembly of the kernel the Simulation runs: zmm-register operands
+    (``zmm``: AVX-512 code) and masked stores (``maskmov``: ``vmaskmovpd``/``vmaskmovps``,
+    microcoded on AMD; the running maxima must not become one, ``discrete.kernels._raised``).
 
-    None if numba loaded it from its disk cache (no assembly kept): ``--cpu`` runs use a
-    fresh cache directory so that the emulated code is always inspected.
+    None each if numba loaded it from its disk cache (no assembly kept): ``--cpu`` runs use
+    a fresh cache directory so that the emulated code is always inspected.
     """
     import warnings
 
@@ -346,8 +351,11 @@ def kernel_zmm(sim: Simulation) -> int | None:
         try:
             asm = sim._kernel(1).inspect_asm()
         except Exception:
-            return None
-    return sum(a.count("%zmm") for a in asm.values()) if asm else None
+            asm = None
+    if not asm:
+        return {"zmm": None, "maskmov": None}
+    return {"zmm": sum(a.count("%zmm") for a in asm.values()),
+            "maskmov": sum(a.count("vmaskmov") for a in asm.values())}
 
 
 def cpu_rates(grains: list[int], repeats: int, march: str) -> list[dict]:
@@ -384,7 +392,7 @@ def cpu_rates(grains: list[int], repeats: int, march: str) -> list[dict]:
             grid = Simulation(ch, v=v.copy(), record=grid_recording(n), threads=1)
             grid.run(max_steps=600, progress=False)
             row = {"grains": n, "sqrt": r_sqrt, "traffic": r_mem, "march": march,
-                   "zmm_kernel": kernel_zmm(full)}
+                   **{f"{k}_kernel": x for k, x in kernel_asm(full).items()}}
             cref = None
             if built:
                 row["check"] = check_c(exact[0], built[0], ch, v)
@@ -456,7 +464,7 @@ def roofline(grains: list[int], repeats: int, cpus: list[str], as_json: bool) ->
               "-march): the AVX2 code, not that machine's timings")
     print(f"{'cpu':>8} {'N':>8} {'sqrt only':>10} {'traffic':>10} {'bare C':>10} "
           f"{'bare':>10} {'recording':>10} {'+grid':>10} {'bare/C':>7} {'rec/C':>7} "
-          f"{'+grid/C':>7} {'zmm kern/C':>11}")
+          f"{'+grid/C':>7} {'zmm kern/C':>11} {'maskmov':>7}")
     for r in results:
         c = r.get("c")
         def ratio(x, c=c):
@@ -466,7 +474,8 @@ def roofline(grains: list[int], repeats: int, cpus: list[str], as_json: bool) ->
         print(f"{r['march']:>8} {r['grains']:>8} {r['sqrt']:>10.3e} {r['traffic']:>10.3e} "
               f"{cs} {r['bare']:>10.3e} {r['recording']:>10.3e} {r['grid']:>10.3e} "
               f"{ratio(r['bare'])} {ratio(r['recording'])} {ratio(r['grid'])} "
-              f"{str(r.get('zmm_kernel')):>5}/{r.get('zmm_c')}")
+              f"{str(r.get('zmm_kernel')):>5}/{r.get('zmm_c')} "
+              f"{str(r.get('maskmov_kernel')):>7}")
     if not any(r.get("c") for r in results):
         print("# gcc not found: the bare C row is skipped")
 
@@ -533,6 +542,58 @@ def compare_trees(tree: str, grains: list[int], rounds: int, repeats: int,
     print(f"# load average after: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}")
 
 
+COMPILE_GRAINS = 2_000
+"""Chain length of the ``--compile`` run (what is compiled does not depend on it)."""
+
+
+def first_run_cpu() -> dict:
+    """CPU seconds of a first paper-recording run (:func:`production`), this process.
+
+    Run by :func:`compare_compile` in a fresh process with an empty ``NUMBA_CACHE_DIR``:
+    the time is numba's compile of the kernels a recording run calls, plus 600 steps
+    of :data:`COMPILE_GRAINS` grains (~1 ms).
+    """
+    ch, v = chain_and_state(COMPILE_GRAINS)
+    t0 = time.process_time()
+    production(ch, v, 1)
+    return {"first_run_cpu_s": time.process_time() - t0}
+
+
+def compare_compile(tree: str | None, rounds: int, cpu: str) -> None:
+    """First-compile CPU time (cold cache) of this code, and of ``tree``'s, alternating.
+
+    Each measurement is a fresh process with a fresh, empty numba cache directory
+    (``--compile-json``); ``cpu`` not ``native``: numba's code path for that CPU kind, as
+    in ``--roofline --cpu`` (the compile time depends on the code LLVM makes).
+    """
+    import tempfile
+
+    whos = [("this code", None)] + ([("baseline", tree)] if tree else [])
+    times: dict[str, list[float]] = {w: [] for w, _ in whos}
+    load0 = os.getloadavg()
+    for _ in range(rounds):
+        for who, t in whos:
+            with tempfile.TemporaryDirectory() as cache:
+                env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+                if cpu != "native":
+                    env.update(NUMBA_CPU_NAME=cpu, NUMBA_CPU_FEATURES=emulated_features(cpu))
+                if t is not None:
+                    env["PYTHONPATH"] = (str(Path(t).resolve()) + os.pathsep
+                                         + env.get("PYTHONPATH", ""))
+                out = subprocess.run([sys.executable, str(Path(__file__).resolve()),
+                                      "--compile-json"], env=env, capture_output=True,
+                                     text=True, check=True).stdout
+                times[who].append(json.loads(out.strip().splitlines()[-1])[
+                    "first_run_cpu_s"])
+    load1 = os.getloadavg()
+    print(f"# {cpu_name()}; code path {cpu}; first run of {COMPILE_GRAINS} grains with the "
+          f"paper recording, fresh numba cache, CPU s; load {load0[0]:.2f} -> {load1[0]:.2f}")
+    for who, _ in whos:
+        x = sorted(times[who])
+        print(f"{who:>10}: best {x[0]:.2f} s, median {x[len(x) // 2]:.2f} s  "
+              f"({', '.join(f'{y:.2f}' for y in times[who])})")
+
+
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--grains", type=int, action="append",
@@ -552,7 +613,17 @@ def main(argv=None) -> None:
     p.add_argument("--baseline-tree", metavar="DIR",
                    help="compare with the packages of another checkout (see the docstring)")
     p.add_argument("--rounds", type=int, default=5, help="alternating rounds (--baseline-tree)")
+    p.add_argument("--compile", action="store_true",
+                   help="first-compile CPU time, cold cache (with --baseline-tree: both "
+                        "codes, alternating; --rounds rounds; --cpu: one code path)")
+    p.add_argument("--compile-json", action="store_true", help=argparse.SUPPRESS)
     a = p.parse_args(argv)
+    if a.compile_json:
+        print(json.dumps(first_run_cpu()))
+        return
+    if a.compile:
+        compare_compile(a.baseline_tree, a.rounds, (a.cpu or ["native"])[0])
+        return
     if a.baseline_tree:
         compare_trees(a.baseline_tree, a.grains or [10_000], a.rounds, a.repeats, a.seconds)
         return

@@ -93,7 +93,7 @@ One substep is **one fused pass** over the window: at grain i it drifts grain i+
 (``u += a_s h v``, stored), evaluates contact i+1 from the two drifted positions, and
 kicks grain i with the contact forces on both sides (the left one carried from the
 previous grain).  Per grain and substep the pass reads u, v and the running maximum of
-v and writes u, v (and the maximum only where it is exceeded).  The per-grain and
+v and writes u, v and the maximum (:func:`_raised`, one ``maxpd``).  The per-grain and
 per-contact constants (1/m, k, δ0, f0) are piecewise constant in the chains of the
 paper: they are then passed as a table of *runs* of equal constants (scalars in the
 loop, no memory traffic); arbitrary chains (random, tapered) read them from arrays.
@@ -152,6 +152,7 @@ from typing import NamedTuple
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 import numba  # noqa: E402
+import numba.extending  # noqa: E402
 import numpy as np  # noqa: E402
 
 from theory import jitcache  # noqa: E402
@@ -239,26 +240,44 @@ def active_window(u, v, a, k, wl, wr, lo, hi, use_a):
     return first, last
 
 
+@numba.extending.intrinsic
+def _opaque(typingctx, x):
+    """``x`` itself, through LLVM's ``freeze`` (the identity on any value that is not poison).
+
+    Hides from LLVM that ``x`` is the value just loaded from an address (see
+    :func:`_raised`); costs no instruction.
+    """
+    from llvmlite import ir
+
+    if not isinstance(x, numba.types.Float):
+        return None
+
+    def codegen(context, builder, signature, args):
+        (val,) = args
+        instr = ir.instructions.Instruction(builder.block, val.type, "freeze", [val])
+        builder._insert(instr)  # (llvmlite's IRBuilder has no ``freeze``)
+        return instr
+
+    return x(x), codegen
+
+
 @numba.njit(inline="always", **_INNER)
 def _raised(g, x):
-    """The running maximum g raised to x: ``x if x > g else g``, bit for bit, for g not NaN.
+    """The running maximum g raised to x: ``x if x > g else g``, bit for bit.
 
-    Written as ``x if x > g else (g if g == g else x)`` so that LLVM cannot turn the
-    store of its result back into a conditional (masked) store of x (see the passes in
-    ``_build``); the extra test is the same bits because a running maximum is never NaN
-    (it starts finite and a NaN x never raises it).
+    The same bits as the conditional store ``if x > g: g = x`` for every g and x
+    (signed zeros, infinities; a NaN x never raises g: a NaN velocity is not recorded
+    as a maximum, and the run stops on it, ``Simulation``'s non-finite check after
+    each chunk).  Stored at every grain by the passes, it is one ``maxpd`` (x > g ? x
+    : g is that instruction's definition, operands in this order) plus the load and
+    the store.  g goes through :func:`_opaque`: otherwise LLVM sees a store of either
+    x or the value just loaded from the same address and turns it back into a
+    conditional (masked) store of x, ``vmaskmovpd`` with AVX2, microcoded on AMD
+    (measured: the recording kernel 0.55-0.57x of the bare one with the Zen 3 code
+    path).
     """
-    return x if x > g else (g if g == g else x)
-
-
-def _target_has_avx512() -> bool:
-    """The compile target (numba's, ``NUMBA_CPU_NAME``/``NUMBA_CPU_FEATURES``) has AVX-512F."""
-    from numba.core import config
-    from numba.core.codegen import get_host_cpu_features
-
-    features = config.CPU_FEATURES if config.CPU_FEATURES is not None else (
-        get_host_cpu_features())
-    return "+avx512f" in features.split(",")
+    g = _opaque(g)
+    return x if x > g else g
 
 
 @numba.njit(inline="always", **_INNER)
@@ -446,7 +465,6 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     RMAX = bool(rmax)  # running maxima of the overlaps
     ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{source_digest()}|{_interp_digest()}"
     tag = _tag(law, DRAG, RMAX, refined)
-    MASKED = _target_has_avx512()  # the running max as a conditional store (passes)
 
     def jit(**options):
         """numba.njit with the law's tag in the function's name (see :func:`_tag`)."""
@@ -555,12 +573,14 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     # ``track``; c2 = 0 for the closing step of a chunk and for the intermediate kicks
     # of composition methods (adding 0·a is exact).  Two loop variants per constant
     # layout (track or not: the untracked one vectorises); both inline.  The running
-    # maximum is the conditional store ``if v > vmax: vmax = v`` where the target has
-    # AVX-512 (``MASKED``: it vectorises to a masked store, cheap there), else the
-    # select :func:`_raised` stored at every grain: with AVX2 the conditional store
-    # becomes vmaskmovpd, microcoded on AMD (the recording kernel 0.55x of the bare one
-    # with the Zen 3 code path on a Zen 4, 0.75x with the select; the select costs ~5 %
-    # with AVX-512; benchmarks/kernel.py --roofline --cpu znver3).
+    # maximum is :func:`_raised` stored at every grain, one ``maxpd`` with AVX2 and
+    # AVX-512 alike (the conditional store ``if v > vmax: vmax = v``, the same bits,
+    # vectorises to a masked store: ``vmaskmovpd`` with AVX2, microcoded on AMD).
+    # Measured with ``benchmarks/kernel.py --roofline --cpu native --cpu znver3``
+    # (10,000 grains, Zen 4, load 5-9, four runs each): the recording kernel 0.82-0.89x
+    # of the bare one with the Zen 3 code path (0.57x with the masked store, 0.75-0.80x
+    # with the earlier select that also tested g == g: two blends), 0.88-0.95x natively
+    # (0.69-0.88x with the masked store).
     @jit(**_INLINE)
     def loop_const(uw, vw, vmw, rmw, aw, m, un, phi_l, dc, c1, c2, im, kr, d0r, f0r, p,
                    track, trk_r):
@@ -570,18 +590,14 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0r + (un - unr)
-                if RMAX and trk_r and r > rmw[i]:
-                    rmw[i] = r
+                if RMAX:  # (as v's; stored unconditionally: -inf never raises it)
+                    rmw[i] = _raised(rmw[i], r if trk_r else -np.inf)
                 phi_r = contact(r, kr, f0r, p)
                 ai = (phi_l - phi_r) * im
                 if VD:
                     aw[i] = ai
                 vi = vw[i] + c1 * ai
-                if MASKED:  # the running max (see above)
-                    if vi > vmw[i]:
-                        vmw[i] = vi
-                else:
-                    vmw[i] = _raised(vmw[i], vi)
+                vmw[i] = _raised(vmw[i], vi)  # the running max (see above)
                 vw[i] = vi + c2 * ai
                 phi_l = phi_r
                 un = unr
@@ -608,18 +624,14 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 unr = uw[i + 1] + dc * vw[i + 1]
                 uw[i + 1] = unr
                 r = d0w[i] + (un - unr)
-                if RMAX and trk_r and r > rmw[i]:
-                    rmw[i] = r
+                if RMAX:  # (as v's; stored unconditionally: -inf never raises it)
+                    rmw[i] = _raised(rmw[i], r if trk_r else -np.inf)
                 phi_r = contact(r, kw[i], f0w[i], p)
                 ai = (phi_l - phi_r) * imw[i]
                 if VD:
                     aw[i] = ai
                 vi = vw[i] + c1 * ai
-                if MASKED:  # the running max (see above)
-                    if vi > vmw[i]:
-                        vmw[i] = vi
-                else:
-                    vmw[i] = _raised(vmw[i], vi)
+                vmw[i] = _raised(vmw[i], vi)  # the running max (see above)
                 vw[i] = vi + c2 * ai
                 phi_l = phi_r
                 un = unr

@@ -1,5 +1,6 @@
 """The numba kernel against the NumPy reference; active window; reversibility."""
 
+import numba
 import numpy as np
 import pytest
 
@@ -100,16 +101,73 @@ def test_time_reversibility():
     assert np.max(np.abs(back.v + v0)) <= 1e-8 * np.max(np.abs(v0))
 
 
-def test_raised_is_the_conditional_running_max_bit_for_bit():
-    """``_raised`` (the running max where the target lacks AVX-512) = ``if x > g: g = x``.
+@numba.njit
+def _raised_loop(g, x):
+    """``_raised`` in a loop over arrays, as the passes use it (vectorised by LLVM)."""
+    for i in range(g.size):
+        g[i] = K._raised(g[i], x[i])
 
-    Bit for bit, signed zeros and infinities included, for every g a running maximum can
-    hold (never NaN) and every x (NaN included: it must not raise g).  Compared as int64
-    bit patterns, so -0.0 against 0.0 fails.
+
+def test_raised_is_the_conditional_running_max_bit_for_bit():
+    """``_raised`` (the running max stored at every grain) = ``if x > g: g = x``.
+
+    Bit for bit, signed zeros, infinities and NaN included (a NaN x must not raise g; a
+    NaN g stays), scalar and in a vectorised loop over every pair (13 x 13 = 169 pairs:
+    the vector body and its remainder; the loop's compiled code is the passes' ``maxpd``
+    where LLVM vectorises it).  Compared as int64 bit patterns, so -0.0 against 0.0
+    fails.
     """
-    vals = [0.0, -0.0, 1.0, -1.0, 5e-324, -5e-324, 1e308, np.inf, -np.inf, 0.1, -0.1]
-    for g in vals:
-        for x in vals + [np.nan]:
-            want = x if x > g else g
-            got = K._raised(g, x)
-            assert np.float64(got).view(np.int64) == np.float64(want).view(np.int64), (g, x)
+    vals = [0.0, -0.0, 1.0, -1.0, 5e-324, -5e-324, 1e308, np.inf, -np.inf, 0.1, -0.1,
+            np.nan, -np.nan]
+    gs = np.array([g for g in vals for _ in vals])
+    xs = np.array([x for _ in vals for x in vals])
+    want = np.array([x if x > g else g for g, x in zip(gs, xs, strict=True)])
+    scalar = np.array([K._raised(g, x) for g, x in zip(gs, xs, strict=True)])
+    looped = gs.copy()
+    _raised_loop(looped, xs)
+    for got in (scalar, looped):
+        bad = np.flatnonzero(got.view(np.int64) != want.view(np.int64))
+        assert bad.size == 0, [(gs[i], xs[i], got[i]) for i in bad]
+
+
+def test_overlap_maxima_are_the_running_max_of_the_sampled_overlaps(rng, make_composite):
+    # The fused passes raise the overlap maxima (strain_maxima) with ``_raised`` at every
+    # contact and step; the plain NumPy maximum over the initial overlaps and the
+    # overlaps sampled every step (the series, the same arithmetic d0 + (u_left - u)) must
+    # be the same bits, gaps opening and closing (0.3 m/s random kicks).
+    ch = make_composite(rng)
+    v = rng.normal(0.0, 0.3, ch.n)
+    sim = Simulation(ch, v=v, record=Recording(
+        series_grains=list(range(ch.n)), strain_maxima=True, monitor_every=10**6))
+    first = sim.overlaps().copy()
+    sim.run(max_steps=3000, progress=False)
+    s = sim.record.arrays()["series"]
+    sampled = np.concatenate([s[:, :, 2], s[:, -1:, 3]], axis=1)  # contacts 0..N
+    want = np.maximum(first, sampled.max(axis=0))
+    assert np.array_equal(sim.record.overlap_max, want)
+    assert (sampled <= 0).mean() > 0.05  # gaps: the clip [r]_+ is exercised
+
+
+def test_overlap_maxima_blocked_and_threaded_bitwise(monkeypatch):
+    # The same overlap maxima from the temporally blocked kernel on 2 threads (small
+    # tiles and thresholds, as tests/discrete/test_parallel.py) as step by step: the
+    # tiles run the same fused loops on disjoint grains.
+    from discrete import simulation as S
+
+    monkeypatch.setattr(S, "TILE_GRAINS", 256)
+    monkeypatch.setattr(S, "SERIAL_BLOCK_MIN_GRAINS", 0)
+    ch = Chain.two_section(1500, 500, alpha_rho=0.2, delta0_over_d=1e-3)
+    v = np.random.default_rng(1).normal(0.0, 1e-2, ch.n)
+    runs = []
+    for threads, block in ((1, 0), (2, 64)):
+        sim = Simulation(ch, v=v.copy(), threads=threads, record=Recording(
+            strain_maxima=True, monitor_every=10**6))
+        sim.block_steps = block
+        sim.min_parallel = 0
+        sim.run(max_steps=1000, progress=False)
+        runs.append(sim)
+    a, b = runs
+    assert np.array_equal(a.u, b.u) and np.array_equal(a.v, b.v)
+    assert np.array_equal(a.record.overlap_max, b.record.overlap_max)
+    assert np.array_equal(a.record.vmax, b.record.vmax)
+    assert np.any(a.record.overlap_max > a.overlaps())  # (the maxima moved)
