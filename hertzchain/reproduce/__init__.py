@@ -172,10 +172,10 @@ loop, single-threaded: 50,096-109,500 Yoshida-4 steps per case over an active wi
 that grows to ~70,000 nodes) is about half of ``--full``'s CPU time, and in one process
 it left the second core idle (the old default: one process with threaded discrete
 kernels, 320 s wall for 388 s CPU on the idle machine).  Measured (issue 13, AMD EPYC
-Zen 4, 2 cores shared with other jobs, load 6-16, 2026-11-27): the lanes finished
-within 1 % of each other (Fig. 5 1,302 s; Figs. 3, 2, 4, 6, 7, 8, Table 2 and the
-validity item 1,316 s), so no item moves between them; Fig. 3 goes first in the calling
-process for the same reason as in :data:`LANES`."""
+Zen 4, 2 cores shared with other jobs, 2026-11-27): the lanes finished within 3 % of
+each other (load 4.4-7.5: Fig. 5 396 s; Figs. 3, 2, 4, 6, 7, 8, Table 2 and the
+validity item 386 s; load 6-16: 1,302 against 1,316 s), so no item moves between them;
+Fig. 3 goes first in the calling process for the same reason as in :data:`LANES`."""
 
 FULL_WORKERS = 2
 """Worker processes of ``--full`` (:func:`reproduce`'s default there, capped at the cores
@@ -183,12 +183,14 @@ this process may use), each on one kernel thread: the same numbers, bit for bit,
 one process on any thread count (``tests/discrete/test_parallel.py``).
 
 Measured (issue 13, AMD EPYC Zen 4, 2 cores shared with other jobs, fresh ``--out``,
-warm kernels): one process (``--workers 1``, threaded kernels) 1,976 s wall, 447 s CPU
-under load 6-16; two (:data:`FULL_LANES`) 1,343 s wall (0.68×), 433 s CPU, the
-``--json`` output byte-identical.  Under such load the wall times say little beyond
-the ratio; the CPU time is what the lanes share, and it bounds the wall at about half
-of it: ~195 s for the idle machine's 388 s CPU if the lanes stay balanced there (issue
-13's 120 s needs less CPU, mostly in Fig. 5's continuum, not more processes)."""
+warm kernels, ``/usr/bin/time``): one process (``--workers 1``, threaded kernels)
+547 s wall, 391 s CPU at load 4.7-7.0, two (:data:`FULL_LANES`) 402 s wall (0.73×),
+434 s CPU at load 4.4-7.5; an earlier pair under load 6-16: 1,976 s / 447 s against
+1,343 s / 433 s (0.68×); the ``--json`` output byte-identical in all four.  Under such
+load the wall times say little beyond the ratio; the CPU time is what the lanes share,
+and it bounds the wall at about half of it: ~200 s for the idle machine's ~390 s CPU if
+the lanes stay balanced there (issue 13's 120 s needs less CPU, mostly in Fig. 5's
+continuum, not more processes)."""
 
 _JOIN_GRACE = 10.0
 """Seconds the calling process waits, after a SIGINT/SIGTERM, for the worker to stop by
