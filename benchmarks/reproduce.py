@@ -1,4 +1,4 @@
-"""Wall time, CPU time and memory of ``hertzchain reproduce --quick``, one and two workers.
+"""Wall time, CPU time and memory of ``hertzchain reproduce --quick`` or ``--full``, 1 or 2 workers.
 
 What is measured: the command itself (``python -m hertzchain reproduce --quick --json
 --out <fresh dir> --workers W``), warm (numba's kernel cache filled by a first run,
@@ -14,10 +14,15 @@ output must be byte-identical to the first one's (else the script fails).
 The machine is shared: the CPU model and the load average before and after are printed;
 compare only ratios within one run.
 
+``--full`` measures ``reproduce --full`` the same way (issue 13: ≤ 2 min; its two
+workers are :data:`hertzchain.reproduce.FULL_LANES`, ~5 min per run on an idle 2-core
+machine, so ``--rounds 1`` is the practical choice).
+
 Usage::
 
     python benchmarks/reproduce.py                 # 2 rounds (1, 2, 2, 1)
     python benchmarks/reproduce.py --rounds 1 --skip-warmup
+    python benchmarks/reproduce.py --full --rounds 1 --skip-warmup
 """
 
 from __future__ import annotations
@@ -35,9 +40,9 @@ import psutil
 from _machine import cpu_name
 
 
-def run_once(out: Path, workers: int) -> dict:
-    """One ``reproduce --quick`` into ``out``: wall, CPU (s), memory peaks (bytes), JSON."""
-    cmd = [sys.executable, "-m", "hertzchain", "reproduce", "--quick", "--json", "--out",
+def run_once(out: Path, workers: int, mode: str = "quick") -> dict:
+    """One ``reproduce --<mode>`` into ``out``: wall, CPU (s), memory peaks (bytes), JSON."""
+    cmd = [sys.executable, "-m", "hertzchain", "reproduce", f"--{mode}", "--json", "--out",
            str(out), "--workers", str(workers)]
     before = os.times()
     t0 = time.perf_counter()
@@ -69,16 +74,18 @@ def main(argv=None) -> int:
     ap.add_argument("--rounds", type=int, default=2, help="ABBA rounds (default 2)")
     ap.add_argument("--skip-warmup", action="store_true",
                     help="do not run once first to fill numba's kernel cache")
+    ap.add_argument("--full", action="store_true", help="measure reproduce --full")
     args = ap.parse_args(argv)
-    print(f"CPU: {cpu_name()}; load average before "
+    mode = "full" if args.full else "quick"
+    print(f"reproduce --{mode}; CPU: {cpu_name()}; load average before "
           f"{os.getloadavg()[0]:.1f}")
     rows = []
     with tempfile.TemporaryDirectory(prefix="bench-reproduce-") as tmp:
         if not args.skip_warmup:
-            run_once(Path(tmp) / "warmup", 1)
+            run_once(Path(tmp) / "warmup", 1, mode)
         order = [w for r in range(args.rounds) for w in ((1, 2) if r % 2 == 0 else (2, 1))]
         for k, w in enumerate(order):
-            rows.append(run_once(Path(tmp) / f"run{k}", w))
+            rows.append(run_once(Path(tmp) / f"run{k}", w, mode))
             r = rows[-1]
             print(f"  workers={w}: wall {r['wall']:6.1f} s  CPU {r['cpu']:6.1f} s  "
                   f"peak MB: PSS sum {r['pss_sum'] / 1e6:4.0f}, USS sum "

@@ -68,7 +68,7 @@ from collections.abc import Callable
 
 import numba as nb
 import numpy as np
-from scipy.sparse import diags
+from scipy.sparse import csc_matrix, diags
 from scipy.sparse.linalg import splu
 
 from . import _kernels as kern
@@ -136,11 +136,13 @@ class BoussinesqPDE(ChainPDEBase):
         self._bands = (diag, off, corner)
         self._factors = kern.tridiag_factor(diag, off, corner)
         # NumPy path: an independent sparse LU of the same operator
+        # (built in CSC directly: a LIL detour cost ~0.4 s at 150,000 nodes, Fig. 5 --full)
         n_nodes = diag.size
-        mat = diags([off, diag, off], [-1, 0, 1], shape=(n_nodes, n_nodes)).tolil()
+        mat = diags([off, diag, off], [-1, 0, 1], shape=(n_nodes, n_nodes), format="csc")
         if corner != 0.0:
-            mat[0, n_nodes - 1] = mat[n_nodes - 1, 0] = corner
-        self._lu = splu(mat.tocsc())
+            mat = mat + csc_matrix(([corner, corner], ([0, n_nodes - 1], [n_nodes - 1, 0])),
+                                   shape=(n_nodes, n_nodes))
+        self._lu = splu(mat)
         self._factor_cache: list = []
 
     # ------------------------------------------------------------------ flux

@@ -15,10 +15,11 @@ saving the PNGs, ``report(rep, result, figures)`` adding its section to the repo
 * :mod:`.table2` — Table 2 (discrete, linear theory, continuum);
 * :mod:`.common` — context, cached runs, figures; :mod:`.report` — the report.
 
-With ``workers=2`` (``--workers 2``) the items run in two processes (:data:`LANES`):
-Figs. 5 and 7 in a worker forked after Fig. 3, the others in the calling process, which
-then writes the report; every number, file and count is that of one process, bit for
-bit (the default is one process, :data:`QUICK_WORKERS`).
+With ``workers=2`` (``--workers 2``) the items run in two processes (:data:`LANES` in
+``--quick``: Figs. 5 and 7 in a worker forked after Fig. 3; :data:`FULL_LANES` in
+``--full``: Fig. 5 alone there), the others in the calling process, which then writes
+the report; every number, file and count is that of one process, bit for bit (the
+default on two or more cores, :data:`QUICK_WORKERS`, :data:`FULL_WORKERS`).
 
 Examples
 --------
@@ -40,7 +41,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["ITEMS", "LANES", "ItemRun", "run_item", "reproduce", "check_items",
+__all__ = ["ITEMS", "LANES", "FULL_LANES", "ItemRun", "run_item", "reproduce", "check_items",
            "kernel_threads", "lanes"]
 
 ITEMS = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "table2", "validity")
@@ -162,20 +163,51 @@ decided the wall time more than the count (one 84-146 s, two 78-172 s).  The pri
 which ~0.3 GB is the interpreter with NumPy, SciPy, numba and its loaded kernels, py-pde
 and matplotlib).  ``--workers 1`` (``workers=1``) runs everything in one process."""
 
+FULL_LANES = (("fig5",), ("fig3", "fig2", "fig4", "fig6", "fig7", "fig8", "table2",
+                           "validity"))
+"""The two lanes of a parallel ``--full`` reproduction (``workers=2``, :data:`LANES`'s rules).
+
+Fig. 5 alone in the forked worker: its continuum (Eq. 4 on 150,000 nodes, one compiled
+loop, single-threaded: 50,096-109,500 Yoshida-4 steps per case over an active window
+that grows to ~70,000 nodes) is about half of ``--full``'s CPU time, and in one process
+it left the second core idle (the old default: one process with threaded discrete
+kernels, 320 s wall for 388 s CPU on the idle machine).  Measured (issue 13, AMD EPYC
+Zen 4, 2 cores shared with other jobs, 2026-11-27): the lanes finished within 3 % of
+each other (load 4.4-7.5: Fig. 5 396 s; Figs. 3, 2, 4, 6, 7, 8, Table 2 and the
+validity item 386 s; load 6-16: 1,302 against 1,316 s), so no item moves between them;
+Fig. 3 goes first in the calling process for the same reason as in :data:`LANES`."""
+
+FULL_WORKERS = 2
+"""Worker processes of ``--full`` (:func:`reproduce`'s default there, capped at the cores
+this process may use), each on one kernel thread: the same numbers, bit for bit, as
+one process on any thread count (``tests/discrete/test_parallel.py``).
+
+Measured (issue 13, AMD EPYC Zen 4, 2 cores shared with other jobs, fresh ``--out``,
+warm kernels, ``/usr/bin/time``): one process (``--workers 1``, threaded kernels)
+547 s wall, 391 s CPU at load 4.7-7.0, two (:data:`FULL_LANES`) 402 s wall (0.73×),
+434 s CPU at load 4.4-7.5; an earlier pair under load 6-16: 1,976 s / 447 s against
+1,343 s / 433 s (0.68×); the ``--json`` output byte-identical in all four.  Under such
+load the wall times say little beyond the ratio; the CPU time is what the lanes share,
+and it bounds the wall at about half of it: ~200 s for the idle machine's ~390 s CPU if
+the lanes stay balanced there (issue 13's 120 s needs less CPU, mostly in Fig. 5's
+continuum, not more processes)."""
+
 _JOIN_GRACE = 10.0
 """Seconds the calling process waits, after a SIGINT/SIGTERM, for the worker to stop by
 itself (a terminal's Ctrl-C reaches both) before passing the signal on."""
 
 
-def lanes(names, workers: int) -> list[list[str]]:
-    """The items ``names`` (report order) split into :data:`LANES`, empty lanes dropped.
+def lanes(names, workers: int, mode: str = "quick") -> list[list[str]]:
+    """The items ``names`` (report order) split into the mode's lanes, empty lanes dropped.
 
-    One lane (all of ``names``) if ``workers`` is 1 or only one lane has items.
+    :data:`LANES` in ``"quick"`` mode, :data:`FULL_LANES` in ``"full"``.  One lane (all
+    of ``names``) if ``workers`` is 1 or only one lane has items.
     """
     if workers == 1:
         return [list(names)]
-    out = [[n for n in lane if n in names] for lane in LANES]
-    out[1] += [n for n in names if n not in LANES[0] + LANES[1]]
+    table = FULL_LANES if mode == "full" else LANES
+    out = [[n for n in lane if n in names] for lane in table]
+    out[1] += [n for n in names if n not in table[0] + table[1]]
     return [lane for lane in out if lane]
 
 
@@ -274,7 +306,7 @@ def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
 
     from ..checkpoint import Interrupted
 
-    k = 1 if parts[1][0] == LANES[1][0] else 0  # (fig3 first: it loads the kernels)
+    k = 1 if parts[1][0] == "fig3" else 0  # (fig3 first in both modes: it loads the kernels)
     first = _run_lane(ctx, parts[1][:k], order, start, threads)
     fork = mp.get_context("fork")
     recv, send = fork.Pipe(duplex=False)
@@ -357,13 +389,15 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     threads : int, optional
         Kernel threads of the discrete runs (:func:`kernel_threads`; the results are
         the same, bit for bit, for every count).  Default: :data:`QUICK_THREADS` in
-        ``"quick"`` mode, numba's own count in ``"full"`` (Fig. 5's 50,000 grains).
+        ``"quick"`` mode; in ``"full"`` 1 with two workers, numba's own count with one
+        (Fig. 5's 50,000 grains).
     workers : {1, 2}, optional
-        Processes: 2 runs the items in the two :data:`LANES`, one in a forked worker
-        (POSIX only), each on ``threads`` kernel threads; the numbers, files and counts
-        are those of one process, bit for bit; 2 needs ``threads`` 1 (``--quick``'s
-        default).  Default: :data:`QUICK_WORKERS` (at most the usable cores) in
-        ``"quick"`` mode, 1 in ``"full"`` (its kernels are threaded).
+        Processes: 2 runs the items in two lanes (:data:`LANES`, in ``"full"`` mode
+        :data:`FULL_LANES`), one in a forked worker (POSIX only), each on ``threads``
+        kernel threads; the numbers, files and counts are those of one process, bit for
+        bit; 2 needs ``threads`` 1.  Default (with ``threads`` None or 1):
+        :data:`QUICK_WORKERS` or :data:`FULL_WORKERS`, at most the usable cores; 1 with
+        more threads, and in ``"full"`` mode if the items fill only one lane.
 
     Returns
     -------
@@ -383,12 +417,14 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
 
     names = check_items(items)
     if workers is None:
-        workers = (min(QUICK_WORKERS, _cores()) if mode == "quick" and threads in (None, 1)
-                   else 1)
+        default = QUICK_WORKERS if mode == "quick" else FULL_WORKERS
+        workers = min(default, _cores()) if threads in (None, 1) else 1
+        if mode == "full" and len(lanes(names, workers, mode)) == 1:
+            workers = 1  # (e.g. ``--full fig5``: one process, on numba's threads)
     if workers not in (1, 2) or isinstance(workers, bool):
         raise ValueError(f"workers must be 1 or 2 (got {workers!r})")
-    if threads is None and mode == "quick":
-        threads = QUICK_THREADS
+    if threads is None and (mode == "quick" or workers == 2):
+        threads = QUICK_THREADS if mode == "quick" else 1
     if workers == 2 and threads != 1:
         raise ValueError(f"workers=2 runs each lane on one kernel thread (threads=1; got "
                          f"threads={threads!r}): a forked process must not start the "
@@ -399,7 +435,7 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
                   checkpoint_interval=checkpoint_interval)
     start = time.perf_counter()
     order = {name: k for k, name in enumerate(names, 1)}
-    parts = lanes(names, workers)
+    parts = lanes(names, workers, mode)
     if len(parts) == 1:
         runs = sorted(_run_lane(ctx, parts[0], order, start, threads),
                       key=lambda r: order[r.name])

@@ -35,10 +35,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="recompute every simulation even if its HDF5 file exists "
                         "(discards checkpoints)")
     p.add_argument("--workers", type=int, choices=(1, 2), default=None,
-                   help="processes: 2 runs the items in two lanes at once (--quick only; "
-                        "the same numbers bit for bit; ~0.1 GB more memory; the default "
-                        "with --quick on two or more cores), 1 one after the other "
-                        "(the default with --full)")
+                   help="processes: 2 runs the items in two lanes at once, each on one "
+                        "kernel thread (the same numbers bit for bit; ~0.1 GB more "
+                        "memory; the default on two or more cores; --full: Fig. 5 in "
+                        "one lane, the rest in the other), 1 one after the other")
     p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
                    metavar="SECONDS",
                    help="wall time between checkpoints of a simulation, s (>= 0; default "

@@ -12,6 +12,7 @@ import multiprocessing
 import os
 import signal
 import time
+from contextlib import nullcontext
 
 import pytest
 
@@ -32,6 +33,21 @@ def test_lanes_split_and_order():
     # Fig. 8's point files)
     assert sorted(R.LANES[0] + R.LANES[1]) == sorted(R.ITEMS)
     lane = next(la for la in R.LANES if "fig8" in la)
+    assert lane.index("fig8") < lane.index("table2")
+
+
+def test_full_lanes_split_and_order():
+    # --full: Fig. 5 alone in the worker; the same rules as --quick's lanes (every item
+    # once, Table 2 after Fig. 8 in one lane, Fig. 3 first in the calling process)
+    assert R.lanes(list(R.ITEMS), 2, "full") == [list(R.FULL_LANES[0]),
+                                                 list(R.FULL_LANES[1])]
+    assert R.FULL_LANES[0] == ("fig5",)
+    assert R.lanes(["fig2", "fig5"], 2, "full") == [["fig5"], ["fig2"]]
+    assert R.lanes(["fig5", "fig7"], 2, "full") == [["fig5"], ["fig7"]]
+    assert R.lanes(list(R.ITEMS), 1, "full") == [list(R.ITEMS)]
+    assert sorted(R.FULL_LANES[0] + R.FULL_LANES[1]) == sorted(R.ITEMS)
+    assert R.FULL_LANES[1][0] == "fig3"
+    lane = next(la for la in R.FULL_LANES if "fig8" in la)
     assert lane.index("fig8") < lane.index("table2")
 
 
@@ -121,7 +137,7 @@ def test_error_here_stops_the_worker(tmp_path, monkeypatch):
     ({"workers": 0}, "workers must be 1 or 2"),
     ({"workers": True}, "workers must be 1 or 2"),
     ({"workers": 2, "threads": 2}, "threads=1"),
-    ({"workers": 2, "mode": "full"}, "threads=1"),
+    ({"workers": 2, "mode": "full", "threads": 2}, "threads=1"),
 ])
 def test_bad_workers(tmp_path, kwargs, match):
     with pytest.raises(ValueError, match=match):
@@ -145,6 +161,22 @@ def test_default_is_one_process_and_cli_option(tmp_path, monkeypatch, capsys):
     reproduce(["fig2", "fig5"], out=tmp_path, progress=False, report=False)
     assert seen == ["parallel"] * (min(R.QUICK_WORKERS, R._cores()) == 2)
     seen.clear()
+    # --full: FULL_WORKERS (2, capped at the cores) on one kernel thread each; one
+    # process if more threads are asked for
+    threads = []
+    monkeypatch.setattr(R, "kernel_threads", lambda t: (threads.append(t), nullcontext())[1])
+    reproduce(["fig2", "fig5"], mode="full", out=tmp_path, progress=False, report=False)
+    assert seen == ["parallel"] * (min(R.FULL_WORKERS, R._cores()) == 2)
+    assert set(threads) == ({1} if seen else {None})
+    seen.clear()
+    threads.clear()
+    reproduce(["fig2", "fig5"], mode="full", out=tmp_path, progress=False, report=False,
+              threads=2)
+    assert seen == [] and set(threads) == {2}
+    threads.clear()
+    # items of one lane only (e.g. --full fig5): one process, on numba's threads
+    reproduce(["fig5"], mode="full", out=tmp_path, progress=False, report=False)
+    assert seen == [] and threads == [None]
     assert main(["reproduce", "fig2", "fig5", "--json", "--workers", "2", "--out",
                  str(tmp_path)]) == 0
     assert json.loads(capsys.readouterr().out) == {"fig2": {"n": 4}, "fig5": {"n": 4}}
