@@ -352,9 +352,54 @@ class Record:
                            else np.zeros((0, 2))),
         }
 
+    def energy_grids(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The energy grid (``energy_t``, ``energy_kinetic``, ``energy_potential``), no copy.
+
+        ``energy_t`` (T,) in s, the two kinds (T, Nc) in J, the values of :meth:`arrays`
+        (float64, bit for bit).  A kind whose rows are the consecutive rows of one
+        C-contiguous (T, Nc) array (as ``hertzchain.runner`` leaves them after stacking
+        them once) is returned as a read-only view of that array; otherwise its rows are
+        stacked into a new array (read-only too, so that no caller relies on owning it).
+        :meth:`arrays` always copies (its callers may write into what it returns).
+        Issue 13: the largest Table 2 grid is 37 MB per kind; a second copy of both
+        raised the point run's memory by 74 MB.
+        """
+        nc = len(self.energy_kinetic[0]) if self.energy_kinetic else 0
+        grids = []
+        for rows in (self.energy_kinetic, self.energy_potential):
+            g = _rows_base(rows)
+            if g is None:
+                g = np.stack(rows) if rows else np.zeros((0, nc))
+            g = g.view()
+            g.flags.writeable = False
+            grids.append(g)
+        return np.asarray(self.energy_t, dtype=float), grids[0], grids[1]
+
     def snapshot(self, label: str) -> Snapshot:
         """The first snapshot with this label (e.g. ``"wave_at=550"``)."""
         for s in self.snapshots:
             if s.label == label:
                 return s
         raise KeyError(f"no snapshot {label!r}; have {[s.label for s in self.snapshots]}")
+
+
+def _rows_base(rows: list) -> np.ndarray | None:
+    """The array whose consecutive rows ``rows`` are, or None.
+
+    That is a (len(rows), n) float64 C-contiguous array of which each ``rows[i]`` is a
+    view of row i.
+    """
+    if not rows:
+        return None
+    base = getattr(rows[0], "base", None)
+    if not (isinstance(base, np.ndarray) and base.ndim == 2 and base.dtype == np.float64
+            and base.flags.c_contiguous and base.shape[0] == len(rows)
+            and rows[0].shape == base.shape[1:]):
+        return None
+    start, step = base.__array_interface__["data"][0], base.strides[0]
+    for i, r in enumerate(rows):
+        if (not isinstance(r, np.ndarray) or r.base is not base or r.shape != base.shape[1:]
+                or r.strides != base.strides[1:]
+                or r.__array_interface__["data"][0] != start + i * step):
+            return None
+    return base

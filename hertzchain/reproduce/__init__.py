@@ -379,8 +379,9 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     ValueError
         ``workers`` not 1 or 2.
     """
-    from .common import Context
+    from .common import Context, map_large_arrays
 
+    map_large_arrays()  # (freed arrays go back to the system: issue 13's peak memory)
     names = check_items(items)
     if workers is None:
         workers = (min(QUICK_WORKERS, _cores()) if mode == "quick" and threads in (None, 1)

@@ -54,7 +54,7 @@ from theory import integrity
 
 from ..cache import cache_path, canonical_json
 from ..paper import TABLE2, TABLE2_KEYS
-from .common import Context, replace_by_reduced, run_models
+from .common import Context, replace_by_reduced, run_models, trim_heap
 
 __all__ = ["QUICK", "FULL", "POINTS", "DISTANCES", "PointResult", "point_scenario",
            "run_point", "run", "report", "to_json"]
@@ -110,7 +110,7 @@ def _front(e: np.ndarray, iface: int) -> np.ndarray:
     return np.argmax(right, axis=1) + 1.0
 
 
-STORE_FORMAT = "hertzchain.reproduce.table2-point/1"
+STORE_FORMAT = "hertzchain.reproduce.table2-point/2"
 """Format tag of the reduced per-point file (bump when its content changes)."""
 
 
@@ -144,13 +144,14 @@ def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
     _write_point(store, params, res)
     replace_by_reduced(ctx, path, store)
     res.path = store
+    trim_heap()  # (before the next point's run: the heap's freed pages back)
     return res
 
 
 def _fig8_settings() -> dict:
-    from .fig8 import GRAINS_SHOWN, MAP_ROWS
+    from .fig8 import GRAINS_SHOWN, MAP_DTYPE, MAP_ROWS
 
-    return {"grains": GRAINS_SHOWN, "rows": MAP_ROWS, "dtype": "float16"}
+    return {"grains": GRAINS_SHOWN, "rows": MAP_ROWS, "dtype": np.dtype(MAP_DTYPE).name}
 
 
 @dataclass
@@ -169,9 +170,9 @@ class _Grids:
     @classmethod
     def of(cls, sim: discrete.Simulation) -> _Grids:
         rec = sim.record
-        arr = rec.arrays()
-        return cls(sim.chain, rec.snapshots[0], arr["energy_t"], arr["energy_kinetic"],
-                   arr["energy_potential"])
+        # (the runner's summary has stacked the grids once: views of them, no copy)
+        t, ek, ep = rec.energy_grids()
+        return cls(sim.chain, rec.snapshots[0], t, ek, ep)
 
 
 def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
@@ -218,8 +219,16 @@ def _prediction(ar: float, ak: float, inc: dict) -> dict:
                                     inc["quadratic"])
 
 
+_MAPS = (("k", "k"), ("p", "p"), ("t_", "total"))
+"""Fig. 8's maps in the per-point file: (key in ``PointResult.maps``, dataset name).  The
+total's own map (e_t/e_t0): the sum of the kinetic and potential maps is not it (each is
+normalised by its own peak; format 1 drew that sum)."""
+
+
 def _write_point(store, params: dict, res: PointResult) -> None:
     """The reduced point: numbers as JSON attributes, Fig. 8's maps as float16 datasets."""
+    from .fig8 import MAP_DTYPE
+
     m = res.maps
     numbers = {"discrete": res.discrete, "measured_at": res.measured_at,
                "drift": {str(k): v for k, v in res.drift.items()}, "incident": res.incident,
@@ -232,8 +241,8 @@ def _write_point(store, params: dict, res: PointResult) -> None:
         # insertion order kept: the report and --json list the keys in this order
         f.attrs["numbers"] = json.dumps(numbers, allow_nan=True)
         f.create_dataset("fig8/t", data=m["t"])
-        for key in ("k", "p"):
-            f.create_dataset(f"fig8/{key}", data=m[key].astype(np.float16),
+        for key, name in _MAPS:
+            f.create_dataset(f"fig8/{name}", data=m[key].astype(MAP_DTYPE),
                              compression="gzip", compression_opts=6, shuffle=True)
 
 
@@ -247,9 +256,8 @@ def _read_point(store, point: str) -> PointResult:
         maps["refs"] = tuple(maps["refs"])
         maps["limits"] = {k: tuple(v) for k, v in maps["limits"].items()}
         maps["t"] = f["fig8/t"][()]
-        for key in ("k", "p"):
-            maps[key] = f[f"fig8/{key}"][()].astype(np.float32)
-    maps["t_"] = maps["k"] + maps["p"]
+        for key, name in _MAPS:
+            maps[key] = f[f"fig8/{name}"][()].astype(np.float32)
     ar, ak = theory.PAPER_POINTS[point]
     inc = num["incident"]
     res = PointResult(point, ar, ak, summary, num["discrete"], float(num["measured_at"]),
