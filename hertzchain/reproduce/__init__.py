@@ -40,7 +40,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["ITEMS", "LANES", "ItemRun", "run_item", "reproduce", "check_items",
+__all__ = ["ITEMS", "FIRST", "LANES", "ItemRun", "run_item", "reproduce", "check_items",
            "kernel_threads", "lanes"]
 
 ITEMS = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "table2", "validity")
@@ -129,14 +129,26 @@ def kernel_threads(threads: int | None):
         numba.set_num_threads(before)
 
 
-LANES = (("fig5", "fig7"), ("fig3", "fig2", "fig4", "fig6", "fig8", "table2", "validity"))
+FIRST = ("fig8", "table2")
+"""Items a process runs before any other (one process: then the rest in report order).
+
+Memory (issue 13): Fig. 8's largest point run (Q, 4,879 × 1,000-grain energy grids)
+needs ~150 MB on top of what the process holds already (four 37 MB grids at once in
+the runner's summary); run first, that is on the interpreter and its kernels (~220 MB),
+run after the other items on everything they left loaded (~290 MB).  Measured, one
+process, AMD EPYC Zen 4 (load 5-9): peak RSS 449 MB with Fig. 8 in report order, 388 MB
+with it first; the numbers are the same, bit for bit (the items share only files)."""
+
+LANES = (("fig5", "fig7"), ("fig8", "table2", "fig3", "fig2", "fig4", "fig6", "validity"))
 """The two lanes of a parallel reproduction (``workers=2``), each run in its order.
 
-The calling process runs the second lane's first item, then forks a worker for the first
-lane and goes on with the rest of the second.  Fig. 3 goes first because it loads what
-every item uses (the discrete and continuum kernels, py-pde, matplotlib): forked after
-it, the worker shares those pages instead of loading its own copies (measured: 0.08 GB
-less PSS over both processes than forking before any item, 0.56 against 0.64 GB).
+The calling process runs the second lane's :data:`FIRST` items (else its Fig. 3), then
+forks a worker for the first lane and goes on with the rest of the second.  Those go
+first for the peak memory (:data:`FIRST`) and because they load what most items use
+(the discrete and continuum kernels, py-pde, matplotlib): forked after them, the worker
+shares those pages instead of loading its own copies (measured with Fig. 3 before the
+fork: 0.08 GB less PSS over both processes than forking before any item, 0.56 against
+0.64 GB).
 Balanced by the items' CPU time in ``--quick`` (measured warm, AMD EPYC Zen 4, issue 13):
 fig5 22 s + fig7 12 s = 34 s in the worker against fig2 16 + fig4 0.8 + fig6 5.1 + fig8
 3.2 + table2 0.6 + validity 3.5 = 29 s after fig3's 3.4 s.  Items that share files stay
@@ -170,10 +182,11 @@ itself (a terminal's Ctrl-C reaches both) before passing the signal on."""
 def lanes(names, workers: int) -> list[list[str]]:
     """The items ``names`` (report order) split into :data:`LANES`, empty lanes dropped.
 
-    One lane (all of ``names``) if ``workers`` is 1 or only one lane has items.
+    One lane (all of ``names``, :data:`FIRST` first) if ``workers`` is 1 or only one
+    lane has items.
     """
     if workers == 1:
-        return [list(names)]
+        return [[n for n in FIRST if n in names] + [n for n in names if n not in FIRST]]
     out = [[n for n in lane if n in names] for lane in LANES]
     out[1] += [n for n in names if n not in LANES[0] + LANES[1]]
     return [lane for lane in out if lane]
@@ -267,14 +280,17 @@ def _stop_worker(proc, exc: BaseException) -> None:
 def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
     """Run the lanes ``parts`` (:func:`lanes`); the runs in report order.
 
-    ``parts[1][0]`` here if it is the second lane's first item (Fig. 3, :data:`LANES`),
-    then ``parts[0]`` in a forked worker and the rest of ``parts[1]`` here.
+    The leading :data:`FIRST` items of ``parts[1]`` here (else its Fig. 3, if first:
+    :data:`LANES`), then ``parts[0]`` in a forked worker and the rest of ``parts[1]`` here.
     """
     import multiprocessing as mp
 
     from ..checkpoint import Interrupted
 
-    k = 1 if parts[1][0] == LANES[1][0] else 0  # (fig3 first: it loads the kernels)
+    k = 0  # (the items before the fork load the kernels the worker shares)
+    while k < len(parts[1]) and parts[1][k] in FIRST:
+        k += 1
+    k = k or int(parts[1][0] == "fig3")
     first = _run_lane(ctx, parts[1][:k], order, start, threads)
     fork = mp.get_context("fork")
     recv, send = fork.Pipe(duplex=False)
@@ -315,7 +331,12 @@ def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
                       *rest) for name, *rest in payload[1]]
     ctx.notes.update(payload[2])
     ctx.compile_seconds += payload[3]
-    runs = sorted(mine + theirs, key=lambda r: order[r.name])
+    return _in_report_order(ctx, mine + theirs, order)
+
+
+def _in_report_order(ctx, runs, order: dict) -> list[ItemRun]:
+    """``runs`` sorted by ``order``, and the context's files and timings in that order."""
+    runs = sorted(runs, key=lambda r: order[r.name])
     ctx.computed[:] = [p for r in runs for p in r.computed]
     ctx.reused[:] = [p for r in runs for p in r.reused]
     ctx.timings.clear()
@@ -402,8 +423,7 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     order = {name: k for k, name in enumerate(names, 1)}
     parts = lanes(names, workers)
     if len(parts) == 1:
-        runs = sorted(_run_lane(ctx, parts[0], order, start, threads),
-                      key=lambda r: order[r.name])
+        runs = _in_report_order(ctx, _run_lane(ctx, parts[0], order, start, threads), order)
     else:
         runs = _run_parallel(ctx, parts, order, start, threads)
     wall = time.perf_counter() - start
