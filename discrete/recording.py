@@ -328,19 +328,20 @@ class Record:
                                  "(the refined maximum includes the samples)")
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """The list-valued fields as stacked arrays."""
+        """The list-valued fields as stacked arrays.
+
+        New arrays, except the energy grids: read-only, and views of the record's own
+        grid where it is stacked already (:meth:`energy_grids`; e.g. ``discrete.save``
+        of a summarised run wrote a second copy of both grids, issue 13).
+        """
         s = len(self.series_grains)
-        nc = len(self.energy_kinetic[0]) if self.energy_kinetic else 0
+        energy_t, ek, ep = self.energy_grids()
         return {
             "series_grains": np.asarray(self.series_grains, dtype=np.int64),
             "series_t": np.asarray(self.series_t, dtype=float),
             "series": (np.concatenate(self.series, axis=0) if self.series
                        else np.zeros((0, s, 4))),
-            "energy_t": np.asarray(self.energy_t, dtype=float),
-            "energy_kinetic": (np.stack(self.energy_kinetic) if self.energy_kinetic
-                               else np.zeros((0, nc))),
-            "energy_potential": (np.stack(self.energy_potential) if self.energy_potential
-                                 else np.zeros((0, nc))),
+            "energy_t": energy_t, "energy_kinetic": ek, "energy_potential": ep,
             "monitor_t": np.asarray(self.monitor_t, dtype=float),
             "monitor_energy": np.asarray(self.monitor_energy, dtype=float),
             "monitor_shadow": np.asarray(self.monitor_shadow, dtype=float),
@@ -359,10 +360,10 @@ class Record:
         (float64, bit for bit).  A kind whose rows are the consecutive rows of one
         C-contiguous (T, Nc) array (as ``hertzchain.runner`` leaves them after stacking
         them once) is returned as a read-only view of that array; otherwise its rows are
-        stacked into a new array (read-only too, so that no caller relies on owning it).
-        :meth:`arrays` always copies (its callers may write into what it returns).
-        Issue 13: the largest Table 2 grid is 37 MB per kind; a second copy of both
-        raised the point run's memory by 74 MB.
+        stacked into a new array (read-only too, so that no caller relies on owning it:
+        a write raises instead of changing the record).  Issue 13: the largest Table 2
+        grid is 37 MB per kind; a second copy of both raised the point run's memory by
+        74 MB.
         """
         nc = len(self.energy_kinetic[0]) if self.energy_kinetic else 0
         grids = []
