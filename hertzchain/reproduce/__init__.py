@@ -133,11 +133,12 @@ FIRST = ("fig8", "table2")
 """Items a process runs before any other (one process: then the rest in report order).
 
 Memory (issue 13): Fig. 8's largest point run (Q, 4,879 × 1,000-grain energy grids)
-needs ~150 MB on top of what the process holds already (four 37 MB grids at once in
-the runner's summary); run first, that is on the interpreter and its kernels (~220 MB),
-run after the other items on everything they left loaded (~290 MB).  Measured, one
-process, AMD EPYC Zen 4 (load 5-9): peak RSS 449 MB with Fig. 8 in report order, 388 MB
-with it first; the numbers are the same, bit for bit (the items share only files)."""
+needs ~150 MiB on top of what the process holds already (four 37 MiB grids at once in
+the runner's summary); run first, that is on the interpreter and its kernels (~170 MiB),
+run after the other items on everything they left loaded (~290 MiB).  Measured, one
+process, AMD EPYC Zen 4 (load 5-9): Fig. 8's peak RSS 449 MiB in report order, 369 MiB
+first (341 MiB with its point Q first, :data:`.table2.RUN_ORDER`); the numbers are the
+same, bit for bit (the items share only files)."""
 
 LANES = (("fig5", "fig7"), ("fig8", "table2", "fig3", "fig2", "fig4", "fig6", "validity"))
 """The two lanes of a parallel reproduction (``workers=2``), each run in its order.

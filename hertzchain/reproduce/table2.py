@@ -65,8 +65,9 @@ RUN_ORDER = ("Q", "M", "N", "P")
 order): the largest run first, while the process holds least.  Q's right section is
 the stiffest (α_kn = 4), so its time step is the smallest and its energy grid the
 largest: 4,879 rows against 2,488 for M, N, P in ``--quick`` (37 against 19 MB per
-kind), and its run needs ~150 MB on top of what the process holds (issue 13).
-Measured, Fig. 8 alone (AMD EPYC Zen 4): peak RSS 369 MB with Q last, 330 MB first."""
+kind), and its run needs ~150 MiB on top of what the process holds (issue 13).
+Measured, Fig. 8 first in a process (AMD EPYC Zen 4, load 8-13): peak RSS 369 MiB
+with Q last, 341 MiB with Q first."""
 
 
 def in_run_order(points) -> list[str]:
@@ -159,7 +160,7 @@ def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
     _write_point(store, params, res)
     replace_by_reduced(ctx, path, store)
     res.path = store
-    trim_heap()  # (before the next point's run: the heap's freed pages back)
+    trim_heap(collect=False)  # (before the next point's run: the heap's freed pages back)
     return res
 
 
