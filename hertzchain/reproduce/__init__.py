@@ -170,10 +170,16 @@ AMD EPYC Zen 4 (family 25 model 17, AVX-512; load 0.0-1.5), warm, fresh ``--out`
 ``benchmarks/reproduce.py`` on 2026-11-27 11:18 UTC: one worker 60.9 s wall, 61.4 s CPU,
 peak 0.48 GB (PSS); two workers 36.8 s wall, 62.5 s CPU, 0.59 GB PSS over both processes
 (largest RSS 0.51 GB).  Under load from other jobs (2.7-5.4, earlier that day) the load
-decided the wall time more than the count (one 84-146 s, two 78-172 s).  The price is
-~0.1 GB: issue 13's 0.40 GB is missed either way (one process peaks at 0.48 GB, of
-which ~0.3 GB is the interpreter with NumPy, SciPy, numba and its loaded kernels, py-pde
-and matplotlib).  ``--workers 1`` (``workers=1``) runs everything in one process."""
+decided the wall time more than the count (one 84-146 s, two 78-172 s).  Peak memory
+(issue 13, ``benchmarks/reproduce.py --reference``, 2026-11-27 13:37 UTC, load 3-7,
+beside the same run of the earlier code): one worker 384 MB peak RSS (was 498), two
+workers 392 MB in the larger process (was 528) and 411 MB PSS over both (was 529) —
+:data:`FIRST`, :data:`.table2.RUN_ORDER`, :func:`.common.map_large_arrays`,
+:func:`.common.trim_heap`, ``discrete.Record.energy_grids``.  Of that, ~240 MB is the
+floor of any process that runs a point (measured, RSS): Python with NumPy 26 MB, SciPy
+(sparse, linalg, optimize) +50, h5py +11, numba +53, the solver and py-pde +25,
+matplotlib +26, the discrete kernels loaded +45, the continuum's +6.  ``--workers 1``
+(``workers=1``) runs everything in one process."""
 
 _JOIN_GRACE = 10.0
 """Seconds the calling process waits, after a SIGINT/SIGTERM, for the worker to stop by
