@@ -328,19 +328,20 @@ class Record:
                                  "(the refined maximum includes the samples)")
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """The list-valued fields as stacked arrays."""
+        """The list-valued fields as stacked arrays.
+
+        New arrays, except the energy grids: read-only, and views of the record's own
+        grid where it is stacked already (:meth:`energy_grids`; e.g. ``discrete.save``
+        of a summarised run wrote a second copy of both grids, issue 13).
+        """
         s = len(self.series_grains)
-        nc = len(self.energy_kinetic[0]) if self.energy_kinetic else 0
+        energy_t, ek, ep = self.energy_grids()
         return {
             "series_grains": np.asarray(self.series_grains, dtype=np.int64),
             "series_t": np.asarray(self.series_t, dtype=float),
             "series": (np.concatenate(self.series, axis=0) if self.series
                        else np.zeros((0, s, 4))),
-            "energy_t": np.asarray(self.energy_t, dtype=float),
-            "energy_kinetic": (np.stack(self.energy_kinetic) if self.energy_kinetic
-                               else np.zeros((0, nc))),
-            "energy_potential": (np.stack(self.energy_potential) if self.energy_potential
-                                 else np.zeros((0, nc))),
+            "energy_t": energy_t, "energy_kinetic": ek, "energy_potential": ep,
             "monitor_t": np.asarray(self.monitor_t, dtype=float),
             "monitor_energy": np.asarray(self.monitor_energy, dtype=float),
             "monitor_shadow": np.asarray(self.monitor_shadow, dtype=float),
@@ -352,9 +353,54 @@ class Record:
                            else np.zeros((0, 2))),
         }
 
+    def energy_grids(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The energy grid (``energy_t``, ``energy_kinetic``, ``energy_potential``), no copy.
+
+        ``energy_t`` (T,) in s, the two kinds (T, Nc) in J, the values of :meth:`arrays`
+        (float64, bit for bit).  A kind whose rows are the consecutive rows of one
+        C-contiguous (T, Nc) array (as ``hertzchain.runner`` leaves them after stacking
+        them once) is returned as a read-only view of that array; otherwise its rows are
+        stacked into a new array (read-only too, so that no caller relies on owning it:
+        a write raises instead of changing the record).  Issue 13: the largest Table 2
+        grid is 37 MB per kind; a second copy of both raised the point run's memory by
+        74 MB.
+        """
+        nc = len(self.energy_kinetic[0]) if self.energy_kinetic else 0
+        grids = []
+        for rows in (self.energy_kinetic, self.energy_potential):
+            g = _rows_base(rows)
+            if g is None:
+                g = np.stack(rows) if rows else np.zeros((0, nc))
+            g = g.view()
+            g.flags.writeable = False
+            grids.append(g)
+        return np.asarray(self.energy_t, dtype=float), grids[0], grids[1]
+
     def snapshot(self, label: str) -> Snapshot:
         """The first snapshot with this label (e.g. ``"wave_at=550"``)."""
         for s in self.snapshots:
             if s.label == label:
                 return s
         raise KeyError(f"no snapshot {label!r}; have {[s.label for s in self.snapshots]}")
+
+
+def _rows_base(rows: list) -> np.ndarray | None:
+    """The array whose consecutive rows ``rows`` are, or None.
+
+    That is a (len(rows), n) float64 C-contiguous array of which each ``rows[i]`` is a
+    view of row i.
+    """
+    if not rows:
+        return None
+    base = getattr(rows[0], "base", None)
+    if not (isinstance(base, np.ndarray) and base.ndim == 2 and base.dtype == np.float64
+            and base.flags.c_contiguous and base.shape[0] == len(rows)
+            and rows[0].shape == base.shape[1:]):
+        return None
+    start, step = base.__array_interface__["data"][0], base.strides[0]
+    for i, r in enumerate(rows):
+        if (not isinstance(r, np.ndarray) or r.base is not base or r.shape != base.shape[1:]
+                or r.strides != base.strides[1:]
+                or r.__array_interface__["data"][0] != start + i * step):
+            return None
+    return base

@@ -41,7 +41,8 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
-__all__ = ["ITEMS", "LANES", "FULL_LANES", "ItemRun", "run_item", "reproduce", "check_items",
+__all__ = ["ITEMS", "FIRST", "LANES", "FULL_LANES", "ItemRun", "run_item", "reproduce",
+           "check_items",
            "kernel_threads", "lanes"]
 
 ITEMS = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "table2", "validity")
@@ -130,14 +131,27 @@ def kernel_threads(threads: int | None):
         numba.set_num_threads(before)
 
 
-LANES = (("fig5", "fig7"), ("fig3", "fig2", "fig4", "fig6", "fig8", "table2", "validity"))
+FIRST = ("fig8", "table2")
+"""Items a process runs before any other (one process: then the rest in report order).
+
+Memory (issue 13): Fig. 8's largest point run (Q, 4,879 × 1,000-grain energy grids)
+needs ~150 MiB on top of what the process holds already (four 37 MiB grids at once in
+the runner's summary); run first, that is on the interpreter and its kernels (~170 MiB),
+run after the other items on everything they left loaded (~290 MiB).  Measured, one
+process, AMD EPYC Zen 4 (load 5-9): Fig. 8's peak RSS 449 MiB in report order, 369 MiB
+first (341 MiB with its point Q first, :data:`.table2.RUN_ORDER`); the numbers are the
+same, bit for bit (the items share only files)."""
+
+LANES = (("fig5", "fig7"), ("fig8", "table2", "fig3", "fig2", "fig4", "fig6", "validity"))
 """The two lanes of a parallel reproduction (``workers=2``), each run in its order.
 
-The calling process runs the second lane's first item, then forks a worker for the first
-lane and goes on with the rest of the second.  Fig. 3 goes first because it loads what
-every item uses (the discrete and continuum kernels, py-pde, matplotlib): forked after
-it, the worker shares those pages instead of loading its own copies (measured: 0.08 GB
-less PSS over both processes than forking before any item, 0.56 against 0.64 GB).
+The calling process runs the second lane's :data:`FIRST` items (else its Fig. 3), then
+forks a worker for the first lane and goes on with the rest of the second.  Those go
+first for the peak memory (:data:`FIRST`) and because they load what most items use
+(the discrete and continuum kernels, py-pde, matplotlib): forked after them, the worker
+shares those pages instead of loading its own copies (measured with Fig. 3 before the
+fork: 0.08 GB less PSS over both processes than forking before any item, 0.56 against
+0.64 GB).
 Balanced by the items' CPU time in ``--quick`` (measured warm, AMD EPYC Zen 4, issue 13):
 fig5 22 s + fig7 12 s = 34 s in the worker against fig2 16 + fig4 0.8 + fig6 5.1 + fig8
 3.2 + table2 0.6 + validity 3.5 = 29 s after fig3's 3.4 s.  Items that share files stay
@@ -158,10 +172,16 @@ AMD EPYC Zen 4 (family 25 model 17, AVX-512; load 0.0-1.5), warm, fresh ``--out`
 ``benchmarks/reproduce.py`` on 2026-11-27 11:18 UTC: one worker 60.9 s wall, 61.4 s CPU,
 peak 0.48 GB (PSS); two workers 36.8 s wall, 62.5 s CPU, 0.59 GB PSS over both processes
 (largest RSS 0.51 GB).  Under load from other jobs (2.7-5.4, earlier that day) the load
-decided the wall time more than the count (one 84-146 s, two 78-172 s).  The price is
-~0.1 GB: issue 13's 0.40 GB is missed either way (one process peaks at 0.48 GB, of
-which ~0.3 GB is the interpreter with NumPy, SciPy, numba and its loaded kernels, py-pde
-and matplotlib).  ``--workers 1`` (``workers=1``) runs everything in one process."""
+decided the wall time more than the count (one 84-146 s, two 78-172 s).  Peak memory
+(issue 13, ``benchmarks/reproduce.py --reference``, 2026-11-27 13:37 UTC, load 3-7,
+beside the same run of the earlier code): one worker 384 MB peak RSS (was 498), two
+workers 392 MB in the larger process (was 528) and 411 MB PSS over both (was 529) —
+:data:`FIRST`, :data:`.table2.RUN_ORDER`, :func:`.common.map_large_arrays`,
+:func:`.common.trim_heap`, ``discrete.Record.energy_grids``.  Of that, ~240 MiB is the
+floor of any process that runs a point (measured, RSS): Python with NumPy 26 MiB, SciPy
+(sparse, linalg, optimize) +50, h5py +11, numba +53, the solver and py-pde +25,
+matplotlib +26, the discrete kernels loaded +45, the continuum's +6.  ``--workers 1``
+(``workers=1``) runs everything in one process."""
 
 FULL_LANES = (("fig5",), ("fig3", "fig2", "fig4", "fig6", "fig7", "fig8", "table2",
                            "validity"))
@@ -201,10 +221,10 @@ def lanes(names, workers: int, mode: str = "quick") -> list[list[str]]:
     """The items ``names`` (report order) split into the mode's lanes, empty lanes dropped.
 
     :data:`LANES` in ``"quick"`` mode, :data:`FULL_LANES` in ``"full"``.  One lane (all
-    of ``names``) if ``workers`` is 1 or only one lane has items.
+    of ``names``, :data:`FIRST` first) if ``workers`` is 1 or only one lane has items.
     """
     if workers == 1:
-        return [list(names)]
+        return [[n for n in FIRST if n in names] + [n for n in names if n not in FIRST]]
     table = FULL_LANES if mode == "full" else LANES
     out = [[n for n in lane if n in names] for lane in table]
     out[1] += [n for n in names if n not in table[0] + table[1]]
@@ -299,14 +319,19 @@ def _stop_worker(proc, exc: BaseException) -> None:
 def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
     """Run the lanes ``parts`` (:func:`lanes`); the runs in report order.
 
-    ``parts[1][0]`` here if it is the second lane's first item (Fig. 3, :data:`LANES`),
-    then ``parts[0]`` in a forked worker and the rest of ``parts[1]`` here.
+    The leading :data:`FIRST` items of ``parts[1]`` here (else its Fig. 3, if first:
+    :data:`LANES`), then ``parts[0]`` in a forked worker and the rest of ``parts[1]`` here.
     """
     import multiprocessing as mp
 
     from ..checkpoint import Interrupted
 
-    k = 1 if parts[1][0] == "fig3" else 0  # (fig3 first in both modes: it loads the kernels)
+    # the items before the fork load the kernels the worker shares: the lane's leading
+    # FIRST items (--quick), else its Fig. 3 (--full's lane starts with it)
+    k = 0
+    while k < len(parts[1]) and parts[1][k] in FIRST:
+        k += 1
+    k = k or int(parts[1][0] == "fig3")
     first = _run_lane(ctx, parts[1][:k], order, start, threads)
     fork = mp.get_context("fork")
     recv, send = fork.Pipe(duplex=False)
@@ -347,7 +372,12 @@ def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
                       *rest) for name, *rest in payload[1]]
     ctx.notes.update(payload[2])
     ctx.compile_seconds += payload[3]
-    runs = sorted(mine + theirs, key=lambda r: order[r.name])
+    return _in_report_order(ctx, mine + theirs, order)
+
+
+def _in_report_order(ctx, runs, order: dict) -> list[ItemRun]:
+    """``runs`` sorted by ``order``, and the context's files and timings in that order."""
+    runs = sorted(runs, key=lambda r: order[r.name])
     ctx.computed[:] = [p for r in runs for p in r.computed]
     ctx.reused[:] = [p for r in runs for p in r.reused]
     ctx.timings.clear()
@@ -413,8 +443,9 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     ValueError
         ``workers`` not 1 or 2.
     """
-    from .common import Context
+    from .common import Context, map_large_arrays
 
+    map_large_arrays()  # (freed arrays go back to the system: issue 13's peak memory)
     names = check_items(items)
     if workers is None:
         default = QUICK_WORKERS if mode == "quick" else FULL_WORKERS
@@ -437,8 +468,7 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     order = {name: k for k, name in enumerate(names, 1)}
     parts = lanes(names, workers, mode)
     if len(parts) == 1:
-        runs = sorted(_run_lane(ctx, parts[0], order, start, threads),
-                      key=lambda r: order[r.name])
+        runs = _in_report_order(ctx, _run_lane(ctx, parts[0], order, start, threads), order)
     else:
         runs = _run_parallel(ctx, parts, order, start, threads)
     wall = time.perf_counter() - start

@@ -54,12 +54,28 @@ from theory import integrity
 
 from ..cache import cache_path, canonical_json
 from ..paper import TABLE2, TABLE2_KEYS
-from .common import Context, replace_by_reduced, run_models
+from .common import Context, replace_by_reduced, run_models, trim_heap
 
-__all__ = ["QUICK", "FULL", "POINTS", "DISTANCES", "PointResult", "point_scenario",
-           "run_point", "run", "report", "to_json"]
+__all__ = ["QUICK", "FULL", "POINTS", "RUN_ORDER", "in_run_order", "DISTANCES",
+           "PointResult", "point_scenario", "run_point", "run", "report", "to_json"]
 
 POINTS = ("M", "N", "P", "Q")
+RUN_ORDER = ("Q", "M", "N", "P")
+"""The order the points are computed in (results, report and JSON stay in :data:`POINTS`
+order): the largest run first, while the process holds least.  Q's right section is
+the stiffest (α_kn = 4), so its time step is the smallest and its energy grid the
+largest: 4,879 rows against 2,488 for M, N, P in ``--quick`` (37 against 19 MB per
+kind), and its run needs ~150 MiB on top of what the process holds (issue 13).
+Measured, Fig. 8 first in a process (AMD EPYC Zen 4, load 8-13): peak RSS 369 MiB
+with Q last, 341 MiB with Q first."""
+
+
+def in_run_order(points) -> list[str]:
+    """``points`` in :data:`RUN_ORDER` (others after them, in their order)."""
+    return sorted(points, key=lambda p: RUN_ORDER.index(p) if p in RUN_ORDER
+                  else len(RUN_ORDER))
+
+
 DISTANCES = (10, 30, 50, 100, 150, 200)
 """Grains past the interface at which the drift of the ratios is tabulated."""
 QUICK = {"n_left": 200, "n_right": 800, "centre": 100, "t_end": 2.4e-3, "energy_every": 20,
@@ -110,7 +126,7 @@ def _front(e: np.ndarray, iface: int) -> np.ndarray:
     return np.argmax(right, axis=1) + 1.0
 
 
-STORE_FORMAT = "hertzchain.reproduce.table2-point/1"
+STORE_FORMAT = "hertzchain.reproduce.table2-point/2"
 """Format tag of the reduced per-point file (bump when its content changes)."""
 
 
@@ -144,13 +160,14 @@ def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
     _write_point(store, params, res)
     replace_by_reduced(ctx, path, store)
     res.path = store
+    trim_heap(collect=False)  # (before the next point's run: the heap's freed pages back)
     return res
 
 
 def _fig8_settings() -> dict:
-    from .fig8 import GRAINS_SHOWN, MAP_ROWS
+    from .fig8 import GRAINS_SHOWN, MAP_DTYPE, MAP_ROWS
 
-    return {"grains": GRAINS_SHOWN, "rows": MAP_ROWS, "dtype": "float16"}
+    return {"grains": GRAINS_SHOWN, "rows": MAP_ROWS, "dtype": np.dtype(MAP_DTYPE).name}
 
 
 @dataclass
@@ -169,9 +186,9 @@ class _Grids:
     @classmethod
     def of(cls, sim: discrete.Simulation) -> _Grids:
         rec = sim.record
-        arr = rec.arrays()
-        return cls(sim.chain, rec.snapshots[0], arr["energy_t"], arr["energy_kinetic"],
-                   arr["energy_potential"])
+        # (the runner's summary has stacked the grids once: views of them, no copy)
+        t, ek, ep = rec.energy_grids()
+        return cls(sim.chain, rec.snapshots[0], t, ek, ep)
 
 
 def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
@@ -218,8 +235,16 @@ def _prediction(ar: float, ak: float, inc: dict) -> dict:
                                     inc["quadratic"])
 
 
+_MAPS = (("k", "k"), ("p", "p"), ("t_", "total"))
+"""Fig. 8's maps in the per-point file: (key in ``PointResult.maps``, dataset name).  The
+total's own map (e_t/e_t0): the sum of the kinetic and potential maps is not it (each is
+normalised by its own peak; format 1 drew that sum)."""
+
+
 def _write_point(store, params: dict, res: PointResult) -> None:
     """The reduced point: numbers as JSON attributes, Fig. 8's maps as float16 datasets."""
+    from .fig8 import MAP_DTYPE
+
     m = res.maps
     numbers = {"discrete": res.discrete, "measured_at": res.measured_at,
                "drift": {str(k): v for k, v in res.drift.items()}, "incident": res.incident,
@@ -232,8 +257,8 @@ def _write_point(store, params: dict, res: PointResult) -> None:
         # insertion order kept: the report and --json list the keys in this order
         f.attrs["numbers"] = json.dumps(numbers, allow_nan=True)
         f.create_dataset("fig8/t", data=m["t"])
-        for key in ("k", "p"):
-            f.create_dataset(f"fig8/{key}", data=m[key].astype(np.float16),
+        for key, name in _MAPS:
+            f.create_dataset(f"fig8/{name}", data=m[key].astype(MAP_DTYPE),
                              compression="gzip", compression_opts=6, shuffle=True)
 
 
@@ -247,9 +272,8 @@ def _read_point(store, point: str) -> PointResult:
         maps["refs"] = tuple(maps["refs"])
         maps["limits"] = {k: tuple(v) for k, v in maps["limits"].items()}
         maps["t"] = f["fig8/t"][()]
-        for key in ("k", "p"):
-            maps[key] = f[f"fig8/{key}"][()].astype(np.float32)
-    maps["t_"] = maps["k"] + maps["p"]
+        for key, name in _MAPS:
+            maps[key] = f[f"fig8/{name}"][()].astype(np.float32)
     ar, ak = theory.PAPER_POINTS[point]
     inc = num["incident"]
     res = PointResult(point, ar, ak, summary, num["discrete"], float(num["measured_at"]),
@@ -322,8 +346,8 @@ def _continuum(ctx: Context, point: str, s: dict) -> tuple[dict | None, str]:
 def run(ctx: Context, points=POINTS, **overrides) -> list[PointResult]:
     """Run M, N, P, Q (discrete, theory and, unless disabled, continuum)."""
     s = ctx.pick(QUICK, FULL) | overrides
-    out = []
-    for p in points:
+    out = {}
+    for p in in_run_order(points):
         ctx.log(f"table2: point {p} (discrete)")
         r = run_point(ctx, p, s)
         if s.get("continuum"):
@@ -331,8 +355,8 @@ def run(ctx: Context, points=POINTS, **overrides) -> list[PointResult]:
             r.continuum, r.continuum_note = _continuum(ctx, p, s)
         else:
             r.continuum_note = "continuum not run (disabled)"
-        out.append(r)
-    return out
+        out[p] = r
+    return [out[p] for p in points]
 
 
 def _d(a, b) -> str:

@@ -25,7 +25,11 @@ pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
 
 
 def test_lanes_split_and_order():
-    assert R.lanes(list(R.ITEMS), 1) == [list(R.ITEMS)]
+    # one process: Fig. 8 and Table 2 first (R.FIRST: the peak memory), then report order
+    assert R.lanes(list(R.ITEMS), 1) == [["fig8", "table2", "fig2", "fig3", "fig4", "fig5",
+                                          "fig6", "fig7", "validity"]]
+    assert R.lanes(["fig2", "table2"], 1) == [["table2", "fig2"]]
+    assert R.LANES[1][:2] == R.FIRST  # (before the fork in two processes)
     assert R.lanes(list(R.ITEMS), 2) == [list(R.LANES[0]), list(R.LANES[1])]
     assert R.lanes(["fig2", "fig7"], 2) == [["fig7"], ["fig2"]]
     assert R.lanes(["fig8", "table2"], 2) == [["fig8", "table2"]]  # one lane: serial
