@@ -537,9 +537,17 @@ def _stacked_grid(rows: list) -> np.ndarray:
     The list is then made of views of that array's rows (the same values; the blocks the
     run appended are freed), so that the record and the summary share one copy of the
     grid instead of holding two (issue 13: the largest Table 2 grid is 39 MB per kind).
+    Row by row: each row is copied and its list entry replaced by the new row at once,
+    so a block the run appended is freed as soon as its last row is copied and the
+    grid is never held twice (``np.stack`` held both: with the phase average's denser
+    rows a Fig. 7 corner point's summary peaked at +160 MiB).
     """
-    grid = np.stack(rows)
-    rows[:] = list(grid)
+    if not rows:
+        return np.stack(rows)  # (raises as before: nothing to stack)
+    grid = np.empty((len(rows), *np.shape(rows[0])), dtype=np.result_type(rows[0]))
+    for i, row in enumerate(rows):
+        grid[i] = row
+        rows[i] = grid[i]
     return grid
 
 
@@ -649,6 +657,23 @@ def incident_amplitude(chain: discrete.Chain, u, v, wall_left: float = 0.0,
     return float(np.max(np.abs(v)))
 
 
+ACTIVITY_ROWS = 256
+"""Grid rows per block in :func:`_interface_activity`."""
+
+
+def _interface_activity(ek: np.ndarray, ep: np.ndarray, iface: int) -> np.ndarray:
+    """:func:`discrete.diagnostics.interface_activity` of e = ek + ep, block by block.
+
+    The same values, bit for bit (each row's sums do not depend on the other rows), with
+    neither e nor |e| held whole: issue 13, the summary of Fig. 8's point Q held four
+    37 MiB grids at once (ek, ep, e, |e|), now two and a block.
+    """
+    n = ek.shape[0]
+    return np.concatenate([D.interface_activity(ek[i:i + ACTIVITY_ROWS]
+                                                + ep[i:i + ACTIVITY_ROWS], iface)
+                           for i in range(0, n, ACTIVITY_ROWS)]) if n else np.zeros(0)
+
+
 def summarise(chain: discrete.Chain, sim: discrete.Simulation,
               incident: float | None = None) -> dict:
     """Flat summary of a finished two-section run (see module docstring).
@@ -694,8 +719,7 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
         return out
     iface = n_left // coarsen
     ep = _stacked_grid(rec.energy_potential)
-    e = ek + ep
-    act = D.interface_activity(e, iface)  # (once for the fractions below: 5 grid passes)
+    act = _interface_activity(ek, ep, iface)  # (once for the fractions below)
     try:
         i_in = D.incident_time_index(None, iface, activity=act)
     except ValueError:
@@ -723,7 +747,7 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
                        split_estimate=split_est)
     # the wave reached the interface: its energy there passed 1e-6 of the total on the
     # grid (incident_time_index is the last row before), or it started there
-    if i_in is not None and i_in >= e.shape[0] - 1:
+    if i_in is not None and i_in >= ek.shape[0] - 1:
         return out  # no transmitted or reflected wave yet: no speeds, no labels
     # arrival times after the incident peak has reached the interface
     i_hit = int(np.argmax(ek[:, max(iface - 1, 0)]))

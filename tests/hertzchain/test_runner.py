@@ -373,3 +373,19 @@ def test_rtol_run_with_maxima_reads_the_front_speed_off_them_without_a_grid():
                                       ref.v, d)
     assert abs(maxima / grid - 1) <= 1e-5, (maxima, grid)
     assert abs(s["front_speed_tr"] / grid - 1) <= 1e-4, (s["front_speed_tr"], grid)
+
+
+def test_interface_activity_by_blocks_is_bitwise_the_whole_grids():
+    # the summary's activity is computed block by block (no whole e = ek + ep, no |e|:
+    # issue 13's memory); each row's sums do not depend on the other rows, so the
+    # values are the same bits as diagnostics.interface_activity on the whole grid
+    from discrete import diagnostics as D
+    from hertzchain.runner import ACTIVITY_ROWS, _interface_activity
+
+    rng = np.random.default_rng(3)
+    n = 2 * ACTIVITY_ROWS + 17  # a partial last block
+    ek = rng.random((n, 300))
+    ep = rng.standard_normal((n, 300)) * 1e-2  # (relative to static: may be negative)
+    a = _interface_activity(ek, ep, 150)
+    assert a.shape == (n,) and np.array_equal(a, D.interface_activity(ek + ep, 150))
+    assert _interface_activity(ek[:0], ep[:0], 150).shape == (0,)
