@@ -177,7 +177,11 @@ decided the wall time more than the count (one 84-146 s, two 78-172 s).  Peak me
 beside the same run of the earlier code): one worker 384 MB peak RSS (was 498), two
 workers 392 MB in the larger process (was 528) and 411 MB PSS over both (was 529) —
 :data:`FIRST`, :data:`.table2.RUN_ORDER`, :func:`.common.map_large_arrays`,
-:func:`.common.trim_heap`, ``discrete.Record.energy_grids``.  Of that, ~240 MiB is the
+:func:`.common.trim_heap`, ``discrete.Record.energy_grids``.  With the phase-averaged
+split's denser grid rows (interface chains with a faster right section, Fig. 7's
+corners) and the runner's row-by-row stacking, idle, 14:05 UTC: one worker 415 MB,
+71.8 s wall; two 376 MB in the larger process, 455 MB PSS over both, 43.3 s wall
+(67.9 s CPU; forked after Fig. 3, before :data:`FIRST`, two took 35-37 s).  Of that, ~240 MiB is the
 floor of any process that runs a point (measured, RSS): Python with NumPy 26 MiB, SciPy
 (sparse, linalg, optimize) +50, h5py +11, numba +53, the solver and py-pde +25,
 matplotlib +26, the discrete kernels loaded +45, the continuum's +6.  ``--workers 1``
