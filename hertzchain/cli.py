@@ -80,8 +80,10 @@ def cmd_run(args: argparse.Namespace) -> int:
     Exit status 0 when every model completed; 2 on an error (invalid scenario,
     unreachable stop, instability, I/O); :data:`EXIT_INCOMPLETE` (3) when a run ended
     before the stop the scenario asked for (``completed`` false: ``max_steps`` came
-    first, a snapshot was never taken, or the continuum failed) — the summary is printed
-    and written all the same.
+    first, a snapshot was never taken, or the continuum failed);
+    :data:`EXIT_NOT_VERIFIED` (4) when it completed but its kinetic/potential split is
+    not verified to the rtol asked for (``split_meets_rtol`` false) — the summary is
+    printed and written all the same.
     """
     from .checkpoint import OutputWriteError
     from .files import check_output
@@ -114,7 +116,8 @@ def cmd_run(args: argparse.Namespace) -> int:
                 print(f"written: {path}")
     status = _incomplete_status(summary, out)
     if summary.get("split_meets_rtol") is False:
-        print(f"hertzchain: warning: the kinetic/potential split Ek_*/Ep_* is not verified "
+        status = status or EXIT_NOT_VERIFIED
+        print(f"hertzchain: error: the kinetic/potential split Ek_*/Ep_* is not verified "
               f"to rtol = {summary['rtol']:g} (its estimated error split_estimate = "
               f"{summary['split_estimate']:.2g}); Et_* and the other quantities are "
               "(the split's windows need the waves separated and away from the chain's "
@@ -184,6 +187,10 @@ def cmd_compare(args: argparse.Namespace) -> int:
 
 EXIT_INCOMPLETE = 3
 """Exit status of a run that ended before the stop the scenario asked for."""
+
+EXIT_NOT_VERIFIED = 4
+"""Exit status of a run that reached its stop but whose kinetic/potential split is not
+verified to the ``rtol`` it asked for (summary ``split_meets_rtol`` false)."""
 
 
 def _incomplete_status(summary: dict, out) -> int:

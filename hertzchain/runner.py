@@ -24,7 +24,7 @@ kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN unless ``separated``;
 :func:`discrete.diagnostics.phase_averaged_ratios`, docs/physics.md §6) and
 ``split_meets_rtol`` whether it is within ``rtol`` (None without rtol or unless
 ``separated``; False also when the estimate is NaN: not verified — ``hertzchain run``
-then warns); the six energy
+then exits 4); the six energy
 ratios are finite exactly when ``separated`` is True (False: the waves did not leave
 the interface region on the recorded grid, the incident wave was already at the
 interface at t = 0, or the chain has one section); the front speeds are NaN when fewer

@@ -305,8 +305,8 @@ def test_split_not_verified_to_rtol_is_flagged_and_warned(tmp_path):
     # impact: the weak tail keeps the interface's energy at the separation fraction for
     # ~1.5 ms, so the separated row and the window after it move with the step;
     # measured split_estimate 6.8e-4 at rtol 1e-4, Ek_re/Ep_re ~2e-3 off a converged
-    # run): the summary says so (split_meets_rtol false) and `hertzchain run` warns on
-    # stderr; Et_* are still within rtol_estimate.  Without rtol the flag is None.
+    # run): the summary says so (split_meets_rtol false) and `hertzchain run` says so on
+    # stderr and exits 4 (not 0).  Without rtol the flag is None.
     import json
     import subprocess
     import sys
@@ -318,7 +318,9 @@ def test_split_not_verified_to_rtol_is_flagged_and_warned(tmp_path):
     assert theory.PAPER_POINTS["d"] == (1.0, 5.0)
     proc = subprocess.run([sys.executable, "-m", "hertzchain", "run", str(toml), "--rtol",
                            "1e-4", "--json"], capture_output=True, text=True, timeout=600)
-    assert proc.returncode == 0, proc.stderr
+    from hertzchain.cli import EXIT_NOT_VERIFIED
+
+    assert proc.returncode == EXIT_NOT_VERIFIED == 4, proc.stderr  # said, and not exit 0
     s = json.loads(proc.stdout)
     assert s["separated"] and s["split_estimate"] > 1e-4
     assert s["split_meets_rtol"] is False
