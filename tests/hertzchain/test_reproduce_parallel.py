@@ -48,7 +48,10 @@ def test_full_lanes_split_and_order():
     assert R.FULL_LANES[0] == ("fig5",)
     assert R.lanes(["fig2", "fig5"], 2, "full") == [["fig5"], ["fig2"]]
     assert R.lanes(["fig5", "fig7"], 2, "full") == [["fig5"], ["fig7"]]
-    assert R.lanes(list(R.ITEMS), 1, "full") == [list(R.ITEMS)]
+    # one process: FIRST (Fig. 8, Table 2: the memory peak on the lowest floor) first,
+    # then the rest in report order, as in --quick
+    assert R.lanes(list(R.ITEMS), 1, "full") == [
+        list(R.FIRST) + [n for n in R.ITEMS if n not in R.FIRST]]
     assert sorted(R.FULL_LANES[0] + R.FULL_LANES[1]) == sorted(R.ITEMS)
     assert R.FULL_LANES[1][0] == "fig3"
     lane = next(la for la in R.FULL_LANES if "fig8" in la)
