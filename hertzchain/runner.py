@@ -131,6 +131,21 @@ def split_row_spacing(chain: discrete.Chain) -> float:
 SEPARATION_FRACTIONS = (1e-6, 1e-5, 1e-4, 1e-3)
 """Energy fractions near the interface tried, strictest first, to call the waves separated."""
 
+def separated_row(activity: np.ndarray, iface: int) -> tuple[int | None, float]:
+    """The grid row where the waves count as separated, and the fraction that was met.
+
+    The first of :data:`SEPARATION_FRACTIONS` (strictest first) for which
+    :func:`discrete.diagnostics.separated_time_index` finds a row, given the interface
+    activity per row (:func:`discrete.diagnostics.interface_activity`, computed once by
+    the caller); (None, NaN) if none is met.  The summary's rule, also Table 2's.
+    """
+    for fraction in SEPARATION_FRACTIONS:
+        i_out = D.separated_time_index(None, iface, fraction=fraction, activity=activity)
+        if i_out is not None:
+            return i_out, fraction
+    return None, math.nan
+
+
 TRANSMITTED_FLOOR = 1e-3
 """The transmitted wave is classified only if the right section's largest |v| exceeds
 this fraction of the chain's (otherwise "none": the wave has not arrived, and
@@ -729,12 +744,7 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
     # across the interface for a long time, so the strictest fraction that is met is used
     # and reported (docs/physics.md §6: the attribution of the interface contact then changes
     # the ratios by less than that fraction).
-    i_out, used = None, math.nan
-    for fraction in SEPARATION_FRACTIONS:
-        i_out = D.separated_time_index(None, iface, fraction=fraction, activity=act)
-        if i_out is not None:
-            used = fraction
-            break
+    i_out, used = separated_row(act, iface)
     if i_in is not None and i_out is not None:
         # the kinetic/potential split averaged over the lattice phase in windows of
         # SPLIT_WINDOW_TRANSITS incident transits before i_in and after i_out (a single

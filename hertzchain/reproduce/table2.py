@@ -54,6 +54,7 @@ from theory import integrity
 
 from ..cache import cache_path, canonical_json
 from ..paper import TABLE2, TABLE2_KEYS
+from ..runner import separated_row
 from .common import Context, replace_by_reduced, run_models, trim_heap
 
 __all__ = ["QUICK", "FULL", "POINTS", "RUN_ORDER", "in_run_order", "DISTANCES",
@@ -199,15 +200,11 @@ def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
     ek, ep, t = grids.ek, grids.ep, grids.t
     iface = s["n_left"]
     e = ek + ep
-    i_in = D.incident_time_index(e, iface)
-    i_out = None
-    for frac in (1e-6, 1e-5, 1e-4, 1e-3):  # the runner's rule (SEPARATION_FRACTIONS)
-        i_out = D.separated_time_index(e, iface, fraction=frac)
-        if i_out is not None:
-            break
+    activity = D.interface_activity(e, iface)  # (once: the row rules below read it)
+    i_in = D.incident_time_index(None, iface, activity=activity)
+    i_out, _ = separated_row(activity, iface)  # the runner's rule
     front = _front(e, iface)
     ratios = {k: float(summary[k]) for k in TABLE2_KEYS}
-    activity = D.interface_activity(e, iface)
     # rows before the reflected wave reaches the left wall (its echo would change Re)
     tot = np.abs(e).sum(axis=1)
     at_wall = np.flatnonzero(np.abs(e[:, :5]).sum(axis=1) > 1e-3 * tot)
