@@ -64,6 +64,7 @@ ends") factorisation over the active window.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 
 import numba as nb
@@ -135,15 +136,23 @@ class BoussinesqPDE(ChainPDEBase):
         )
         self._bands = (diag, off, corner)
         self._factors = kern.tridiag_factor(diag, off, corner)
-        # NumPy path: an independent sparse LU of the same operator
-        # (built in CSC directly: a LIL detour cost ~0.4 s at 150,000 nodes, Fig. 5 --full)
+        self._factor_cache: list = []
+
+    @functools.cached_property
+    def _lu(self):
+        """The NumPy path's independent sparse LU of the same operator, built on first use.
+
+        Only :meth:`_acceleration_numpy` reads it (the compiled steppers use
+        ``_factors``): a run on the fused stepper does not pay ``splu`` (0.11 s at
+        150,000 nodes, Fig. 5 --full).  Built in CSC directly (a LIL detour cost ~0.4 s).
+        """
+        diag, off, corner = self._bands
         n_nodes = diag.size
         mat = diags([off, diag, off], [-1, 0, 1], shape=(n_nodes, n_nodes), format="csc")
         if corner != 0.0:
             mat = mat + csc_matrix(([corner, corner], ([0, n_nodes - 1], [n_nodes - 1, 0])),
                                    shape=(n_nodes, n_nodes))
-        self._lu = splu(mat)
-        self._factor_cache: list = []
+        return splu(mat)
 
     # ------------------------------------------------------------------ flux
     def flux(self, s: np.ndarray) -> np.ndarray:

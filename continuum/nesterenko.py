@@ -307,13 +307,8 @@ class NesterenkoPDE(ChainPDEBase):
         after 100 steps); with this z0 it stays exactly at rest, as f0 = k δ0·√δ0 does
         for the force.
         """
-        d0, eps = self.disc.delta0, self.delta_floor
-        if eps <= 0:
-            return d0 * np.sqrt(np.sqrt(d0))
-        e4 = np.sqrt(np.sqrt(eps))
-        r = d0 / eps
-        return np.where(d0 >= eps, d0 * np.sqrt(np.sqrt(d0)),
-                        eps * e4 * (0.625 * r * r + 0.375))
+        d0 = self.disc.delta0  # (below the floor: the continuation's own value, _zeta0)
+        return np.where(d0 >= self.delta_floor, d0 * np.sqrt(np.sqrt(d0)), self._zeta0)
 
     def _kernel_arrays(self) -> dict:
         """Arrays of the compiled kernels (:mod:`continuum._stepper`), with scratch."""
