@@ -60,7 +60,8 @@ def run_once(out: Path, workers: int, mode: str = "quick") -> dict:
                 break
             try:
                 mem = [q.memory_full_info() for q in [top, *top.children(recursive=True)]]
-            except psutil.Error:
+            except psutil.Error:  # (a process exited mid-sample)
+                time.sleep(0.1)
                 continue
             peak["rss_sum"] = max(peak["rss_sum"], sum(m.rss for m in mem))
             peak["pss_sum"] = max(peak["pss_sum"], sum(m.pss for m in mem))

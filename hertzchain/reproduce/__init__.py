@@ -389,13 +389,6 @@ def _in_report_order(ctx, runs, order: dict) -> list[ItemRun]:
     return runs
 
 
-def _cores() -> int:
-    try:
-        return len(os.sched_getaffinity(0))
-    except AttributeError:  # not Linux
-        return os.cpu_count() or 1
-
-
 def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-reproduce",
               force: bool = False, progress: bool = True, report: bool = True,
               checkpoint_interval: float | None = 300.0,
@@ -453,7 +446,9 @@ def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-
     names = check_items(items)
     if workers is None:
         default = QUICK_WORKERS if mode == "quick" else FULL_WORKERS
-        workers = min(default, _cores()) if threads in (None, 1) else 1
+        from ..sweep.engine import default_workers  # (the usable cores)
+
+        workers = min(default, default_workers()) if threads in (None, 1) else 1
         if mode == "full" and len(lanes(names, workers, mode)) == 1:
             workers = 1  # (e.g. ``--full fig5``: one process, on numba's threads)
     if workers not in (1, 2) or isinstance(workers, bool):

@@ -20,6 +20,7 @@ import hertzchain.reproduce as R
 from hertzchain.checkpoint import Interrupted
 from hertzchain.reproduce import reproduce
 from hertzchain.reproduce.command import jsonable
+from hertzchain.sweep.engine import default_workers
 
 pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
 
@@ -166,14 +167,14 @@ def test_default_is_one_process_and_cli_option(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(R, "run_item", _fake((None, None)))
     monkeypatch.setattr("hertzchain.reproduce.report.write_report", lambda *a: ())
     reproduce(["fig2", "fig5"], out=tmp_path, progress=False, report=False)
-    assert seen == ["parallel"] * (min(R.QUICK_WORKERS, R._cores()) == 2)
+    assert seen == ["parallel"] * (min(R.QUICK_WORKERS, default_workers()) == 2)
     seen.clear()
     # --full: FULL_WORKERS (2, capped at the cores) on one kernel thread each; one
     # process if more threads are asked for
     threads = []
     monkeypatch.setattr(R, "kernel_threads", lambda t: (threads.append(t), nullcontext())[1])
     reproduce(["fig2", "fig5"], mode="full", out=tmp_path, progress=False, report=False)
-    assert seen == ["parallel"] * (min(R.FULL_WORKERS, R._cores()) == 2)
+    assert seen == ["parallel"] * (min(R.FULL_WORKERS, default_workers()) == 2)
     assert set(threads) == ({1} if seen else {None})
     seen.clear()
     threads.clear()
