@@ -115,13 +115,12 @@ def split_row_spacing(chain: discrete.Chain) -> float:
     transmitted wave's oscillation (r = 2.1 at a) aliased to a slow 7e-3 swing of the
     windowed Ek_tr.  Returns at most :data:`GRID_ROWS_PER_GRAIN`.
     """
-    starts = [0, *interfaces(chain)]
     kk = np.asarray(chain.k, dtype=float)
     mm = np.asarray(chain.mass, dtype=float)
     s0 = int(np.count_nonzero(chain.section < 0))  # (a striker belongs to no section)
     k0, m0 = kk[min(s0 + 1, kk.size - 1)], mm[s0]
     r_max = 1.0
-    for i in starts[1:]:
+    for i in interfaces(chain):
         j = min(i + 1, kk.size - 1)  # a contact inside the section, not the interface's
         q = kk[j] / k0
         r_max = max(r_max, max(q ** 0.5, q ** (1 / 3)) * (m0 / mm[i]) ** 0.5)
@@ -557,8 +556,6 @@ def _stacked_grid(rows: list) -> np.ndarray:
     grid is never held twice (``np.stack`` held both: with the phase average's denser
     rows a Fig. 7 corner point's summary peaked at +160 MiB).
     """
-    if not rows:
-        return np.stack(rows)  # (raises as before: nothing to stack)
     grid = np.empty((len(rows), *np.shape(rows[0])), dtype=np.result_type(rows[0]))
     for i, row in enumerate(rows):
         grid[i] = row

@@ -232,7 +232,8 @@ def energy_ratios_from_grid(
             w = np.asarray(w, dtype=float)
             if w.shape != i.shape or not np.all(w >= 0) or not w.sum() > 0:
                 raise ValueError("weights must be >= 0, not all 0, one per row index")
-            k, p = (w / w.sum()) @ k, (w / w.sum()) @ p
+            wn = w / w.sum()
+            k, p = wn @ k, wn @ p
         return {"kinetic": k, "potential": p, "total": k + p, "sections": ids}
 
     return _ratios(sums(i_incident, w_incident), sums(i_final, w_final), left, right,
