@@ -53,14 +53,12 @@ from pde.solvers.base import SolverBase
 from pde.trackers.base import TrackerBase
 
 from theory import integrity
-from theory.splitting import Splitting, get_splitting
+from theory.splitting import ORDER_METHODS, Splitting, get_splitting
 
 __all__ = ["VerletSolver", "RK4Solver", "run", "RunResult", "InstabilityError",
            "DRIFT_TOLERANCE", "MAX_STEPS", "ORDER_METHODS", "splitting_method",
            "splitting_coefficients"]
 
-ORDER_METHODS = {2: "position_verlet", 4: "position_yoshida4"}
-"""The method of ``order=`` (the drift-first methods the continuum has always used)."""
 
 DRIFT_TOLERANCE = 1e-2
 """Default bound on the relative drift of the conserved energy, |E - E0|/|E0|."""

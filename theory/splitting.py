@@ -51,7 +51,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["Splitting", "SPLITTINGS", "STABILITY_LIMITS", "get_splitting"]
+__all__ = ["Splitting", "SPLITTINGS", "STABILITY_LIMITS", "ORDER_METHODS", "get_splitting"]
 
 
 @dataclass(frozen=True)
@@ -138,6 +138,11 @@ STABILITY_LIMITS: dict[str, float] = {
 """Largest stable ω h on the harmonic oscillator v_t = -ω² u (dimensionless; Verlet: 2
 exactly; the 4th-order ones: the stability polynomial's first |trace| = 2 crossing,
 3 digits, rounded down)."""
+
+
+ORDER_METHODS: dict[int, str] = {2: "position_verlet", 4: "position_yoshida4"}
+"""The method an order names (the continuum's ``order=`` and ``[models] order``: the
+drift-first methods it has always stepped with)."""
 
 
 def get_splitting(name: str | Splitting) -> Splitting:

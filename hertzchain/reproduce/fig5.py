@@ -77,7 +77,9 @@ class CaseResult:
 def scenario(case: str, s: dict | None = None):
     """Case ``a``–``d`` of Fig. 5: ``paper/fig5.toml`` with the case's α and the sizes.
 
-    ``s``: the mode's sizes and integrator (default :data:`QUICK`).
+    ``s``: the mode's sizes and integrators (default :data:`QUICK`; ``integrator``,
+    ``dt_fraction``: the discrete run's; ``continuum_integrator``,
+    ``continuum_dt_safety``: the continuum's ``[models] integrator`` and ``dt_safety``).
     """
     s = QUICK if s is None else s
     ar, ak = theory.PAPER_POINTS[case]
@@ -91,6 +93,10 @@ def scenario(case: str, s: dict | None = None):
         values["run.integrator"] = s["integrator"]
     if s.get("dt_fraction"):
         values["run.dt_fraction"] = s["dt_fraction"]
+    if s.get("continuum_integrator"):
+        values["models.integrator"] = s["continuum_integrator"]
+    if s.get("continuum_dt_safety"):
+        values["models.dt_safety"] = s["continuum_dt_safety"]
     return paper_scenario("fig5", values)
 
 
