@@ -56,9 +56,11 @@ Verlet's default dt, 1/8 of its force evaluations): within 1e-7 of a dt = 1e-9 s
 reference in section energies and front speed (``benchmarks/fig5_full.py``).  Its
 continuum too: Blanes–Moan-4 at ``[models] dt_safety`` 1.45 (ω_max Δt = 2.9, 92 % of the
 method's limit 3.163, with ω_max at 1.5 × the largest wave strain: 2.07 force
-evaluations per 1/ω_max against 3.0 for --quick's Yoshida-4 at 0.5), within 3.1e-5 …
-(L2 of the grain velocities, quick geometry) of a converged reference, 60× closer than
-Yoshida-4 at 0.5 (``benchmarks/fig5_full.py --continuum``)."""
+evaluations per 1/ω_max against 3.0 for --quick's Yoshida-4 at 0.5): relative L2 of
+the final grain velocities against a converged reference (Blanes–Moan-4 at 0.2), quick
+geometry, cases a–d: 3.1e-5, 5.6e-4, 4.6e-4, 1.4e-4, where Yoshida-4 at 0.5 is 1.9e-3,
+2.2e-2, 2.2e-2, 7.7e-3 (39–60× closer at 0.69–0.73× the CPU;
+``benchmarks/fig5_full.py --continuum``)."""
 CASES = ("a", "b", "c", "d")
 DELTA0_OVER_D = 1e-3
 UPDATES_PER_SECOND = 1e9
