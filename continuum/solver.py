@@ -53,7 +53,7 @@ from pde.solvers.base import SolverBase
 from pde.trackers.base import TrackerBase
 
 from theory import integrity
-from theory.splitting import ORDER_METHODS, Splitting, get_splitting
+from theory.splitting import ORDER_METHODS, SPLITTINGS, Splitting, get_splitting
 
 __all__ = ["VerletSolver", "RK4Solver", "run", "RunResult", "InstabilityError",
            "DRIFT_TOLERANCE", "MAX_STEPS", "ORDER_METHODS", "splitting_method",
@@ -83,10 +83,14 @@ def splitting_method(method: str | Splitting | None = None,
         if order not in ORDER_METHODS:
             raise ValueError(f"order must be 2 or 4 (got {order!r})")
         return get_splitting(ORDER_METHODS[order])
-    m = get_splitting(method)
+    try:
+        m = get_splitting(method)
+    except ValueError:
+        raise ValueError(f"method must be one of {sorted(SPLITTINGS)} (got {method!r})"
+                         ) from None
     if order is not None and order != m.order:
-        raise ValueError(f"order = {order!r} contradicts method {m.name!r} (order "
-                         f"{m.order}); give one of them")
+        raise ValueError(f"order must be None or {m.order}, the order of method "
+                         f"{m.name!r} (got {order!r})")
     return m
 
 
