@@ -35,9 +35,21 @@ is only C¹ and the 4th-order methods lose their order.  For the full runs
 (``--richardson``): each case again at dt/2; the difference estimates the production
 error (for a 4th-order method error(dt) ≈ 16/15 |x(dt) - x(dt/2)|).
 
+Continuum accuracy (``--continuum``): the continuum beside each panel (corrected Eq. 4,
+Rosenau form, 3 nodes per grain; ``[models]`` of ``paper/fig5.toml``) at the --quick
+geometry (10,000 grains, the same physics at 1/5 scale), each case a–d with the
+continuum's ``[models] integrator`` / ``dt_safety`` variants of :data:`CONTINUUM_VARIANTS`
+against a converged reference (Blanes–Moan-4 at ``dt_safety`` 0.2: its time error
+(1.45/0.2)^4 ≈ 2,800 × below the production one's).  Printed per variant: the L2
+relative difference of the final grain velocities to the reference, the force
+evaluations per 1/ω_max (S / (2 dt_safety)) and the CPU seconds of the continuum run
+with their ratio to today's default (Yoshida-4 drift first at 0.5), measured in the
+same run.
+
 Usage::
 
     python benchmarks/fig5_full.py                 # dt study, full runs timed, Richardson
+    python benchmarks/fig5_full.py --continuum     # the continuum's time-step accuracy
     python benchmarks/fig5_full.py --full          # only the four timed full runs
     python benchmarks/fig5_full.py --dt-study --cases b
 """
@@ -54,6 +66,8 @@ import time
 from pathlib import Path
 
 _here = Path(__file__).resolve().parent
+from _machine import cpu_name  # noqa: E402  (before this folder leaves sys.path)
+
 sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != _here]
 
 import numpy as np  # noqa: E402
@@ -74,6 +88,11 @@ PRODUCTION = ("blanes_moan4", 0.096)
 CACHE = Path(os.environ.get("HERTZCHAIN_BENCH_CACHE",
                             Path(tempfile.gettempdir()) / "hertzchain-bench"))
 REL_4_DIGITS = 5e-5
+CONTINUUM_REFERENCE = ("blanes_moan4", 0.2)
+CONTINUUM_VARIANTS = (("position_yoshida4", 0.5), ("position_yoshida4", 0.7),
+                      ("blanes_moan4", 1.0), ("blanes_moan4", 1.25), ("blanes_moan4", 1.45),
+                      ("blanes_moan4", 1.5))
+"""(integrator, dt_safety) of the continuum accuracy study; the first is the default."""
 ENERGY_KEYS = ("Ek_L", "Ep_L", "Et_L", "Ek_R", "Ep_R", "Et_R")
 
 
@@ -222,6 +241,43 @@ def dt_study(cases: list[str]) -> list[str]:
     return verdicts
 
 
+def continuum_accuracy(cases: list[str]) -> list[str]:
+    """The continuum of Fig. 5 per time-step variant against a converged reference."""
+    from hertzchain.reproduce import fig5
+    from hertzchain.reproduce.common import Context
+    from theory.splitting import get_splitting
+
+    out = Path(tempfile.mkdtemp(prefix="fig5-continuum-"))
+    ctx = Context(out=out, mode="quick", progress=False, checkpoint_interval=None)
+    verdicts = []
+    print(f"{'case':>4} {'integrator':>18} {'safety':>6} {'evals/(1/ω)':>11} "
+          f"{'L2 vs ref':>9} {'cpu s':>7} {'cpu ratio':>9}")
+    def one(case, method, safety):
+        for f in (out / "runs").glob("*continuum*"):  # computed anew, not read back
+            f.unlink()
+        s = dict(fig5.QUICK, continuum_integrator=method, continuum_dt_safety=safety)
+        t0 = time.process_time()
+        res = fig5._case(ctx, case, s)
+        return res.continuum.v, time.process_time() - t0
+
+    for case in cases:
+        fig5._case(ctx, case, fig5.QUICK)  # the discrete run, cached for the rest
+        ref, _ = one(case, *CONTINUUM_REFERENCE)
+        base = None
+        for method, safety in CONTINUUM_VARIANTS:
+            v, cpu = one(case, method, safety)
+            base = cpu if base is None else base
+            err = float(np.linalg.norm(v - ref) / np.linalg.norm(ref))
+            cost = get_splitting(method).stages / (2 * safety)
+            print(f"{case:>4} {method:>18} {safety:>6g} {cost:>11.2f} {err:>9.2e} "
+                  f"{cpu:>7.2f} {cpu / base:>9.2f}", flush=True)
+            if (method, safety) == (fig5.FULL.get("continuum_integrator"),
+                                    fig5.FULL.get("continuum_dt_safety")):
+                verdicts.append(f"case {case}: --full's continuum ({method} at dt_safety "
+                                f"{safety:g}) within {err:.1e} (L2) of the reference")
+    return verdicts
+
+
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--full", action="store_true", help="the timed full runs")
@@ -232,13 +288,19 @@ def main(argv=None) -> None:
     p.add_argument("--cases", default=CASES, help="of abcd (and a0, the δ0 = 0 gap case, "
                    "in the dt study)")
     p.add_argument("--threads", type=int, default=None)
+    p.add_argument("--continuum", action="store_true",
+                   help="the continuum's time-step accuracy (quick geometry)")
     a = p.parse_args(argv)
     cases = re.findall(r"a0|[abcd]", a.cases)
     full_cases = [c for c in cases if c != GAP_CASE]
-    if not (a.full or a.dt_study or a.richardson):
+    if not (a.full or a.dt_study or a.richardson or a.continuum):
         a.full = a.dt_study = a.richardson = True
-    print(f"# load average {os.getloadavg()[0]:.2f}; settled-wave cache {CACHE}")
+    print(f"# load average {os.getloadavg()[0]:.2f}; settled-wave cache {CACHE}; "
+          f"CPU {cpu_name()}")
     verdicts = []
+    if a.continuum:
+        print("# continuum of Fig. 5 (quick geometry): time-step accuracy and CPU time")
+        verdicts += continuum_accuracy(full_cases)
     if a.dt_study:
         print("# dt study (reduced chain; module docstring)")
         verdicts += dt_study(cases + ([GAP_CASE] if a.cases == CASES else []))

@@ -22,6 +22,13 @@ For states (u, v) with u_t = v and v_t = a(u) a step is a position-Verlet compos
 drift of a step and the first of the next are merged into one (α_S + α_0); a chunk
 starts with α_0 and ends with α_S, so the state is synchronous between chunks.
 
+A kick-first method (:mod:`theory.splitting`) arrives as α = (0, a_1, …, a_S', 0),
+β = (b_1, …, b_{S'+1}) (:func:`continuum.solver.splitting_coefficients`).  With
+α_0 = α_S = 0 ("first same as last", :func:`_pass_coefficients`) the kernels skip a
+step's first pass after the first step and kick (β_{S-1} + β_0) Δt at the end of the
+step before it: one force evaluation where the two kicks act on the same u, so a
+chunk of n steps costs n (S - 1) + 1 evaluations.
+
 Active window (Rosenau form of Eq. 4)
 -------------------------------------
 Outside the window ``[lo, hi]`` every node is *at rest*: ``|v| <= tau_v`` and the strain
@@ -77,6 +84,26 @@ def _flux(s, nl, kq, bq, khq, d0q, f0q):
     if r < 0.0:
         r = 0.0
     return khq * (r * np.sqrt(r)) - f0q
+
+
+@nb.njit(inline="always", **_JIT)
+def _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal):
+    """Drift and kick (s) of pass j of ``step`` in a chunk, and whether to skip it.
+
+    Drift α_j Δt, merged with the previous step's closing drift (α_S + α_0) Δt for
+    ``step`` > 0 and j = 0; kick β_j Δt.  ``fsal`` (α_0 = α_S = 0): the first pass of a
+    step after the first is skipped and its kick β_0 added to the last pass of the
+    step before (module docstring, "Splitting (symplectic) steps").
+    """
+    nsub = beta.size
+    if j == 0 and step > 0:
+        if fsal:
+            return 0.0, 0.0, True
+        return (alpha[nsub] + alpha[0]) * dt, beta[0] * dt, False
+    b = beta[j] * dt
+    if fsal and j == nsub - 1 and step < nsteps - 1:
+        b = (beta[j] + beta[0]) * dt
+    return alpha[j] * dt, b, False
 
 
 @nb.njit(**_JIT)
@@ -269,13 +296,13 @@ def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f
     """
     n = u.size
     nsub = beta.size
+    fsal = alpha[0] == 0.0 and alpha[nsub] == 0.0
     work = 0
     for step in range(nsteps):
         for j in range(nsub):
-            a = alpha[j] * dt
-            if j == 0 and step > 0:
-                a = (alpha[nsub] + alpha[0]) * dt
-            b = beta[j] * dt
+            a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
+            if skip:
+                continue
             if win[0] < 0:
                 # at rest: drifts are no-ops (v = 0 to within tau), kicks vanish
                 continue
@@ -304,18 +331,21 @@ def rosenau_chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, nl, kk, bb, kh, 
     """
     n = u.size
     nsub = beta.size
+    fsal = alpha[0] == 0.0 and alpha[nsub] == 0.0
+    passes = 0
     for step in range(nsteps):
         for j in range(nsub):
-            a = alpha[j] * dt
-            if j == 0 and step > 0:
-                a = (alpha[nsub] + alpha[0]) * dt
-            _rosenau_pass_periodic(u, v, y, a, beta[j] * dt, h, nl, kk, bb, kh, d0, f0,
+            a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
+            if skip:
+                continue
+            _rosenau_pass_periodic(u, v, y, a, b, h, nl, kk, bb, kh, d0, f0,
                                    fac[0], fac[1], fac[2], z, vfac)
+            passes += 1
     if nsteps > 0:
         a = alpha[nsub] * dt
         for i in range(n):
             u[i] += a * v[i]
-    return nsteps * nsub * n
+    return passes * n
 
 
 def rosenau_factors(diag, off, corner):
@@ -742,15 +772,16 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0
     """
     n = u.size
     nsub = beta.size
+    fsal = alpha[0] == 0.0 and alpha[nsub] == 0.0
     nev = nsteps * nsub
     work = 0
     for e in range(nev + 1):
         if e < nev:
             step = e // nsub
             j = e - step * nsub
-            a = alpha[j] * dt
-            if j == 0 and step > 0:
-                a = (alpha[nsub] + alpha[0]) * dt
+            a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
+            if skip:
+                continue
             if windowed:
                 if win[0] < 0:
                     continue
@@ -787,7 +818,7 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0
             mon[0] = en
             mon[1] = mo
             break
-        _nesterenko_kick(v, lo, hi, beta[j] * dt, bc, h, gidx, gcoef, fh, inv_m)
+        _nesterenko_kick(v, lo, hi, b, bc, h, gidx, gcoef, fh, inv_m)
         work += hi - lo + 1
         if windowed:
             new_lo = -1

@@ -4,9 +4,20 @@ py-pde 0.59 offers explicit Euler, Runge–Kutta (fixed or adaptive), Adams–Ba
 Crank–Nicolson, implicit and scipy solvers, but no symplectic integrator.  For
 Hamiltonian wave equations a symplectic one keeps the energy error bounded (no drift)
 over arbitrarily long runs, so :class:`VerletSolver` adds the smallest such piece: the
-position-Verlet (drift–kick–drift) step, and its fourth-order Yoshida composition
-(Yoshida, Phys. Lett. A 150 (1990) 262, Eq. 5.19).  It plugs into py-pde's solver
-registry (``solver="verlet"``) and works with the numpy and numba backends.
+position-Verlet (drift–kick–drift) step, and every other method of the one table of
+splitting methods, :mod:`theory.splitting` (``method=``: e.g. Yoshida's fourth-order
+composition, Phys. Lett. A 150 (1990) 262, Eq. 5.19, or Blanes & Moan's SRKN_6^b, J.
+Comput. Appl. Math. 142 (2002) 313).  It plugs into py-pde's solver registry
+(``solver="verlet"``) and works with the numpy and numba backends.
+
+Kernel passes
+-------------
+The kernels step a sequence of P *passes* "drift α_j Δt, then kick β_j Δt" and a
+closing drift α_P Δt (:func:`splitting_coefficients`).  A drift-first method is that
+form as it stands (P = S); a kick-first one becomes α = (0, a_1, …, a_S, 0),
+β = (b_1, …, b_{S+1}) (P = S + 1), and because its α_0 = α_P = 0 the kernels merge the
+last kick of a step with the first of the next (one force evaluation for both, "first
+same as last"): n steps in one chunk cost n S + 1 evaluations.
 
 Compiled stepping
 -----------------
@@ -42,12 +53,12 @@ from pde.solvers.base import SolverBase
 from pde.trackers.base import TrackerBase
 
 from theory import integrity
+from theory.splitting import ORDER_METHODS, SPLITTINGS, Splitting, get_splitting
 
 __all__ = ["VerletSolver", "RK4Solver", "run", "RunResult", "InstabilityError",
-           "DRIFT_TOLERANCE", "MAX_STEPS"]
+           "DRIFT_TOLERANCE", "MAX_STEPS", "ORDER_METHODS", "splitting_method",
+           "splitting_coefficients"]
 
-_CBRT2 = 2.0 ** (1.0 / 3.0)
-_YOSHIDA = (1.0 / (2.0 - _CBRT2), -_CBRT2 / (2.0 - _CBRT2), 1.0 / (2.0 - _CBRT2))
 
 DRIFT_TOLERANCE = 1e-2
 """Default bound on the relative drift of the conserved energy, |E - E0|/|E0|."""
@@ -60,19 +71,43 @@ class InstabilityError(RuntimeError):
     """The integration went unstable (NaN/inf state or energy drift beyond the tolerance)."""
 
 
-def splitting_coefficients(order: int) -> tuple[np.ndarray, np.ndarray]:
-    """Drift (α, S+1 entries) and kick (β, S entries) coefficients of one step.
+def splitting_method(method: str | Splitting | None = None,
+                     order: int | None = None) -> Splitting:
+    """The splitting method of :mod:`theory.splitting` named ``method``, or of ``order``.
 
-    Position Verlet (order 2): α = (1/2, 1/2), β = (1,).  Yoshida-4: the composition of
-    three Verlet steps with weights (w1, w0, w1) (module docstring).
+    ``order`` (2 or 4) names the drift-first methods of :data:`ORDER_METHODS`; with both
+    given, ``order`` must be the method's order.  Neither: position Verlet.
     """
-    if order == 2:
-        return np.array([0.5, 0.5]), np.array([1.0])
-    if order == 4:
-        w1, w0, _ = _YOSHIDA
-        return (np.array([0.5 * w1, 0.5 * (w1 + w0), 0.5 * (w0 + w1), 0.5 * w1]),
-                np.array([w1, w0, w1]))
-    raise ValueError(f"order must be 2 or 4 (got {order!r})")
+    if method is None:
+        order = 2 if order is None else order
+        if order not in ORDER_METHODS:
+            raise ValueError(f"order must be 2 or 4 (got {order!r})")
+        return get_splitting(ORDER_METHODS[order])
+    try:
+        m = get_splitting(method)
+    except ValueError:
+        raise ValueError(f"method must be one of {sorted(SPLITTINGS)} (got {method!r})"
+                         ) from None
+    if order is not None and order != m.order:
+        raise ValueError(f"order must be None or {m.order}, the order of method "
+                         f"{m.name!r} (got {order!r})")
+    return m
+
+
+def splitting_coefficients(method: str | Splitting | int) -> tuple[np.ndarray, np.ndarray]:
+    """Drift (α, P+1 entries) and kick (β, P entries) pass coefficients of one step.
+
+    ``method``: a name or :class:`~theory.splitting.Splitting`, or an order (2: position
+    Verlet α = (1/2, 1/2), β = (1,); 4: Yoshida-4 drift first).  A kick-first method
+    gets α_0 = α_P = 0 (module docstring, "Kernel passes").
+    """
+    if isinstance(method, (int, np.integer)) and not isinstance(method, bool):
+        m = splitting_method(order=int(method))
+    else:
+        m = splitting_method(method)
+    if m.kick_first:
+        return np.array((0.0, *m.drift, 0.0)), np.array(m.kick, dtype=float)
+    return np.array(m.drift, dtype=float), np.array(m.kick, dtype=float)
 
 
 def _check_positive(name: str, value, unit: str) -> float:
@@ -248,16 +283,19 @@ class _CheckedSolver(SolverBase):
 
 
 class VerletSolver(_CheckedSolver):
-    r"""Symplectic position-Verlet stepper for states ``(u, v)`` with ``u_t = v``.
+    r"""Symplectic splitting stepper for states ``(u, v)`` with ``u_t = v``.
 
-    One step of size Δt (order 2; one evaluation of the acceleration a(u)):
+    Default: position Verlet, one step of size Δt (order 2; one evaluation of the
+    acceleration a(u)):
 
     .. math:: u \mathrel{+}= \tfrac{Δt}{2} v,\quad v \mathrel{+}= Δt\,a(u),\quad
               u \mathrel{+}= \tfrac{Δt}{2} v
 
     ``order=4`` composes three such steps with Yoshida's weights
-    (w1, w0, w1) = (1/(2-2^{1/3}), -2^{1/3}/(2-2^{1/3}), 1/(2-2^{1/3})).
-    Requires that the acceleration does not depend on v (true for all chain PDEs).
+    (w1, w0, w1) = (1/(2-2^{1/3}), -2^{1/3}/(2-2^{1/3}), 1/(2-2^{1/3})); ``method``
+    takes any method of :mod:`theory.splitting` (kick-first ones with the FSAL merge:
+    module docstring, "Kernel passes").  Requires that the acceleration does not depend
+    on v (true for all chain PDEs).
 
     Parameters
     ----------
@@ -265,8 +303,11 @@ class VerletSolver(_CheckedSolver):
         A PDE whose state is a FieldCollection ``(u, v)`` with ``u_t = v``.
     backend : str
         py-pde backend ("numpy", "numba" or "auto").
-    order : {2, 4}
-        Order of accuracy in time.
+    order : {2, 4}, optional
+        Order of accuracy in time: the drift-first method of
+        :data:`ORDER_METHODS` (default 2, unless ``method`` is given).
+    method : str or Splitting, optional
+        A method of :data:`theory.splitting.SPLITTINGS` (e.g. ``"blanes_moan4"``).
     fused : bool
         With the numba backend, use the PDE's fused compiled chunk stepper (default);
         ``False``: py-pde's generic compiled loop over single steps.
@@ -279,33 +320,61 @@ class VerletSolver(_CheckedSolver):
 
     name = "verlet"
 
-    def __init__(self, pde, *, backend="auto", order: int = 2, **kwargs) -> None:
+    def __init__(self, pde, *, backend="auto", order: int | None = None,
+                 method: str | Splitting | None = None, **kwargs) -> None:
         super().__init__(pde, backend=backend, **kwargs)
-        self.alpha, self.beta = splitting_coefficients(order)
-        self.order = order
-        self.info["order"] = order
+        self.method = splitting_method(method, order)
+        self.alpha, self.beta = splitting_coefficients(self.method)
+        self.order = self.method.order
+        self.info["order"] = self.order
+        self.info["method"] = self.method.name
 
     def _evaluations_per_step(self) -> int:
-        return int(self.beta.size)
+        return self.method.stages
 
     def _make_fused(self, state, dt: float):
         return self.pde.make_chunk_stepper(state, dt, self.alpha, self.beta)
 
     def _make_single_step_fixed_dt(self, state, dt: float):
-        """Return the compiled-or-plain function performing one step of size ``dt``."""
+        """Return the compiled-or-plain function performing one step of size ``dt``.
+
+        A kick-first method reuses the acceleration of the previous step's last
+        evaluation for its first kick when u is (bitwise) the u it was evaluated at
+        (FSAL: S evaluations per step); the two kicks are applied one after the other
+        (the fused kernels add their coefficients: equal to round-off).
+        """
         rhs = self.backend.make_pde_rhs(self.pde, state)
         alpha, beta = self.alpha, self.beta
         nsub = beta.size
+        if not self.method.kick_first:
+            def single_step(state_data, t):
+                for i in range(nsub):
+                    state_data[0] += alpha[i] * dt * state_data[1]
+                    acc = rhs(state_data, t)
+                    state_data[1] += beta[i] * dt * acc[1]
+                state_data[0] += alpha[nsub] * dt * state_data[1]
+                return state_data
 
-        def single_step(state_data, t):
-            for i in range(nsub):
+            return single_step
+
+        last: dict[str, np.ndarray] = {}
+
+        def single_step_fsal(state_data, t):
+            u = state_data[0]
+            if "u" in last and np.array_equal(last["u"], u):
+                acc1 = last["a"]
+            else:
+                acc1 = rhs(state_data, t)[1].copy()
+            state_data[1] += beta[0] * dt * acc1
+            for i in range(1, nsub):
                 state_data[0] += alpha[i] * dt * state_data[1]
-                acc = rhs(state_data, t)
-                state_data[1] += beta[i] * dt * acc[1]
-            state_data[0] += alpha[nsub] * dt * state_data[1]
+                acc1 = rhs(state_data, t)[1].copy()
+                state_data[1] += beta[i] * dt * acc1
+            last["u"] = state_data[0].copy()
+            last["a"] = acc1
             return state_data
 
-        return single_step
+        return single_step_fsal
 
 
 class RK4Solver(_CheckedSolver):
@@ -361,6 +430,7 @@ def run(
     *,
     dt: float | None = None,
     order: int | None = None,
+    method: str | None = None,
     backend: str = "numba",
     interval: float | None = None,
     storage: str | Path | None = None,
@@ -390,7 +460,12 @@ def run(
         t_end/ceil(t_end/dt) so that a whole number of steps ends at t_end (recorded as
         ``info["dt_s"]``).
     order : {2, 4}, optional
-        Order of the symplectic stepper of a chain PDE (default 2); KdV: 4 (RK4) only.
+        Order of the symplectic stepper of a chain PDE: the drift-first method of
+        :data:`ORDER_METHODS` (default 2 unless ``method`` is given); KdV: 4 (RK4) only.
+    method : str, optional
+        The splitting method of a chain PDE, any of :data:`theory.splitting.SPLITTINGS`
+        (e.g. ``"blanes_moan4"``; ``order``, if also given, must be its order).  KdV:
+        none.
     backend : {"numba", "numpy"}
         py-pde backend: "numba" (default: compiled fused chunks) or "numpy" (the
         reference: :meth:`evolution_rate` per step).
@@ -440,11 +515,15 @@ def run(
     if kdv:
         if order not in (None, 4):
             raise ValueError(f"KdV is integrated with RK4: order must be 4 (got {order!r})")
+        if method is not None:
+            raise ValueError(f"KdV is integrated with RK4: method must be None (got "
+                             f"{method!r})")
         order = 4
+        method_name = "rk4"
         pde.check_state(state)
     else:
-        order = 2 if order is None else order
-        splitting_coefficients(order)  # validates order
+        split = splitting_method(method, order)  # validates order and method
+        order, method_name = split.order, split.name
         pde._check(state)
         if state.grid != pde.grid:
             raise ValueError("state must live on the PDE's grid (pde.get_initial_condition)")
@@ -467,13 +546,14 @@ def run(
     if interval is None:
         interval = t_end / 20 if t_end > 0 else 1.0
     interval = _check_positive("interval", interval, "s")
-    info = {**pde.parameters, "dt_s": dt, "order": order, "t_end_s": t_end,
+    info = {**pde.parameters, "dt_s": dt, "order": order, "method": method_name,
+            "t_end_s": t_end,
             "time_unit": "s", "length_unit": "grain diameters (X = x/d)",
             "u_unit": "m", "v_unit": "m/s", **(extra_info or {})}
     if kdv:
         solver = RK4Solver(pde, backend=backend, fused=fused, drift_tolerance=drift_tolerance)
     else:
-        solver = VerletSolver(pde, backend=backend, order=order, fused=fused,
+        solver = VerletSolver(pde, backend=backend, method=split, fused=fused,
                               drift_tolerance=drift_tolerance)
     all_trackers = list(trackers or [])
     store = tmp = None

@@ -1,4 +1,4 @@
-r"""Symplectic splitting methods for the chain, one table (Dedalus style), and their NumPy step.
+r"""Symplectic splitting methods of the discrete solver (from :mod:`theory.splitting`), NumPy step.
 
 Every method is a symmetric composition of kicks (:math:`v \mathrel{+}= b_s h\,a(u)`)
 and drifts (:math:`u \mathrel{+}= a_s h\,v`) of "BAB" form,
@@ -10,16 +10,9 @@ and drifts (:math:`u \mathrel{+}= a_s h\,v`) of "BAB" form,
 with S force evaluations per step (the last kick of a step and the first of the next
 share one, "first same as last").  All are symplectic and time-reversible.
 
-=================  =====  ==  ========================================================
-name               order  S   reference
-=================  =====  ==  ========================================================
-``verlet``         2      1   velocity Verlet / Störmer; Swope et al., J. Chem. Phys.
-                              76 (1982) 637, Eq. 7 (the paper's Section 2)
-``yoshida4``       4      3   triple jump, H. Yoshida, Phys. Lett. A 150 (1990) 262,
-                              Eq. 5.19 (w1 = 1/(2 - 2^{1/3}), w0 = 1 - 2 w1)
-``blanes_moan4``   4      6   SRKN_6^b, S. Blanes & P. C. Moan, J. Comput. Appl.
-                              Math. 142 (2002) 313, Table 3
-=================  =====  ==  ========================================================
+The coefficients live in one table, :mod:`theory.splitting` (shared with the
+continuum); this module registers its kick-first methods, ``verlet`` (the paper's
+Section 2), ``yoshida4`` and ``blanes_moan4``, and steps them in NumPy.
 
 Which one pays is an accuracy-per-cost question (``benchmarks/fig5_full.py`` measures
 it on the paper's runs); with a stated accuracy (``rtol``, ``integrator="auto"``)
@@ -31,66 +24,33 @@ precompression and no gaps the force is smooth and they keep it.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
+
+from theory.splitting import SPLITTINGS, Splitting
 
 from .reference import accelerations
 
 __all__ = ["Integrator", "INTEGRATORS", "get_integrator", "step", "run"]
 
 
-@dataclass(frozen=True)
-class Integrator:
-    """A BAB splitting method: drift coefficients a (S,) and kick coefficients b (S+1,)."""
+Integrator = Splitting
+"""A kick-first (BAB) splitting method (:class:`theory.splitting.Splitting`)."""
 
-    name: str
-    order: int
-    drift: tuple[float, ...]
-    kick: tuple[float, ...]
-    reference: str
-
-    @property
-    def stages(self) -> int:
-        """Force evaluations per step S."""
-        return len(self.drift)
-
-    def coefficients(self, dt: float) -> tuple[np.ndarray, np.ndarray]:
-        """(a_s·dt, b_s·dt) for the kernels, s."""
-        return (np.array(self.drift, dtype=float) * dt, np.array(self.kick, dtype=float) * dt)
-
-
-def _yoshida4() -> Integrator:
-    w1 = 1.0 / (2.0 - 2.0 ** (1.0 / 3.0))
-    w0 = 1.0 - 2.0 * w1
-    return Integrator("yoshida4", 4, (w1, w0, w1),
-                      (0.5 * w1, 0.5 * (w0 + w1), 0.5 * (w0 + w1), 0.5 * w1),
-                      "H. Yoshida, Phys. Lett. A 150 (1990) 262, Eq. 5.19")
-
-
-def _blanes_moan4() -> Integrator:
-    b1, b2, b3 = 0.0829844064174052, 0.396309801498368, -0.0390563049223486
-    a1, a2 = 0.245298957184271, 0.604872665711080
-    a3 = 0.5 - (a1 + a2)
-    b4 = 1.0 - 2.0 * (b1 + b2 + b3)
-    return Integrator("blanes_moan4", 4, (a1, a2, a3, a3, a2, a1),
-                      (b1, b2, b3, b4, b3, b2, b1),
-                      "S. Blanes & P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313, "
-                      "Table 3 (SRKN_6^b)")
-
-
-INTEGRATORS: dict[str, Integrator] = {
-    "verlet": Integrator("verlet", 2, (1.0,), (0.5, 0.5),
-                         "W. C. Swope et al., J. Chem. Phys. 76 (1982) 637, Eq. 7"),
-    "yoshida4": _yoshida4(),
-    "blanes_moan4": _blanes_moan4(),
-}
-"""The registered methods by name."""
+INTEGRATORS: dict[str, Integrator] = {n: m for n, m in SPLITTINGS.items() if m.kick_first}
+"""The registered methods by name: the kick-first ones of :data:`theory.splitting.SPLITTINGS`
+(the kernels step the BAB form)."""
 
 
 def get_integrator(name: str | Integrator) -> Integrator:
-    """The method called ``name`` (ValueError listing the choices otherwise)."""
+    """The method called ``name`` (ValueError listing the choices otherwise).
+
+    A :class:`~theory.splitting.Splitting` passes if it is kick first (the form the
+    kernels step).
+    """
     if isinstance(name, Integrator):
+        if not name.kick_first:
+            raise ValueError(f"integrator {name.name!r} is drift first; the discrete solver "
+                             f"steps kick-first methods: {sorted(INTEGRATORS)}")
         return name
     try:
         return INTEGRATORS[name]

@@ -695,7 +695,8 @@ def _continuum_key(scenario: Scenario, model: str, times: np.ndarray, t_final: f
                    discrete_key: dict) -> dict:
     m = scenario.models
     return {"discrete": discrete_key, "model": model, "nodes_per_grain": m.nodes_per_grain,
-            "order": m.order, "nonlinearity": m.nonlinearity, "delta_floor": m.delta_floor,
+            "integrator": m.continuum_method, "dt_safety": m.dt_safety,
+            "nonlinearity": m.nonlinearity, "delta_floor": m.delta_floor,
             "dispersion_cap": m.dispersion_cap,
             "times": [float(t) for t in times], "t_final": float(t_final)}
 
@@ -781,10 +782,13 @@ def _kdv_run(med, models, init, chain, times, t_final, d):
     return ts, vs, ss, None, info
 
 
-def _stepped(pde, state, times, t_final, sample, dt_max, *, order=4, rk=False):
+def _stepped(pde, state, times, t_final, sample, dt_max, *, method="position_yoshida4",
+             rk=False):
     """Run to the sample times (exactly, dt dividing their spacing) and on to t_final.
 
     ``sample(state)`` returns a tuple of arrays; returns (times, [each stacked], info).
+    ``method``: the splitting method (:mod:`theory.splitting`) of a chain PDE; ``rk``:
+    py-pde's RK4 (KdV).
     """
     from pde.trackers import CallbackTracker
 
@@ -812,7 +816,7 @@ def _stepped(pde, state, times, t_final, sample, dt_max, *, order=4, rk=False):
             state = pde.solve(state, t_range=t_last, dt=dt, solver="runge-kutta",
                               tracker=[tracker], backend="numba", ret_info=False)
         else:
-            res = continuum.run(pde, state, t_last, dt=dt, order=order, interval=spacing,
+            res = continuum.run(pde, state, t_last, dt=dt, method=method, interval=spacing,
                                 trackers=[tracker])
             state, drift = res["state"], res.energy_drift
         info["steps"] += int(round(t_last / dt))
@@ -824,7 +828,7 @@ def _stepped(pde, state, times, t_final, sample, dt_max, *, order=4, rk=False):
             state = pde.solve(state, t_range=rest, dt=dt2, solver="runge-kutta",
                               backend="numba", ret_info=False)
         else:
-            res = continuum.run(pde, state, rest, dt=dt2, order=order, interval=rest)
+            res = continuum.run(pde, state, rest, dt=dt2, method=method, interval=rest)
             state = res["state"]
             drift = max(drift, res.energy_drift) if math.isfinite(drift) else res.energy_drift
         info["steps"] += m2
@@ -862,17 +866,19 @@ def _own_energy(pde, state, grains, iface: int | None) -> np.ndarray:
                      float(ep @ (1 - wf)) + lin_right])
 
 
-def _dt_max(pde, state, strain_ref: float) -> float:
+def _dt_max(pde, state, strain_ref: float, safety: float = 0.5) -> float:
     """Largest continuum time step: stable for ``state`` and for a strain ``strain_ref`` (m).
 
     The stability limit of the nonlinear equations depends on the strain; an impact
     starts with none (its limit would be infinite), a transmitted wave may be stronger
     than the incident one, so the limit is also taken at a uniform strain
-    ``strain_ref`` (:func:`run`: 1.5 × the largest expected wave strain).
+    ``strain_ref`` (:func:`run`: 1.5 × the largest expected wave strain).  ``safety``:
+    ``pde.stable_dt``'s fraction of velocity Verlet's limit (``[models] dt_safety``;
+    the method's own limit is checked by the scenario).
     """
     x = pde.disc.x_nodes
     ref = pde.get_initial_condition(-strain_ref * (x - x[0]))
-    return float(min(pde.stable_dt(state), pde.stable_dt(ref)))
+    return float(min(pde.stable_dt(state, safety), pde.stable_dt(ref, safety)))
 
 
 def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, times, t_final,
@@ -921,8 +927,9 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
                     return g.v, g.strain, _own_energy(pde, s, g, iface[0] if iface else None)
 
                 ts, (vs, ss, own), info = _stepped(pde, state, times, t_final, sample,
-                                                   _dt_max(pde, state, strain_ref),
-                                                   order=models.order)
+                                                   _dt_max(pde, state, strain_ref,
+                                                           models.dt_safety),
+                                                   method=models.continuum_method)
         if not (np.all(np.isfinite(vs)) and np.all(np.isfinite(ss))):
             raise FloatingPointError("the continuum solution is not finite (unstable)")
         completed, stopped = True, "t_end"

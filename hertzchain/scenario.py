@@ -27,6 +27,10 @@ law in uniform sections of one diameter without gravity — and are refused (nam
 model's key and the chain keys that leave that chain) for another law, drag, gravity, a
 tapered or periodic profile, disorder or a section of another diameter; the discrete
 chain runs all of them (examples: ``hertzchain/scenarios/examples/``).
+The continuum steps with ``[models] integrator``, a splitting method of
+:mod:`theory.splitting` (default Yoshida-4 drift first, today's; ``order`` is its
+deprecated alias), at ``dt_safety`` × velocity Verlet's limit 2/ω_max (ω_max with the
+stiffening at 1.5 × the largest wave strain), below the method's own limit.
 
 Chains beyond the paper
 -----------------------
@@ -54,6 +58,8 @@ import tomllib
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
+
+from theory.splitting import ORDER_METHODS, SPLITTINGS, STABILITY_LIMITS, get_splitting
 
 __all__ = [
     "ScenarioError",
@@ -295,8 +301,18 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("theory", "bool", True, "closed-form theory: wave speeds (Eq. 5, 8, Nesterenko), "
             "linear-acoustic interface (Eqs. 9–13)"),
         Key("nodes_per_grain", "integer", 5, "continuum grid nodes per grain (odd)", low=1),
-        Key("order", "integer", 4, "order of the continuum's symplectic stepper (2 or 4)",
-            low=2),
+        Key("integrator", "choice", None, "the continuum's splitting method "
+            "(theory.splitting; kick-first ones with merged FSAL kicks); default: "
+            "\"position_yoshida4\" (or the one of order)", choices=tuple(SPLITTINGS),
+            example="blanes_moan4"),
+        Key("order", "integer", None, "deprecated alias of integrator: 2 = "
+            "\"position_verlet\", 4 = \"position_yoshida4\" (the default)", low=2,
+            low_open=False, high=4, high_open=False, example=4),
+        Key("dt_safety", "number", 0.5, "continuum time step as a fraction of velocity "
+            "Verlet's stability limit 2/ω_max (the safety of pde.stable_dt, ω_max with the "
+            "stiffening at 1.5 × the largest wave strain included); must stay below the "
+            "integrator's own limit (theory.splitting.STABILITY_LIMITS / 2: Yoshida-4 "
+            "0.79, Blanes–Moan-4 1.58)", low=0, high=2),
         Key("nonlinearity", "choice", "quadratic", "Eq. 4 flux: Eq. 4's quadratic expansion "
             "or the full Hertz law", choices=("quadratic", "hertz")),
         Key("delta_floor", "number", 1e-2, "Eq. 7 regularisation: δ^{1/4} continued "
@@ -590,7 +606,9 @@ class ModelsSpec:
     continuum: str | bool = False
     theory: bool = True
     nodes_per_grain: int = 5
-    order: int = 4
+    integrator: str | None = None
+    order: int | None = None
+    dt_safety: float = 0.5
     nonlinearity: str = "quadratic"
     delta_floor: float = 1e-2
     dispersion_cap: float = 10.0
@@ -615,6 +633,17 @@ class ModelsSpec:
                 return "eq7"
             return "eq4"
         return str(self.continuum)
+
+    @property
+    def continuum_method(self) -> str:
+        """The continuum's splitting method: ``integrator``, else the one of ``order``.
+
+        ``order`` (deprecated): 2 = position Verlet, 4 (default) = Yoshida-4 drift first
+        (:data:`theory.splitting.ORDER_METHODS`, the methods it always named).
+        """
+        if self.integrator is not None:
+            return self.integrator
+        return ORDER_METHODS[4 if self.order is None else self.order]
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -814,8 +843,19 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
     if spec.nodes_per_grain % 2 == 0:
         raise ScenarioError(f"[models] nodes_per_grain = {spec.nodes_per_grain} must be odd "
                             "(a node on every grain centre)")
-    if spec.order not in (2, 4):
-        raise ScenarioError(f"[models] order = {spec.order}; allowed: 2, 4")
+    if spec.order is not None and spec.order not in ORDER_METHODS:
+        raise ScenarioError(f"[models] order = {spec.order}; allowed: 2, 4 (deprecated: "
+                            "use integrator)")
+    method = get_splitting(spec.continuum_method)
+    if spec.order is not None and spec.integrator is not None and spec.order != method.order:
+        raise ScenarioError(f"[models] order = {spec.order} contradicts integrator = "
+                            f"{spec.integrator!r} (order {method.order}): drop order")
+    limit = 0.5 * STABILITY_LIMITS[method.name]
+    if not spec.dt_safety < limit:
+        raise ScenarioError(f"[models] dt_safety = {spec.dt_safety:g} is beyond the "
+                            f"stability limit of integrator {method.name!r}: allowed (0, "
+                            f"{limit:.4g}) (ω_max Δt = 2 dt_safety < "
+                            f"{STABILITY_LIMITS[method.name]:g})")
     beyond = chain.beyond_paper()
     if spec.continuum and beyond:
         raise ScenarioError(

@@ -2,8 +2,9 @@
 
 Materials and Hertz constants (:mod:`theory.materials`), static precompression
 (:mod:`theory.precompression`), wave speeds (:mod:`theory.speeds`), linear-acoustic
-interface predictions (:mod:`theory.interface`) and solitary-wave profiles
-(:mod:`theory.profiles`).  Depends on nothing else of hertzchain.
+interface predictions (:mod:`theory.interface`), solitary-wave profiles
+(:mod:`theory.profiles`) and the table of symplectic splitting methods the solvers step
+with (:mod:`theory.splitting`).  Depends on nothing else of hertzchain.
 """
 
 from .interface import (
@@ -58,9 +59,14 @@ from .speeds import (
     nesterenko_speed,
     sonic_vacuum_speed,
 )
+from .splitting import SPLITTINGS, STABILITY_LIMITS, Splitting, get_splitting
 
 __all__ = [
     "ChainState",
+    "SPLITTINGS",
+    "STABILITY_LIMITS",
+    "Splitting",
+    "get_splitting",
     "DiscreteSolitaryWave",
     "compacton_motion",
     "compacton_strain",

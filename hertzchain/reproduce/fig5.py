@@ -49,10 +49,18 @@ __all__ = ["QUICK", "FULL", "CASES", "CaseResult", "scenario", "estimate_cost", 
 
 QUICK = {"n_grains": 10_000, "interface": 7_000, "snapshot": 9_900, "lead": 300}
 FULL = {"n_grains": 50_000, "interface": 35_000, "snapshot": 49_900, "lead": 300,
-        "integrator": "blanes_moan4", "dt_fraction": 0.096}
+        "integrator": "blanes_moan4", "dt_fraction": 0.096,
+        "continuum_integrator": "blanes_moan4", "continuum_dt_safety": 1.45}
 """--full integrates with Blanes–Moan's 4th-order method at 0.096·2π/ω_max (48× velocity
 Verlet's default dt, 1/8 of its force evaluations): within 1e-7 of a dt = 1e-9 s
-reference in section energies and front speed (``benchmarks/fig5_full.py``)."""
+reference in section energies and front speed (``benchmarks/fig5_full.py``).  Its
+continuum too: Blanes–Moan-4 at ``[models] dt_safety`` 1.45 (ω_max Δt = 2.9, 92 % of the
+method's limit 3.163, with ω_max at 1.5 × the largest wave strain: 2.07 force
+evaluations per 1/ω_max against 3.0 for --quick's Yoshida-4 at 0.5): relative L2 of
+the final grain velocities against a converged reference (Blanes–Moan-4 at 0.2), quick
+geometry, cases a–d: 3.1e-5, 5.6e-4, 4.6e-4, 1.4e-4, where Yoshida-4 at 0.5 is 1.9e-3,
+2.2e-2, 2.2e-2, 7.7e-3 (39–60× closer at 0.69–0.73× the CPU;
+``benchmarks/fig5_full.py --continuum``)."""
 CASES = ("a", "b", "c", "d")
 DELTA0_OVER_D = 1e-3
 UPDATES_PER_SECOND = 1e9
@@ -77,7 +85,9 @@ class CaseResult:
 def scenario(case: str, s: dict | None = None):
     """Case ``a``–``d`` of Fig. 5: ``paper/fig5.toml`` with the case's α and the sizes.
 
-    ``s``: the mode's sizes and integrator (default :data:`QUICK`).
+    ``s``: the mode's sizes and integrators (default :data:`QUICK`; ``integrator``,
+    ``dt_fraction``: the discrete run's; ``continuum_integrator``,
+    ``continuum_dt_safety``: the continuum's ``[models] integrator`` and ``dt_safety``).
     """
     s = QUICK if s is None else s
     ar, ak = theory.PAPER_POINTS[case]
@@ -91,6 +101,10 @@ def scenario(case: str, s: dict | None = None):
         values["run.integrator"] = s["integrator"]
     if s.get("dt_fraction"):
         values["run.dt_fraction"] = s["dt_fraction"]
+    if s.get("continuum_integrator"):
+        values["models.integrator"] = s["continuum_integrator"]
+    if s.get("continuum_dt_safety"):
+        values["models.dt_safety"] = s["continuum_dt_safety"]
     return paper_scenario("fig5", values)
 
 

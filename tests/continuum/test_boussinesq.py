@@ -177,6 +177,21 @@ def test_energy_and_momentum_conservation(soliton_run):
     assert np.max(np.abs(mom - mom[0])) < 1e-10 * abs(mom[0])
 
 
+def test_blanes_moan_conserves_energy_near_its_limit(soliton_run):
+    """Blanes–Moan-4 (kick first, FSAL-merged kicks) at dt_safety 1.45 (ω_max Δt = 2.9,
+    92 % of its limit 3.163; 2.9× the default's step): the energy functional drifts
+    < 1e-10 relative over 200 d and 100× less than the default stepping's (Yoshida-4 at
+    0.5); momentum to round-off (1e-10).  Measured 6.6e-12 against 1.2e-8 (momentum
+    2e-15): a 4th-order symplectic method's bounded error, ∝ Δt⁴ × its error constant."""
+    pde, par, state, res, t_end = soliton_run
+    bm = run(pde, state, t_end, method="blanes_moan4", dt=pde.stable_dt(state, 1.45),
+             interval=t_end / 10)
+    assert bm["info"]["dt_s"] > 2.5 * res["info"]["dt_s"]
+    assert bm.energy_drift < 1e-10 and bm.energy_drift < res.energy_drift / 100
+    mom = np.asarray(bm["momentum"])
+    assert np.max(np.abs(mom - mom[0])) < 1e-10 * abs(mom[0])
+
+
 def _soliton_errors(med, center, ns, fac, correct_h2):
     errors, hs = [], []
     dt = None

@@ -44,6 +44,8 @@ def wave():
     ({"interval": 0.0}, "interval"),
     ({"interval": float("nan")}, "interval"),
     ({"order": 3}, "order"),
+    ({"method": "rk4"}, "method"),
+    ({"method": "blanes_moan4", "order": 2}, "order"),
     ({"backend": "cuda"}, "backend"),
     ({"drift_tolerance": 0.0}, "drift_tolerance"),
     ({"dt": 1e-300}, "dt"),               # 1e296 steps: would run forever

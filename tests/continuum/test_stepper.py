@@ -32,7 +32,7 @@ from continuum import (
     run,
     solitary_wave,
 )
-from continuum.solver import splitting_coefficients
+from continuum.solver import splitting_coefficients, splitting_method
 
 D = theory.PAPER_DIAMETER
 DELTA0 = 1e-3 * D
@@ -43,6 +43,10 @@ def _assert_close(a, b, rtol=RTOL):
     a, b = np.asarray(a), np.asarray(b)
     for x, y in zip(a, b, strict=True):
         np.testing.assert_allclose(x, y, rtol=0, atol=rtol * np.abs(y).max())
+
+
+METHODS = ["position_verlet", "position_yoshida4", "verlet", "yoshida4", "blanes_moan4"]
+"""Every method of theory.splitting: drift first, and kick first with the FSAL merge."""
 
 
 def _both(pde, state, t_end, **kw):
@@ -60,13 +64,15 @@ def _periodic_two_section(n_l, n_r, delta0, ar, ak):
 
 
 # ---------------------------------------------------------------------------------
-@pytest.mark.parametrize("order", [2, 4])
+@pytest.mark.parametrize("method", METHODS)
 @pytest.mark.parametrize("nonlinearity", ["quadratic", "hertz", "linear"])
 @pytest.mark.parametrize("bc", ["free", "wall", "periodic"])
-def test_rosenau_fused_equals_numpy(bc, nonlinearity, order, rng):
+def test_rosenau_fused_equals_numpy(bc, nonlinearity, method, rng):
     """Eq. 4 (Rosenau form) on a composite chain with random smooth-ish content and
     waves hitting the ends: 300 steps, compiled == NumPy to 1e-9, energy and momentum
-    records equal to 1e-9."""
+    records equal to 1e-9, for every splitting method (kick first: the kernel merges
+    the FSAL kicks, the NumPy path reuses the cached acceleration and kicks twice;
+    measured ≤ 7e-14 for all)."""
     if bc == "periodic":
         med = _periodic_two_section(14, 11, DELTA0, 2.0, 0.3)
     else:
@@ -76,12 +82,45 @@ def test_rosenau_fused_equals_numpy(bc, nonlinearity, order, rng):
     v = 1e-3 * rng.standard_normal(pde.grid.shape)
     state = pde.get_initial_condition(u, v)
     dt = pde.stable_dt(state)
-    ref, fast = _both(pde, state, 300 * dt, dt=dt, order=order, interval=100 * dt,
+    ref, fast = _both(pde, state, 300 * dt, dt=dt, method=method, interval=100 * dt,
                       drift_tolerance=1.0)
     _assert_close(fast["state"].data, ref["state"].data)
     np.testing.assert_allclose(fast["energy"], ref["energy"], rtol=RTOL)
     np.testing.assert_allclose(fast["momentum"], ref["momentum"], rtol=0,
                                atol=RTOL * np.abs(ref["momentum"]).max() + 1e-30)
+    assert fast["info"]["method"] == method
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("model", ["eq4", "eq4-periodic", "eq7"])
+def test_chunks_merge_fsal_and_split_anywhere(model, method, rng):
+    """One chunk of 12 steps equals 12 chunks of one step to round-off (1e-12 of the
+    largest value: the merged drifts/kicks (α_S + α_0), (β_S + β_0) are sums of the
+    same terms; measured ≤ 1e-14), and costs what the method promises: S evaluations
+    per step plus, kick first, one at the chunk start (the whole periodic chain is
+    swept, so node-updates = evaluations × nodes exactly)."""
+    m = splitting_method(method)
+    if model == "eq7":
+        med = Medium.two_section(40, 35, DELTA0, 0.4, 0.5)
+        pde = NesterenkoPDE(med, 3, delta_floor=1e-8)
+        u = np.cumsum(-2e-6 * rng.random(pde.grid.shape) + 1e-6) * pde.disc.h
+    else:
+        med = _periodic_two_section(14, 11, DELTA0, 2.0, 0.3)
+        pde = BoussinesqPDE(med, 3, bc="periodic" if model == "eq4-periodic" else "free")
+        u = 0.1 * DELTA0 * np.cumsum(rng.standard_normal(pde.grid.shape)) * pde.disc.h
+    state = pde.get_initial_condition(u, 1e-3 * rng.standard_normal(pde.grid.shape))
+    dt = pde.stable_dt(state)
+    alpha, beta = splitting_coefficients(m)
+    one, many = state.data.copy(), state.data.copy()
+    work_one = pde.make_chunk_stepper(state, dt, alpha, beta)(one, 12)
+    chunk = pde.make_chunk_stepper(state, dt, alpha, beta)
+    work_many = sum(chunk(many, 1) for _ in range(12))
+    _assert_close(one, many, rtol=1e-12)
+    if model == "eq4-periodic":
+        n = pde.grid.shape[0]
+        extra = 1 if m.kick_first else 0
+        assert work_one == (12 * m.stages + extra) * n
+        assert work_many == 12 * (m.stages + extra) * n
 
 
 def test_rosenau_window_is_exact_and_small():
@@ -100,7 +139,7 @@ def test_rosenau_window_is_exact_and_small():
 
 
 @pytest.mark.parametrize("space_order", [2, 4])
-@pytest.mark.parametrize("order", [2, 4])
+@pytest.mark.parametrize("order", [2, 4, "blanes_moan4"])
 @pytest.mark.parametrize("bc", ["free", "wall", "periodic"])
 @pytest.mark.parametrize("precompressed", [False, True])
 def test_nesterenko_fused_equals_numpy(bc, precompressed, order, space_order, rng):
@@ -118,8 +157,9 @@ def test_nesterenko_fused_equals_numpy(bc, precompressed, order, space_order, rn
     u = np.cumsum(-2e-6 * rng.random(pde.grid.shape) + 1e-6) * pde.disc.h
     state = pde.get_initial_condition(u, 1e-3 * rng.standard_normal(pde.grid.shape))
     dt = pde.stable_dt(state)
-    ref, fast = _both(pde, state, 200 * dt, dt=dt, order=order, interval=50 * dt,
-                      drift_tolerance=1.0)
+    kw = {"order": order} if isinstance(order, int) else {"method": order}
+    ref, fast = _both(pde, state, 200 * dt, dt=dt, interval=50 * dt, drift_tolerance=1.0,
+                      **kw)
     _assert_close(fast["state"].data, ref["state"].data)
     np.testing.assert_allclose(fast["energy"], ref["energy"], rtol=RTOL)
 
