@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["AtTime", "WaveAt", "Event", "Recording", "Record", "Snapshot", "event_to_dict",
-           "event_from_dict"]
+__all__ = ["AtTime", "WaveAt", "Event", "Recording", "Record", "EnergyGrid", "Snapshot",
+           "event_to_dict", "event_from_dict"]
 
 
 @dataclass(frozen=True)
@@ -239,9 +239,11 @@ class Record:
     peak_state : (PEAK_ROWS, N) array or None
         The kernels' per-grain peak state behind ``vmax_refined`` (carried so that a
         continued run is bit for bit the uninterrupted one).
-    energy_t : (T,) array, s
-    energy_kinetic, energy_potential : (T, Nc) arrays, J
-        Per-grain (or per-block of ``energy_coarsen`` grains) energies (Fig. 8).
+    energy : EnergyGrid
+        The per-grain (or per-block of ``energy_coarsen`` grains) energy grid (Fig. 8),
+        the one owner of its storage; read it as ``energy_t`` (T,) in s and
+        ``energy_kinetic``, ``energy_potential`` (T, Nc) in J (read-only arrays,
+        :meth:`energy_grids`).
     monitor_t, monitor_energy, monitor_shadow, monitor_dissipated : (M,) arrays
         Total energy (J), velocity Verlet's modified energy (J) and the energy
         dissipated since the start (J; 0 for conservative forces) at monitor times (s).
@@ -261,9 +263,7 @@ class Record:
     series: list = field(default_factory=list)
     vmax: np.ndarray | None = None
     umax: np.ndarray | None = None
-    energy_t: list = field(default_factory=list)
-    energy_kinetic: list = field(default_factory=list)
-    energy_potential: list = field(default_factory=list)
+    energy: EnergyGrid = field(default_factory=lambda: EnergyGrid())
     energy_coarsen: int = 1
     monitor_t: list = field(default_factory=list)
     monitor_energy: list = field(default_factory=list)
@@ -300,8 +300,7 @@ class Record:
                 or (self.sensor_grains.size and a["sensor_force"].shape
                     != (len(self.series_t), self.sensor_grains.size))
                 or (self.wall_forces and a["wall_force"].shape[0] != len(self.series_t))
-                or len(self.energy_t) != len(self.energy_kinetic)
-                or len(self.energy_kinetic) != len(self.energy_potential)
+                or not self.energy.consistent()
                 or len({len(getattr(self, name)) for name in self._MONITOR}) != 1):
             raise ValueError("record arrays of inconsistent lengths")
         if recording.strain_maxima and (self.overlap_max is None
@@ -330,9 +329,9 @@ class Record:
     def arrays(self) -> dict[str, np.ndarray]:
         """The list-valued fields as stacked arrays.
 
-        New arrays, except the energy grids: read-only, and views of the record's own
-        grid where it is stacked already (:meth:`energy_grids`; e.g. ``discrete.save``
-        of a summarised run wrote a second copy of both grids, issue 13).
+        New arrays, except the energy grids: read-only views of the record's own grid
+        (:meth:`energy_grids`; a copy here made ``discrete.save`` of a summarised run
+        hold both grids twice, issue 13).
         """
         s = len(self.series_grains)
         energy_t, ek, ep = self.energy_grids()
@@ -357,24 +356,25 @@ class Record:
         """The energy grid (``energy_t``, ``energy_kinetic``, ``energy_potential``), no copy.
 
         ``energy_t`` (T,) in s, the two kinds (T, Nc) in J, the values of :meth:`arrays`
-        (float64, bit for bit).  A kind whose rows are the consecutive rows of one
-        C-contiguous (T, Nc) array (as ``hertzchain.runner`` leaves them after stacking
-        them once) is returned as a read-only view of that array; otherwise its rows are
-        stacked into a new array (read-only too, so that no caller relies on owning it:
-        a write raises instead of changing the record).  Issue 13: the largest Table 2
-        grid is 37 MB per kind; a second copy of both raised the point run's memory by
-        74 MB.
+        (float64, bit for bit): read-only views of :attr:`energy`'s storage
+        (:meth:`EnergyGrid.grids`).
         """
-        nc = len(self.energy_kinetic[0]) if self.energy_kinetic else 0
-        grids = []
-        for rows in (self.energy_kinetic, self.energy_potential):
-            g = _rows_base(rows)
-            if g is None:
-                g = np.stack(rows) if rows else np.zeros((0, nc))
-            g = g.view()
-            g.flags.writeable = False
-            grids.append(g)
-        return np.asarray(self.energy_t, dtype=float), grids[0], grids[1]
+        return self.energy.grids()
+
+    @property
+    def energy_t(self) -> np.ndarray:
+        """Times of the energy-grid rows, (T,) s (read-only, :meth:`energy_grids`)."""
+        return self.energy.grids()[0]
+
+    @property
+    def energy_kinetic(self) -> np.ndarray:
+        """Kinetic energy grid ½mv² per grain or block, (T, Nc) J (read-only view)."""
+        return self.energy.grids()[1]
+
+    @property
+    def energy_potential(self) -> np.ndarray:
+        """Potential (contact) energy grid per grain or block, (T, Nc) J (read-only view)."""
+        return self.energy.grids()[2]
 
     def snapshot(self, label: str) -> Snapshot:
         """The first snapshot with this label (e.g. ``"wave_at=550"``)."""
@@ -384,23 +384,105 @@ class Record:
         raise KeyError(f"no snapshot {label!r}; have {[s.label for s in self.snapshots]}")
 
 
-def _rows_base(rows: list) -> np.ndarray | None:
-    """The array whose consecutive rows ``rows`` are, or None.
+class EnergyGrid:
+    """The energy space–time grid of a run (Fig. 8): the one owner of its storage.
 
-    That is a (len(rows), n) float64 C-contiguous array of which each ``rows[i]`` is a
-    view of row i.
+    Rows are recorded into per-kind blocks (one (rows, Nc) float64 C-contiguous array per
+    kind, kept as given, not copied: the kernel writes a chunk's rows straight into the
+    blocks :meth:`new_block` hands out), and read as one (T, Nc) array per kind
+    (:meth:`grids`), which joins the blocks the first time it is read and keeps the
+    joined arrays instead of them.  Kinetic and potential rows live in separate blocks,
+    so joining frees each block as soon as it is copied: a grid is never held twice
+    (issue 13: the interleaved (rows, 2, Nc) blocks of the earlier layout were freed
+    only once both kinds had been copied, and the copy was made outside the record,
+    ``hertzchain.runner._stacked_grid``, ~3 kinds held at once where 2 are needed).
+
+    Units: ``t`` in s, both kinds in J (kinetic ½mv², potential the contact energies,
+    docs/physics.md §6).
     """
-    if not rows:
-        return None
-    base = getattr(rows[0], "base", None)
-    if not (isinstance(base, np.ndarray) and base.ndim == 2 and base.dtype == np.float64
-            and base.flags.c_contiguous and base.shape[0] == len(rows)
-            and rows[0].shape == base.shape[1:]):
-        return None
-    start, step = base.__array_interface__["data"][0], base.strides[0]
-    for i, r in enumerate(rows):
-        if (not isinstance(r, np.ndarray) or r.base is not base or r.shape != base.shape[1:]
-                or r.strides != base.strides[1:]
-                or r.__array_interface__["data"][0] != start + i * step):
-            return None
-    return base
+
+    def __init__(self) -> None:
+        self._t: list[np.ndarray] = []
+        self._k: list[np.ndarray] = []
+        self._p: list[np.ndarray] = []
+
+    def __len__(self) -> int:
+        """The number of rows T."""
+        return sum(b.shape[0] for b in self._k)
+
+    def consistent(self) -> bool:
+        """True if the times and both kinds have as many rows, and the kinds one width."""
+        widths = {b.shape[1] for b in self._k + self._p}
+        return (len(widths) <= 1 and sum(len(b) for b in self._t) == len(self)
+                == sum(b.shape[0] for b in self._p))
+
+    @staticmethod
+    def new_block(rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
+        """Two uninitialised (``rows``, ``cols``) float64 blocks (kinetic, potential).
+
+        For a writer (the kernel) to fill; :meth:`extend` with their filled rows.
+        """
+        return np.empty((rows, cols)), np.empty((rows, cols))
+
+    def extend(self, t, kinetic: np.ndarray, potential: np.ndarray) -> None:
+        """Append rows: times ``t`` (R,) s and the (R, Nc) kinds, J, kept without a copy.
+
+        ValueError for shapes that do not fit (naming the parameter).
+        """
+        t = np.asarray(t, dtype=float).reshape(-1)
+        for name, b in (("kinetic", kinetic), ("potential", potential)):
+            if not (isinstance(b, np.ndarray) and b.ndim == 2 and b.dtype == np.float64
+                    and b.shape[0] == t.size):
+                raise ValueError(f"{name} must be a float64 ({t.size}, Nc) array (got "
+                                 f"{getattr(b, 'dtype', type(b))} {np.shape(b)})")
+        if kinetic.shape != potential.shape or (self._k
+                                                and kinetic.shape[1] != self._k[0].shape[1]):
+            raise ValueError(f"potential {potential.shape} must have the shape of kinetic "
+                             f"{kinetic.shape} and the grid's columns")
+        if not t.size:
+            return
+        self._t.append(t)
+        self._k.append(kinetic)
+        self._p.append(potential)
+
+    def append(self, t: float, kinetic: np.ndarray, potential: np.ndarray) -> None:
+        """Append one row: time ``t`` (s) and the (Nc,) kinds (J)."""
+        self.extend(np.array([t], dtype=float), np.asarray(kinetic, float)[None],
+                    np.asarray(potential, float)[None])
+
+    def grids(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(t (T,) s, kinetic (T, Nc) J, potential (T, Nc) J), read-only views.
+
+        The blocks are joined into one array per kind on the first read after rows were
+        appended (each block freed as it is copied, unless someone else holds it); then
+        the grid is that array, no copy.  The values are those of the rows stacked, bit
+        for bit.
+        """
+        out = []
+        for blocks, ndim in ((self._t, 1), (self._k, 2), (self._p, 2)):
+            g = _joined(blocks, ndim).view()
+            g.flags.writeable = False  # (a write raises instead of changing the record)
+            out.append(g)
+        return tuple(out)
+
+
+def _joined(blocks: list, ndim: int) -> np.ndarray:
+    """``blocks`` (a list of arrays) joined along axis 0, in place: the list becomes [it].
+
+    Copied block by block, each dropped from the list once copied (the memory of a block
+    nobody else holds is freed before the next is copied).
+    """
+    if not blocks:
+        return np.zeros((0,) * ndim)
+    if len(blocks) == 1:
+        return blocks[0]
+    rows = sum(b.shape[0] for b in blocks)
+    out = np.empty((rows, *blocks[0].shape[1:]))
+    i = 0
+    while blocks:
+        b = blocks.pop(0)
+        out[i:i + b.shape[0]] = b
+        i += b.shape[0]
+        del b
+    blocks.append(out)
+    return out

@@ -545,24 +545,6 @@ def _column_argmax(e: np.ndarray, block: int = 64) -> np.ndarray:
     return idx
 
 
-def _stacked_grid(rows: list) -> np.ndarray:
-    """A recorded grid's rows (a :class:`discrete.Record` list) as one (rows, columns) array.
-
-    The list is then made of views of that array's rows (the same values; the blocks the
-    run appended are freed), so that the record and the summary share one copy of the
-    grid instead of holding two (issue 13: the largest Table 2 grid is 39 MB per kind).
-    Row by row: each row is copied and its list entry replaced by the new row at once,
-    so a block the run appended is freed as soon as its last row is copied and the
-    grid is never held twice (``np.stack`` held both: with the phase average's denser
-    rows a Fig. 7 corner point's summary peaked at +160 MiB).
-    """
-    grid = np.empty((len(rows), *np.shape(rows[0])), dtype=np.result_type(rows[0]))
-    for i, row in enumerate(rows):
-        grid[i] = row
-        rows[i] = grid[i]
-    return grid
-
-
 FRONT_ROWS_RTOL = 1e-3
 """Largest relative change of the reflected front speed when every other grid row is
 dropped for it to be reported (else NaN, :func:`_front_speed` with ``check_rows``).
@@ -711,14 +693,14 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
                front_speed_tr_over_c0L=math.nan, transmitted=None, reflected=None,
                n_transmitted_pulses=None, separated=False, separation_fraction=math.nan,
                split_estimate=math.nan)
-    rec = sim.record  # (only the grids the summary reads are stacked, once)
-    if not rec.energy_kinetic:
+    rec = sim.record
+    if not len(rec.energy):
         if not interfaces(chain) and rec.vmax_time is not None:  # an rtol run's maxima
             s0 = int(np.count_nonzero(chain.section < 0))
             out["front_speed_tr"] = _front_speed_from_maxima(
                 rec.vmax_refined, rec.vmax_time, sim.v, float(chain.diameter[s0]))
         return out
-    ek, t = _stacked_grid(rec.energy_kinetic), np.asarray(rec.energy_t, dtype=float)
+    t, ek, ep = rec.energy_grids()  # (views of the record's grid, no copy)
     coarsen = rec.energy_coarsen
     s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain, if any
     d = float(chain.diameter[s0])
@@ -730,7 +712,6 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
         out["front_speed_tr"] = _front_speed(t, ek, range(ek.shape[1]), 0, d * coarsen)
         return out
     iface = n_left // coarsen
-    ep = _stacked_grid(rec.energy_potential)
     act = _interface_activity(ek, ep, iface)  # (once for the fractions below)
     try:
         i_in = D.incident_time_index(None, iface, activity=act)
