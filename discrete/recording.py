@@ -384,48 +384,121 @@ class Record:
         raise KeyError(f"no snapshot {label!r}; have {[s.label for s in self.snapshots]}")
 
 
+RESERVE_MAX_BYTES = 64 * 2**20
+"""Largest storage (bytes per kind) :meth:`EnergyGrid.reserve` sets aside at once.
+
+Reserved rows that are never written cost address space only (NumPy's ``empty``: pages
+are given memory when first written; glibc maps an allocation of this size on its own),
+but an unbounded ``t_end`` must not ask for an unbounded block; past it the storage
+grows by segments (joined on the first read)."""
+
+SMALL_MOVE_BYTES = 2**20
+"""Rows already recorded (bytes per kind) that :meth:`EnergyGrid.reserve` moves into a
+new segment rather than leave in a segment of their own (the row a
+``discrete.Simulation`` takes at its start, before the run's reservation: else every
+read would join two segments, i.e. copy the grid)."""
+
+
 class EnergyGrid:
     """The energy space–time grid of a run (Fig. 8): the one owner of its storage.
 
-    Rows are recorded into per-kind blocks (one (rows, Nc) float64 C-contiguous array per
-    kind, kept as given, not copied: the kernel writes a chunk's rows straight into the
-    blocks :meth:`new_block` hands out), and read as one (T, Nc) array per kind
-    (:meth:`grids`), which joins the blocks the first time it is read and keeps the
-    joined arrays instead of them.  Kinetic and potential rows live in separate blocks,
-    so joining frees each block as soon as it is copied: a grid is never held twice
-    (issue 13: the interleaved (rows, 2, Nc) blocks of the earlier layout were freed
-    only once both kinds had been copied, and the copy was made outside the record,
-    ``hertzchain.runner._stacked_grid``, ~3 kinds held at once where 2 are needed).
-
-    Units: ``t`` in s, both kinds in J (kinetic ½mv², potential the contact energies,
-    docs/physics.md §6).
+    Storage: segments of (capacity, Nc) float64 C-contiguous arrays, one per kind
+    (kinetic ½mv² and potential, the contact energies, J; docs/physics.md §6), and the
+    row times (s).  A run reserves the rows it can take (:meth:`reserve`, from its
+    ``t_end``), and the kernel writes each chunk's rows straight into the next rows of
+    the storage (:meth:`block`, :meth:`commit`): no copy, and the grid is read
+    (:meth:`grids`) as views of the filled rows.  Rows past the reservation (a run
+    bounded by an event only) go to new segments (doubling), joined once on the first
+    read, each segment freed as soon as it is copied.  Issue 13: the interleaved
+    (rows, 2, Nc) blocks of the earlier layout were stacked outside the record
+    (``hertzchain.runner._stacked_grid``) and freed only once both kinds had been
+    copied, ~3 kinds of the grid held at once where 2 are the grid itself.
     """
 
     def __init__(self) -> None:
-        self._t: list[np.ndarray] = []
-        self._k: list[np.ndarray] = []
-        self._p: list[np.ndarray] = []
+        self._t: list[np.ndarray] = []  # per segment: (capacity,) times, s
+        self._k: list[np.ndarray] = []  # per segment: (capacity, Nc) kinetic, J
+        self._p: list[np.ndarray] = []  # per segment: (capacity, Nc) potential, J
+        self._fill: list[int] = []  # rows written per segment
+        self._open = 0  # rows of the block handed out and not yet committed
 
     def __len__(self) -> int:
         """The number of rows T."""
-        return sum(b.shape[0] for b in self._k)
+        return sum(self._fill)
+
+    @property
+    def columns(self) -> int | None:
+        """Nc, the grid's width (None before the first segment)."""
+        return self._k[0].shape[1] if self._k else None
 
     def consistent(self) -> bool:
-        """True if the times and both kinds have as many rows, and the kinds one width."""
-        widths = {b.shape[1] for b in self._k + self._p}
-        return (len(widths) <= 1 and sum(len(b) for b in self._t) == len(self)
-                == sum(b.shape[0] for b in self._p))
+        """True if every segment has one width and its times and kinds as many rows."""
+        return (len({b.shape[1] for b in self._k + self._p}) <= 1
+                and all(len(t) >= f and k.shape[0] >= f and p.shape == k.shape
+                        for t, k, p, f in zip(self._t, self._k, self._p, self._fill,
+                                              strict=True)))
 
-    @staticmethod
-    def new_block(rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
-        """Two uninitialised (``rows``, ``cols``) float64 blocks (kinetic, potential).
+    def _check_cols(self, cols: int) -> None:
+        if self._k and cols != self.columns:
+            raise ValueError(f"cols must be the grid's columns {self.columns} (got {cols})")
 
-        For a writer (the kernel) to fill; :meth:`extend` with their filled rows.
+    def reserve(self, rows: int, cols: int, at_least: int = 0) -> None:
+        """Make room for ``rows`` more rows of ``cols`` columns.
+
+        ``rows`` capped at :data:`RESERVE_MAX_BYTES` per kind, but at least ``at_least``.
+        A new segment if the last has less room; rows already recorded, if few
+        (:data:`SMALL_MOVE_BYTES`), are moved into it.
         """
-        return np.empty((rows, cols)), np.empty((rows, cols))
+        if (int(rows) != rows or rows < 0 or int(cols) != cols or cols < 1
+                or int(at_least) != at_least or at_least < 0):
+            raise ValueError(f"rows and at_least must be integers >= 0 and cols >= 1 (got "
+                             f"{rows!r}, {at_least!r}, {cols!r})")
+        self._check_cols(cols)
+        rows = max(int(min(rows, RESERVE_MAX_BYTES // (8 * cols))), int(at_least))
+        if self._k and self._k[-1].shape[0] - self._fill[-1] >= rows:
+            return
+        n = len(self)
+        move = n * cols * 8 <= SMALL_MOVE_BYTES
+        cap = rows + (n if move else 0)
+        t, k, p = np.empty(cap), np.empty((cap, cols)), np.empty((cap, cols))
+        if move:
+            if n:
+                told, kold, pold = self.grids()
+                t[:n], k[:n], p[:n] = told, kold, pold
+            self._t, self._k, self._p, self._fill = [], [], [], []
+        else:
+            n = 0
+        self._t.append(t)
+        self._k.append(k)
+        self._p.append(p)
+        self._fill.append(n)
+
+    def block(self, rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
+        """Views of the next ``rows`` rows of the storage (kinetic, potential), to be written.
+
+        Uninitialised; :meth:`commit` then says how many were written.  Grows the storage
+        (a new segment of at least the rows recorded so far: doubling) if needed.
+        """
+        self._check_cols(cols)
+        if not self._k or self._k[-1].shape[0] - self._fill[-1] < rows:
+            self.reserve(max(int(rows), len(self)), cols, at_least=int(rows))
+        f = self._fill[-1]
+        self._open = int(rows)
+        return self._k[-1][f:f + rows], self._p[-1][f:f + rows]
+
+    def commit(self, t) -> None:
+        """The rows just written into :meth:`block`'s views are taken, at times ``t`` (s)."""
+        t = np.asarray(t, dtype=float).reshape(-1)
+        if t.size > self._open:
+            raise ValueError(f"t: {t.size} rows, more than the block handed out "
+                             f"({self._open} rows, block)")
+        self._open = 0
+        f = self._fill[-1]
+        self._t[-1][f:f + t.size] = t
+        self._fill[-1] = f + t.size
 
     def extend(self, t, kinetic: np.ndarray, potential: np.ndarray) -> None:
-        """Append rows: times ``t`` (R,) s and the (R, Nc) kinds, J, kept without a copy.
+        """Append rows: times ``t`` (R,) s and the (R, Nc) kinds, J, kept as a segment (no copy).
 
         ValueError for shapes that do not fit (naming the parameter).
         """
@@ -435,8 +508,7 @@ class EnergyGrid:
                     and b.shape[0] == t.size):
                 raise ValueError(f"{name} must be a float64 ({t.size}, Nc) array (got "
                                  f"{getattr(b, 'dtype', type(b))} {np.shape(b)})")
-        if kinetic.shape != potential.shape or (self._k
-                                                and kinetic.shape[1] != self._k[0].shape[1]):
+        if kinetic.shape != potential.shape or (self._k and kinetic.shape[1] != self.columns):
             raise ValueError(f"potential {potential.shape} must have the shape of kinetic "
                              f"{kinetic.shape} and the grid's columns")
         if not t.size:
@@ -444,45 +516,43 @@ class EnergyGrid:
         self._t.append(t)
         self._k.append(kinetic)
         self._p.append(potential)
+        self._fill.append(t.size)
 
     def append(self, t: float, kinetic: np.ndarray, potential: np.ndarray) -> None:
-        """Append one row: time ``t`` (s) and the (Nc,) kinds (J)."""
-        self.extend(np.array([t], dtype=float), np.asarray(kinetic, float)[None],
-                    np.asarray(potential, float)[None])
+        """Append one row (copied into the storage): time ``t`` (s), the (Nc,) kinds (J)."""
+        k, p = self.block(1, np.shape(kinetic)[0])
+        k[0], p[0] = kinetic, potential
+        self.commit([t])
 
     def grids(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(t (T,) s, kinetic (T, Nc) J, potential (T, Nc) J), read-only views.
 
-        The blocks are joined into one array per kind on the first read after rows were
-        appended (each block freed as it is copied, unless someone else holds it); then
-        the grid is that array, no copy.  The values are those of the rows stacked, bit
-        for bit.
+        Views of the filled rows of the storage; segments are joined into one on the
+        first read after rows went to a second segment (each segment freed as it is
+        copied, unless someone else holds it).  The values are those of the rows
+        recorded, bit for bit.
         """
-        out = []
-        for blocks, ndim in ((self._t, 1), (self._k, 2), (self._p, 2)):
-            g = _joined(blocks, ndim).view()
+        if len(self._k) > 1:
+            n = len(self)
+            for name in ("_t", "_k", "_p"):
+                segs = getattr(self, name)
+                out = np.empty((n, *segs[0].shape[1:]))
+                i = 0
+                for f in self._fill:
+                    b = segs.pop(0)
+                    out[i:i + f] = b[:f]
+                    i += f
+                    del b
+                segs.append(out)
+            self._fill = [n]
+        if not self._k:
+            out = [np.zeros(0), np.zeros((0, 0)), np.zeros((0, 0))]
+        else:
+            f = self._fill[0]
+            out = [self._t[0][:f], self._k[0][:f], self._p[0][:f]]
+        views = []
+        for g in out:
+            g = g.view()
             g.flags.writeable = False  # (a write raises instead of changing the record)
-            out.append(g)
-        return tuple(out)
-
-
-def _joined(blocks: list, ndim: int) -> np.ndarray:
-    """``blocks`` (a list of arrays) joined along axis 0, in place: the list becomes [it].
-
-    Copied block by block, each dropped from the list once copied (the memory of a block
-    nobody else holds is freed before the next is copied).
-    """
-    if not blocks:
-        return np.zeros((0,) * ndim)
-    if len(blocks) == 1:
-        return blocks[0]
-    rows = sum(b.shape[0] for b in blocks)
-    out = np.empty((rows, *blocks[0].shape[1:]))
-    i = 0
-    while blocks:
-        b = blocks.pop(0)
-        out[i:i + b.shape[0]] = b
-        i += b.shape[0]
-        del b
-    blocks.append(out)
-    return out
+            views.append(g)
+        return tuple(views)

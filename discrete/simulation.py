@@ -77,7 +77,6 @@ from .laws import ContactLaw, as_law
 from .progress import RunProgress
 from .recording import (
     AtTime,
-    EnergyGrid,
     Record,
     Recording,
     Snapshot,
@@ -728,8 +727,10 @@ class Simulation:
         e_kernel = e_every > 0 and not self.chain.gravity
         c = int(self.record.energy_coarsen)
         e_cols = -(-n // c) if e_kernel else 1
-        erow = (e_every if e_kernel else 0, c, *EnergyGrid.new_block(0, e_cols),
-                self.chain.mass)
+        no_rows = (np.empty((0, e_cols)), np.empty((0, e_cols)))
+        erow = (e_every if e_kernel else 0, c, *no_rows, self.chain.mass)
+        if e_kernel and math.isfinite(limit):  # the rows this run can take, stored once
+            self.record.energy.reserve((int(limit) - self.steps) // e_every + 1, e_cols)
         vmax = self.record.vmax if rec.maxima else np.zeros(n)
         umax = self.record.umax if rec.maxima else np.zeros(n)
         rmax = self.record.overlap_max if rec.strain_maxima else np.zeros(n + 1)
@@ -772,21 +773,18 @@ class Simulation:
                         self._append_rows(self._series_row(),
                                           np.array([self.t0 + self.steps * self.dt]))
                 else:
-                    if e_kernel:  # blocks of their own for each chunk's rows (each row
-                        # zeroed by the kernel), one per kind: the record keeps them, no copy
+                    if e_kernel:  # the kernel writes the chunk's rows (each row zeroed
+                        # by it) straight into the record's storage, no copy
                         erow = (e_every, c,
-                                *EnergyGrid.new_block(nsteps // e_every + 1, e_cols),
+                                *self.record.energy.block(nsteps // e_every + 1, e_cols),
                                 self.chain.mass)
                     done, rows, fired, erows = self._chunk(nsteps, vmax, umax, rmax, watch,
                                                            wmax, wthr, ts_buf, erow)
-                    if erows:  # the rows at the multiples of e_every inside the chunk
+                    if e_kernel:  # the rows at the multiples of e_every inside the chunk
                         first = (self.steps // e_every + 1) * e_every
-                        self.record.energy.extend(
-                            self.t0 + (first + e_every * np.arange(erows)) * self.dt,
-                            erow[2][:erows], erow[3][:erows])
-                    if e_kernel:  # (the record holds the blocks; the run drops them)
-                        erow = (e_every, c, *EnergyGrid.new_block(0, e_cols),
-                                self.chain.mass)
+                        self.record.energy.commit(
+                            self.t0 + (first + e_every * np.arange(erows)) * self.dt)
+                        erow = (e_every, c, *no_rows, self.chain.mass)
                     phase = self.steps % s_every
                     if rows:
                         first = self.steps + (s_every - phase if phase else s_every)

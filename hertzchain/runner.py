@@ -652,20 +652,34 @@ def incident_amplitude(chain: discrete.Chain, u, v, wall_left: float = 0.0,
 
 
 ACTIVITY_ROWS = 256
-"""Grid rows per block in :func:`_interface_activity`."""
+"""Grid rows per block in :func:`total_energy_rows` (256 × 1,000 grains: 2 MiB)."""
+
+
+def total_energy_rows(ek: np.ndarray, ep: np.ndarray, fn):
+    """``fn`` of the total energy grid e = ek + ep (J, (T, Nc)), row block by row block.
+
+    ``fn(e_block)`` returns one array, or a tuple of arrays, with one value per row of
+    the block (it may overwrite the block); the blocks' results are joined.  The same
+    values, bit for bit, as ``fn`` of the whole e for any row-wise ``fn`` (each row's
+    reductions do not depend on the other rows), with neither e nor |e| held whole
+    (issue 13: Fig. 8's point Q held four 37 MiB grids at once, ek, ep, e and |e|;
+    now two and a block of :data:`ACTIVITY_ROWS` rows).
+    """
+    parts = [fn(ek[i:i + ACTIVITY_ROWS] + ep[i:i + ACTIVITY_ROWS])
+             for i in range(0, max(ek.shape[0], 1), ACTIVITY_ROWS)]
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate(col) for col in zip(*parts, strict=True))
+    return np.concatenate(parts)
 
 
 def _interface_activity(ek: np.ndarray, ep: np.ndarray, iface: int) -> np.ndarray:
-    """:func:`discrete.diagnostics.interface_activity` of e = ek + ep, block by block.
+    """:func:`discrete.diagnostics.interface_activity` of e = ek + ep, by row blocks.
 
-    The same values, bit for bit (each row's sums do not depend on the other rows), with
-    neither e nor |e| held whole: issue 13, the summary of Fig. 8's point Q held four
-    37 MiB grids at once (ek, ep, e, |e|), now two and a block.
+    (:func:`total_energy_rows`: bit for bit the whole grid's.)
     """
-    n = ek.shape[0]
-    return np.concatenate([D.interface_activity(ek[i:i + ACTIVITY_ROWS]
-                                                + ep[i:i + ACTIVITY_ROWS], iface)
-                           for i in range(0, n, ACTIVITY_ROWS)]) if n else np.zeros(0)
+    if not ek.shape[0]:
+        return np.zeros(0)
+    return total_energy_rows(ek, ep, lambda e: D.interface_activity(e, iface))
 
 
 def summarise(chain: discrete.Chain, sim: discrete.Simulation,

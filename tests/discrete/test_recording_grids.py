@@ -10,7 +10,6 @@ grid's size.
 """
 
 import tracemalloc
-import weakref
 
 import numpy as np
 import pytest
@@ -78,7 +77,7 @@ class _Tracked(np.ndarray):
     joined: list = []
 
     def __del__(self):
-        if _Tracked.joined:
+        if getattr(self, "tracked", False) and _Tracked.joined:  # (not its views)
             filled = int(np.count_nonzero(~np.isnan(_Tracked.joined[0][:, 0])))
             _Tracked.log.append(filled)
 
@@ -91,6 +90,7 @@ def test_joining_frees_each_block_before_copying_the_next(monkeypatch):
     rec = Record(series_grains=np.zeros(0, np.int64))
     for i in range(4):
         k = rng.standard_normal((5, 3)).view(_Tracked)
+        k.tracked = True
         rec.energy.extend(10.0 * i + np.arange(5), k, rng.standard_normal((5, 3)))
     del k
     empty = np.empty
@@ -146,10 +146,13 @@ def test_a_summarised_run_s_grids_are_read_without_allocating_them_again():
         "run": {"t_end": 3e-4}, "record": {"energy_every": 2}})
     chain, _, sim = build_simulation(sc)
     sim.run(3e-4)
-    assert len(sim.record.energy._k) > 1  # (the run's blocks, one per chunk)
-    block = weakref.ref(sim.record.energy._k[0])
+    # the run reserved its rows (t_end) and the kernel wrote them there: one segment,
+    # read without a copy, by the summary too
+    assert len(sim.record.energy._k) == 1
+    storage = sim.record.energy._k[0]
     summarise(chain, sim)
-    assert block() is None  # (joined by the summary, the run's blocks freed)
+    assert sim.record.energy._k[0] is storage
+    assert np.shares_memory(sim.record.energy_kinetic, storage)
     grid_bytes = sim.record.energy_kinetic.nbytes
     assert grid_bytes > 1_000_000  # (large enough for the 1 % bound to mean something)
 
@@ -169,3 +172,38 @@ def test_a_summarised_run_s_grids_are_read_without_allocating_them_again():
     # (the bound can fail: stacking the rows again is seen, both grids)
     copied, again = peak(lambda: [np.stack(list(g)) for g in (ek, ep)])
     assert copied >= 2 * grid_bytes and _same(again[0], ek)
+
+
+@pytest.mark.parametrize("move_bytes", [0, 2**20])
+def test_blocks_past_the_reservation_grow_the_storage_and_keep_every_row(monkeypatch,
+                                                                       move_bytes):
+    # block/commit as the run uses them: a reservation, then rows past it (a run bounded
+    # by an event only) in new segments (move_bytes 0: joined on the read; the default:
+    # these few rows moved into each new segment); the values bit for bit.
+    import discrete.recording as R
+
+    rng = np.random.default_rng(4)
+    g = EnergyGrid()
+    g.append(0.0, np.ones(3), -np.ones(3))  # (the row a Simulation takes at its start)
+    g.reserve(4, 3)
+    assert len(g._k) == 1 and len(g) == 1  # (the first row moved into the reservation)
+    monkeypatch.setattr(R, "SMALL_MOVE_BYTES", move_bytes)
+    want_k, want_p, want_t = [np.ones((1, 3))], [-np.ones((1, 3))], [np.zeros(1)]
+    for rows, used in ((3, 2), (5, 5), (2, 0), (9, 7)):
+        k, p = g.block(rows, 3)
+        assert k.shape == (rows, 3) and p.shape == (rows, 3)
+        k[:used], p[:used] = rng.standard_normal((2, used, 3))
+        t = len(g) + np.arange(used, dtype=float)
+        g.commit(t)
+        want_k.append(k[:used].copy())
+        want_p.append(p[:used].copy())
+        want_t.append(t)
+    assert (len(g._k) > 1) == (move_bytes == 0) and len(g) == 15
+    t, ek, ep = g.grids()
+    assert len(g._k) == 1
+    assert _same(ek, np.concatenate(want_k)) and _same(ep, np.concatenate(want_p))
+    assert _same(t, np.concatenate(want_t))
+    with pytest.raises(ValueError, match="cols"):
+        g.block(1, 4)
+    with pytest.raises(ValueError, match="t:"):
+        g.commit(np.zeros(1))  # (no block handed out has room: the grid is full)

@@ -131,12 +131,9 @@ def test_column_argmax_is_numpys():
 
 
 def test_summary_holds_the_energy_grid_once(tmp_path):
-    # The run records the grid in per-kind blocks (discrete.recording.EnergyGrid); the
-    # summary reads it as views of one array per kind, joined once inside the record,
-    # the run's blocks freed.  The saved file and a second summary are unchanged, bit
-    # for bit.
-    import weakref
-
+    # The run records the grid into the record's storage (discrete.recording.EnergyGrid,
+    # reserved from t_end: one segment per kind); the summary reads views of it, no
+    # copy.  The saved file and a second summary are unchanged, bit for bit.
     import discrete
     from hertzchain.runner import build_simulation, summarise
 
@@ -144,15 +141,12 @@ def test_summary_holds_the_energy_grid_once(tmp_path):
     chain, init, sim = build_simulation(sc)
     sim.run(3e-4)
     rec = sim.record
-    blocks = [weakref.ref(b) for b in rec.energy._k + rec.energy._p]
-    assert len(blocks) > 2  # the run's blocks
-    before = {k: np.concatenate([b() for b in blocks[i * len(blocks) // 2:
-                                                     (i + 1) * len(blocks) // 2]])
-              for i, k in enumerate(("energy_kinetic", "energy_potential"))}
+    storage = (rec.energy._k[0], rec.energy._p[0])
+    assert len(rec.energy._k) == 1 and len(rec.energy._p) == 1
+    before = {k: getattr(rec, k).copy() for k in ("energy_kinetic", "energy_potential")}
     first = summarise(chain, sim)
-    assert all(b() is None for b in blocks[1:])  # (blocks[0] may be the initial row's)
+    assert rec.energy._k == [storage[0]] and rec.energy._p == [storage[1]]
     for key, grid in before.items():
-        assert len(getattr(rec.energy, "_k" if key == "energy_kinetic" else "_p")) == 1
         assert np.array_equal(getattr(rec, key), grid)
     assert json.dumps(summarise(chain, sim)) == json.dumps(first)
     discrete.save(tmp_path / "s.h5", sim)
