@@ -463,6 +463,7 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     if check:
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
+    ifaces = interfaces(init.chain)
     law, drag = build_law(scenario.chain)
     speed = _wave_speed_estimate(init.chain, init.v)
     horizon = _run_length_estimate(scenario, init.chain, init.v, speed)
@@ -475,7 +476,7 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
                 drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol,
                 horizon=horizon, recording=discrete.Recording(
                     maxima=True, strain_maxima=rec.strain_maxima),
-                energy_ratios=bool(interfaces(init.chain)))  # (the summary's, Table 2)
+                energy_ratios=bool(ifaces))  # (the summary's, Table 2)
     except ValueError as exc:  # e.g. v0 = 1e-300: the expected overlaps underflow to 0
         amp = {"impact": "v0", "cut_wave": "v0"}.get(scenario.initial.kind, "velocity_max")
         raise ScenarioError(
@@ -496,13 +497,13 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     # an rtol run of one section with running maxima keeps them refined between the steps
     # (Simulation: rtol, forces of positions only): their peak times give the front
     # speed, the one number its summary read from the grid (_front_speed_from_maxima)
-    rtol_one_section = step.source == "rtol" and not interfaces(init.chain)
+    rtol_one_section = step.source == "rtol" and not ifaces
     maxima_front = (rtol_one_section and rec.running_max
                     and not (law.dissipative or drag > 0))
     if energy_grid and rec.energy_grid and every is None and not maxima_front:
-        per = GRID_ROWS_PER_GRAIN_RTOL if rtol_one_section else GRID_ROWS_PER_GRAIN
-        if interfaces(init.chain):  # the energy ratios' split: no aliased oscillation
-            per = split_row_spacing(init.chain)
+        # (two sections: rows dense enough that the energy ratios' split does not alias)
+        per = (split_row_spacing(init.chain) if ifaces else GRID_ROWS_PER_GRAIN_RTOL
+               if rtol_one_section else GRID_ROWS_PER_GRAIN)
         every = max(1, int(per * d / (speed * dt)))
     if every:
         # (never beyond max_steps: t_end = 1e300 with max_steps = 10 is refused by
@@ -708,17 +709,16 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
                n_transmitted_pulses=None, separated=False, separation_fraction=math.nan,
                split_estimate=math.nan)
     rec = sim.record
-    if not len(rec.energy):
-        if not interfaces(chain) and rec.vmax_time is not None:  # an rtol run's maxima
-            s0 = int(np.count_nonzero(chain.section < 0))
-            out["front_speed_tr"] = _front_speed_from_maxima(
-                rec.vmax_refined, rec.vmax_time, sim.v, float(chain.diameter[s0]))
-        return out
-    t, ek, ep = rec.energy_grids()  # (views of the record's grid, no copy)
-    coarsen = rec.energy_coarsen
     s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain, if any
     d = float(chain.diameter[s0])
     ifaces = interfaces(chain)
+    if not len(rec.energy):
+        if not ifaces and rec.vmax_time is not None:  # an rtol run's maxima
+            out["front_speed_tr"] = _front_speed_from_maxima(
+                rec.vmax_refined, rec.vmax_time, sim.v, d)
+        return out
+    t, ek, ep = rec.energy_grids()  # (views of the record's grid, no copy)
+    coarsen = rec.energy_coarsen
     n_left = ifaces[0] if ifaces else chain.n
     two = bool(ifaces)
     block_section = chain.section[::coarsen][: ek.shape[1]]
