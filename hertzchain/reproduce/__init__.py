@@ -187,7 +187,15 @@ workers 392 MB in the larger process (was 528) and 411 MB PSS over both (was 529
 split's denser grid rows (interface chains with a faster right section, Fig. 7's
 corners) and the runner's row-by-row stacking, idle, 14:05 UTC: one worker 415 MB,
 71.8 s wall; two 376 MB in the larger process, 455 MB PSS over both, 43.3 s wall
-(67.9 s CPU; forked after Fig. 3, before :data:`FIRST`, two took 35-37 s).  Of that, ~240 MiB is the
+(67.9 s CPU; forked after Fig. 3, before :data:`FIRST`, two took 35-37 s).  With the
+energy grid stored once (``discrete.recording.EnergyGrid``) and the worker forked after
+Fig. 3 again (:data:`LANES`), 2026-11-27 16:10-16:47 UTC, load 3-10 (no idle machine
+that afternoon), ``--json`` byte-identical to main's in every run: one worker 396-398 MB
+peak RSS (main 414-464 in the same session), 64-68 s CPU; two workers 396 MB in the
+larger process (main 376), 396-444 MB PSS over both (main 365-445), 68-71 s CPU, wall
+48-63 s at load ~3 (main 98 s at load 4.7), 96-107 s at load 7-8; the ≤ 40 s target
+wants a re-measure on the idle machine.  Without :func:`.common.map_large_arrays`
+(load 9-11): one worker 450 MB, two 434 MB in the larger (kept).  Of that, ~240 MiB is the
 floor of any process that runs a point (measured, RSS): Python with NumPy 26 MiB, SciPy
 (sparse, linalg, optimize) +50, h5py +11, numba +53, the solver and py-pde +25,
 matplotlib +26, the discrete kernels loaded +45, the continuum's +6.  ``--workers 1``
