@@ -268,9 +268,9 @@ def _read(r: _Reader, threads: int | None) -> Simulation:
     series = r.data("series", g)
     rec.series_t = list(r.data("series_t", g))
     rec.series = [series] if len(series) else []
-    rec.energy_t = list(r.data("energy_t", g))
-    rec.energy_kinetic = list(r.data("energy_kinetic", g))
-    rec.energy_potential = list(r.data("energy_potential", g))
+    e_grid = [r.data(name, g) for name in ("energy_t", "energy_kinetic", "energy_potential")]
+    if any(len(x) for x in e_grid):  # (the grid's storage: the arrays read, no copy;
+        rec.energy.extend(*e_grid)   # ValueError for inconsistent shapes)
     rec.monitor_t = list(r.data("monitor_t", g))
     rec.monitor_energy = list(r.data("monitor_energy", g))
     rec.monitor_shadow = list(r.data("monitor_shadow", g))

@@ -1181,10 +1181,11 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 threads, or on one thread for windows of at least ``min_serial_block``
                 grains; ``block_steps = 0``: never).  Bitwise identical results either way.
             erow : tuple
-                ``(e_every, coarsen, e_out, mass)``: after every step whose global number is
-                a multiple of ``e_every`` (> 0; 0: none) a row of the per-grain energy grid
-                (``energy_row``, blocks of ``coarsen`` grains) goes to ``e_out[row, 0]``
-                (kinetic) and ``e_out[row, 1]`` (potential), J; ``mass`` in kg.  Such a step
+                ``(e_every, coarsen, e_kin, e_pot, mass)``: after every step whose global
+                number is a multiple of ``e_every`` (> 0; 0: none) a row of the per-grain
+                energy grid (``energy_row``, blocks of ``coarsen`` grains) goes to
+                ``e_kin[row]`` (kinetic) and ``e_pot[row]`` (potential), J (two (rows, Nc)
+                arrays, ``discrete.recording.EnergyGrid``'s blocks); ``mass`` in kg.  Such a step
                 closes like the last step of a chunk (synchronous v, a recomputed) and the
                 next one opens with its kick: bitwise the arithmetic of ending the chunk
                 there, so the grid costs no kernel call per row.
@@ -1238,7 +1239,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             mx = (vmax, rmax, track_r)
             bcfg = (nt_max, min_parallel, tile, min_serial_block)
             no_block_before = 0
-            e_every, e_coarsen, e_out, mass = erow
+            e_every, e_coarsen, e_kin, e_pot, mass = erow
             erows = np.int64(0)  # (not a literal 0: one take_row signature for both calls)
             # opening kick of the first step: v^{n+1/2} (or the first stage velocity)
             lo, hi = open_step(st, con, p, wl, wr, kick[0], dt, lo, hi)
@@ -1259,7 +1260,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                         lo, hi = lo_b, hi_b
                         if e_every > 0 and (step0 + s) % e_every == 0 and s < nsteps:
                             erows, lo, hi = take_row(st, con, p, wl, wr, kick, dt, lo, hi,
-                                                     e_coarsen, e_out, erows, mass)
+                                                     e_coarsen, e_kin, e_pot, erows, mass)
                         continue
                     if status == 2:
                         no_block_before = s + nb
@@ -1274,7 +1275,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                               float(step0 + s))
                 if erow_now:
                     erows, lo, hi = take_row(st, con, p, wl, wr, kick, dt, lo, hi, e_coarsen,
-                                             e_out, erows, mass)
+                                             e_kin, e_pot, erows, mass)
                 # time series and events use the synchronous velocities of the special grains
                 if sample:
                     _series_row(ts_out, rows, ts_idx, vsp, pos_ws_s, True, u, con[2], wl, wr)
@@ -1290,7 +1291,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         return run_chunk
 
     @jit(**_INNER)
-    def take_row(st, con, p, wl, wr, kick, dt, lo, hi, c, e_out, erows, mass):
+    def take_row(st, con, p, wl, wr, kick, dt, lo, hi, c, e_kin, e_pot, erows, mass):
         """An energy row inside a chunk (``run_chunk``'s ``erow``); returns (rows, lo, hi).
 
         The step just taken closed like a chunk's last (synchronous v): a is recomputed
@@ -1299,11 +1300,11 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         u, v, a = st[0], st[1], st[2]
         if not VD:
             accelerations(u, v, a, con, p, wl, wr, lo, hi)
-        for b in range(e_out.shape[2]):
-            e_out[erows, 0, b] = 0.0
-            e_out[erows, 1, b] = 0.0
-        energy_row(u, v, mass, con[1], con[2], wl, wr, lo, hi, c, e_out[erows, 0],
-                   e_out[erows, 1])
+        for b in range(e_kin.shape[1]):
+            e_kin[erows, b] = 0.0
+            e_pot[erows, b] = 0.0
+        energy_row(u, v, mass, con[1], con[2], wl, wr, lo, hi, c, e_kin[erows],
+                   e_pot[erows])
         lo, hi = open_step(st, con, p, wl, wr, kick[0], dt, lo, hi)
         return erows + 1, lo, hi
 

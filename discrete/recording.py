@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["AtTime", "WaveAt", "Event", "Recording", "Record", "Snapshot", "event_to_dict",
-           "event_from_dict"]
+__all__ = ["AtTime", "WaveAt", "Event", "Recording", "Record", "EnergyGrid", "Snapshot",
+           "event_to_dict", "event_from_dict"]
 
 
 @dataclass(frozen=True)
@@ -239,9 +239,11 @@ class Record:
     peak_state : (PEAK_ROWS, N) array or None
         The kernels' per-grain peak state behind ``vmax_refined`` (carried so that a
         continued run is bit for bit the uninterrupted one).
-    energy_t : (T,) array, s
-    energy_kinetic, energy_potential : (T, Nc) arrays, J
-        Per-grain (or per-block of ``energy_coarsen`` grains) energies (Fig. 8).
+    energy : EnergyGrid
+        The per-grain (or per-block of ``energy_coarsen`` grains) energy grid (Fig. 8),
+        the one owner of its storage; read it as ``energy_t`` (T,) in s and
+        ``energy_kinetic``, ``energy_potential`` (T, Nc) in J (read-only arrays,
+        :meth:`energy_grids`).
     monitor_t, monitor_energy, monitor_shadow, monitor_dissipated : (M,) arrays
         Total energy (J), velocity Verlet's modified energy (J) and the energy
         dissipated since the start (J; 0 for conservative forces) at monitor times (s).
@@ -261,9 +263,7 @@ class Record:
     series: list = field(default_factory=list)
     vmax: np.ndarray | None = None
     umax: np.ndarray | None = None
-    energy_t: list = field(default_factory=list)
-    energy_kinetic: list = field(default_factory=list)
-    energy_potential: list = field(default_factory=list)
+    energy: EnergyGrid = field(default_factory=lambda: EnergyGrid())
     energy_coarsen: int = 1
     monitor_t: list = field(default_factory=list)
     monitor_energy: list = field(default_factory=list)
@@ -300,8 +300,7 @@ class Record:
                 or (self.sensor_grains.size and a["sensor_force"].shape
                     != (len(self.series_t), self.sensor_grains.size))
                 or (self.wall_forces and a["wall_force"].shape[0] != len(self.series_t))
-                or len(self.energy_t) != len(self.energy_kinetic)
-                or len(self.energy_kinetic) != len(self.energy_potential)
+                or not self.energy.consistent()
                 or len({len(getattr(self, name)) for name in self._MONITOR}) != 1):
             raise ValueError("record arrays of inconsistent lengths")
         if recording.strain_maxima and (self.overlap_max is None
@@ -330,9 +329,9 @@ class Record:
     def arrays(self) -> dict[str, np.ndarray]:
         """The list-valued fields as stacked arrays.
 
-        New arrays, except the energy grids: read-only, and views of the record's own
-        grid where it is stacked already (:meth:`energy_grids`; e.g. ``discrete.save``
-        of a summarised run wrote a second copy of both grids, issue 13).
+        New arrays, except the energy grids: read-only views of the record's own grid
+        (:meth:`energy_grids`; a copy here made ``discrete.save`` of a summarised run
+        hold both grids twice, issue 13).
         """
         s = len(self.series_grains)
         energy_t, ek, ep = self.energy_grids()
@@ -357,24 +356,25 @@ class Record:
         """The energy grid (``energy_t``, ``energy_kinetic``, ``energy_potential``), no copy.
 
         ``energy_t`` (T,) in s, the two kinds (T, Nc) in J, the values of :meth:`arrays`
-        (float64, bit for bit).  A kind whose rows are the consecutive rows of one
-        C-contiguous (T, Nc) array (as ``hertzchain.runner`` leaves them after stacking
-        them once) is returned as a read-only view of that array; otherwise its rows are
-        stacked into a new array (read-only too, so that no caller relies on owning it:
-        a write raises instead of changing the record).  Issue 13: the largest Table 2
-        grid is 37 MB per kind; a second copy of both raised the point run's memory by
-        74 MB.
+        (float64, bit for bit): read-only views of :attr:`energy`'s storage
+        (:meth:`EnergyGrid.grids`).
         """
-        nc = len(self.energy_kinetic[0]) if self.energy_kinetic else 0
-        grids = []
-        for rows in (self.energy_kinetic, self.energy_potential):
-            g = _rows_base(rows)
-            if g is None:
-                g = np.stack(rows) if rows else np.zeros((0, nc))
-            g = g.view()
-            g.flags.writeable = False
-            grids.append(g)
-        return np.asarray(self.energy_t, dtype=float), grids[0], grids[1]
+        return self.energy.grids()
+
+    @property
+    def energy_t(self) -> np.ndarray:
+        """Times of the energy-grid rows, (T,) s (read-only, :meth:`energy_grids`)."""
+        return self.energy.grids()[0]
+
+    @property
+    def energy_kinetic(self) -> np.ndarray:
+        """Kinetic energy grid ½mv² per grain or block, (T, Nc) J (read-only view)."""
+        return self.energy.grids()[1]
+
+    @property
+    def energy_potential(self) -> np.ndarray:
+        """Potential (contact) energy grid per grain or block, (T, Nc) J (read-only view)."""
+        return self.energy.grids()[2]
 
     def snapshot(self, label: str) -> Snapshot:
         """The first snapshot with this label (e.g. ``"wave_at=550"``)."""
@@ -384,23 +384,175 @@ class Record:
         raise KeyError(f"no snapshot {label!r}; have {[s.label for s in self.snapshots]}")
 
 
-def _rows_base(rows: list) -> np.ndarray | None:
-    """The array whose consecutive rows ``rows`` are, or None.
+RESERVE_MAX_BYTES = 64 * 2**20
+"""Largest storage (bytes per kind) :meth:`EnergyGrid.reserve` sets aside at once.
 
-    That is a (len(rows), n) float64 C-contiguous array of which each ``rows[i]`` is a
-    view of row i.
+Reserved rows that are never written cost address space only (NumPy's ``empty``: pages
+are given memory when first written; glibc maps an allocation of this size on its own),
+but an unbounded ``t_end`` must not ask for an unbounded block; past it the storage
+grows by segments (joined on the first read)."""
+
+SMALL_MOVE_BYTES = 2**20
+"""Rows already recorded (bytes per kind) that :meth:`EnergyGrid.reserve` moves into a
+new segment rather than leave in a segment of their own (the row a
+``discrete.Simulation`` takes at its start, before the run's reservation: else every
+read would join two segments, i.e. copy the grid)."""
+
+
+class EnergyGrid:
+    """The energy space–time grid of a run (Fig. 8): the one owner of its storage.
+
+    Storage: segments of (capacity, Nc) float64 C-contiguous arrays, one per kind
+    (kinetic ½mv² and potential, the contact energies, J; docs/physics.md §6), and the
+    row times (s).  A run reserves the rows it can take (:meth:`reserve`, from its
+    ``t_end``), and the kernel writes each chunk's rows straight into the next rows of
+    the storage (:meth:`block`, :meth:`commit`): no copy, and the grid is read
+    (:meth:`grids`) as views of the filled rows.  Rows past the reservation (a run
+    bounded by an event only) go to new segments (doubling), joined once on the first
+    read, each segment freed as soon as it is copied.  Issue 13: the interleaved
+    (rows, 2, Nc) blocks of the earlier layout were stacked outside the record
+    (``hertzchain.runner._stacked_grid``) and freed only once both kinds had been
+    copied, ~3 kinds of the grid held at once where 2 are the grid itself.
     """
-    if not rows:
-        return None
-    base = getattr(rows[0], "base", None)
-    if not (isinstance(base, np.ndarray) and base.ndim == 2 and base.dtype == np.float64
-            and base.flags.c_contiguous and base.shape[0] == len(rows)
-            and rows[0].shape == base.shape[1:]):
-        return None
-    start, step = base.__array_interface__["data"][0], base.strides[0]
-    for i, r in enumerate(rows):
-        if (not isinstance(r, np.ndarray) or r.base is not base or r.shape != base.shape[1:]
-                or r.strides != base.strides[1:]
-                or r.__array_interface__["data"][0] != start + i * step):
-            return None
-    return base
+
+    def __init__(self) -> None:
+        self._t: list[np.ndarray] = []  # per segment: (capacity,) times, s
+        self._k: list[np.ndarray] = []  # per segment: (capacity, Nc) kinetic, J
+        self._p: list[np.ndarray] = []  # per segment: (capacity, Nc) potential, J
+        self._fill: list[int] = []  # rows written per segment
+        self._open = 0  # rows of the block handed out and not yet committed
+
+    def __len__(self) -> int:
+        """The number of rows T."""
+        return sum(self._fill)
+
+    @property
+    def columns(self) -> int | None:
+        """Nc, the grid's width (None before the first segment)."""
+        return self._k[0].shape[1] if self._k else None
+
+    def consistent(self) -> bool:
+        """True if every segment has one width and its times and kinds as many rows."""
+        return (len({b.shape[1] for b in self._k + self._p}) <= 1
+                and all(len(t) >= f and k.shape[0] >= f and p.shape == k.shape
+                        for t, k, p, f in zip(self._t, self._k, self._p, self._fill,
+                                              strict=True)))
+
+    def _check_cols(self, cols: int) -> None:
+        if self._k and cols != self.columns:
+            raise ValueError(f"cols must be the grid's columns {self.columns} (got {cols})")
+
+    def reserve(self, rows: int, cols: int, at_least: int = 0) -> None:
+        """Make room for ``rows`` more rows of ``cols`` columns.
+
+        ``rows`` capped at :data:`RESERVE_MAX_BYTES` per kind, but at least ``at_least``.
+        A new segment if the last has less room; rows already recorded, if few
+        (:data:`SMALL_MOVE_BYTES`), are moved into it.
+        """
+        if (int(rows) != rows or rows < 0 or int(cols) != cols or cols < 1
+                or int(at_least) != at_least or at_least < 0):
+            raise ValueError(f"rows and at_least must be integers >= 0 and cols >= 1 (got "
+                             f"{rows!r}, {at_least!r}, {cols!r})")
+        self._check_cols(cols)
+        rows = max(int(min(rows, RESERVE_MAX_BYTES // (8 * cols))), int(at_least))
+        if self._k and self._k[-1].shape[0] - self._fill[-1] >= rows:
+            return
+        n = len(self)
+        move = n * cols * 8 <= SMALL_MOVE_BYTES
+        cap = rows + (n if move else 0)
+        t, k, p = np.empty(cap), np.empty((cap, cols)), np.empty((cap, cols))
+        if move:
+            if n:
+                told, kold, pold = self.grids()
+                t[:n], k[:n], p[:n] = told, kold, pold
+            self._t, self._k, self._p, self._fill = [], [], [], []
+        else:
+            n = 0
+        self._t.append(t)
+        self._k.append(k)
+        self._p.append(p)
+        self._fill.append(n)
+
+    def block(self, rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
+        """Views of the next ``rows`` rows of the storage (kinetic, potential), to be written.
+
+        Uninitialised; :meth:`commit` then says how many were written.  Grows the storage
+        (a new segment of at least the rows recorded so far: doubling) if needed.
+        """
+        self._check_cols(cols)
+        if not self._k or self._k[-1].shape[0] - self._fill[-1] < rows:
+            self.reserve(max(int(rows), len(self)), cols, at_least=int(rows))
+        f = self._fill[-1]
+        self._open = int(rows)
+        return self._k[-1][f:f + rows], self._p[-1][f:f + rows]
+
+    def commit(self, t) -> None:
+        """The rows just written into :meth:`block`'s views are taken, at times ``t`` (s)."""
+        t = np.asarray(t, dtype=float).reshape(-1)
+        if t.size > self._open:
+            raise ValueError(f"t: {t.size} rows, more than the block handed out "
+                             f"({self._open} rows, block)")
+        self._open = 0
+        f = self._fill[-1]
+        self._t[-1][f:f + t.size] = t
+        self._fill[-1] = f + t.size
+
+    def extend(self, t, kinetic: np.ndarray, potential: np.ndarray) -> None:
+        """Append rows: times ``t`` (R,) s and the (R, Nc) kinds, J, kept as a segment (no copy).
+
+        ValueError for shapes that do not fit (naming the parameter).
+        """
+        t = np.asarray(t, dtype=float).reshape(-1)
+        for name, b in (("kinetic", kinetic), ("potential", potential)):
+            if not (isinstance(b, np.ndarray) and b.ndim == 2 and b.dtype == np.float64
+                    and b.shape[0] == t.size):
+                raise ValueError(f"{name} must be a float64 ({t.size}, Nc) array (got "
+                                 f"{getattr(b, 'dtype', type(b))} {np.shape(b)})")
+        if kinetic.shape != potential.shape or (self._k and kinetic.shape[1] != self.columns):
+            raise ValueError(f"potential {potential.shape} must have the shape of kinetic "
+                             f"{kinetic.shape} and the grid's columns")
+        if not t.size:
+            return
+        self._t.append(t)
+        self._k.append(kinetic)
+        self._p.append(potential)
+        self._fill.append(t.size)
+
+    def append(self, t: float, kinetic: np.ndarray, potential: np.ndarray) -> None:
+        """Append one row (copied into the storage): time ``t`` (s), the (Nc,) kinds (J)."""
+        k, p = self.block(1, np.shape(kinetic)[0])
+        k[0], p[0] = kinetic, potential
+        self.commit([t])
+
+    def grids(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(t (T,) s, kinetic (T, Nc) J, potential (T, Nc) J), read-only views.
+
+        Views of the filled rows of the storage; segments are joined into one on the
+        first read after rows went to a second segment (each segment freed as it is
+        copied, unless someone else holds it).  The values are those of the rows
+        recorded, bit for bit.
+        """
+        if len(self._k) > 1:
+            n = len(self)
+            for name in ("_t", "_k", "_p"):
+                segs = getattr(self, name)
+                out = np.empty((n, *segs[0].shape[1:]))
+                i = 0
+                for f in self._fill:
+                    b = segs.pop(0)
+                    out[i:i + f] = b[:f]
+                    i += f
+                    del b
+                segs.append(out)
+            self._fill = [n]
+        if not self._k:
+            out = [np.zeros(0), np.zeros((0, 0)), np.zeros((0, 0))]
+        else:
+            f = self._fill[0]
+            out = [self._t[0][:f], self._k[0][:f], self._p[0][:f]]
+        views = []
+        for g in out:
+            g = g.view()
+            g.flags.writeable = False  # (a write raises instead of changing the record)
+            views.append(g)
+        return tuple(views)

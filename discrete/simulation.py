@@ -75,7 +75,15 @@ from .chain import Chain
 from .integrators import get_integrator
 from .laws import ContactLaw, as_law
 from .progress import RunProgress
-from .recording import AtTime, Record, Recording, Snapshot, WaveAt, as_event, check_event
+from .recording import (
+    AtTime,
+    Record,
+    Recording,
+    Snapshot,
+    WaveAt,
+    as_event,
+    check_event,
+)
 from .reference import overlaps as _overlaps
 from .timestep import DT_FRACTION, TimeStep, default_dt, expected_overlaps, stable_dt
 
@@ -515,17 +523,13 @@ class Simulation:
             self.kernels.grid_row(self.u, self.v, self.chain.mass, self._k, self._d0,
                                   self.wall_left, self.wall_right, self._lo, self._hi, c,
                                   ek, ep)
-            self.record.energy_t.append(self.t)
-            self.record.energy_kinetic.append(ek)
-            self.record.energy_potential.append(ep)
+            self.record.energy.append(self.t, ek, ep)
             return
         ek, ep = self.grain_energy()
         if c > 1:
             starts = np.arange(0, ek.size, c)
             ek, ep = np.add.reduceat(ek, starts), np.add.reduceat(ep, starts)
-        self.record.energy_t.append(self.t)
-        self.record.energy_kinetic.append(ek)
-        self.record.energy_potential.append(ep)
+        self.record.energy.append(self.t, ek, ep)
 
     def _snapshot(self, label: str) -> None:
         if self.record.umax is not None:
@@ -723,8 +727,10 @@ class Simulation:
         e_kernel = e_every > 0 and not self.chain.gravity
         c = int(self.record.energy_coarsen)
         e_cols = -(-n // c) if e_kernel else 1
-        e_buf = np.zeros((0, 2, e_cols))
-        erow = (e_every if e_kernel else 0, c, e_buf, self.chain.mass)
+        no_rows = (np.empty((0, e_cols)), np.empty((0, e_cols)))
+        erow = (e_every if e_kernel else 0, c, *no_rows, self.chain.mass)
+        if e_kernel and math.isfinite(limit):  # the rows this run can take, stored once
+            self.record.energy.reserve((int(limit) - self.steps) // e_every + 1, e_cols)
         vmax = self.record.vmax if rec.maxima else np.zeros(n)
         umax = self.record.umax if rec.maxima else np.zeros(n)
         rmax = self.record.overlap_max if rec.strain_maxima else np.zeros(n + 1)
@@ -767,19 +773,18 @@ class Simulation:
                         self._append_rows(self._series_row(),
                                           np.array([self.t0 + self.steps * self.dt]))
                 else:
-                    if e_kernel:  # a block of its own for each chunk's rows (each row
-                        # zeroed by the kernel): the record keeps views of them, no copy
-                        e_buf = np.empty((nsteps // e_every + 1, 2, e_cols))
-                        erow = (e_every, c, e_buf, self.chain.mass)
+                    if e_kernel:  # the kernel writes the chunk's rows (each row zeroed
+                        # by it) straight into the record's storage, no copy
+                        erow = (e_every, c,
+                                *self.record.energy.block(nsteps // e_every + 1, e_cols),
+                                self.chain.mass)
                     done, rows, fired, erows = self._chunk(nsteps, vmax, umax, rmax, watch,
                                                            wmax, wthr, ts_buf, erow)
-                    if erows:  # the rows at the multiples of e_every inside the chunk
+                    if e_kernel:  # the rows at the multiples of e_every inside the chunk
                         first = (self.steps // e_every + 1) * e_every
-                        r = self.record
-                        r.energy_t.extend((self.t0 + (first + e_every * np.arange(erows))
-                                           * self.dt).tolist())
-                        r.energy_kinetic.extend(e_buf[:erows, 0])
-                        r.energy_potential.extend(e_buf[:erows, 1])
+                        self.record.energy.commit(
+                            self.t0 + (first + e_every * np.arange(erows)) * self.dt)
+                        erow = (e_every, c, *no_rows, self.chain.mass)
                     phase = self.steps % s_every
                     if rows:
                         first = self.steps + (s_every - phase if phase else s_every)

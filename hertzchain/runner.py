@@ -463,6 +463,7 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     if check:
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
+    ifaces = interfaces(init.chain)
     law, drag = build_law(scenario.chain)
     speed = _wave_speed_estimate(init.chain, init.v)
     horizon = _run_length_estimate(scenario, init.chain, init.v, speed)
@@ -475,7 +476,7 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
                 drag=drag, fraction=run.dt_fraction, check=False, rtol=run.rtol,
                 horizon=horizon, recording=discrete.Recording(
                     maxima=True, strain_maxima=rec.strain_maxima),
-                energy_ratios=bool(interfaces(init.chain)))  # (the summary's, Table 2)
+                energy_ratios=bool(ifaces))  # (the summary's, Table 2)
     except ValueError as exc:  # e.g. v0 = 1e-300: the expected overlaps underflow to 0
         amp = {"impact": "v0", "cut_wave": "v0"}.get(scenario.initial.kind, "velocity_max")
         raise ScenarioError(
@@ -496,13 +497,13 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     # an rtol run of one section with running maxima keeps them refined between the steps
     # (Simulation: rtol, forces of positions only): their peak times give the front
     # speed, the one number its summary read from the grid (_front_speed_from_maxima)
-    rtol_one_section = step.source == "rtol" and not interfaces(init.chain)
+    rtol_one_section = step.source == "rtol" and not ifaces
     maxima_front = (rtol_one_section and rec.running_max
                     and not (law.dissipative or drag > 0))
     if energy_grid and rec.energy_grid and every is None and not maxima_front:
-        per = GRID_ROWS_PER_GRAIN_RTOL if rtol_one_section else GRID_ROWS_PER_GRAIN
-        if interfaces(init.chain):  # the energy ratios' split: no aliased oscillation
-            per = split_row_spacing(init.chain)
+        # (two sections: rows dense enough that the energy ratios' split does not alias)
+        per = (split_row_spacing(init.chain) if ifaces else GRID_ROWS_PER_GRAIN_RTOL
+               if rtol_one_section else GRID_ROWS_PER_GRAIN)
         every = max(1, int(per * d / (speed * dt)))
     if every:
         # (never beyond max_steps: t_end = 1e300 with max_steps = 10 is refused by
@@ -543,24 +544,6 @@ def _column_argmax(e: np.ndarray, block: int = 64) -> np.ndarray:
             idx[cols] = s + blk[:, cols].argmax(axis=0)
             best[cols] = m[cols]
     return idx
-
-
-def _stacked_grid(rows: list) -> np.ndarray:
-    """A recorded grid's rows (a :class:`discrete.Record` list) as one (rows, columns) array.
-
-    The list is then made of views of that array's rows (the same values; the blocks the
-    run appended are freed), so that the record and the summary share one copy of the
-    grid instead of holding two (issue 13: the largest Table 2 grid is 39 MB per kind).
-    Row by row: each row is copied and its list entry replaced by the new row at once,
-    so a block the run appended is freed as soon as its last row is copied and the
-    grid is never held twice (``np.stack`` held both: with the phase average's denser
-    rows a Fig. 7 corner point's summary peaked at +160 MiB).
-    """
-    grid = np.empty((len(rows), *np.shape(rows[0])), dtype=np.result_type(rows[0]))
-    for i, row in enumerate(rows):
-        grid[i] = row
-        rows[i] = grid[i]
-    return grid
 
 
 FRONT_ROWS_RTOL = 1e-3
@@ -670,20 +653,34 @@ def incident_amplitude(chain: discrete.Chain, u, v, wall_left: float = 0.0,
 
 
 ACTIVITY_ROWS = 256
-"""Grid rows per block in :func:`_interface_activity`."""
+"""Grid rows per block in :func:`total_energy_rows` (256 × 1,000 grains: 2 MiB)."""
+
+
+def total_energy_rows(ek: np.ndarray, ep: np.ndarray, fn):
+    """``fn`` of the total energy grid e = ek + ep (J, (T, Nc)), row block by row block.
+
+    ``fn(e_block)`` returns one array, or a tuple of arrays, with one value per row of
+    the block (it may overwrite the block); the blocks' results are joined.  The same
+    values, bit for bit, as ``fn`` of the whole e for any row-wise ``fn`` (each row's
+    reductions do not depend on the other rows), with neither e nor |e| held whole
+    (issue 13: Fig. 8's point Q held four 37 MiB grids at once, ek, ep, e and |e|;
+    now two and a block of :data:`ACTIVITY_ROWS` rows).
+    """
+    parts = [fn(ek[i:i + ACTIVITY_ROWS] + ep[i:i + ACTIVITY_ROWS])
+             for i in range(0, max(ek.shape[0], 1), ACTIVITY_ROWS)]
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate(col) for col in zip(*parts, strict=True))
+    return np.concatenate(parts)
 
 
 def _interface_activity(ek: np.ndarray, ep: np.ndarray, iface: int) -> np.ndarray:
-    """:func:`discrete.diagnostics.interface_activity` of e = ek + ep, block by block.
+    """:func:`discrete.diagnostics.interface_activity` of e = ek + ep, by row blocks.
 
-    The same values, bit for bit (each row's sums do not depend on the other rows), with
-    neither e nor |e| held whole: issue 13, the summary of Fig. 8's point Q held four
-    37 MiB grids at once (ek, ep, e, |e|), now two and a block.
+    (:func:`total_energy_rows`: bit for bit the whole grid's.)
     """
-    n = ek.shape[0]
-    return np.concatenate([D.interface_activity(ek[i:i + ACTIVITY_ROWS]
-                                                + ep[i:i + ACTIVITY_ROWS], iface)
-                           for i in range(0, n, ACTIVITY_ROWS)]) if n else np.zeros(0)
+    if not ek.shape[0]:
+        return np.zeros(0)
+    return total_energy_rows(ek, ep, lambda e: D.interface_activity(e, iface))
 
 
 def summarise(chain: discrete.Chain, sim: discrete.Simulation,
@@ -711,18 +708,17 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
                front_speed_tr_over_c0L=math.nan, transmitted=None, reflected=None,
                n_transmitted_pulses=None, separated=False, separation_fraction=math.nan,
                split_estimate=math.nan)
-    rec = sim.record  # (only the grids the summary reads are stacked, once)
-    if not rec.energy_kinetic:
-        if not interfaces(chain) and rec.vmax_time is not None:  # an rtol run's maxima
-            s0 = int(np.count_nonzero(chain.section < 0))
-            out["front_speed_tr"] = _front_speed_from_maxima(
-                rec.vmax_refined, rec.vmax_time, sim.v, float(chain.diameter[s0]))
-        return out
-    ek, t = _stacked_grid(rec.energy_kinetic), np.asarray(rec.energy_t, dtype=float)
-    coarsen = rec.energy_coarsen
+    rec = sim.record
     s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain, if any
     d = float(chain.diameter[s0])
     ifaces = interfaces(chain)
+    if not len(rec.energy):
+        if not ifaces and rec.vmax_time is not None:  # an rtol run's maxima
+            out["front_speed_tr"] = _front_speed_from_maxima(
+                rec.vmax_refined, rec.vmax_time, sim.v, d)
+        return out
+    t, ek, ep = rec.energy_grids()  # (views of the record's grid, no copy)
+    coarsen = rec.energy_coarsen
     n_left = ifaces[0] if ifaces else chain.n
     two = bool(ifaces)
     block_section = chain.section[::coarsen][: ek.shape[1]]
@@ -730,7 +726,6 @@ def summarise(chain: discrete.Chain, sim: discrete.Simulation,
         out["front_speed_tr"] = _front_speed(t, ek, range(ek.shape[1]), 0, d * coarsen)
         return out
     iface = n_left // coarsen
-    ep = _stacked_grid(rec.energy_potential)
     act = _interface_activity(ek, ep, iface)  # (once for the fractions below)
     try:
         i_in = D.incident_time_index(None, iface, activity=act)

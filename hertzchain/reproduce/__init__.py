@@ -132,35 +132,41 @@ def kernel_threads(threads: int | None):
 
 
 FIRST = ("fig8", "table2")
-"""Items a process runs before any other (one process: then the rest in report order).
+"""Items one process runs before any other (then the rest in report order); with two
+processes, the calling process runs them right after Fig. 3 (:data:`LANES`).
 
-Memory (issue 13): Fig. 8's largest point run (Q, 4,879 × 1,000-grain energy grids)
-needs ~150 MiB on top of what the process holds already (four 37 MiB grids at once in
-the runner's summary); run first, that is on the interpreter and its kernels (~170 MiB),
-run after the other items on everything they left loaded (~290 MiB).  Measured, one
-process, AMD EPYC Zen 4 (load 5-9): Fig. 8's peak RSS 449 MiB in report order, 369 MiB
-first (341 MiB with its point Q first, :data:`.table2.RUN_ORDER`); the numbers are the
-same, bit for bit (the items share only files)."""
+Memory (issue 13): Fig. 8's largest point run (Q, 4,879 × 1,000-grain energy grids,
+37 MiB per kind) needs three grids on top of what the process holds already (the two
+kinds, stored once in ``discrete.recording.EnergyGrid``, and one grid-sized map at a
+time in :func:`.fig8.maps_from_grid`; :func:`.table2._reduce` works by row blocks,
+``hertzchain.runner.total_energy_rows``).  Measured, AMD EPYC Zen 4, warm, one process
+(ru_maxrss after each item, 2026-11-27, load 3-5): Fig. 8 first 340 MiB (main: 342),
+after Fig. 3 375 MiB (410 before the row blocks), Fig. 7 in report order after the
+rest 380 MiB (main: 394).  The numbers are the same, bit for bit (the items share only
+files)."""
 
-LANES = (("fig5", "fig7"), ("fig8", "table2", "fig3", "fig2", "fig4", "fig6", "validity"))
+LANES = (("fig5", "fig7"), ("fig3", "fig8", "table2", "fig2", "fig4", "fig6", "validity"))
 """The two lanes of a parallel reproduction (``workers=2``), each run in its order.
 
-The calling process runs the second lane's :data:`FIRST` items (else its Fig. 3), then
-forks a worker for the first lane and goes on with the rest of the second.  Those go
-first for the peak memory (:data:`FIRST`) and because they load what most items use
-(the discrete and continuum kernels, py-pde, matplotlib): forked after them, the worker
-shares those pages instead of loading its own copies (measured with Fig. 3 before the
-fork: 0.08 GB less PSS over both processes than forking before any item, 0.56 against
-0.64 GB).
-Balanced by the items' CPU time in ``--quick`` (measured warm, AMD EPYC Zen 4, issue 13):
-fig5 22 s + fig7 12 s = 34 s in the worker against fig2 16 + fig4 0.8 + fig6 5.1 + fig8
-3.2 + table2 0.6 + validity 3.5 = 29 s after fig3's 3.4 s.  Items that share files stay
-in one lane, in report order: Table 2 reuses Fig. 8's point files (in two lanes both
-would compute them, and Table 2 would count them as computed rather than reused).  The
-lanes share only the cache of settled waves (``Context.cache``, written atomically):
-Fig. 5 settles the δ0/d = 1e-3 wave first in its lane, ~15 s before Fig. 6 needs it in
-the other; had both settled it at once, they would have computed the same wave, bit for
-bit."""
+The calling process runs the second lane's leading :data:`FIRST` items if it starts with
+them, else its Fig. 3, then forks a worker for the first lane and goes on with the rest
+of the second.  Fig. 3 (3.4 s) goes first because it loads what most items use (the
+discrete and continuum kernels, py-pde, matplotlib): forked after it, the worker shares
+those pages instead of loading its own copies (measured: 0.08 GB less PSS over both
+processes than forking before any item, 0.56 against 0.64 GB).  Fig. 8 and Table 2 come
+right after it, on the lowest floor the calling process has after the fork (375 MiB
+peak, :data:`FIRST`); before the issue-13 grid storage they had to run before the fork
+(~10 s on one core: two processes 43.3 s wall on the idle machine, against 35-37 s
+forked after Fig. 3).
+Balanced by the items' CPU time in ``--quick`` (measured warm, AMD EPYC Zen 4, issue 13,
+2026-11-27, load 3-5): fig5 15-20 s + fig7 14-16 s in the worker against fig8 8-10 +
+table2 0.7 + fig2 16 + fig4 1 + fig6 5 + validity 4 s after fig3's 3.5-4.5 s.  Items
+that share files stay in one lane, in report order: Table 2 reuses Fig. 8's point files
+(in two lanes both would compute them, and Table 2 would count them as computed rather
+than reused).  The lanes share only the cache of settled waves (``Context.cache``,
+written atomically): Fig. 5 settles the δ0/d = 1e-3 wave first in its lane, ~15 s
+before Fig. 6 needs it in the other; had both settled it at once, they would have
+computed the same wave, bit for bit."""
 
 QUICK_WORKERS = 2
 """Worker processes of ``--quick`` (:func:`reproduce`'s default there; capped at the cores
@@ -181,7 +187,15 @@ workers 392 MB in the larger process (was 528) and 411 MB PSS over both (was 529
 split's denser grid rows (interface chains with a faster right section, Fig. 7's
 corners) and the runner's row-by-row stacking, idle, 14:05 UTC: one worker 415 MB,
 71.8 s wall; two 376 MB in the larger process, 455 MB PSS over both, 43.3 s wall
-(67.9 s CPU; forked after Fig. 3, before :data:`FIRST`, two took 35-37 s).  Of that, ~240 MiB is the
+(67.9 s CPU; forked after Fig. 3, before :data:`FIRST`, two took 35-37 s).  With the
+energy grid stored once (``discrete.recording.EnergyGrid``) and the worker forked after
+Fig. 3 again (:data:`LANES`), 2026-11-27 16:10-16:47 UTC, load 3-10 (no idle machine
+that afternoon), ``--json`` byte-identical to main's in every run: one worker 396-398 MB
+peak RSS (main 414-464 in the same session), 64-68 s CPU; two workers 396 MB in the
+larger process (main 376), 396-444 MB PSS over both (main 365-445), 68-71 s CPU, wall
+48-63 s at load ~3 (main 98 s at load 4.7), 96-107 s at load 7-8; the ≤ 40 s target
+wants a re-measure on the idle machine.  Without :func:`.common.map_large_arrays`
+(load 9-11): one worker 450 MB, two 434 MB in the larger (kept).  Of that, ~240 MiB is the
 floor of any process that runs a point (measured, RSS): Python with NumPy 26 MiB, SciPy
 (sparse, linalg, optimize) +50, h5py +11, numba +53, the solver and py-pde +25,
 matplotlib +26, the discrete kernels loaded +45, the continuum's +6.  ``--workers 1``

@@ -54,7 +54,7 @@ from theory import integrity
 
 from ..cache import cache_path, canonical_json
 from ..paper import TABLE2, TABLE2_KEYS
-from ..runner import separated_row
+from ..runner import separated_row, total_energy_rows
 from .common import Context, replace_by_reduced, run_models, trim_heap
 
 __all__ = ["QUICK", "FULL", "POINTS", "RUN_ORDER", "in_run_order", "DISTANCES",
@@ -199,16 +199,22 @@ def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
     chain = grids.chain
     ek, ep, t = grids.ek, grids.ep, grids.t
     iface = s["n_left"]
-    e = ek + ep
-    activity = D.interface_activity(e, iface)  # (once: the row rules below read it)
+
+    def per_row(e):  # (a block of rows of e = ek + ep; overwritten)
+        act, front = D.interface_activity(e, iface), _front(e, iface)
+        a = np.abs(e, out=e)
+        return act, front, a.sum(axis=1), a[:, :5].sum(axis=1)
+
+    # the interface activity (once: the row rules below read it), the transmitted front
+    # and the energy near the left wall, per row, by row blocks (bit for bit the whole
+    # grid's, without holding e and |e|: runner.total_energy_rows)
+    activity, front, tot, near_wall = total_energy_rows(ek, ep, per_row)
     i_in = D.incident_time_index(None, iface, activity=activity)
     i_out, _ = separated_row(activity, iface)  # the runner's rule
-    front = _front(e, iface)
     ratios = {k: float(summary[k]) for k in TABLE2_KEYS}
     # rows before the reflected wave reaches the left wall (its echo would change Re)
-    tot = np.abs(e).sum(axis=1)
-    at_wall = np.flatnonzero(np.abs(e[:, :5]).sum(axis=1) > 1e-3 * tot)
-    last = int(at_wall[0]) if at_wall.size else e.shape[0]
+    at_wall = np.flatnonzero(near_wall > 1e-3 * tot)
+    last = int(at_wall[0]) if at_wall.size else ek.shape[0]
     drift = {}
     for dist in DISTANCES:
         rows = np.flatnonzero(front[:last] >= dist)
@@ -222,7 +228,6 @@ def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
     res = PointResult(point, ar, ak, summary, ratios,
                       float(front[i_out]) if i_out is not None else math.nan, drift, inc,
                       _prediction(ar, ak, inc))
-    del e, tot, activity  # (each as large as a grid)
     res.maps = maps_from_grid(t, ek, ep, iface, i_in)
     return res
 

@@ -1,31 +1,31 @@
-"""``Record.energy_grids``: the recorded energy grid without a second copy (issue 13).
+"""``Record.energy`` (:class:`discrete.recording.EnergyGrid`): one owner of the energy grid.
 
-The grid's values are those of the rows stacked, bit for bit, in every case; a kind whose
-rows are the consecutive rows of one array (after ``hertzchain.runner`` stacked them) is
-that array, read-only; rows of several blocks (as the run appends them), or not in
-order, are stacked into a new array.  The memory check uses tracemalloc (NumPy reports
-its buffers to it): reading the stacked grids of a finished run (``energy_grids``,
-``arrays``, which ``discrete.save`` writes) allocates nothing of a grid's size.
+The grid's values are those of the rows stacked, bit for bit, in every case; the blocks
+(one per kind and chunk, as the run records them) are joined once, on the first read,
+each block dropped as soon as it is copied (issue 13: a grid never held twice); later
+reads are views of the joined arrays, read-only.  The memory check uses tracemalloc
+(NumPy reports its buffers to it): reading the grids of a summarised run
+(``energy_grids``, ``arrays``, which ``discrete.save`` writes) allocates nothing of a
+grid's size.
 """
 
 import tracemalloc
 
 import numpy as np
+import pytest
 
 import theory
-from discrete.recording import Record
+from discrete.recording import EnergyGrid, Record
 from hertzchain.scenario import parse_scenario
 
 
 def _record(blocks):
-    """A record whose rows are views of interleaved (rows, 2, n) blocks, as a run's."""
+    """A record whose grid is made of per-kind (rows, n) blocks, as a run's."""
     rec = Record(series_grains=np.zeros(0, np.int64))
     t = 0.0
-    for b in blocks:
-        rec.energy_kinetic.extend(b[:, 0])
-        rec.energy_potential.extend(b[:, 1])
-        rec.energy_t.extend((t + np.arange(b.shape[0])).tolist())
-        t += b.shape[0]
+    for k, p in blocks:
+        rec.energy.extend(t + np.arange(k.shape[0]), k, p)
+        t += k.shape[0]
     return rec
 
 
@@ -33,55 +33,109 @@ def _same(a, b):
     return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
 
 
-def test_rows_of_blocks_are_stacked_to_the_values_of_arrays():
+def _blocks(rng, sizes, n):
+    return [(rng.standard_normal((r, n)), rng.standard_normal((r, n))) for r in sizes]
+
+
+def test_blocks_are_joined_to_the_rows_stacked():
     rng = np.random.default_rng(1)
-    rec = _record([rng.standard_normal((n, 2, 7)) for n in (3, 1, 5)])
+    blocks = _blocks(rng, (3, 1, 5), 7)
+    rec = _record(blocks)
+    assert len(rec.energy) == 9 and rec.energy.consistent()
     t, ek, ep = rec.energy_grids()
+    assert _same(ek, np.concatenate([k for k, _ in blocks]))
+    assert _same(ep, np.concatenate([p for _, p in blocks]))
+    assert _same(t, np.concatenate([np.arange(3.0), 3 + np.arange(1.0), 4 + np.arange(5.0)]))
     arr = rec.arrays()
     assert _same(t, arr["energy_t"]) and _same(ek, arr["energy_kinetic"])
-    assert _same(ep, arr["energy_potential"])
     assert not ek.flags.writeable and not ep.flags.writeable
-    assert not np.shares_memory(ek, rec.energy_kinetic[0])  # (a new array)
+    with pytest.raises(ValueError):
+        ek[0, 0] = 1.0  # (a write raises instead of changing the record)
+    # joined once: the second read is a view of the same array, and of arrays()'s
+    t2, ek2, ep2 = rec.energy_grids()
+    assert np.shares_memory(ek, ek2) and np.shares_memory(ep, ep2)
+    assert np.shares_memory(ek, rec.energy_kinetic) and np.shares_memory(t, t2)
+    assert np.shares_memory(arr["energy_potential"], ep) and arr["series"].flags.writeable
+    # rows appended after a read: joined again, the values of all rows stacked
+    k, p = rng.standard_normal((2, 7)), rng.standard_normal((2, 7))
+    rec.energy.extend([9.0, 10.0], k, p)
+    _, ek3, ep3 = rec.energy_grids()
+    assert _same(ek3, np.concatenate([ek, k])) and _same(ep3, np.concatenate([ep, p]))
 
 
-def test_stacked_rows_are_returned_without_a_copy():
-    rng = np.random.default_rng(2)
-    rec = _record([rng.standard_normal((4, 2, 6)), rng.standard_normal((2, 2, 6))])
-    grids = {}
-    for key in ("energy_kinetic", "energy_potential"):  # as runner._stacked_grid does
-        rows = getattr(rec, key)
-        grids[key] = np.stack(rows)
-        rows[:] = list(grids[key])
-    t, ek, ep = rec.energy_grids()
-    assert np.shares_memory(ek, grids["energy_kinetic"])
-    assert np.shares_memory(ep, grids["energy_potential"])
-    assert _same(ek, grids["energy_kinetic"]) and _same(ep, grids["energy_potential"])
-    assert not ek.flags.writeable and not ep.flags.writeable
-    assert grids["energy_kinetic"].flags.writeable  # (the record's own array unchanged)
-    arr = rec.arrays()  # the same views there; the other fields new arrays
-    assert np.shares_memory(arr["energy_kinetic"], grids["energy_kinetic"])
-    assert not arr["energy_potential"].flags.writeable and arr["series"].flags.writeable
+def test_a_single_block_is_the_grid_without_a_copy():
+    k, p = np.arange(12.0).reshape(3, 4), -np.arange(12.0).reshape(3, 4)
+    rec = _record([(k, p)])
+    _, ek, ep = rec.energy_grids()
+    assert np.shares_memory(ek, k) and np.shares_memory(ep, p) and k.flags.writeable
 
 
-def test_rows_of_one_array_out_of_order_or_partial_are_copied():
-    g = np.arange(24.0).reshape(4, 6)
-    for rows in ([g[1], g[0], g[2], g[3]], [g[0], g[1], g[2]], [g[0], g[2], g[1], g[3]]):
-        rec = Record(series_grains=np.zeros(0, np.int64))
-        rec.energy_kinetic = list(rows)
-        rec.energy_potential = list(rows)
-        rec.energy_t = list(range(len(rows)))
-        _, ek, _ = rec.energy_grids()
-        assert _same(ek, np.stack(rows)) and not np.shares_memory(ek, g)
+class _Tracked(np.ndarray):
+    """A block that reports, when it is freed, which rows of the joined array are filled."""
+
+    log: list = []
+    joined: list = []
+
+    def __del__(self):
+        if getattr(self, "tracked", False) and _Tracked.joined:  # (not its views)
+            filled = int(np.count_nonzero(~np.isnan(_Tracked.joined[0][:, 0])))
+            _Tracked.log.append(filled)
+
+
+def test_joining_frees_each_block_before_copying_the_next(monkeypatch):
+    # The record drops each kind's block as soon as it is copied: while the grid is
+    # joined the memory holds the new array plus the blocks not yet copied, never both
+    # whole (the old interleaved blocks: ~3 kinds of the grid at once).
+    rng = np.random.default_rng(3)
+    rec = Record(series_grains=np.zeros(0, np.int64))
+    for i in range(4):
+        k = rng.standard_normal((5, 3)).view(_Tracked)
+        k.tracked = True
+        rec.energy.extend(10.0 * i + np.arange(5), k, rng.standard_normal((5, 3)))
+    del k
+    empty = np.empty
+
+    def nan_empty(shape, *a, **kw):  # (the joined array starts NaN: its filled rows seen)
+        out = empty(shape, *a, **kw)
+        out.fill(np.nan)
+        if len(np.shape(out)) == 2 and out.shape[0] == 20 and not _Tracked.joined:
+            _Tracked.joined.append(out)
+        return out
+
+    monkeypatch.setattr(np, "empty", nan_empty)
+    _Tracked.log.clear()
+    _Tracked.joined.clear()
+    rec.energy.grids()
+    monkeypatch.undo()
+    # block i freed when rows 0..5(i+1) were filled, before the next block's copy
+    assert _Tracked.log == [5, 10, 15, 20]
+    _Tracked.joined.clear()
+
+
+def test_bad_blocks_are_refused_naming_the_parameter():
+    g = EnergyGrid()
+    with pytest.raises(ValueError, match="kinetic"):
+        g.extend([0.0, 1.0], np.zeros((3, 4)), np.zeros((3, 4)))
+    with pytest.raises(ValueError, match="potential"):
+        g.extend([0.0], np.zeros((1, 4)), np.zeros((1, 5)))
+    with pytest.raises(ValueError, match="kinetic"):
+        g.extend([0.0], np.zeros((1, 4), np.float32), np.zeros((1, 4)))
+    g.extend([0.0], np.zeros((1, 4)), np.zeros((1, 4)))
+    with pytest.raises(ValueError, match="columns"):
+        g.extend([1.0], np.zeros((1, 5)), np.zeros((1, 5)))
+    assert len(g) == 1
 
 
 def test_empty_record():
-    t, ek, ep = Record(series_grains=np.zeros(0, np.int64)).energy_grids()
+    rec = Record(series_grains=np.zeros(0, np.int64))
+    t, ek, ep = rec.energy_grids()
     assert t.shape == (0,) and ek.shape == (0, 0) and ep.shape == (0, 0)
+    assert len(rec.energy) == 0 and rec.energy.consistent()
 
 
 def test_a_summarised_run_s_grids_are_read_without_allocating_them_again():
     # A small Table 2-like run (point N): after the runner's summary, reading the grids
-    # allocates less than 1 % of one grid (views), where arrays() allocates both again.
+    # allocates less than 1 % of one grid (views), where stacking them allocates both.
     from hertzchain.runner import build_simulation, summarise
 
     ar, ak = theory.PAPER_POINTS["N"]
@@ -92,8 +146,14 @@ def test_a_summarised_run_s_grids_are_read_without_allocating_them_again():
         "run": {"t_end": 3e-4}, "record": {"energy_every": 2}})
     chain, _, sim = build_simulation(sc)
     sim.run(3e-4)
+    # the run reserved its rows (t_end) and the kernel wrote them there: one segment,
+    # read without a copy, by the summary too
+    assert len(sim.record.energy._k) == 1
+    storage = sim.record.energy._k[0]
     summarise(chain, sim)
-    grid_bytes = len(sim.record.energy_kinetic) * len(sim.record.energy_kinetic[0]) * 8
+    assert sim.record.energy._k[0] is storage
+    assert np.shares_memory(sim.record.energy_kinetic, storage)
+    grid_bytes = sim.record.energy_kinetic.nbytes
     assert grid_bytes > 1_000_000  # (large enough for the 1 % bound to mean something)
 
     def peak(fn):
@@ -110,6 +170,40 @@ def test_a_summarised_run_s_grids_are_read_without_allocating_them_again():
     assert used < 0.01 * grid_bytes
     assert _same(ek, arr["energy_kinetic"]) and _same(ep, arr["energy_potential"])
     # (the bound can fail: stacking the rows again is seen, both grids)
-    copied, again = peak(lambda: [np.stack(r) for r in (sim.record.energy_kinetic,
-                                                        sim.record.energy_potential)])
+    copied, again = peak(lambda: [np.stack(list(g)) for g in (ek, ep)])
     assert copied >= 2 * grid_bytes and _same(again[0], ek)
+
+
+@pytest.mark.parametrize("move_bytes", [0, 2**20])
+def test_blocks_past_the_reservation_grow_the_storage_and_keep_every_row(monkeypatch,
+                                                                       move_bytes):
+    # block/commit as the run uses them: a reservation, then rows past it (a run bounded
+    # by an event only) in new segments (move_bytes 0: joined on the read; the default:
+    # these few rows moved into each new segment); the values bit for bit.
+    import discrete.recording as R
+
+    rng = np.random.default_rng(4)
+    g = EnergyGrid()
+    g.append(0.0, np.ones(3), -np.ones(3))  # (the row a Simulation takes at its start)
+    g.reserve(4, 3)
+    assert len(g._k) == 1 and len(g) == 1  # (the first row moved into the reservation)
+    monkeypatch.setattr(R, "SMALL_MOVE_BYTES", move_bytes)
+    want_k, want_p, want_t = [np.ones((1, 3))], [-np.ones((1, 3))], [np.zeros(1)]
+    for rows, used in ((3, 2), (5, 5), (2, 0), (9, 7)):
+        k, p = g.block(rows, 3)
+        assert k.shape == (rows, 3) and p.shape == (rows, 3)
+        k[:used], p[:used] = rng.standard_normal((2, used, 3))
+        t = len(g) + np.arange(used, dtype=float)
+        g.commit(t)
+        want_k.append(k[:used].copy())
+        want_p.append(p[:used].copy())
+        want_t.append(t)
+    assert (len(g._k) > 1) == (move_bytes == 0) and len(g) == 15
+    t, ek, ep = g.grids()
+    assert len(g._k) == 1
+    assert _same(ek, np.concatenate(want_k)) and _same(ep, np.concatenate(want_p))
+    assert _same(t, np.concatenate(want_t))
+    with pytest.raises(ValueError, match="cols"):
+        g.block(1, 4)
+    with pytest.raises(ValueError, match="t:"):
+        g.commit(np.zeros(1))  # (no block handed out has room: the grid is full)

@@ -131,9 +131,9 @@ def test_column_argmax_is_numpys():
 
 
 def test_summary_holds_the_energy_grid_once(tmp_path):
-    # The summary stacks each recorded grid once and the record then holds views of that
-    # array (runner._stacked_grid): the same rows, the blocks the run appended freed.
-    # The saved file and a second summary are unchanged, bit for bit.
+    # The run records the grid into the record's storage (discrete.recording.EnergyGrid,
+    # reserved from t_end: one segment per kind); the summary reads views of it, no
+    # copy.  The saved file and a second summary are unchanged, bit for bit.
     import discrete
     from hertzchain.runner import build_simulation, summarise
 
@@ -141,13 +141,13 @@ def test_summary_holds_the_energy_grid_once(tmp_path):
     chain, init, sim = build_simulation(sc)
     sim.run(3e-4)
     rec = sim.record
-    before = {k: np.stack(getattr(rec, k)) for k in ("energy_kinetic", "energy_potential")}
-    assert len({id(r.base) for r in rec.energy_kinetic}) > 1  # the run's blocks
+    storage = (rec.energy._k[0], rec.energy._p[0])
+    assert len(rec.energy._k) == 1 and len(rec.energy._p) == 1
+    before = {k: getattr(rec, k).copy() for k in ("energy_kinetic", "energy_potential")}
     first = summarise(chain, sim)
+    assert rec.energy._k == [storage[0]] and rec.energy._p == [storage[1]]
     for key, grid in before.items():
-        rows = getattr(rec, key)
-        assert len({id(r.base) for r in rows}) == 1 and rows[0].base.shape == grid.shape
-        assert np.array_equal(np.stack(rows), grid)
+        assert np.array_equal(getattr(rec, key), grid)
     assert json.dumps(summarise(chain, sim)) == json.dumps(first)
     discrete.save(tmp_path / "s.h5", sim)
     back = discrete.load(tmp_path / "s.h5").record.arrays()
@@ -358,7 +358,7 @@ def test_rtol_run_with_maxima_reads_the_front_speed_off_them_without_a_grid():
 
     s, sim = run_simulation(impact(rtol=1e-4, integrator="auto"))
     assert s["dt_source"] == "rtol" and sim.record.vmax_time is not None
-    assert not sim.record.energy_t and not sim.recording.energy_every  # no grid
+    assert len(sim.record.energy) == 0 and not sim.recording.energy_every  # no grid
     default, _ = run_simulation(impact())
     assert default["dt_source"] == "default"
     chain, init, _ = build_simulation(impact(), energy_grid=False)
