@@ -236,9 +236,24 @@ def test_reproduce_fig2_table2_quick_json(tmp_path, capsys):
             assert row[k] == pytest.approx(TABLE2[point][k], abs=5e-4), (point, k)
 
 
+def test_fig7_full_step_keeps_labels(tmp_path):
+    # --full runs the points with fig7.FULL["run"] (Blanes-Moan 4, 24x the default dt):
+    # the labels are those of the default dt (all 408 --full points: benchmarks/full_dt.py)
+    from hertzchain.reproduce import fig7
+
+    quick = fig7.run(Context(tmp_path / "q", progress=False), grid=2)
+    full = fig7.run(Context(tmp_path / "f", mode="full", progress=False), grid=2)
+    assert full.extra["backend"] == "loop"
+    assert full.transmitted == quick.transmitted and full.reflected == quick.reflected
+    sc = fig7.scenario(2.0, 0.5, fig7.FULL["run"])
+    assert sc["run"] == {**fig7.BASE["run"], **fig7.FULL["run"]}
+    assert fig7.scenario(2.0, 0.5)["run"] == fig7.BASE["run"]
+
+
 @pytest.mark.slow
 def test_fig7_sweep_backend_matches_loop(tmp_path):
-    # the --full path: the same points through hertzchain.sweep (Dask) give the same labels
+    # the Dask path (backend="sweep"): the same points through hertzchain.sweep give the
+    # loop's labels
     from hertzchain.reproduce import fig7
 
     ctx = Context(tmp_path, progress=False)
