@@ -19,6 +19,8 @@ Usage::
 
     python benchmarks/full_items.py          # every item but fig5
     python benchmarks/full_items.py fig2 fig6 --baseline-tree /work/main
+    python benchmarks/full_items.py --save before.json      # then, after a change:
+    python benchmarks/full_items.py --before before.json
 """
 
 from __future__ import annotations
@@ -94,7 +96,11 @@ def main(argv=None) -> int:
     ap.add_argument("--baseline-tree", type=Path, metavar="DIR",
                     help="another checkout (e.g. main) run item by item beside this one")
     ap.add_argument("--save", type=Path, metavar="FILE", help="write the rows as JSON")
+    ap.add_argument("--before", type=Path, metavar="FILE",
+                    help="a --save file of an earlier run (e.g. before a change): print the "
+                         "CPU ratio and the largest change of a number per item against it")
     args = ap.parse_args(argv)
+    before = json.loads(args.before.read_text()) if args.before else {}
     here = Path(__file__).resolve().parents[1]
     print(f"reproduce --full, one item per process; CPU: {cpu_name()}; load average "
           f"{os.getloadavg()[0]:.1f}", flush=True)
@@ -108,6 +114,14 @@ def main(argv=None) -> int:
                 rows[(item, name)] = r
                 print(f"  {item:9s} {name}: CPU {r['cpu']:6.1f} s  wall {r['wall']:6.1f} s  "
                       f"(load {r['load']:.1f})", flush=True)
+            old = before.get(f"{item}|this")
+            if old:
+                new = rows[(item, "this")]
+                rel, where, other = compare(new["numbers"], old["numbers"])
+                print(f"  {item:9s} against --before: CPU {old['cpu']:.1f} -> {new['cpu']:.1f} s "
+                      f"({old['cpu'] / new['cpu']:.2f}x); largest relative change of a number "
+                      f"{rel:.2e} ({where})" + (f"; {other} keys only on one side" if other
+                                               else ""), flush=True)
             if args.baseline_tree:
                 new, old = rows[(item, "this")], rows[(item, "base")]
                 rel, where, other = compare(new["numbers"], old["numbers"])

@@ -236,6 +236,20 @@ def test_reproduce_fig2_table2_quick_json(tmp_path, capsys):
             assert row[k] == pytest.approx(TABLE2[point][k], abs=5e-4), (point, k)
 
 
+def test_fig6_full_step(tmp_path):
+    # --full runs Fig. 6 at fig6.FULL["dt_fraction"] (twice the default step): a settled
+    # wave's front speed still meets Eq. 5 within 1e-4 (the tiny fixture's bound at the
+    # default step; measured -2.6e-5 on --full's 4,000 grains, -2.0e-5 at the default)
+    from hertzchain.reproduce import fig6
+
+    assert fig6.scenario(1.0, 1.0, fig6.FULL).run.dt_fraction == fig6.FULL["dt_fraction"]
+    assert fig6.scenario(1.0, 1.0).run.dt_fraction is None          # --quick: the default
+    res = fig6.run(Context(tmp_path, mode="full", progress=False), alphas=(1.0,),
+                   length=400, every=10, windows=(10, 50, 380))
+    mono = res["alpha_rho"][0]
+    assert mono.far[2] == pytest.approx(mono.far[4], rel=1e-4)
+
+
 def test_fig7_full_step_keeps_labels(tmp_path):
     # --full runs the points with fig7.FULL["run"] (Blanes-Moan 4, 24x the default dt):
     # the labels are those of the default dt (all 408 --full points: benchmarks/full_dt.py)
