@@ -37,13 +37,16 @@ FULL = {"grid": 20, "lim": (0.2, 5.0), "backend": "loop", "workers": 2,
 """--full: the 408 points in this process (``backend="loop"``) with Blanes–Moan 4 at
 0.048·2π/ω_max (``run``: keys of every point's ``[run]``; 24× velocity Verlet's default
 dt, 1/4 of its force evaluations; the chains are precompressed, no gaps, the method keeps
-its order).  Measured (``benchmarks/full_dt.py --fig7``, ``benchmarks/full_items.py``,
-AMD EPYC Zen 4, load 3.5-6, 2026-11-27): the 408 labels are those of velocity Verlet at
-the default dt, every one (also at 0.096); CPU 19.7 s against 40.5 s at the default dt
-in this process and 86.6 s as before on a local Dask cluster of two processes
-(``backend="sweep"``: worker start-up, imports, kernel loading, scheduler; in a
-two-lane ``--full`` its two workers also competed with Fig. 5's lane for the two
-cores).  The per-point cost is now mostly the runner's set-up and summary (~0.04 s)."""
+its order).  Measured (AMD EPYC Zen 4, shared, 2026-11-27): the 408 labels are those of
+velocity Verlet at the default dt, every one (also at 0.096; ``benchmarks/full_dt.py
+--fig7``, load 3.5-4.7: the points' runs 19.7 s CPU against 40.5 s at the default dt);
+the item, ``benchmarks/full_items.py fig7`` (its own process, load 9.5), 41.0 s CPU
+against 86.6 s before on a local Dask cluster of two processes (``backend="sweep"``:
+worker start-up, imports, kernel loading, scheduler; in a two-lane ``--full`` its two
+workers also competed with Fig. 5's lane for the two cores), of which 7.7 s settle the
+incident wave (shared with Fig. 6 in a whole reproduction) — 22.7 s CPU for the 408
+points after that (load 8).  Per point, the runner's summary (energy-grid stacking and
+interface activity) now costs about as much as the integration (cProfile)."""
 BASE = {
     "chain": {"delta0_over_d": 1e-3, "material": "paper",
               "sections": [{"n": 500}, {"n": 1400, "alpha_rho": 1.0, "alpha_kn": 1.0}]},
