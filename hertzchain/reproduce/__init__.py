@@ -212,8 +212,18 @@ it left the second core idle (the old default: one process with threaded discret
 kernels, 320 s wall for 388 s CPU on the idle machine).  Measured (issue 13, AMD EPYC
 Zen 4, 2 cores shared with other jobs, 2026-11-27): the lanes finished within 3 % of
 each other (load 4.4-7.5: Fig. 5 396 s; Figs. 3, 2, 4, 6, 7, 8, Table 2 and the
-validity item 386 s; load 6-16: 1,302 against 1,316 s), so no item moves between them;
-Fig. 3 goes first in the calling process for the same reason as in :data:`LANES`."""
+validity item 386 s; load 6-16: 1,302 against 1,316 s); Fig. 3 goes first in the
+calling process for the same reason as in :data:`LANES`.  Since Figs. 2, 6 and 7's
+``--full`` steps (their ``FULL``: Fig. 2 at rtol 1e-5, Fig. 6 at twice the default step,
+Fig. 7's points in this process with Blanes–Moan 4) the calling lane's items, run in
+one process on one kernel thread (``--workers 1`` without Fig. 5, warm, AMD EPYC Zen 4,
+2026-11-27 16:41-16:50 UTC), take 109.5 s CPU (98.8 user + 10.7 system; load 7-8)
+against 197.2 s before (177.2 + 20.0, Fig. 7 on Dask; load 4-7): 1.80× less, so ~100 s
+for the lane that took ~180 s on the idle machine (issue 13: ≤ ~110 s).  In a two-lane
+run under load 6-10 (16:22 UTC) the lane finished in 0.72× Fig. 5's wall time (381
+against 529 s, Fig. 5 as before).  No item moves: Fig. 5's lane (~180 s idle) aims at
+~100 s (its continuum's work), about this lane's ~100 s; moving the validity map (~25 s
+CPU) or Fig. 6 (~17 s) to it would tip the balance the other way."""
 
 FULL_WORKERS = 2
 """Worker processes of ``--full`` (:func:`reproduce`'s default there, capped at the cores
@@ -228,7 +238,10 @@ warm kernels, ``/usr/bin/time``): one process (``--workers 1``, threaded kernels
 load the wall times say little beyond the ratio; the CPU time is what the lanes share,
 and it bounds the wall at about half of it: ~200 s for the idle machine's ~390 s CPU if
 the lanes stay balanced there (issue 13's 120 s needs less CPU, mostly in Fig. 5's
-continuum, not more processes)."""
+continuum, not more processes).  After Figs. 2, 6 and 7's ``--full`` steps (load 6-10,
+2026-11-27 16:22 UTC, two workers): 538 s wall, 306 s CPU (294 user + 12 system), peak
+RSS 0.54 GB; the numbers of every item but Figs. 2 and 6 bitwise those before (Fig. 5
+was not changed)."""
 
 _JOIN_GRACE = 10.0
 """Seconds the calling process waits, after a SIGINT/SIGTERM, for the worker to stop by

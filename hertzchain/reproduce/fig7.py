@@ -12,8 +12,9 @@ with the theory.
 Points: a log-spaced ``grid`` × ``grid`` over ``lim`` (an even count keeps every grid
 point off both lines) plus the paper's named points a–d, M, N, P, Q.  They are computed
 by :func:`compute_points`, with a plain loop (``backend="loop"``, one small HDF5
-file of scenario and summary per point) or on Dask through
-:func:`hertzchain.sweep.run_sweep` (``backend="sweep"``, resumable results table).
+file of scenario and summary per point; both modes) or on Dask through
+:func:`hertzchain.sweep.run_sweep` (``backend="sweep"``, resumable results table; the
+same labels, ``tests/hertzchain/test_reproduce.py``).
 """
 
 from __future__ import annotations
@@ -31,7 +32,21 @@ __all__ = ["QUICK", "FULL", "BASE", "Fig7Result", "points", "scenario", "compute
            "report", "to_json"]
 
 QUICK = {"grid": 10, "lim": (0.2, 5.0), "backend": "loop", "workers": 2}
-FULL = {"grid": 20, "lim": (0.2, 5.0), "backend": "sweep", "workers": 2}
+FULL = {"grid": 20, "lim": (0.2, 5.0), "backend": "loop", "workers": 2,
+        "run": {"integrator": "blanes_moan4", "dt_fraction": 0.048}}
+"""--full: the 408 points in this process (``backend="loop"``) with Blanes–Moan 4 at
+0.048·2π/ω_max (``run``: keys of every point's ``[run]``; 24× velocity Verlet's default
+dt, 1/4 of its force evaluations; the chains are precompressed, no gaps, the method keeps
+its order).  Measured (AMD EPYC Zen 4, shared, 2026-11-27): the 408 labels are those of
+velocity Verlet at the default dt, every one (also at 0.096; ``benchmarks/full_dt.py
+--fig7``, load 3.5-4.7: the points' runs 19.7 s CPU against 40.5 s at the default dt);
+the item, ``benchmarks/full_items.py fig7`` (its own process, load 9.5), 41.0 s CPU
+against 86.6 s before on a local Dask cluster of two processes (``backend="sweep"``:
+worker start-up, imports, kernel loading, scheduler; in a two-lane ``--full`` its two
+workers also competed with Fig. 5's lane for the two cores), of which 7.7 s settle the
+incident wave (shared with Fig. 6 in a whole reproduction) — 22.7 s CPU for the 408
+points after that (load 8).  Per point, the runner's summary (energy-grid stacking and
+interface activity) now costs about as much as the integration (cProfile)."""
 BASE = {
     "chain": {"delta0_over_d": 1e-3, "material": "paper",
               "sections": [{"n": 500}, {"n": 1400, "alpha_rho": 1.0, "alpha_kn": 1.0}]},
@@ -56,9 +71,10 @@ def points(grid: int, lim=(0.2, 5.0)) -> list[tuple[str, float, float]]:
     return out
 
 
-def scenario(alpha_rho: float, alpha_kn: float) -> dict:
-    """The scenario dict of one point."""
+def scenario(alpha_rho: float, alpha_kn: float, run: dict | None = None) -> dict:
+    """The scenario dict of one point (``run``: keys added to its ``[run]``, e.g. FULL's)."""
     sc = {k: (dict(v) if isinstance(v, dict) else v) for k, v in BASE.items()}
+    sc["run"] = {**BASE["run"], **(run or {})}
     sc["chain"] = dict(BASE["chain"])
     sc["chain"]["sections"] = [dict(BASE["chain"]["sections"][0]),
                                {"n": BASE["chain"]["sections"][1]["n"],
@@ -67,9 +83,9 @@ def scenario(alpha_rho: float, alpha_kn: float) -> dict:
     return sc
 
 
-def compute_points(ctx: Context, pts, *, backend: str = "loop", workers: int = 2
-                   ) -> list[dict]:
-    """Runner summaries of the points (same order).
+def compute_points(ctx: Context, pts, *, backend: str = "loop", workers: int = 2,
+                   run: dict | None = None) -> list[dict]:
+    """Runner summaries of the points (same order); ``run``: :func:`scenario`'s.
 
     ``backend="loop"`` runs them one after the other in this process (cached per point);
     ``"sweep"`` hands them to :func:`hertzchain.sweep.run_sweep` (a ``zip`` sweep on a
@@ -78,14 +94,14 @@ def compute_points(ctx: Context, pts, *, backend: str = "loop", workers: int = 2
     if backend == "loop":
         out = []
         for _, ar, ak in tqdm_iter(ctx, pts, desc="fig7 points", total=len(pts)):
-            summary, _ = run_scenario_cached(ctx, "fig7", scenario(ar, ak), full=False)
+            summary, _ = run_scenario_cached(ctx, "fig7", scenario(ar, ak, run), full=False)
             out.append(summary)
         return out
     if backend != "sweep":
         raise ValueError(f"backend must be 'loop' or 'sweep' (got {backend!r})")
     from ..sweep import read_results, run_sweep
 
-    spec = {"name": f"fig7-{ctx.mode}", "base": scenario(1.0, 1.0),
+    spec = {"name": f"fig7-{ctx.mode}", "base": scenario(1.0, 1.0, run),
             "sweep": {"mode": "zip", "axes": [
                 {"path": "chain.sections.1.alpha_rho", "name": "alpha_rho_R",
                  "values": [p[1] for p in pts]},
@@ -136,7 +152,8 @@ def run(ctx: Context, **overrides) -> Fig7Result:
     pts = points(s["grid"], s["lim"])
     ctx.log(f"fig7: {len(pts)} points ({s['grid']}×{s['grid']} grid + a–d, M, N, P, Q), "
             f"backend {s['backend']}")
-    summ = compute_points(ctx, pts, backend=s["backend"], workers=s["workers"])
+    summ = compute_points(ctx, pts, backend=s["backend"], workers=s["workers"],
+                          run=s.get("run"))
     ar = np.array([p[1] for p in pts])
     ak = np.array([p[2] for p in pts])
     tr = [str(x["transmitted"]) for x in summ]

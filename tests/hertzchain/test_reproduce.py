@@ -196,6 +196,29 @@ def test_tiny_report(tiny):
     json.dumps(jsonable({r.name: r.numbers for r in runs}), allow_nan=False)
 
 
+def test_fig2_full_rtol_reads_refined_maxima(tmp_path):
+    # --full (fig2.FULL["rtol"]): the precompressed impact at a stated accuracy, v̄max/v0
+    # from the refined maxima.  Reference: the same impact at rtol = 1e-7 (Blanes-Moan 4,
+    # refined maxima).  The rtol run's mean is within 2e-6 of it (measured 1.6e-7 on
+    # 20,000 grains: each maximum within ~rtol = 1e-5 by construction, the errors of a
+    # settled wave's maxima alike, so the mean's no larger); the default dt's sampled
+    # maxima (--quick) are 1.1e-4 high (Verlet's O(dt²), discrete.timestep), so the test
+    # fails if the rtol run read the samples or ran at the default dt.
+    from hertzchain.reproduce import fig2
+    from hertzchain.runner import run_simulation
+
+    n = {1e-3: 1500}
+    full = fig2.run(Context(tmp_path / "full", mode="full", progress=False), n_grains=n,
+                    variants=())
+    quick = fig2.run(Context(tmp_path / "quick", progress=False), n_grains=n, variants=())
+    sc = fig2.scenario(1e-3, 1500).with_values({"run.rtol": 1e-7,
+                                                "run.integrator": "blanes_moan4"})
+    ref = fig2._plateau(run_simulation(sc)[1].record.vmax_refined).mean
+    assert full.vmax_over_v0[1e-3] == pytest.approx(ref, rel=2e-6)
+    assert 3e-5 < quick.vmax_over_v0[1e-3] / ref - 1 < 3e-4
+    assert fig2.scenario(0.0, 150, rtol=1e-5).run.rtol is None   # gaps: the default dt
+
+
 # -- the acceptance numbers ---------------------------------------------------
 def test_reproduce_fig2_table2_quick_json(tmp_path, capsys):
     assert main(["reproduce", "fig2", "table2", "--quick", "--json", "--out",
@@ -213,9 +236,38 @@ def test_reproduce_fig2_table2_quick_json(tmp_path, capsys):
             assert row[k] == pytest.approx(TABLE2[point][k], abs=5e-4), (point, k)
 
 
+def test_fig6_full_step(tmp_path):
+    # --full runs Fig. 6 at fig6.FULL["dt_fraction"] (twice the default step): a settled
+    # wave's front speed still meets Eq. 5 within 1e-4 (the tiny fixture's bound at the
+    # default step; measured -2.6e-5 on --full's 4,000 grains, -2.0e-5 at the default)
+    from hertzchain.reproduce import fig6
+
+    assert fig6.scenario(1.0, 1.0, fig6.FULL).run.dt_fraction == fig6.FULL["dt_fraction"]
+    assert fig6.scenario(1.0, 1.0).run.dt_fraction is None          # --quick: the default
+    res = fig6.run(Context(tmp_path, mode="full", progress=False), alphas=(1.0,),
+                   length=400, every=10, windows=(10, 50, 380))
+    mono = res["alpha_rho"][0]
+    assert mono.far[2] == pytest.approx(mono.far[4], rel=1e-4)
+
+
+def test_fig7_full_step_keeps_labels(tmp_path):
+    # --full runs the points with fig7.FULL["run"] (Blanes-Moan 4, 24x the default dt):
+    # the labels are those of the default dt (all 408 --full points: benchmarks/full_dt.py)
+    from hertzchain.reproduce import fig7
+
+    quick = fig7.run(Context(tmp_path / "q", progress=False), grid=2)
+    full = fig7.run(Context(tmp_path / "f", mode="full", progress=False), grid=2)
+    assert full.extra["backend"] == "loop"
+    assert full.transmitted == quick.transmitted and full.reflected == quick.reflected
+    sc = fig7.scenario(2.0, 0.5, fig7.FULL["run"])
+    assert sc["run"] == {**fig7.BASE["run"], **fig7.FULL["run"]}
+    assert fig7.scenario(2.0, 0.5)["run"] == fig7.BASE["run"]
+
+
 @pytest.mark.slow
 def test_fig7_sweep_backend_matches_loop(tmp_path):
-    # the --full path: the same points through hertzchain.sweep (Dask) give the same labels
+    # the Dask path (backend="sweep"): the same points through hertzchain.sweep give the
+    # loop's labels
     from hertzchain.reproduce import fig7
 
     ctx = Context(tmp_path, progress=False)
