@@ -259,7 +259,7 @@ def run_scenario_cached(ctx: Context, stem: str, scenario, *, full: bool = True
             ctx.reused.append(path)
             return summary, path
     try:  # no output file, no checkpoint: the finished points are cached
-        summary = dict(run(sc, progress=ctx.progress,
+        summary = dict(run(sc, progress=ctx.progress, wave_cache=ctx.cache,
                            checkpoint_interval=ctx.checkpoint_interval).discrete.summary)
     except C.Interrupted as exc:
         raise _retell(exc, ctx, f"this point is not saved, the {stem} points before it "
