@@ -18,7 +18,7 @@ ratios within one run.
 Usage::
 
     python benchmarks/full_items.py          # every item but fig5
-    python benchmarks/full_items.py fig2 fig6 --baseline-tree /work/main
+    python benchmarks/full_items.py fig2 fig6 --baseline-tree ../hertzchain-main
     python benchmarks/full_items.py --save before.json      # then, after a change:
     python benchmarks/full_items.py --before before.json
 """

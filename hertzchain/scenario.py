@@ -59,8 +59,6 @@ from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
-from theory.splitting import ORDER_METHODS, SPLITTINGS, STABILITY_LIMITS, get_splitting
-
 __all__ = [
     "ScenarioError",
     "Key",
@@ -92,6 +90,13 @@ class ScenarioError(ValueError):
 
 
 # -- the schema -------------------------------------------------------------------------
+def _splitting_names() -> tuple:
+    """The names of :data:`theory.splitting.SPLITTINGS` (``[models] integrator``'s choices)."""
+    from theory.splitting import SPLITTINGS
+
+    return tuple(SPLITTINGS)
+
+
 @dataclass(frozen=True)
 class Key:
     """One scenario key: how it is read, validated and documented.
@@ -113,8 +118,10 @@ class Key:
         Unit for the docs ("" if dimensionless).
     low, high : float, optional
         Bounds of numbers (and list entries); ``low_open``/``high_open`` exclude them.
-    choices : tuple
-        Allowed values of a ``"choice"`` key.
+    choices : tuple or callable
+        Allowed values of a ``"choice"`` key, or a function returning them (read when
+        needed: the integrator names come from :mod:`theory.splitting`, whose package
+        imports NumPy, which ``hertzchain --help``/``--version`` must not).
     required : bool
         The key must be given.
     example : object
@@ -130,14 +137,19 @@ class Key:
     high: float | None = None
     low_open: bool = True
     high_open: bool = True
-    choices: tuple = ()
+    choices: Any = ()
     required: bool = False
     example: Any = None
+
+    @property
+    def allowed(self) -> tuple:
+        """The allowed values of a ``"choice"`` key (``choices``, called if callable)."""
+        return tuple(self.choices() if callable(self.choices) else self.choices)
 
     def range_text(self) -> str:
         """The allowed values, for messages and docs."""
         if self.kind == "choice":
-            return ", ".join(repr(c) for c in self.choices)
+            return ", ".join(repr(c) for c in self.allowed)
         if self.low is None and self.high is None:
             return ""
         lo = "-inf" if self.low is None else f"{self.low:g}"
@@ -303,7 +315,7 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("nodes_per_grain", "integer", 5, "continuum grid nodes per grain (odd)", low=1),
         Key("integrator", "choice", None, "the continuum's splitting method "
             "(theory.splitting; kick-first ones with merged FSAL kicks); default: "
-            "\"position_yoshida4\" (or the one of order)", choices=tuple(SPLITTINGS),
+            "\"position_yoshida4\" (or the one of order)", choices=_splitting_names,
             example="blanes_moan4"),
         Key("order", "integer", None, "deprecated alias of integrator: 2 = "
             "\"position_verlet\", 4 = \"position_yoshida4\" (the default)", low=2,
@@ -413,9 +425,9 @@ def _read_value(key: Key, val, where: str):
             raise ScenarioError(f"[{where}] {key.name} must be a string (got {val!r})")
         return val
     if k == "choice":
-        if val not in key.choices:
+        if val not in key.allowed:
             raise ScenarioError(f"[{where}] {key.name} = {val!r}; allowed: "
-                                f"{list(key.choices)}")
+                                f"{list(key.allowed)}")
         return val
     if k in ("numbers", "integers"):
         if not isinstance(val, list):
@@ -641,6 +653,8 @@ class ModelsSpec:
         ``order`` (deprecated): 2 = position Verlet, 4 (default) = Yoshida-4 drift first
         (:data:`theory.splitting.ORDER_METHODS`, the methods it always named).
         """
+        from theory.splitting import ORDER_METHODS
+
         if self.integrator is not None:
             return self.integrator
         return ORDER_METHODS[4 if self.order is None else self.order]
@@ -838,6 +852,8 @@ def _check_record(spec: RecordSpec, n: int, t_end: float | None) -> None:
 
 
 def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
+    from theory.splitting import ORDER_METHODS, STABILITY_LIMITS, get_splitting
+
     if not (spec.discrete or spec.continuum or spec.theory):
         raise ScenarioError("[models] every model is off: set discrete, continuum or theory")
     if spec.nodes_per_grain % 2 == 0:
