@@ -900,8 +900,11 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
     if path is not None and path.exists() and not force:
         try:
             found = _read_continuum(path)
-            if found.params.get("times") == key["times"] and \
-                    found.params.get("t_final") == key["t_final"]:
+            # every parameter of the key, not only the times: a file written with another
+            # integrator, dt_safety, nodes per grain ... (``out`` names it, no hash) is
+            # recomputed, not returned as this run
+            want = json.loads(json.dumps(key))
+            if all(found.params.get(k) == v for k, v in want.items()):
                 return found
         except (OSError, ValueError, KeyError):
             pass

@@ -320,11 +320,13 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("order", "integer", None, "deprecated alias of integrator: 2 = "
             "\"position_verlet\", 4 = \"position_yoshida4\" (the default)", low=2,
             low_open=False, high=4, high_open=False, example=4),
-        Key("dt_safety", "number", 0.5, "continuum time step as a fraction of velocity "
-            "Verlet's stability limit 2/ω_max (the safety of pde.stable_dt, ω_max with the "
-            "stiffening at 1.5 × the largest wave strain included); must stay below the "
-            "integrator's own limit (theory.splitting.STABILITY_LIMITS / 2: Yoshida-4 "
-            "0.79, Blanes–Moan-4 1.58)", low=0, high=2),
+        Key("dt_safety", "number", 0.5, "the safety of the continuum's pde.stable_dt, with "
+            "the stiffening at 1.5 × the largest wave strain included: for Eq. 4 the step "
+            "as a fraction of velocity Verlet's stability limit 2/ω_max, which must stay "
+            "below the integrator's own (theory.splitting.STABILITY_LIMITS / 2: Yoshida-4 "
+            "0.79, Blanes–Moan-4 1.58); for Eq. 7 the factor of its step 0.4 × safety × "
+            "h/c (NesterenkoPDE.stable_dt, ω_max Δt ≈ 0.8 safety before dispersion: the "
+            "same check is more cautious there); not for KdV", low=0, high=2),
         Key("nonlinearity", "choice", "quadratic", "Eq. 4 flux: Eq. 4's quadratic expansion "
             "or the full Hertz law", choices=("quadratic", "hertz")),
         Key("delta_floor", "number", 1e-2, "Eq. 7 regularisation: δ^{1/4} continued "
@@ -862,6 +864,11 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
     if spec.order is not None and spec.order not in ORDER_METHODS:
         raise ScenarioError(f"[models] order = {spec.order}; allowed: 2, 4 (deprecated: "
                             "use integrator)")
+    if spec.continuum == "kdv" and (spec.integrator is not None or spec.order is not None
+                                    or spec.dt_safety != 0.5):
+        raise ScenarioError("[models] integrator, order and dt_safety do not apply to "
+                            "continuum = \"kdv\" (KdV steps with py-pde's Runge-Kutta at its "
+                            "own stable_dt): drop them")
     method = get_splitting(spec.continuum_method)
     if spec.order is not None and spec.integrator is not None and spec.order != method.order:
         raise ScenarioError(f"[models] order = {spec.order} contradicts integrator = "

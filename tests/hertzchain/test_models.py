@@ -127,6 +127,10 @@ def test_auto_picks_eq7_above_the_strain_threshold():
     ({"continuum": "auto", "integrator": "blanes_moan4", "dt_safety": 1.6}, {},
      r"dt_safety = 1.6 is beyond .* allowed \(0, 1.58"),
     ({"continuum": "auto", "dt_safety": 0.0}, {}, r"dt_safety = 0.0 is outside"),
+    ({"continuum": "kdv", "dt_safety": 0.3}, {}, r"dt_safety do not apply to continuum = "
+     r"\"kdv\""),
+    ({"continuum": "kdv", "integrator": "verlet"}, {}, r"integrator, order and dt_safety do "
+     r"not apply"),
     ({"continuum": "auto", "dispersion_cap": 11.0}, {}, r"dispersion_cap = 11.0 is outside"),
     ({"discrete": False, "theory": False}, {}, r"every model is off"),
     ({"samples": 1}, {}, r"samples = 1 must be >= 2"),
@@ -240,6 +244,22 @@ def test_cache_is_reused(with_continuum):
     other = dataclasses.replace(sc, name="renamed",
                                 models=dataclasses.replace(sc.models, continuum=False))
     assert M.run(other, cache=cache, stem="shared", samples=True).discrete.cached
+
+
+def test_out_file_of_other_continuum_settings_is_not_reused(tmp_path):
+    """A continuum file named by ``out`` (no hash in its name) is reused only when every
+    parameter of its key matches: the same times with another integrator/dt_safety are
+    recomputed (before, a Yoshida-4 file came back as the Blanes–Moan run)."""
+    kw = {"continuum": "eq4", "samples": 3, "nodes_per_grain": 3}
+    out = tmp_path / "run.h5"
+    first = M.run(scenario(models=kw, t_end=1e-4), out=out)
+    assert first.continuum.completed and not first.continuum.cached
+    same = M.run(scenario(models=kw, t_end=1e-4), out=out)
+    assert same.continuum.cached  # (the check can pass: the file is reusable)
+    other = M.run(scenario(models={**kw, "integrator": "blanes_moan4", "dt_safety": 1.45},
+                           t_end=1e-4), out=out)
+    assert not other.continuum.cached and other.continuum.params["integrator"] == "blanes_moan4"
+    assert other.continuum.summary["dt"] > 2.5 * first.continuum.summary["dt"]
 
 
 def test_until_front_at_samples_end_at_the_event(tmp_path):
