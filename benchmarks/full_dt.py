@@ -1,11 +1,13 @@
-"""The time step of ``reproduce --full``'s Fig. 2 and Fig. 6 runs: cost against the printed numbers.
+"""The time step of ``reproduce --full``'s Fig. 2, 6 and 7 runs: cost against the printed numbers.
 
 Each candidate (integrator and ``dt_fraction``, or ``rtol``) is run through the one
-run path (:func:`hertzchain.runner.run_simulation`) on the items' own scenarios
-(``fig2.scenario``, ``fig6.scenario`` with ``fig6.FULL``), the numbers the report
+run path (:func:`hertzchain.runner.run_simulation`, Fig. 7's points through
+:func:`hertzchain.runner.run_scenario`) on the items' own scenarios (``fig2.scenario``,
+``fig6.scenario`` with ``fig6.FULL``'s sizes, ``fig7.scenario``), the numbers the report
 prints are computed with the items' own reductions, and each is compared with the
-same number from the current ``--full`` setting (velocity Verlet, default dt) and, for
-Fig. 2, with a converged reference (Blanes–Moan 4, ``rtol = 1e-7``, refined maxima).
+same number at the default step (velocity Verlet, default ``dt_fraction``: the baseline
+"default dt", which ``--full`` ran before it chose its steps) and, for Fig. 2, with a
+converged reference (Blanes–Moan 4, ``rtol = 1e-7``, refined maxima).
 
 * Fig. 2: v̄max/v0 over the plateau (:func:`fig2._plateau` on the recorded maxima:
   the refined maxima ``record.vmax_refined`` where the run records them — an rtol run —
@@ -13,15 +15,17 @@ Fig. 2, with a converged reference (Blanes–Moan 4, ``rtol = 1e-7``, refined ma
   paper's k_n and the two k_n variants at δ0/d = 1e-3, 20,000 grains.
 * Fig. 6: every window of every α (V/c0^L, ξ_max, Eq. 5): the largest absolute change
   of V/c0^L and of V/V_Eq.5 - 1 (printed to 4 decimals / 0.01 %), and of ξ_max/ξ0^L.
+* Fig. 7: the transmitted/reflected labels of the 408 points of ``fig7.FULL``: how
+  many differ from the default dt's.
 
 CPU time (``time.process_time``, one kernel thread) per candidate, summed over the
-runs, with its ratio to the current setting measured in the same process: the machine
+runs, with its ratio to the default dt measured in the same process: the machine
 is shared, the CPU and load are printed.
 
 Usage::
 
-    python benchmarks/full_dt.py                 # both
-    python benchmarks/full_dt.py --fig2 --fig6
+    python benchmarks/full_dt.py                 # all three studies
+    python benchmarks/full_dt.py --fig2 --fig6   # some of them
 """
 
 from __future__ import annotations
@@ -34,7 +38,7 @@ import numpy as np
 from _machine import cpu_name
 
 FIG2_CANDIDATES = {
-    "verlet (current)": {},
+    "default dt": {},
     "rtol 1e-5, auto": {"run.rtol": 1e-5, "run.integrator": "auto"},
     "rtol 1e-6, auto": {"run.rtol": 1e-6, "run.integrator": "auto"},
     "bm4 0.024": {"run.integrator": "blanes_moan4", "run.dt_fraction": 0.024},
@@ -42,7 +46,7 @@ FIG2_CANDIDATES = {
 FIG2_REFERENCE = {"run.rtol": 1e-7, "run.integrator": "blanes_moan4"}
 
 FIG6_CANDIDATES = {
-    "verlet (current)": {},
+    "default dt": {},
     "verlet 0.001": {"run.dt_fraction": 0.001},
     "verlet 0.003": {"run.dt_fraction": 0.003},
     "verlet 0.004": {"run.dt_fraction": 0.004},
@@ -52,7 +56,7 @@ FIG6_CANDIDATES = {
 }
 
 FIG7_CANDIDATES = {
-    "verlet (current)": {},
+    "default dt": {},
     "bm4 0.048": {"integrator": "blanes_moan4", "dt_fraction": 0.048},
     "bm4 0.096": {"integrator": "blanes_moan4", "dt_fraction": 0.096},
 }
@@ -98,18 +102,19 @@ def fig2_study(candidates: dict) -> None:
             b = base[case]
             rel = p.mean / ref[case].mean - 1
             print(f"  {name:18s} {case:14s} {p.mean:.8f} (vs reference {rel:+.1e}, "
-                  f"vs current {p.mean / b.mean - 1:+.1e}) grains {p.start + 1}-{p.stop} "
+                  f"vs default dt {p.mean / b.mean - 1:+.1e}) grains {p.start + 1}-{p.stop} "
                   f"std {p.std:.1e} slope {p.slope_per_1000:.1e}; dt {s['dt']:.3e} s "
                   f"({s['integrator']}), CPU {cpu:.1f} s", flush=True)
         base_cpu = base_cpu or total
-        print(f"  {name:18s} CPU {total:.1f} s, {base_cpu / total:.2f}x fewer than the current "
+        print(f"  {name:18s} CPU {total:.1f} s, {base_cpu / total:.2f}x fewer than the default dt "
               f"(load {os.getloadavg()[0]:.1f})", flush=True)
 
 
 def fig6_study(candidates: dict) -> None:
     from hertzchain.reproduce import fig6
 
-    s = fig6.FULL
+    # FULL's sizes at the default step (FULL's own dt_fraction is one of the candidates)
+    s = {**fig6.FULL, "dt_fraction": None}
     print(f"\nFig. 6, {len(s['alphas'])} α per series, {s['length']} grains past the interface")
     base = None
     base_cpu = None
@@ -156,8 +161,7 @@ def fig7_study(candidates: dict) -> None:
     for name, run in candidates.items():
         labels, total = [], 0.0
         for _, ar, ak in pts:
-            sc = fig7.scenario(ar, ak)
-            sc["run"] = {**sc["run"], **run}
+            sc = fig7.scenario(ar, ak, run)
             c0 = time.process_time()
             summ = run_scenario(parse_scenario(sc), threads=1)
             total += time.process_time() - c0
@@ -166,7 +170,7 @@ def fig7_study(candidates: dict) -> None:
             base, base_cpu = labels, total
         diff = [(p, a, b) for p, a, b in zip(pts, labels, base, strict=True) if a != b]
         print(f"  {name:18s} CPU {total:6.1f} s ({base_cpu / total:.2f}x fewer); "
-              f"{len(diff)} of {len(pts)} labels differ from the current"
+              f"{len(diff)} of {len(pts)} labels differ from the default dt's"
               + "".join(f"; {p[1]:.4g},{p[2]:.4g}: {a} (was {b})" for p, a, b in diff[:5])
               + f" (load {os.getloadavg()[0]:.1f})", flush=True)
 
@@ -177,16 +181,16 @@ def main(argv=None) -> int:
     ap.add_argument("--fig6", action="store_true")
     ap.add_argument("--fig7", action="store_true")
     args = ap.parse_args(argv)
-    both = not (args.fig2 or args.fig6 or args.fig7)
+    every = not (args.fig2 or args.fig6 or args.fig7)
     print(f"CPU: {cpu_name()}; load average {os.getloadavg()[0]:.1f}")
     import numba
 
     numba.set_num_threads(1)
-    if args.fig2 or both:
+    if args.fig2 or every:
         fig2_study(FIG2_CANDIDATES)
-    if args.fig6 or both:
+    if args.fig6 or every:
         fig6_study(FIG6_CANDIDATES)
-    if args.fig7 or both:
+    if args.fig7 or every:
         fig7_study(FIG7_CANDIDATES)
     return 0
 

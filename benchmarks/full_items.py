@@ -6,11 +6,13 @@ dir> ITEM`` (one kernel thread, ``NUMBA_NUM_THREADS=1``, as in a lane) for each 
 :data:`hertzchain.reproduce.FULL_LANES`), warm (numba's kernel cache filled by a
 previous run of this checkout), into a fresh output directory, so every simulation is
 computed.  CPU time is the child's and its children's user + system time (``wait4``:
-Fig. 7's Dask worker processes included), the figure the lanes share on a loaded
+any process an item starts is included; ``--full`` runs Fig. 7 in-process, its
+``backend="sweep"`` would start Dask workers), the figure the lanes share on a loaded
 2-core machine; the wall time is printed beside it with the load average.  With
-``--baseline-tree DIR`` each item is run from that checkout too (interleaved, A B per
-item), and the ``--json`` numbers of both are compared: the largest relative change of
-every printed number is reported.
+``--baseline-tree DIR`` each item is run from that checkout too (interleaved: A B for
+the first item, B A for the second, ...), and the ``--json`` trees of both are compared
+(:func:`compare`): the largest relative change of a number, and how many other leaves
+(strings such as Fig. 7's labels, booleans, nulls) differ or exist on one side only.
 
 The machine is shared: the CPU model and the load average are printed; compare only
 ratios within one run.
@@ -57,37 +59,67 @@ def run_item(tree: Path, item: str, out: Path) -> dict:
     wall = time.perf_counter() - t0
     if os.waitstatus_to_exitcode(status):
         raise SystemExit(f"reproduce failed: {' '.join(cmd)} (PYTHONPATH={tree})")
-    # (wait4's rusage covers the child and its reaped descendants: the Dask workers)
+    # (wait4's rusage covers the child and its reaped descendants, if it starts any)
     cpu = usage.ru_utime + usage.ru_stime
     numbers = json.loads(stdout)  # (one item: its numbers at the top level)
     return {"wall": wall, "cpu": cpu, "load": load, "numbers": numbers.get(item, numbers)}
 
 
 def _leaves(obj, prefix=""):
-    """(path, number) of every number in a JSON tree."""
+    """(path, value) of every leaf of a JSON tree (numbers, strings, booleans, nulls)."""
     if isinstance(obj, dict):
         for k, v in obj.items():
             yield from _leaves(v, f"{prefix}/{k}")
     elif isinstance(obj, list):
         for k, v in enumerate(obj):
             yield from _leaves(v, f"{prefix}/{k}")
-    elif isinstance(obj, (int, float)) and not isinstance(obj, bool):
-        yield prefix, float(obj)
+    else:
+        yield prefix, obj
 
 
-def compare(new: dict, old: dict) -> tuple[float, str, int]:
-    """Largest relative change of a number, where, and how many non-numbers differ."""
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+def compare(new: dict, old: dict) -> tuple[float, str, int, str, int]:
+    """How two ``--json`` trees differ, leaf by leaf (paths ``/key/index/...``).
+
+    Returns
+    -------
+    worst, where : float, str
+        The largest relative change |new - old| / |old| of a number present in both, and
+        its path ("-" if none changed).  NaN against a finite number, and an infinity
+        against anything else, count as ``inf``; NaN against NaN as no change.
+    n_other, other_where : int, str
+        How many other leaves present in both differ (strings such as Fig. 7's
+        labels, booleans, nulls, or a number against a non-number), and the first path.
+    n_one_side : int
+        How many leaves exist in one tree only.
+    """
     a, b = dict(_leaves(new)), dict(_leaves(old))
-    worst, where = 0.0, "-"
-    for k in a.keys() & b.keys():
+    worst, where, n_other, other_where = 0.0, "-", 0, "-"
+    for k in sorted(a.keys() & b.keys()):
         x, y = a[k], b[k]
-        if x == y or (x != x and y != y):
-            continue
-        rel = abs(x - y) / max(abs(y), 1e-300)
-        if rel > worst:
-            worst, where = rel, k
-    other = len(a.keys() ^ b.keys())
-    return worst, where, other
+        if _is_number(x) and _is_number(y):
+            x, y = float(x), float(y)
+            if x == y or (x != x and y != y):
+                continue
+            finite = abs(x) < float("inf") and abs(y) < float("inf")
+            rel = abs(x - y) / max(abs(y), 1e-300) if finite else float("inf")
+            if rel > worst:
+                worst, where = rel, k
+        elif _is_number(x) or _is_number(y) or type(x) is not type(y) or x != y:
+            n_other += 1
+            if n_other == 1:
+                other_where = k
+    return worst, where, n_other, other_where, len(a.keys() ^ b.keys())
+
+
+def _changes(rel: float, where: str, n_other: int, other_where: str, n_one_side: int) -> str:
+    """The printed summary of :func:`compare`."""
+    return (f"largest relative change of a number {rel:.2e} ({where})"
+            + (f"; {n_other} other leaves differ (first {other_where})" if n_other else "")
+            + (f"; {n_one_side} leaves only on one side" if n_one_side else ""))
 
 
 def main(argv=None) -> int:
@@ -108,8 +140,9 @@ def main(argv=None) -> int:
                                 if args.baseline_tree else [])
     rows = {}
     with tempfile.TemporaryDirectory(prefix="bench-full-items-") as tmp:
-        for item in args.items:
-            for k, (name, tree) in enumerate(trees if len(rows) % 2 == 0 else trees[::-1]):
+        for i, item in enumerate(args.items):
+            # alternate which checkout runs first, so neither always meets the same load
+            for k, (name, tree) in enumerate(trees if i % 2 == 0 else trees[::-1]):
                 r = run_item(tree, item, Path(tmp) / f"{name}-{item}-{k}")
                 rows[(item, name)] = r
                 print(f"  {item:9s} {name}: CPU {r['cpu']:6.1f} s  wall {r['wall']:6.1f} s  "
@@ -117,17 +150,13 @@ def main(argv=None) -> int:
             old = before.get(f"{item}|this")
             if old:
                 new = rows[(item, "this")]
-                rel, where, other = compare(new["numbers"], old["numbers"])
                 print(f"  {item:9s} against --before: CPU {old['cpu']:.1f} -> {new['cpu']:.1f} s "
-                      f"({old['cpu'] / new['cpu']:.2f}x); largest relative change of a number "
-                      f"{rel:.2e} ({where})" + (f"; {other} keys only on one side" if other
-                                               else ""), flush=True)
+                      f"({old['cpu'] / new['cpu']:.2f}x); "
+                      + _changes(*compare(new["numbers"], old["numbers"])), flush=True)
             if args.baseline_tree:
                 new, old = rows[(item, "this")], rows[(item, "base")]
-                rel, where, other = compare(new["numbers"], old["numbers"])
                 print(f"  {item:9s} CPU ratio base/this {old['cpu'] / new['cpu']:.2f}x; "
-                      f"largest relative change of a number {rel:.2e} ({where})"
-                      + (f"; {other} keys only on one side" if other else ""), flush=True)
+                      + _changes(*compare(new["numbers"], old["numbers"])), flush=True)
     tot = {n: sum(r["cpu"] for (i, m), r in rows.items() if m == n) for n, _ in trees}
     print("total CPU: " + ", ".join(f"{n} {c:.1f} s" for n, c in tot.items())
           + f"; load average after {os.getloadavg()[0]:.1f}")

@@ -11,23 +11,26 @@ py-pde's generic stepping (``backend="numpy"``); the tests compare the two.
 
 Splitting (symplectic) steps
 ----------------------------
-For states (u, v) with u_t = v and v_t = a(u) a step is a position-Verlet composition
-(:class:`continuum.solver.VerletSolver`)
+For states (u, v) with u_t = v and v_t = a(u) a step is a sequence of P passes "drift,
+kick" and a closing drift (:class:`continuum.solver.VerletSolver`; the letters of
+:mod:`continuum.solver`, "Kernel passes": P passes, S force evaluations per step)
 
 .. math:: u \mathrel{+}= \alpha_0 Δt\,v,\quad v \mathrel{+}= \beta_0 Δt\,a(u),\quad
-          u \mathrel{+}= \alpha_1 Δt\,v,\quad \dots,\quad v \mathrel{+}= \beta_{S-1} Δt\,a(u),
-          \quad u \mathrel{+}= \alpha_S Δt\,v
+          u \mathrel{+}= \alpha_1 Δt\,v,\quad \dots,\quad v \mathrel{+}= \beta_{P-1} Δt\,a(u),
+          \quad u \mathrel{+}= \alpha_P Δt\,v
 
-(Verlet: S = 1, α = (1/2, 1/2), β = (1,); Yoshida-4: S = 3).  Inside a chunk the last
-drift of a step and the first of the next are merged into one (α_S + α_0); a chunk
-starts with α_0 and ends with α_S, so the state is synchronous between chunks.
+(position Verlet: P = 1, α = (1/2, 1/2), β = (1,); Yoshida-4: P = 3; a drift-first
+method has S = P).  Inside a chunk the last drift of a step and the first of the next
+are merged into one (α_P + α_0); a chunk starts with α_0 and ends with α_P, so the
+state is synchronous between chunks.
 
-A kick-first method (:mod:`theory.splitting`) arrives as α = (0, a_1, …, a_S', 0),
-β = (b_1, …, b_{S'+1}) (:func:`continuum.solver.splitting_coefficients`).  With
-α_0 = α_S = 0 ("first same as last", :func:`_pass_coefficients`) the kernels skip a
-step's first pass after the first step and kick (β_{S-1} + β_0) Δt at the end of the
-step before it: one force evaluation where the two kicks act on the same u, so a
-chunk of n steps costs n (S - 1) + 1 evaluations.
+A kick-first method (:mod:`theory.splitting`, S drifts and S + 1 kicks) arrives as
+α = (0, a_1, …, a_S, 0), β = (b_1, …, b_{S+1}), P = S + 1
+(:func:`continuum.solver.splitting_coefficients`).  With α_0 = α_P = 0 ("first same as
+last", :func:`_pass_coefficients`) the kernels skip a step's first pass after the first
+step and kick (β_{P-1} + β_0) Δt at the end of the step before it: one force
+evaluation where the two kicks act on the same u, so a chunk of n steps costs
+n (P - 1) + 1 = n S + 1 evaluations.
 
 Active window (Rosenau form of Eq. 4)
 -------------------------------------
@@ -90,10 +93,11 @@ def _flux(s, nl, kq, bq, khq, d0q, f0q):
 def _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal):
     """Drift and kick (s) of pass j of ``step`` in a chunk, and whether to skip it.
 
-    Drift α_j Δt, merged with the previous step's closing drift (α_S + α_0) Δt for
-    ``step`` > 0 and j = 0; kick β_j Δt.  ``fsal`` (α_0 = α_S = 0): the first pass of a
-    step after the first is skipped and its kick β_0 added to the last pass of the
-    step before (module docstring, "Splitting (symplectic) steps").
+    Drift α_j Δt, merged with the previous step's closing drift (α_P + α_0) Δt for
+    ``step`` > 0 and j = 0; kick β_j Δt (P = ``beta.size`` passes).  ``fsal``
+    (α_0 = α_P = 0): the first pass of a step after the first is skipped and its kick
+    β_0 added to the last pass of the step before (module docstring, "Splitting
+    (symplectic) steps").
     """
     nsub = beta.size
     if j == 0 and step > 0:
@@ -273,7 +277,7 @@ def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f
         Node displacements (m) and velocities (m/s).
     y : float64[N]
         Scratch.
-    alpha, beta : float64[S+1], float64[S]
+    alpha, beta : float64[P+1], float64[P]
         Drift and kick coefficients of the splitting (module docstring).
     h, bc, nl :
         Node spacing (grains), boundary code, nonlinearity code.
@@ -311,7 +315,7 @@ def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f
             _rosenau_pass(u, v, y, lo, hi, a, b, h, bc, nl, kk, bb, kh, d0, f0, fac,
                           tau_s, tau_v, win)
             work += hi - lo + 1
-    # closing drift α_S
+    # closing drift α_P
     a = alpha[nsub] * dt
     if nsteps > 0 and win[0] >= 0:
         lo = max(win[0] - margin, 0)
@@ -795,7 +799,7 @@ def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0
             for i in range(hi + 1 - lo):
                 uu[i] += a * vv[i]
         else:
-            # closing drift α_S, then (monitor) the whole chain's forces and energy
+            # closing drift α_P, then (monitor) the whole chain's forces and energy
             if nsteps > 0:
                 a = alpha[nsub] * dt
                 if windowed:

@@ -59,10 +59,11 @@ from .speeds import (
     nesterenko_speed,
     sonic_vacuum_speed,
 )
-from .splitting import SPLITTINGS, STABILITY_LIMITS, Splitting, get_splitting
+from .splitting import ORDER_METHODS, SPLITTINGS, STABILITY_LIMITS, Splitting, get_splitting
 
 __all__ = [
     "ChainState",
+    "ORDER_METHODS",
     "SPLITTINGS",
     "STABILITY_LIMITS",
     "Splitting",

@@ -31,8 +31,10 @@ __all__ = ["QUICK", "FULL", "BASE", "Fig7Result", "points", "scenario", "compute
            "run", "plot_phase_diagram", "reflected_counts", "paper_statements", "figures",
            "report", "to_json"]
 
-QUICK = {"grid": 10, "lim": (0.2, 5.0), "backend": "loop", "workers": 2}
-FULL = {"grid": 20, "lim": (0.2, 5.0), "backend": "loop", "workers": 2,
+QUICK = {"grid": 10, "lim": (0.2, 5.0), "backend": "loop"}
+"""Both modes run the points in this process (``backend="loop"``); :func:`run` takes
+``backend="sweep"`` and its ``workers`` (Dask processes, default 2) as overrides."""
+FULL = {"grid": 20, "lim": (0.2, 5.0), "backend": "loop",
         "run": {"integrator": "blanes_moan4", "dt_fraction": 0.048}}
 """--full: the 408 points in this process (``backend="loop"``) with Blanes–Moan 4 at
 0.048·2π/ω_max (``run``: keys of every point's ``[run]``; 24× velocity Verlet's default
@@ -144,7 +146,11 @@ class Fig7Result:
 
 
 def run(ctx: Context, **overrides) -> Fig7Result:
-    """Classify the grid and the named points; compare with the theory."""
+    """Classify the grid and the named points; compare with the theory.
+
+    ``overrides``: keys of :data:`QUICK` / :data:`FULL`, and ``workers`` (the Dask
+    processes of ``backend="sweep"``, :func:`compute_points`).
+    """
     from ..sweep.analysis import classification_agreement
     from ..sweep.store import SweepResults
 
@@ -152,8 +158,8 @@ def run(ctx: Context, **overrides) -> Fig7Result:
     pts = points(s["grid"], s["lim"])
     ctx.log(f"fig7: {len(pts)} points ({s['grid']}×{s['grid']} grid + a–d, M, N, P, Q), "
             f"backend {s['backend']}")
-    summ = compute_points(ctx, pts, backend=s["backend"], workers=s["workers"],
-                          run=s.get("run"))
+    summ = compute_points(ctx, pts, backend=s["backend"],
+                          **{k: s[k] for k in ("workers", "run") if k in s})
     ar = np.array([p[1] for p in pts])
     ak = np.array([p[2] for p in pts])
     tr = [str(x["transmitted"]) for x in summ]
