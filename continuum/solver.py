@@ -178,6 +178,13 @@ class _CheckedSolver(SolverBase):
 
             self._chunk = chunk
         else:
+            if self.backend.name == "numba" and getattr(self, "method", None) is not None \
+                    and self.method.kick_first:
+                # py-pde compiles the single step; the kick-first one caches the last
+                # acceleration in a Python dict, which numba cannot type (a TypingError)
+                raise ValueError(f"fused=False with backend 'numba' steps drift-first "
+                                 f"methods only (method {self.method.name!r} is kick "
+                                 "first): use fused=True (default) or backend='numpy'")
             inner = self.backend.make_stepper(self, state)
             evals = self._evaluations_per_step()
 

@@ -304,3 +304,19 @@ def test_nesterenko_precompressed_chain_at_rest_stays_at_rest():
         out = run(pde, state, 100 * dt, dt=dt, interval=50 * dt)
         assert out["info"]["fused"]
         assert np.all(out["state"].data == 0.0), d0
+
+
+def test_unfused_numba_refuses_kick_first_methods():
+    """py-pde's compiled single step cannot carry the kick-first FSAL cache (a Python
+    dict): fused=False with the numba backend is refused for those methods with an error
+    naming the parameters (was a numba TypingError)."""
+    from continuum.solver import VerletSolver
+
+    pde = BoussinesqPDE(Medium.uniform(30, DELTA0), 3, bc="periodic")
+    state = solitary_wave(pde, 15.0, velocity_max=0.0822)
+    with pytest.raises(ValueError, match="fused=False with backend 'numba'.*'blanes_moan4'"):
+        VerletSolver(pde, backend="numba", fused=False, method="blanes_moan4").make_stepper(
+            state, pde.stable_dt(state))
+    # (the check can pass: the same method fused, or drift first unfused, is accepted)
+    for kw in ({"method": "blanes_moan4"}, {"method": "position_verlet", "fused": False}):
+        VerletSolver(pde, backend="numba", **kw).make_stepper(state, pde.stable_dt(state))
