@@ -207,3 +207,40 @@ def test_blocks_past_the_reservation_grow_the_storage_and_keep_every_row(monkeyp
         g.block(1, 4)
     with pytest.raises(ValueError, match="t:"):
         g.commit(np.zeros(1))  # (no block handed out has room: the grid is full)
+
+
+@pytest.mark.parametrize("every,coarsen", [(7, 1), (1000, 3)])
+def test_a_segmented_run_stores_its_grid_in_one_segment_bit_for_bit(every, coarsen):
+    # hertzchain.checkpoint.run_segmented (what reproduce's points run through, with
+    # checkpointing on) calls run() once per segment of restart_period steps, passing
+    # t_end to each: the first call reserves the rows up to t_end, the later ones find
+    # them; each chunk asks for exactly the rows the kernel writes.  Segments of 800
+    # steps (monitor_every) are not multiples of every=7, so chunks start off a multiple
+    # (the requests used to overflow the reservation).  every=1000 > the segment:
+    # segments with no row at all.  One segment, and bit for bit the uninterrupted run.
+    from discrete import Chain, Recording, Section, Simulation
+    from discrete.initial import impact
+    from hertzchain.checkpoint import run_segmented
+
+    mat = theory.PAPER_MATERIAL
+    chain = Chain.from_sections([Section(200, 5e-3, mat)], delta0=1e-3 * 5e-3,
+                                left_wall="paper", right_wall="paper")
+    state = impact(chain, 1.0)
+    sims = []
+    for _ in range(2):
+        rec = Recording(energy_every=every, energy_coarsen=coarsen, monitor_every=800)
+        sims.append(Simulation(chain, state.u, state.v, record=rec))
+    whole, seg = sims
+    t_end = whole.t0 + 6100.5 * whole.dt
+    whole.run(t_end, progress=False)
+    run_segmented(seg, t_end=t_end, signals=False)
+    assert seg.steps == whole.steps == 6101 and seg.restart_period == 800
+    assert len(seg.record.energy) == 1 + seg.steps // every
+    for sim in (seg, whole):
+        assert len(sim.record.energy._k) == 1  # (one segment: read without a copy)
+        storage = sim.record.energy._k[0]
+        assert storage.shape[0] == len(sim.record.energy)  # (reserved exactly)
+        assert np.shares_memory(sim.record.energy_kinetic, storage)
+    for a, b in zip(seg.record.energy_grids(), whole.record.energy_grids(), strict=True):
+        assert _same(a, b)
+    assert _same(seg.u, whole.u) and _same(seg.v, whole.v)
