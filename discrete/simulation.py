@@ -786,8 +786,13 @@ class Simulation:
                         e_rows = (self.steps + nsteps - 1) // e_every - self.steps // e_every
                         erow = (e_every, c, *self.record.energy.block(e_rows, e_cols),
                                 self.chain.mass)
-                    done, rows, fired, erows = self._chunk(nsteps, vmax, umax, rmax, watch,
-                                                           wmax, wthr, ts_buf, erow)
+                    try:
+                        done, rows, fired, erows = self._chunk(nsteps, vmax, umax, rmax,
+                                                               watch, wmax, wthr, ts_buf, erow)
+                    except BaseException:
+                        if e_kernel:  # (no row taken: the grid stays readable)
+                            self.record.energy.commit(())
+                        raise
                     if e_kernel:  # the rows at the multiples of e_every inside the chunk
                         if erows > e_rows or (done == nsteps and erows != e_rows):
                             raise RuntimeError(f"the kernel wrote {erows} energy rows in "
