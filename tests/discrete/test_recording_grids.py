@@ -1,9 +1,13 @@
 """``Record.energy`` (:class:`discrete.recording.EnergyGrid`): one owner of the energy grid.
 
-The grid's values are those of the rows stacked, bit for bit, in every case; the blocks
-(one per kind and chunk, as the run records them) are joined once, on the first read,
-each block dropped as soon as it is copied (issue 13: a grid never held twice); later
-reads are views of the joined arrays, read-only.  The memory check uses tracemalloc
+The grid's values are those of the rows stacked, bit for bit, in every case.  A run
+reserves its rows up to t_end in one segment per kind (also when cut into segments by
+``hertzchain.checkpoint.run_segmented``) and the kernel writes each chunk's rows straight
+into it (``block``/``commit``), so the grid is read as views, no copy; rows past the
+reservation (a run bounded by an event only) or appended with ``extend`` (a file read
+back) go to further segments, joined once, on the first read, each segment dropped as
+soon as it is copied (issue 13: a grid never held twice); later reads are views of the
+joined arrays, read-only.  The memory check uses tracemalloc
 (NumPy reports its buffers to it): reading the grids of a summarised run
 (``energy_grids``, ``arrays``, which ``discrete.save`` writes) allocates nothing of a
 grid's size.
@@ -205,8 +209,8 @@ def test_blocks_past_the_reservation_grow_the_storage_and_keep_every_row(monkeyp
     assert _same(t, np.concatenate(want_t))
     with pytest.raises(ValueError, match="cols"):
         g.block(1, 4)
-    with pytest.raises(ValueError, match="t:"):
-        g.commit(np.zeros(1))  # (no block handed out has room: the grid is full)
+    with pytest.raises(ValueError, match="t: no block is open"):
+        g.commit(np.zeros(1))  # (each block commits once: rows only through block)
 
 
 @pytest.mark.parametrize("every,coarsen", [(7, 1), (1000, 3)])
