@@ -303,6 +303,12 @@ class Record:
                 or not self.energy.consistent()
                 or len({len(getattr(self, name)) for name in self._MONITOR}) != 1):
             raise ValueError("record arrays of inconsistent lengths")
+        cols = -(-n // int(self.energy_coarsen))
+        if len(self.energy) and self.energy.columns != cols:
+            raise ValueError(f"record/energy_kinetic and record/energy_potential must have "
+                             f"ceil(n / energy_coarsen) = {cols} columns (n {n}, "
+                             f"energy_coarsen {self.energy_coarsen}; got "
+                             f"{self.energy.columns})")
         if recording.strain_maxima and (self.overlap_max is None
                                         or self.overlap_max.shape != (n + 1,)):
             raise ValueError(f"record/overlap_max must have shape ({n + 1},)")
@@ -420,7 +426,8 @@ class EnergyGrid:
         self._k: list[np.ndarray] = []  # per segment: (capacity, Nc) kinetic, J
         self._p: list[np.ndarray] = []  # per segment: (capacity, Nc) potential, J
         self._fill: list[int] = []  # rows written per segment
-        self._open = 0  # rows of the block handed out and not yet committed
+        self._open: int | None = None  # rows of the block handed out, not yet committed
+        self._open_seg: np.ndarray | None = None  # the kinetic segment that block is in
 
     def __len__(self) -> int:
         """The number of rows T."""
@@ -438,6 +445,16 @@ class EnergyGrid:
                         for t, k, p, f in zip(self._t, self._k, self._p, self._fill,
                                               strict=True)))
 
+    def _check_closed(self, what: str) -> None:
+        """RuntimeError if a block is handed out and not committed.
+
+        (Its rows are the storage's next rows: any other change would move or overwrite
+        them.)
+        """
+        if self._open is not None:
+            raise RuntimeError(f"EnergyGrid.{what}: a block of {self._open} rows is open "
+                               "(block); commit it first")
+
     def _check_cols(self, cols: int) -> None:
         if self._k and cols != self.columns:
             raise ValueError(f"cols must be the grid's columns {self.columns} (got {cols})")
@@ -453,6 +470,7 @@ class EnergyGrid:
                 or int(at_least) != at_least or at_least < 0):
             raise ValueError(f"rows and at_least must be integers >= 0 and cols >= 1 (got "
                              f"{rows!r}, {at_least!r}, {cols!r})")
+        self._check_closed("reserve")
         self._check_cols(cols)
         rows = max(int(min(rows, RESERVE_MAX_BYTES // (8 * cols))), int(at_least))
         if self._k and self._k[-1].shape[0] - self._fill[-1] >= rows:
@@ -476,32 +494,50 @@ class EnergyGrid:
     def block(self, rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
         """Views of the next ``rows`` rows of the storage (kinetic, potential), to be written.
 
-        Uninitialised; :meth:`commit` then says how many were written.  Grows the storage
-        (a new segment of at least the rows recorded so far: doubling) if needed.
+        Uninitialised; :meth:`commit` then says how many were written (until then the
+        grid refuses any other change, and a read).  Grows the storage (a new segment of
+        at least the rows recorded so far: doubling) if needed.  ValueError for ``rows``
+        not an integer >= 0.
         """
+        if isinstance(rows, bool) or int(rows) != rows or rows < 0:
+            raise ValueError(f"rows must be an integer >= 0 (got {rows!r})")
+        rows = int(rows)
+        self._check_closed("block")
         self._check_cols(cols)
         if not self._k or self._k[-1].shape[0] - self._fill[-1] < rows:
-            self.reserve(max(int(rows), len(self)), cols, at_least=int(rows))
+            self.reserve(max(rows, len(self)), cols, at_least=rows)
         f = self._fill[-1]
-        self._open = int(rows)
+        self._open, self._open_seg = rows, self._k[-1]
         return self._k[-1][f:f + rows], self._p[-1][f:f + rows]
 
     def commit(self, t) -> None:
-        """The rows just written into :meth:`block`'s views are taken, at times ``t`` (s)."""
+        """The rows just written into :meth:`block`'s views are taken, at times ``t`` (s).
+
+        ValueError if no block is open, if ``t`` has more rows than the block, or if the
+        storage is no longer the one the block was handed out from.
+        """
         t = np.asarray(t, dtype=float).reshape(-1)
+        if self._open is None:
+            raise ValueError("t: no block is open (block hands out the rows to commit)")
+        if not self._k or self._k[-1] is not self._open_seg:
+            raise ValueError("commit: the storage changed since block handed out its rows")
         if t.size > self._open:
             raise ValueError(f"t: {t.size} rows, more than the block handed out "
                              f"({self._open} rows, block)")
-        self._open = 0
+        self._open = self._open_seg = None
         f = self._fill[-1]
         self._t[-1][f:f + t.size] = t
         self._fill[-1] = f + t.size
 
     def extend(self, t, kinetic: np.ndarray, potential: np.ndarray) -> None:
-        """Append rows: times ``t`` (R,) s and the (R, Nc) kinds, J, kept as a segment (no copy).
+        """Append rows: times ``t`` (R,) s and the (R, Nc) kinds, J, kept as a segment.
 
-        ValueError for shapes that do not fit (naming the parameter).
+        C-contiguous kinds (``discrete.io.load``'s arrays) are kept themselves, no copy;
+        others are copied into C order (``np.ascontiguousarray``: the segments are
+        C-contiguous, as the kernel's blocks).  ValueError for shapes that do not fit
+        (naming the parameter).
         """
+        self._check_closed("extend")
         t = np.asarray(t, dtype=float).reshape(-1)
         for name, b in (("kinetic", kinetic), ("potential", potential)):
             if not (isinstance(b, np.ndarray) and b.ndim == 2 and b.dtype == np.float64
@@ -514,12 +550,20 @@ class EnergyGrid:
         if not t.size:
             return
         self._t.append(t)
-        self._k.append(kinetic)
-        self._p.append(potential)
+        for segs, b in ((self._k, kinetic), (self._p, potential)):
+            segs.append(b if b.flags.c_contiguous else np.ascontiguousarray(b))
         self._fill.append(t.size)
 
     def append(self, t: float, kinetic: np.ndarray, potential: np.ndarray) -> None:
-        """Append one row (copied into the storage): time ``t`` (s), the (Nc,) kinds (J)."""
+        """Append one row (copied into the storage): time ``t`` (s), the (Nc,) kinds (J).
+
+        ValueError unless ``kinetic`` and ``potential`` are 1-D of one length (the grid's
+        columns once it has some).
+        """
+        self._check_closed("append")
+        if np.ndim(kinetic) != 1 or np.shape(potential) != np.shape(kinetic):
+            raise ValueError(f"kinetic and potential must be 1-D arrays of one length (got "
+                             f"shapes {np.shape(kinetic)}, {np.shape(potential)})")
         k, p = self.block(1, np.shape(kinetic)[0])
         k[0], p[0] = kinetic, potential
         self.commit([t])
@@ -530,8 +574,10 @@ class EnergyGrid:
         Views of the filled rows of the storage; segments are joined into one on the
         first read after rows went to a second segment (each segment freed as it is
         copied, unless someone else holds it).  The values are those of the rows
-        recorded, bit for bit.
+        recorded, bit for bit.  RuntimeError while a block is open (its rows are not
+        yet written: :meth:`commit`).
         """
+        self._check_closed("grids")
         if len(self._k) > 1:
             n = len(self)
             for name in ("_t", "_k", "_p"):

@@ -729,8 +729,14 @@ class Simulation:
         e_cols = -(-n // c) if e_kernel else 1
         no_rows = (np.empty((0, e_cols)), np.empty((0, e_cols)))
         erow = (e_every if e_kernel else 0, c, *no_rows, self.chain.mass)
-        if e_kernel and math.isfinite(limit):  # the rows this run can take, stored once
-            self.record.energy.reserve((int(limit) - self.steps) // e_every + 1, e_cols)
+        # the rows up to t_end, stored once: a run cut into segments (run_segmented,
+        # max_steps per call, t_end in each) reserves them in its first call, and the
+        # later calls find the room (the rows at the multiples of e_every in
+        # (steps, bound]; the end row is _energy_row's)
+        bound = t_step if math.isfinite(t_step) else limit
+        if e_kernel and math.isfinite(bound):
+            self.record.energy.reserve(
+                max(0, int(bound) // e_every - self.steps // e_every), e_cols)
         vmax = self.record.vmax if rec.maxima else np.zeros(n)
         umax = self.record.umax if rec.maxima else np.zeros(n)
         rmax = self.record.overlap_max if rec.strain_maxima else np.zeros(n + 1)
@@ -774,13 +780,24 @@ class Simulation:
                                           np.array([self.t0 + self.steps * self.dt]))
                 else:
                     if e_kernel:  # the kernel writes the chunk's rows (each row zeroed
-                        # by it) straight into the record's storage, no copy
-                        erow = (e_every, c,
-                                *self.record.energy.block(nsteps // e_every + 1, e_cols),
+                        # by it) straight into the record's storage, no copy: exactly
+                        # the multiples of e_every in (steps, steps + nsteps) (the
+                        # chunk's last step's row is _energy_row's, after the chunk)
+                        e_rows = (self.steps + nsteps - 1) // e_every - self.steps // e_every
+                        erow = (e_every, c, *self.record.energy.block(e_rows, e_cols),
                                 self.chain.mass)
-                    done, rows, fired, erows = self._chunk(nsteps, vmax, umax, rmax, watch,
-                                                           wmax, wthr, ts_buf, erow)
+                    try:
+                        done, rows, fired, erows = self._chunk(nsteps, vmax, umax, rmax,
+                                                               watch, wmax, wthr, ts_buf, erow)
+                    except BaseException:
+                        if e_kernel:  # (no row taken: the grid stays readable)
+                            self.record.energy.commit(())
+                        raise
                     if e_kernel:  # the rows at the multiples of e_every inside the chunk
+                        if erows > e_rows or (done == nsteps and erows != e_rows):
+                            raise RuntimeError(f"the kernel wrote {erows} energy rows in "
+                                               f"{done} steps from step {self.steps}, "
+                                               f"expected {e_rows}")  # (never silent)
                         first = (self.steps // e_every + 1) * e_every
                         self.record.energy.commit(
                             self.t0 + (first + e_every * np.arange(erows)) * self.dt)

@@ -176,8 +176,8 @@ kernel thread: the numbers are the same, bit for bit.
 Two, for the wall time (issue 13: ≤ 40 s after compilation).  Measured on an idle 2-core
 AMD EPYC Zen 4 (family 25 model 17, AVX-512; load 0.0-1.5), warm, fresh ``--out``,
 ``benchmarks/reproduce.py`` on 2026-11-27 11:18 UTC: one worker 60.9 s wall, 61.4 s CPU,
-peak 0.48 GB (PSS); two workers 36.8 s wall, 62.5 s CPU, 0.59 GB PSS over both processes
-(largest RSS 0.51 GB).  Under load from other jobs (2.7-5.4, earlier that day) the load
+peak 480 MB (PSS); two workers 36.8 s wall, 62.5 s CPU, 590 MB PSS over both processes
+(largest RSS 510 MB).  Under load from other jobs (2.7-5.4, earlier that day) the load
 decided the wall time more than the count (one 84-146 s, two 78-172 s).  Peak memory
 (issue 13, ``benchmarks/reproduce.py --reference``, 2026-11-27 13:37 UTC, load 3-7,
 beside the same run of the earlier code): one worker 384 MB peak RSS (was 498), two
@@ -193,13 +193,15 @@ Fig. 3 again (:data:`LANES`), 2026-11-27 16:10-16:47 UTC, load 3-10 (no idle mac
 that afternoon), ``--json`` byte-identical to main's in every run: one worker 396-398 MB
 peak RSS (main 414-464 in the same session), 64-68 s CPU; two workers 396 MB in the
 larger process (main 376), 396-444 MB PSS over both (main 365-445), 68-71 s CPU, wall
-48-63 s at load ~3 (main 98 s at load 4.7), 96-107 s at load 7-8; the ≤ 40 s target
-wants a re-measure on the idle machine.  Without :func:`.common.map_large_arrays`
-(load 9-11): one worker 450 MB, two 434 MB in the larger (kept).  Of that, ~240 MiB is the
-floor of any process that runs a point (measured, RSS): Python with NumPy 26 MiB, SciPy
-(sparse, linalg, optimize) +50, h5py +11, numba +53, the solver and py-pde +25,
-matplotlib +26, the discrete kernels loaded +45, the continuum's +6.  ``--workers 1``
-(``workers=1``) runs everything in one process."""
+48-63 s at load ~3 (main 98 s at load 4.7), 96-107 s at load 7-8.  Re-measured on the
+idle machine (``benchmarks/reproduce.py --reference``, 2026-11-27 17:03 UTC): two workers
+36.1-36.9 s wall (the ≤ 40 s target met), 64 s CPU, 396 MB peak RSS in the larger process,
+440-470 MB PSS over both; one worker 60-62 s wall, 398-399 MB peak RSS.  Without
+:func:`.common.map_large_arrays` (load 9-11): one worker 450 MB, two 434 MB in the larger
+(kept).  Of that, ~240 MiB is the floor of any process that runs a point (measured,
+RSS): Python with NumPy 26 MiB, SciPy (sparse, linalg, optimize) +50, h5py +11, numba
++53, the solver and py-pde +25, matplotlib +26, the discrete kernels loaded +45, the
+continuum's +6.  ``--workers 1`` (``workers=1``) runs everything in one process."""
 
 FULL_LANES = (("fig5",), ("fig3", "fig2", "fig4", "fig6", "fig7", "fig8", "table2",
                            "validity"))

@@ -187,7 +187,8 @@ class _Grids:
     @classmethod
     def of(cls, sim: discrete.Simulation) -> _Grids:
         rec = sim.record
-        # (the runner's summary has stacked the grids once: views of them, no copy)
+        # (views of the record's one energy-grid segment, no copy: the run reserved its
+        # rows up to t_end and the kernel wrote them there, discrete.recording.EnergyGrid)
         t, ek, ep = rec.energy_grids()
         return cls(sim.chain, rec.snapshots[0], t, ek, ep)
 

@@ -1,9 +1,13 @@
 """``Record.energy`` (:class:`discrete.recording.EnergyGrid`): one owner of the energy grid.
 
-The grid's values are those of the rows stacked, bit for bit, in every case; the blocks
-(one per kind and chunk, as the run records them) are joined once, on the first read,
-each block dropped as soon as it is copied (issue 13: a grid never held twice); later
-reads are views of the joined arrays, read-only.  The memory check uses tracemalloc
+The grid's values are those of the rows stacked, bit for bit, in every case.  A run
+reserves its rows up to t_end in one segment per kind (also when cut into segments by
+``hertzchain.checkpoint.run_segmented``) and the kernel writes each chunk's rows straight
+into it (``block``/``commit``), so the grid is read as views, no copy; rows past the
+reservation (a run bounded by an event only) or appended with ``extend`` (a file read
+back) go to further segments, joined once, on the first read, each segment dropped as
+soon as it is copied (issue 13: a grid never held twice); later reads are views of the
+joined arrays, read-only.  The memory check uses tracemalloc
 (NumPy reports its buffers to it): reading the grids of a summarised run
 (``energy_grids``, ``arrays``, which ``discrete.save`` writes) allocates nothing of a
 grid's size.
@@ -205,5 +209,118 @@ def test_blocks_past_the_reservation_grow_the_storage_and_keep_every_row(monkeyp
     assert _same(t, np.concatenate(want_t))
     with pytest.raises(ValueError, match="cols"):
         g.block(1, 4)
-    with pytest.raises(ValueError, match="t:"):
-        g.commit(np.zeros(1))  # (no block handed out has room: the grid is full)
+    with pytest.raises(ValueError, match="t: no block is open"):
+        g.commit(np.zeros(1))  # (each block commits once: rows only through block)
+
+
+@pytest.mark.parametrize("every,coarsen", [(7, 1), (1000, 3)])
+def test_a_segmented_run_stores_its_grid_in_one_segment_bit_for_bit(every, coarsen):
+    # hertzchain.checkpoint.run_segmented (what reproduce's points run through, with
+    # checkpointing on) calls run() once per segment of restart_period steps, passing
+    # t_end to each: the first call reserves the rows up to t_end, the later ones find
+    # them; each chunk asks for exactly the rows the kernel writes.  Segments of 800
+    # steps (monitor_every) are not multiples of every=7, so chunks start off a multiple
+    # (the requests used to overflow the reservation).  every=1000 > the segment:
+    # segments with no row at all.  One segment, and bit for bit the uninterrupted run.
+    from discrete import Chain, Recording, Section, Simulation
+    from discrete.initial import impact
+    from hertzchain.checkpoint import run_segmented
+
+    mat = theory.PAPER_MATERIAL
+    chain = Chain.from_sections([Section(200, 5e-3, mat)], delta0=1e-3 * 5e-3,
+                                left_wall="paper", right_wall="paper")
+    state = impact(chain, 1.0)
+    sims = []
+    for _ in range(2):
+        rec = Recording(energy_every=every, energy_coarsen=coarsen, monitor_every=800)
+        sims.append(Simulation(chain, state.u, state.v, record=rec))
+    whole, seg = sims
+    t_end = whole.t0 + 6100.5 * whole.dt
+    whole.run(t_end, progress=False)
+    run_segmented(seg, t_end=t_end, signals=False)
+    assert seg.steps == whole.steps == 6101 and seg.restart_period == 800
+    assert len(seg.record.energy) == 1 + seg.steps // every
+    for sim in (seg, whole):
+        assert len(sim.record.energy._k) == 1  # (one segment: read without a copy)
+        storage = sim.record.energy._k[0]
+        assert storage.shape[0] == len(sim.record.energy)  # (reserved exactly)
+        assert np.shares_memory(sim.record.energy_kinetic, storage)
+    for a, b in zip(seg.record.energy_grids(), whole.record.energy_grids(), strict=True):
+        assert _same(a, b)
+    assert _same(seg.u, whole.u) and _same(seg.v, whole.v)
+
+
+def test_an_open_block_refuses_every_other_change_and_a_read():
+    g = EnergyGrid()
+    g.append(0.0, np.ones(3), -np.ones(3))
+    k, p = g.block(2, 3)
+    for what, call in (("grids", g.grids), ("append", lambda: g.append(1.0, k[0], p[0])),
+                       ("extend", lambda: g.extend([1.0], np.ones((1, 3)), np.ones((1, 3)))),
+                       ("reserve", lambda: g.reserve(5, 3)), ("block", lambda: g.block(1, 3))):
+        with pytest.raises(RuntimeError, match=f"EnergyGrid.{what}: a block of 2 rows"):
+            call()
+    k[:1], p[:1] = 2.0, -2.0
+    g.commit([1.0])
+    t, ek, ep = g.grids()
+    assert _same(t, np.array([0.0, 1.0])) and _same(ek, np.array([[1.0] * 3, [2.0] * 3]))
+    with pytest.raises(ValueError, match="t: no block is open"):
+        g.commit([2.0])  # (committed once)
+
+
+def test_commit_refuses_rows_of_a_storage_it_did_not_hand_out():
+    g = EnergyGrid()
+    g.reserve(2, 3)
+    g.block(1, 3)
+    g._k[-1] = np.zeros((2, 3))  # (as if the storage had been replaced meanwhile)
+    with pytest.raises(ValueError, match="storage changed"):
+        g.commit([0.0])
+
+
+def test_bad_rows_and_rows_of_unequal_kinds_are_refused_naming_the_parameter():
+    g = EnergyGrid()
+    for bad in (-1, 1.5, True):
+        with pytest.raises(ValueError, match="rows must be an integer >= 0"):
+            g.block(bad, 3)
+    k, p = g.block(0, 3)  # (a chunk with no row: an empty block)
+    assert k.shape == (0, 3) and p.shape == (0, 3)
+    g.commit(())
+    for k, p in ((np.ones(3), np.ones(4)), (np.ones((1, 3)), np.ones((1, 3))),
+                 (1.0, 2.0)):
+        with pytest.raises(ValueError, match="kinetic and potential must be 1-D"):
+            g.append(0.0, k, p)
+    assert len(g) == 0
+
+
+def test_extend_keeps_c_contiguous_segments():
+    k = np.arange(12.0).reshape(4, 3).T  # (Fortran order)
+    g = EnergyGrid()
+    g.extend(np.arange(3.0), k, k.copy())
+    assert g._k[0].flags.c_contiguous and _same(g.grids()[1], np.ascontiguousarray(k))
+    c = np.ones((2, 3))
+    g2 = EnergyGrid()
+    g2.extend([0.0, 1.0], c, c)
+    assert g2._k[0] is c  # (C-contiguous: kept, no copy)
+
+
+def test_a_file_with_a_grid_of_the_wrong_width_fails_on_load_naming_the_dataset(tmp_path):
+    pytest.importorskip("h5py")
+    from discrete import Chain, Recording, Section, Simulation, load, save
+    from discrete.initial import impact
+
+    chain = Chain.from_sections([Section(20, 5e-3, theory.PAPER_MATERIAL)],
+                                delta0=1e-3 * 5e-3, left_wall="paper", right_wall="paper")
+    state = impact(chain, 1.0)
+    sim = Simulation(chain, state.u, state.v,
+                     record=Recording(energy_every=5, energy_coarsen=3))
+    sim.run(max_steps=20, progress=False)
+    assert sim.record.energy.columns == 7  # ceil(20 / 3)
+    path = save(tmp_path / "a.h5", sim)
+    assert load(path).record.energy.columns == 7
+    # a file written (and sealed) with a grid one column short: refused on load
+    t, ek, ep = sim.record.energy_grids()
+    bad = EnergyGrid()
+    bad.extend(t, ek[:, :6].copy(), ep[:, :6].copy())
+    sim.record.energy = bad
+    path = save(tmp_path / "b.h5", sim)
+    with pytest.raises(ValueError, match=r"record/energy_kinetic.*ceil\(n / energy_coarsen\) = 7"):
+        load(path)
