@@ -115,12 +115,13 @@ def _impact_run(ctx: Context, delta0_over_d: float, n: int, variant: str,
     the method's order) where the run records them (an ``rtol`` run), else the largest
     sample (``record.vmax``, O(dt²)).
     """
-    r = run_models(ctx, "fig2", scenario(delta0_over_d, n, variant, rtol))
+    sc = scenario(delta0_over_d, n, variant, rtol)
+    r = run_models(ctx, "fig2", sc)
     rec = r.simulation.record
-    if rtol is not None and rec.vmax_refined is None:
+    if sc.run.rtol is not None and rec.vmax_refined is None:
         # (a file of an older version: its sampled maxima are O(dt²) at the rtol step,
         # ~1e-4 low at 13× velocity Verlet's dt — never read them instead)
-        raise ValueError(f"{r.discrete.path}: the rtol = {rtol:g} run has no refined maxima "
+        raise ValueError(f"{r.discrete.path}: the rtol = {sc.run.rtol:g} run has no refined maxima "
                          "(record/vmax_refined); rerun with --force")
     vmax = rec.vmax_refined if rec.vmax_refined is not None else rec.vmax
     return r.simulation, r.discrete.path, np.asarray(vmax)

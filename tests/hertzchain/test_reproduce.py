@@ -219,6 +219,28 @@ def test_fig2_full_rtol_reads_refined_maxima(tmp_path):
     assert fig2.scenario(0.0, 150, rtol=1e-5).run.rtol is None   # gaps: the default dt
 
 
+def test_fig2_full_gap_run_and_missing_refined_maxima(tmp_path, monkeypatch):
+    # --full's rtol applies to the precompressed runs only: the δ0 = 0 impact (gaps: the
+    # default dt and its sampled maxima) runs (a check on the rtol *argument* instead of the
+    # scenario's raised there); an rtol run whose record lacks the refined maxima (a file
+    # of an older version) raises instead of reading the O(dt²) samples
+    from hertzchain.reproduce import fig2
+
+    ctx = Context(tmp_path / "full", mode="full", progress=False)
+    res = fig2.run(ctx, n_grains={0.0: 400}, variants=())
+    assert res.vmax_over_v0[0.0] == pytest.approx(0.6816, abs=2e-3)
+    real = fig2.run_models
+
+    def stripped(*args, **kwargs):
+        r = real(*args, **kwargs)
+        r.simulation.record.vmax_refined = None
+        return r
+
+    monkeypatch.setattr(fig2, "run_models", stripped)
+    with pytest.raises(ValueError, match="rtol = 1e-05 run has no refined maxima"):
+        fig2.run(ctx, n_grains={1e-3: 300}, variants=())
+
+
 # -- the acceptance numbers ---------------------------------------------------
 def test_reproduce_fig2_table2_quick_json(tmp_path, capsys):
     assert main(["reproduce", "fig2", "table2", "--quick", "--json", "--out",
