@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from theory.splitting import SPLITTINGS, Splitting
+from theory.splitting import SPLITTINGS, Splitting, get_splitting
 
 from .reference import accelerations
 
@@ -47,16 +47,11 @@ def get_integrator(name: str | Integrator) -> Integrator:
     A :class:`~theory.splitting.Splitting` passes if it is kick first (the form the
     kernels step).
     """
-    if isinstance(name, Integrator):
-        if not name.kick_first:
-            raise ValueError(f"integrator {name.name!r} is drift first; the discrete solver "
-                             f"steps kick-first methods: {sorted(INTEGRATORS)}")
-        return name
-    try:
-        return INTEGRATORS[name]
-    except (KeyError, TypeError):
-        raise ValueError(f"unknown integrator {name!r}; choose one of "
-                         f"{sorted(INTEGRATORS)}") from None
+    m = get_splitting(name, INTEGRATORS, "integrator")
+    if not m.kick_first:
+        raise ValueError(f"integrator {m.name!r} is drift first; the discrete solver "
+                         f"steps kick-first methods: {sorted(INTEGRATORS)}")
+    return m
 
 
 def step(u, v, a, dt, mass, k, delta0, wall_left=0.0, wall_right=0.0,

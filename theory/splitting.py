@@ -145,12 +145,17 @@ ORDER_METHODS: dict[int, str] = {2: "position_verlet", 4: "position_yoshida4"}
 drift-first methods it has always stepped with)."""
 
 
-def get_splitting(name: str | Splitting) -> Splitting:
-    """The method called ``name`` (ValueError listing the choices otherwise)."""
+def get_splitting(name: str | Splitting, table: dict[str, Splitting] | None = None,
+                  what: str = "splitting method") -> Splitting:
+    """The method called ``name`` in ``table`` (default :data:`SPLITTINGS`).
+
+    A :class:`Splitting` is returned as it is; an unknown name is a ValueError naming
+    ``what`` and listing the table's choices.
+    """
     if isinstance(name, Splitting):
         return name
+    table = SPLITTINGS if table is None else table
     try:
-        return SPLITTINGS[name]
+        return table[name]
     except (KeyError, TypeError):
-        raise ValueError(f"unknown splitting method {name!r}; choose one of "
-                         f"{sorted(SPLITTINGS)}") from None
+        raise ValueError(f"unknown {what} {name!r}; choose one of {sorted(table)}") from None
