@@ -801,7 +801,6 @@ class Simulation:
                         first = (self.steps // e_every + 1) * e_every
                         self.record.energy.commit(
                             self.t0 + (first + e_every * np.arange(erows)) * self.dt)
-                        erow = (e_every, c, *no_rows, self.chain.mass)
                     phase = self.steps % s_every
                     if rows:
                         first = self.steps + (s_every - phase if phase else s_every)
