@@ -50,6 +50,19 @@ the windowed step equals the full one to round-off; the window follows the wave 
 shrinks behind it where the medium comes back to rest).  Periodic chains are always
 integrated whole (cyclic solve by Sherman–Morrison).
 
+The tridiagonal solve (Rosenau form)
+-----------------------------------
+Elimination a_i = r_i/d_i - g_i a_{i-1} and back substitution x_i = a_i - c_i x_{i+1}
+are first-order recurrences: one multiply and one add (6 cycles on Zen 4) per node on
+the dependency chain, two chains (the twisted factorisation's two directions) per sweep.
+The factors d, g, c reach their fixed point bit for bit some tens of nodes after each end
+and each change of the medium (:func:`constant_runs`), and there the kernel advances
+four nodes per link, a_{i+3} = T_3 + g⁴ a_{i-1} with the local sums T off the chain
+(:func:`_eliminate4`, :func:`_substitute4`): the same arithmetic as the one-step form
+to a few ulp (not bit for bit).  Measured (AMD EPYC Zen 4, 70,000 nodes, whole window,
+quadratic flux): a drift-and-kick pass 2.37 → 1.81 ns per node (elimination 0.83 →
+0.46, back substitution and kick 1.01 → 0.68; the flux sweep 0.6, bound by its loads).
+
 Boundary codes (as :mod:`continuum._kernels`): 0 = free, 1 = wall, 2 = periodic.
 Nonlinearity codes: 0 = linear K s, 1 = quadratic K s + B s², 2 = Hertz
 k [δ0 + s]_+^{3/2} - f0.  No ``fastmath``: the tests rely on IEEE arithmetic.
@@ -110,16 +123,61 @@ def _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal):
     return alpha[j] * dt, b, False
 
 
+@nb.njit(inline="always", **_JIT)
+def _eliminate4(y, i0, i1, i2, i3, c1, c2, q2, q3, q4, a):
+    """Four elimination steps a_i = y_i c1 - c2 a_{i-1} with constant c1, c2 (in place).
+
+    Written as a_{i+j} = T_j + (-c2)^{j+1} a with the local sums T (a = 0) off the
+    dependency chain: one multiply-add per four nodes on it instead of four.  ``q2``,
+    ``q3``, ``q4``: c2², -c2³, c2⁴.  The first node is rounded as the one-step form;
+    the others differ from it by round-off (a few ulp, damped by |c2| < 1).
+    """
+    t0 = y[i0] * c1
+    t1 = y[i1] * c1 - c2 * t0
+    t2 = y[i2] * c1 - c2 * t1
+    t3 = y[i3] * c1 - c2 * t2
+    y[i0] = t0 - c2 * a
+    y[i1] = t1 + q2 * a
+    y[i2] = t2 + q3 * a
+    a = t3 + q4 * a
+    y[i3] = a
+    return a
+
+
+@nb.njit(inline="always", **_JIT)
+def _substitute4(y, v, i0, i1, i2, i3, c, q2, q3, q4, beta, a):
+    """Four back-substitution steps x_i = y_i - c x_{i±1} with constant c, and the kick.
+
+    As :func:`_eliminate4`: x_{i+j} = S_j + (-c)^{j+1} x with the local sums S off the
+    dependency chain; v_i += β x_i.  ``q2``, ``q3``, ``q4``: c², -c³, c⁴.
+    """
+    s0 = y[i0]
+    s1 = y[i1] - c * s0
+    s2 = y[i2] - c * s1
+    s3 = y[i3] - c * s2
+    v[i0] += beta * (s0 - c * a)
+    v[i1] += beta * (s1 + q2 * a)
+    v[i2] += beta * (s2 + q3 * a)
+    a = s3 + q4 * a
+    v[i3] += beta * a
+    return a
+
+
 @nb.njit(**_JIT)
-def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac,
+def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
                   tau_s, tau_v, win):
     """One drift (α Δt) and one kick (β Δt) over nodes [L, R], non-periodic ends.
 
-    Sweep A (vectorisable): drift, face strains and fluxes, flux divergence r_i.
-    Sweep B: the "burn at both ends" (twisted) factorisation of the tridiagonal mass
-    operator, eliminating from L upwards and from R downwards at the same time (two
+    Sweep A (vectorisable: each face's flux is computed for both its nodes, no value is
+    carried from one node to the next): drift, face strains and fluxes, flux divergence
+    r_i.  Sweep B: the "burn at both ends" (twisted) factorisation of the tridiagonal
+    mass operator, eliminating from L upwards and from R downwards at the same time (two
     independent dependency chains) to the twist node k; sweep C: back substitution
-    outwards from k with the kick.  ``win`` receives the new active window.
+    outwards from k with the kick.  Where the factors are constant (``runs``,
+    :func:`constant_runs`: everywhere but a few tens of nodes at the chain's ends and
+    its interfaces) B and C advance four nodes per link of their dependency chains
+    (:func:`_eliminate4`, :func:`_substitute4`).  ``win`` receives the new active
+    window.
     """
     n = u.size
     ih = 1.0 / h
@@ -136,50 +194,91 @@ def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac
         s = -2.0 * u[0] * ih if bc == WALL else 0.0
     else:
         s = (u[L - 1] - u[L]) * ih
-    p_prev = _flux(s, nl, kk[L], bb[L], kh[L], d0[L], f0[L])
-    k1 = kk[L + 1:R + 2]
-    b1 = bb[L + 1:R + 2]
-    if nl == 1:
-        for i in range(m_ - 1):
-            s = (uu[i] - uu[i + 1]) * ih
-            p = (k1[i] + b1[i] * s) * s
-            yy[i] = (p_prev - p) * ih
-            p_prev = p
-    else:
-        h1 = kh[L + 1:R + 2]
-        z1 = d0[L + 1:R + 2]
-        f1 = f0[L + 1:R + 2]
-        for i in range(m_ - 1):
-            s = (uu[i] - uu[i + 1]) * ih
-            p = _flux(s, nl, k1[i], b1[i], h1[i], z1[i], f1[i])
-            yy[i] = (p_prev - p) * ih
-            p_prev = p
+    p_lo = _flux(s, nl, kk[L], bb[L], kh[L], d0[L], f0[L])
     if R == n - 1:
         s = 2.0 * u[n - 1] * ih if bc == WALL else 0.0
     else:
         s = (u[R] - u[R + 1]) * ih
     q = R + 1
-    y[R] = (p_prev - _flux(s, nl, kk[q], bb[q], kh[q], d0[q], f0[q])) * ih
-    # ---- sweep B: eliminate L -> k-1 and R -> k+1
+    p_hi = _flux(s, nl, kk[q], bb[q], kh[q], d0[q], f0[q])
+    if m_ == 1:
+        y[L] = (p_lo - p_hi) * ih
+    else:
+        # node i + 1 of the window: left face L + i + 1, right face L + i + 2 (views
+        # from there: the loops index with i, i + 1, i + 2 only, so without wraparound)
+        k1, k2 = kk[L + 1:R + 2], kk[L + 2:R + 2]
+        b1, b2 = bb[L + 1:R + 2], bb[L + 2:R + 2]
+        s = (uu[0] - uu[1]) * ih
+        yy[0] = (p_lo - _flux(s, nl, k1[0], b1[0], kh[L + 1], d0[L + 1], f0[L + 1])) * ih
+        if nl == 1:
+            for i in range(m_ - 2):
+                sl = (uu[i] - uu[i + 1]) * ih
+                sr = (uu[i + 1] - uu[i + 2]) * ih
+                yy[i + 1] = ((k1[i] + b1[i] * sl) * sl - (k2[i] + b2[i] * sr) * sr) * ih
+        else:
+            h1, h2 = kh[L + 1:R + 2], kh[L + 2:R + 2]
+            z1, z2 = d0[L + 1:R + 2], d0[L + 2:R + 2]
+            e1, e2 = f0[L + 1:R + 2], f0[L + 2:R + 2]
+            for i in range(m_ - 2):
+                sl = (uu[i] - uu[i + 1]) * ih
+                sr = (uu[i + 1] - uu[i + 2]) * ih
+                yy[i + 1] = (_flux(sl, nl, k1[i], b1[i], h1[i], z1[i], e1[i])
+                             - _flux(sr, nl, k2[i], b2[i], h2[i], z2[i], e2[i])) * ih
+        s = (uu[m_ - 2] - uu[m_ - 1]) * ih
+        yy[m_ - 1] = (_flux(s, nl, kk[R], bb[R], kh[R], d0[R], f0[R]) - p_hi) * ih
+    # ---- sweep B: eliminate L -> k-1 (a) and R -> k+1 (b)
     k = (L + R) // 2
     nt = k - L
     nb_ = R - k
     a = 0.0
     b = 0.0
-    m = min(nt, nb_)
-    for j in range(m):
-        i = L + j
-        a = y[i] * inv_t[i] - g_t[i] * a
-        y[i] = a
-        i2 = R - j
-        b = y[i2] * inv_b[i2] - g_b[i2] * b
-        y[i2] = b
-    for i in range(L + m, L + nt):
-        a = y[i] * inv_t[i] - g_t[i] * a
-        y[i] = a
-    for i in range(R - m, R - nb_, -1):
-        b = y[i] * inv_b[i] - g_b[i] * b
-        y[i] = b
+    i = L
+    j = R
+    while i < k and j > k:
+        r = min(runs[0, i], runs[1, j], k - i, j - k)
+        if r >= 4:
+            c1, c2, d1, d2 = inv_t[i], g_t[i], inv_b[j], g_b[j]
+            p2 = c2 * c2
+            e2 = d2 * d2
+            p3, p4, e3, e4 = -(p2 * c2), p2 * p2, -(e2 * d2), e2 * e2
+            for _ in range(r // 4):
+                a = _eliminate4(y, i, i + 1, i + 2, i + 3, c1, c2, p2, p3, p4, a)
+                b = _eliminate4(y, j, j - 1, j - 2, j - 3, d1, d2, e2, e3, e4, b)
+                i += 4
+                j -= 4
+        else:
+            a = y[i] * inv_t[i] - g_t[i] * a
+            y[i] = a
+            i += 1
+            b = y[j] * inv_b[j] - g_b[j] * b
+            y[j] = b
+            j -= 1
+    while i < k:
+        r = min(runs[0, i], k - i)
+        if r >= 4:
+            c1, c2 = inv_t[i], g_t[i]
+            p2 = c2 * c2
+            p3, p4 = -(p2 * c2), p2 * p2
+            for _ in range(r // 4):
+                a = _eliminate4(y, i, i + 1, i + 2, i + 3, c1, c2, p2, p3, p4, a)
+                i += 4
+        else:
+            a = y[i] * inv_t[i] - g_t[i] * a
+            y[i] = a
+            i += 1
+    while j > k:
+        r = min(runs[1, j], j - k)
+        if r >= 4:
+            d1, d2 = inv_b[j], g_b[j]
+            e2 = d2 * d2
+            e3, e4 = -(e2 * d2), e2 * e2
+            for _ in range(r // 4):
+                b = _eliminate4(y, j, j - 1, j - 2, j - 3, d1, d2, e2, e3, e4, b)
+                j -= 4
+        else:
+            b = y[j] * inv_b[j] - g_b[j] * b
+            y[j] = b
+            j -= 1
     # twist node: (d_k - e_{k-1} cp_t[k-1] - e_k cp_b[k+1]) x_k = r_k - e_{k-1} a - e_k b
     rk = y[k]
     if nt > 0:
@@ -188,22 +287,56 @@ def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac
         rk -= off[k] * b
     xk = rk * twist[k]
     v[k] += beta * xk
-    # ---- sweep C: back substitution k-1 -> L and k+1 -> R, kick
+    # ---- sweep C: back substitution k-1 -> L (a) and k+1 -> R (b), kick
     a = xk
     b = xk
-    for j in range(1, m + 1):
-        i = k - j
-        a = y[i] - cp_t[i] * a
-        v[i] += beta * a
-        i2 = k + j
-        b = y[i2] - cp_b[i2] * b
-        v[i2] += beta * b
-    for i in range(k - m - 1, k - nt - 1, -1):
-        a = y[i] - cp_t[i] * a
-        v[i] += beta * a
-    for i in range(k + m + 1, k + nb_ + 1):
-        b = y[i] - cp_b[i] * b
-        v[i] += beta * b
+    i = k - 1
+    j = k + 1
+    while i >= L and j <= R:
+        r = min(runs[2, i], runs[3, j], i - L + 1, R - j + 1)
+        if r >= 4:
+            c, d = cp_t[i], cp_b[j]
+            p2 = c * c
+            e2 = d * d
+            p3, p4, e3, e4 = -(p2 * c), p2 * p2, -(e2 * d), e2 * e2
+            for _ in range(r // 4):
+                a = _substitute4(y, v, i, i - 1, i - 2, i - 3, c, p2, p3, p4, beta, a)
+                b = _substitute4(y, v, j, j + 1, j + 2, j + 3, d, e2, e3, e4, beta, b)
+                i -= 4
+                j += 4
+        else:
+            a = y[i] - cp_t[i] * a
+            v[i] += beta * a
+            i -= 1
+            b = y[j] - cp_b[j] * b
+            v[j] += beta * b
+            j += 1
+    while i >= L:
+        r = min(runs[2, i], i - L + 1)
+        if r >= 4:
+            c = cp_t[i]
+            p2 = c * c
+            p3, p4 = -(p2 * c), p2 * p2
+            for _ in range(r // 4):
+                a = _substitute4(y, v, i, i - 1, i - 2, i - 3, c, p2, p3, p4, beta, a)
+                i -= 4
+        else:
+            a = y[i] - cp_t[i] * a
+            v[i] += beta * a
+            i -= 1
+    while j <= R:
+        r = min(runs[3, j], R - j + 1)
+        if r >= 4:
+            d = cp_b[j]
+            e2 = d * d
+            e3, e4 = -(e2 * d), e2 * e2
+            for _ in range(r // 4):
+                b = _substitute4(y, v, j, j + 1, j + 2, j + 3, d, e2, e3, e4, beta, b)
+                j += 4
+        else:
+            b = y[j] - cp_b[j] * b
+            v[j] += beta * b
+            j += 1
     # ---- new active window: scan inwards from both edges
     lo = -1
     for i in range(L, R + 1):
@@ -265,7 +398,7 @@ def _rosenau_pass_periodic(u, v, y, alpha, beta, h, nl, kk, bb, kh, d0, f0,
 
 @nb.njit(**_JIT)
 def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0,
-                  fac, win, margin, tau_s, tau_v):
+                  fac, runs, win, margin, tau_s, tau_v):
     """Advance the Rosenau form of Eq. 4 by ``nsteps`` steps of ``dt`` (s), in place.
 
     Free or wall ends (periodic chains: :func:`rosenau_chunk_periodic`, a kernel of its
@@ -286,6 +419,8 @@ def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f
         (N/m^{3/2}), static overlap (m) and static force k δ0^{3/2} (N) per face.
     fac :
         Factors of the mass operator (:func:`rosenau_factors`).
+    runs : int64[4, N]
+        Lengths of their constant runs (:func:`constant_runs`).
     win : int64[2]
         Active window [lo, hi] (in/out; lo = -1: the chain is at rest).
     margin : int
@@ -312,7 +447,7 @@ def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f
                 continue
             lo = max(win[0] - margin, 0)
             hi = min(win[1] + margin, n - 1)
-            _rosenau_pass(u, v, y, lo, hi, a, b, h, bc, nl, kk, bb, kh, d0, f0, fac,
+            _rosenau_pass(u, v, y, lo, hi, a, b, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
                           tau_s, tau_v, win)
             work += hi - lo + 1
     # closing drift α_P
@@ -388,6 +523,34 @@ def rosenau_factors(diag, off, corner):
         fac[6] = 1.0 / piv
         fac[7, :-1] = e
     return fac, z, vfac
+
+
+def constant_runs(fac) -> np.ndarray:
+    """Lengths of the runs of bitwise-constant factors that :func:`_rosenau_pass` meets.
+
+    Row r, node i: how many consecutive nodes, starting at i in the direction sweep
+    r walks, carry exactly the factors of node i — 0: elimination from the top,
+    ascending (``fac`` rows 0, 1: inv_t, g_t); 1: from the bottom, descending (rows 3,
+    4); 2: back substitution towards the top, descending (row 2, cp_t); 3: towards the
+    bottom, ascending (row 5, cp_b).  The factor recurrences of :func:`rosenau_factors`
+    reach their fixed point (bit for bit) some tens of nodes after each end and each
+    change of the medium, so the runs cover all but those nodes.
+    """
+    fac = np.asarray(fac, float)
+    n = fac.shape[1]
+    out = np.empty((4, n), np.int64)
+    idx = np.arange(n)
+    for r, (rows, up) in enumerate((((0, 1), True), ((3, 4), False), ((2,), False),
+                                    ((5,), True))):
+        x = fac[list(rows)]
+        same = np.all(x[:, 1:] == x[:, :-1], axis=0)  # node i + 1 equals node i
+        if up:  # run from i upwards ends before the first change above i
+            starts = np.r_[np.flatnonzero(~same) + 1, n]
+            out[r] = starts[np.searchsorted(starts, idx, side="right")] - idx
+        else:  # run from i downwards ends after the last change below i
+            ends = np.r_[-1, np.flatnonzero(~same)]
+            out[r] = idx - ends[np.searchsorted(ends, idx, side="left") - 1]
+    return out
 
 
 def window_margin(fac) -> int:

@@ -226,7 +226,8 @@ class BoussinesqPDE(ChainPDEBase):
         """
         if not self._factor_cache:
             self._factor_cache.extend(_stepper.rosenau_factors(*self._bands))
-        fac, z, vfac = self._factor_cache
+            self._factor_cache.append(_stepper.constant_runs(self._factor_cache[0]))
+        fac, z, vfac, runs = self._factor_cache
         kk, bb, kh, d0, f0 = self._kernel_arrays()
         h, bc, nl = float(self.disc.h), int(self._bc_code), int(self._nl_code)
         margin = _stepper.window_margin(fac)
@@ -246,7 +247,7 @@ class BoussinesqPDE(ChainPDEBase):
             def chunk(state_data: np.ndarray, nsteps: int) -> int:
                 return _stepper.rosenau_chunk(
                     state_data[0], state_data[1], y, int(nsteps), dt, alpha, beta, h, bc,
-                    nl, kk, bb, kh, d0, f0, fac, win, margin, tau_s, tau_v)
+                    nl, kk, bb, kh, d0, f0, fac, runs, win, margin, tau_s, tau_v)
 
         chunk.window = win  # type: ignore[attr-defined]
         chunk.margin = margin  # type: ignore[attr-defined]
