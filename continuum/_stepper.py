@@ -419,7 +419,7 @@ def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f
         (N/m^{3/2}), static overlap (m) and static force k δ0^{3/2} (N) per face.
     fac :
         Factors of the mass operator (:func:`rosenau_factors`).
-    runs : int64[4, N]
+    runs : int32[4, N]
         Lengths of their constant runs (:func:`constant_runs`).
     win : int64[2]
         Active window [lo, hi] (in/out; lo = -1: the chain is at rest).
@@ -538,7 +538,7 @@ def constant_runs(fac) -> np.ndarray:
     """
     fac = np.asarray(fac, float)
     n = fac.shape[1]
-    out = np.empty((4, n), np.int64)
+    out = np.empty((4, n), np.int32)  # (a run is at most n < 2^31 nodes long)
     idx = np.arange(n)
     for r, (rows, up) in enumerate((((0, 1), True), ((3, 4), False), ((2,), False),
                                     ((5,), True))):
