@@ -626,7 +626,7 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
             eff, out=path, progress=progress,
             checkpoint_interval=checkpoint_interval,
             resume=resume and not force, threads=threads, check=check, log=log,
-            cache_dir=wave_cache, save=save)
+            cache_dir=wave_cache, save=save, init=init)
     ts, vs, ss = _samples_from_sim(sim, times, init)
     summary = {**summary, **_outcome(scenario, summary, sim)}
     completed, stopped = bool(summary["completed"]), str(summary["stopped_by"])

@@ -412,7 +412,8 @@ def check_run(scenario: Scenario, init) -> None:
 
 
 def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
-                     threads: int | None = None, check: bool = True, cache_dir=None):
+                     threads: int | None = None, check: bool = True, cache_dir=None,
+                     init=None):
     """Chain, initial state and a ready :class:`discrete.Simulation` for ``scenario``.
 
     The energy space-time grid (needed for the energy ratios and front speeds) gets a
@@ -436,30 +437,42 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         :func:`check_run`): False only to provoke an instability on purpose.
     cache_dir : path, optional
         Cache of settled waves (:func:`build_initial`).
+    init : discrete.initial.Initial, optional
+        The initial state already built for this scenario's ``[chain]`` and ``[initial]``
+        (:func:`build_initial_checked`, e.g. by :func:`hertzchain.models.run`), used
+        instead of building it again (an exact solitary wave is a Petviashvili solve,
+        ~0.1-0.3 s).  Its chain must be this scenario's (checked: grain count and
+        masses); the Simulation copies its state.
 
     Raises
     ------
     ScenarioError
         If the chain, the initial wave or the time step cannot work (names the key).
+    ValueError
+        ``init`` is not a state of this scenario's chain.
     """
     check_size(scenario)
     try:
         return _build_simulation(scenario, energy_grid=energy_grid, threads=threads,
-                                 check=check, cache_dir=cache_dir)
+                                 check=check, cache_dir=cache_dir, init=init)
     except MemoryError:
         raise _too_large(scenario, "building the chain and its recording") from None
 
 
 def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | None,
-                      check: bool, cache_dir):
+                      check: bool, cache_dir, init=None):
     try:
         chain = build_chain(scenario.chain)
     except ValueError as exc:
         raise ScenarioError(
             f"[chain] non-physical chain: {exc} (each section's static overlap is "
             "delta0_over_d·d·alpha_kn^(-2/3), from force equilibrium)") from None
-    init = (build_initial_checked(scenario, chain, cache_dir=cache_dir) if check
-            else build_initial(scenario, chain, cache_dir=cache_dir))
+    if init is not None:
+        _check_given_initial(chain, init)
+    elif check:
+        init = build_initial_checked(scenario, chain, cache_dir=cache_dir)
+    else:
+        init = build_initial(scenario, chain, cache_dir=cache_dir)
     if check:
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
@@ -525,6 +538,21 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     sim = init.simulation(dt=step, record=recording, check_dt=check, law=law, drag=drag,
                           **kwargs)
     return init.chain, init, sim
+
+
+def _check_given_initial(chain: discrete.Chain, init) -> None:
+    """ValueError unless ``init`` (a built initial state) belongs to ``chain``.
+
+    The state's chain is ``chain``, or ``chain`` with a striker grain prepended (an
+    impact's ``striker_mass``, section −1): the grain count and the grains' masses are
+    compared exactly (both are built from the same scenario keys).
+    """
+    c = init.chain
+    s0 = int(np.count_nonzero(c.section < 0))  # a prepended striker grain
+    if not (c.n == chain.n + s0 and np.array_equal(c.mass[s0:], chain.mass)):
+        raise ValueError(f"init must be the initial state of this scenario's chain "
+                         f"({chain.n} grains; got a state of {c.n} grains or of other "
+                         "masses)")
 
 
 def _column_argmax(e: np.ndarray, block: int = 64) -> np.ndarray:
@@ -902,7 +930,7 @@ def run_scenario(scenario: Scenario, **kwargs) -> dict:
 def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
                    progress: bool = False, checkpoint_interval: float | None = None,
                    resume: bool = True, threads: int | None = None, check: bool = True,
-                   log=None, cache_dir=None, save: bool = True
+                   log=None, cache_dir=None, save: bool = True, init=None
                    ) -> tuple[dict, discrete.Simulation]:
     """Run ``scenario`` with the discrete solver; return its summary and the Simulation.
 
@@ -939,6 +967,10 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
         Write the finished run to ``out`` (default).  False: ``out`` names only the
         checkpoint (removed at the end as usual) and the lock; the caller keeps what it
         needs of the returned Simulation (``hertzchain reproduce``'s reduced files).
+    init : discrete.initial.Initial, optional
+        The scenario's initial state, already built (:func:`build_simulation`'s
+        ``init``: not built a second time; :func:`hertzchain.models.run` passes its
+        own).  Unused when the run resumes from a checkpoint.
 
     Returns
     -------
@@ -977,7 +1009,7 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
 
     kwargs = {"out": out, "progress": progress, "checkpoint_interval": checkpoint_interval,
               "resume": resume, "threads": threads, "check": check, "log": log,
-              "cache_dir": cache_dir, "save": save}
+              "cache_dir": cache_dir, "save": save, "init": init}
     if out is None:
         return _run_simulation(scenario, **kwargs)
     with C.output_lock(out):  # one process per output file (and its checkpoint)
@@ -985,7 +1017,7 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
 
 
 def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, resume,
-                    threads, check, log, cache_dir, save
+                    threads, check, log, cache_dir, save, init=None
                     ) -> tuple[dict, discrete.Simulation]:
     from . import checkpoint as C
 
@@ -1014,7 +1046,7 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
         say(f"resuming from {ckpt}: t = {sim.t:.6g} s, step {sim.steps}")
     else:
         chain, init, sim = build_simulation(scenario, threads=threads, check=check,
-                                            cache_dir=cache_dir)
+                                            cache_dir=cache_dir, init=init)
         check_stop(scenario, sim.dt)
         amp = incident_amplitude(chain, init.u, init.v, init.wall_left, init.wall_right)
         elapsed = 0.0
