@@ -52,6 +52,7 @@ discrete run resumes from its checkpoint (``.ckpt``) bit for bit.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import math
 import time
@@ -415,7 +416,20 @@ def strain_from_velocity(side: dict, velocity: float) -> float:
     speed V, :func:`theory.nesterenko_speed`).  The peak grain velocity is what a
     settled wave is known by (the paper's v̄max, Fig. 2); a peak strain read off the
     contacts of a wave a few grains wide depends on where the wave sits between them.
+
+    Memoised on what it depends on, (c_mat, ξ0, c0, v) of ``side``: a sweep's points
+    share their incident wave (Fig. 7's 408 points one cut wave), and the bisection
+    costs ~60 speed evaluations (measured, issue 13: 2.7 s of Fig. 7 --full's 39 s
+    under cProfile).
     """
+    return _strain_from_velocity(float(side["c_mat"]), float(side["xi0"]),
+                                 float(side["c0"]), float(velocity))
+
+
+@functools.lru_cache(maxsize=256)
+def _strain_from_velocity(c_mat: float, xi0: float, c0: float, velocity: float) -> float:
+    """:func:`strain_from_velocity` of the side's wave speeds (m/s; ξ0 = δ0/d)."""
+    side = {"c_mat": c_mat, "xi0": xi0, "c0": c0}
     if not velocity > 0:
         return math.nan
     hi = 1e-12
@@ -626,7 +640,7 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
             eff, out=path, progress=progress,
             checkpoint_interval=checkpoint_interval,
             resume=resume and not force, threads=threads, check=check, log=log,
-            cache_dir=wave_cache, save=save)
+            cache_dir=wave_cache, save=save, init=init)
     ts, vs, ss = _samples_from_sim(sim, times, init)
     summary = {**summary, **_outcome(scenario, summary, sim)}
     completed, stopped = bool(summary["completed"]), str(summary["stopped_by"])

@@ -412,7 +412,8 @@ def check_run(scenario: Scenario, init) -> None:
 
 
 def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
-                     threads: int | None = None, check: bool = True, cache_dir=None):
+                     threads: int | None = None, check: bool = True, cache_dir=None,
+                     init=None):
     """Chain, initial state and a ready :class:`discrete.Simulation` for ``scenario``.
 
     The energy space-time grid (needed for the energy ratios and front speeds) gets a
@@ -436,30 +437,42 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         :func:`check_run`): False only to provoke an instability on purpose.
     cache_dir : path, optional
         Cache of settled waves (:func:`build_initial`).
+    init : discrete.initial.Initial, optional
+        The initial state already built for this scenario's ``[chain]`` and ``[initial]``
+        (:func:`build_initial_checked`, e.g. by :func:`hertzchain.models.run`), used
+        instead of building it again (an exact solitary wave is a Petviashvili solve,
+        ~0.1-0.3 s).  Its chain must be this scenario's (checked: grain count and
+        masses); the Simulation copies its state.
 
     Raises
     ------
     ScenarioError
         If the chain, the initial wave or the time step cannot work (names the key).
+    ValueError
+        ``init`` is not a state of this scenario's chain.
     """
     check_size(scenario)
     try:
         return _build_simulation(scenario, energy_grid=energy_grid, threads=threads,
-                                 check=check, cache_dir=cache_dir)
+                                 check=check, cache_dir=cache_dir, init=init)
     except MemoryError:
         raise _too_large(scenario, "building the chain and its recording") from None
 
 
 def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | None,
-                      check: bool, cache_dir):
+                      check: bool, cache_dir, init=None):
     try:
         chain = build_chain(scenario.chain)
     except ValueError as exc:
         raise ScenarioError(
             f"[chain] non-physical chain: {exc} (each section's static overlap is "
             "delta0_over_d·d·alpha_kn^(-2/3), from force equilibrium)") from None
-    init = (build_initial_checked(scenario, chain, cache_dir=cache_dir) if check
-            else build_initial(scenario, chain, cache_dir=cache_dir))
+    if init is not None:
+        _check_given_initial(chain, init)
+    elif check:
+        init = build_initial_checked(scenario, chain, cache_dir=cache_dir)
+    else:
+        init = build_initial(scenario, chain, cache_dir=cache_dir)
     if check:
         check_run(scenario, init)
     rec, run = scenario.record, scenario.run
@@ -525,6 +538,21 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     sim = init.simulation(dt=step, record=recording, check_dt=check, law=law, drag=drag,
                           **kwargs)
     return init.chain, init, sim
+
+
+def _check_given_initial(chain: discrete.Chain, init) -> None:
+    """ValueError unless ``init`` (a built initial state) belongs to ``chain``.
+
+    The state's chain is ``chain``, or ``chain`` with a striker grain prepended (an
+    impact's ``striker_mass``, section −1): the grain count and the grains' masses are
+    compared exactly (both are built from the same scenario keys).
+    """
+    c = init.chain
+    s0 = int(np.count_nonzero(c.section < 0))  # a prepended striker grain
+    if not (c.n == chain.n + s0 and np.array_equal(c.mass[s0:], chain.mass)):
+        raise ValueError(f"init must be the initial state of this scenario's chain "
+                         f"({chain.n} grains; got a state of {c.n} grains or of other "
+                         "masses)")
 
 
 def _column_argmax(e: np.ndarray, block: int = 64) -> np.ndarray:
@@ -660,14 +688,24 @@ def total_energy_rows(ek: np.ndarray, ep: np.ndarray, fn):
     """``fn`` of the total energy grid e = ek + ep (J, (T, Nc)), row block by row block.
 
     ``fn(e_block)`` returns one array, or a tuple of arrays, with one value per row of
-    the block (it may overwrite the block); the blocks' results are joined.  The same
-    values, bit for bit, as ``fn`` of the whole e for any row-wise ``fn`` (each row's
-    reductions do not depend on the other rows), with neither e nor |e| held whole
-    (issue 13: Fig. 8's point Q held four 37 MiB grids at once, ek, ep, e and |e|;
-    now two and a block of :data:`ACTIVITY_ROWS` rows).
+    the block (it may overwrite the block, and must not return a view of it: one block
+    buffer serves every block); the blocks' results are joined.  The same values, bit
+    for bit, as ``fn`` of the whole e for any row-wise ``fn`` (each row's reductions do
+    not depend on the other rows; a block is C-contiguous like a fresh array), with
+    neither e nor |e| held whole (issue 13: Fig. 8's point Q held four 37 MiB grids at
+    once, ek, ep, e and |e|; now two and a block of :data:`ACTIVITY_ROWS` rows).  The
+    buffer is allocated once: a fresh 2-4 MB block per block was mapped and faulted in
+    anew (:func:`hertzchain.reproduce.common.map_large_arrays`); measured on a Fig. 7
+    point's 1,509 × 1,900 grid (AMD EPYC Zen 4): the interface activity 24 → 4.5 ms.
     """
-    parts = [fn(ek[i:i + ACTIVITY_ROWS] + ep[i:i + ACTIVITY_ROWS])
-             for i in range(0, max(ek.shape[0], 1), ACTIVITY_ROWS)]
+    rows = ek.shape[0]
+    buf = np.empty((min(ACTIVITY_ROWS, rows), *ek.shape[1:]),
+                   dtype=np.result_type(ek, ep))
+    parts = []
+    for i in range(0, max(rows, 1), ACTIVITY_ROWS):
+        block = buf[:min(ACTIVITY_ROWS, rows - i)]
+        np.add(ek[i:i + ACTIVITY_ROWS], ep[i:i + ACTIVITY_ROWS], out=block)
+        parts.append(fn(block))
     if isinstance(parts[0], tuple):
         return tuple(np.concatenate(col) for col in zip(*parts, strict=True))
     return np.concatenate(parts)
@@ -676,11 +714,12 @@ def total_energy_rows(ek: np.ndarray, ep: np.ndarray, fn):
 def _interface_activity(ek: np.ndarray, ep: np.ndarray, iface: int) -> np.ndarray:
     """:func:`discrete.diagnostics.interface_activity` of e = ek + ep, by row blocks.
 
-    (:func:`total_energy_rows`: bit for bit the whole grid's.)
+    (:func:`total_energy_rows`: bit for bit the whole grid's; |e| taken in the block.)
     """
     if not ek.shape[0]:
         return np.zeros(0)
-    return total_energy_rows(ek, ep, lambda e: D.interface_activity(e, iface))
+    return total_energy_rows(ek, ep,
+                             lambda e: D.interface_activity(e, iface, overwrite=True))
 
 
 def summarise(chain: discrete.Chain, sim: discrete.Simulation,
@@ -902,7 +941,7 @@ def run_scenario(scenario: Scenario, **kwargs) -> dict:
 def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
                    progress: bool = False, checkpoint_interval: float | None = None,
                    resume: bool = True, threads: int | None = None, check: bool = True,
-                   log=None, cache_dir=None, save: bool = True
+                   log=None, cache_dir=None, save: bool = True, init=None
                    ) -> tuple[dict, discrete.Simulation]:
     """Run ``scenario`` with the discrete solver; return its summary and the Simulation.
 
@@ -939,6 +978,10 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
         Write the finished run to ``out`` (default).  False: ``out`` names only the
         checkpoint (removed at the end as usual) and the lock; the caller keeps what it
         needs of the returned Simulation (``hertzchain reproduce``'s reduced files).
+    init : discrete.initial.Initial, optional
+        The scenario's initial state, already built (:func:`build_simulation`'s
+        ``init``: not built a second time; :func:`hertzchain.models.run` passes its
+        own).  Unused when the run resumes from a checkpoint.
 
     Returns
     -------
@@ -977,7 +1020,7 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
 
     kwargs = {"out": out, "progress": progress, "checkpoint_interval": checkpoint_interval,
               "resume": resume, "threads": threads, "check": check, "log": log,
-              "cache_dir": cache_dir, "save": save}
+              "cache_dir": cache_dir, "save": save, "init": init}
     if out is None:
         return _run_simulation(scenario, **kwargs)
     with C.output_lock(out):  # one process per output file (and its checkpoint)
@@ -985,7 +1028,7 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
 
 
 def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, resume,
-                    threads, check, log, cache_dir, save
+                    threads, check, log, cache_dir, save, init=None
                     ) -> tuple[dict, discrete.Simulation]:
     from . import checkpoint as C
 
@@ -1014,7 +1057,7 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
         say(f"resuming from {ckpt}: t = {sim.t:.6g} s, step {sim.steps}")
     else:
         chain, init, sim = build_simulation(scenario, threads=threads, check=check,
-                                            cache_dir=cache_dir)
+                                            cache_dir=cache_dir, init=init)
         check_stop(scenario, sim.dt)
         amp = incident_amplitude(chain, init.u, init.v, init.wall_left, init.wall_right)
         elapsed = 0.0

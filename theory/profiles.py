@@ -247,11 +247,23 @@ def _sonic_vacuum_wave(ppg, tol, max_iter, exponent=1.5):
     return w, hist, _trig_max(w, ppg), _trig_max(_velocity_profile(w, ppg), ppg)
 
 
+@lru_cache(maxsize=4)
 def _precompressed_wave(target, kind, ppg, tol, max_iter):
     """δ0 > 0 (R = δ0 ρ, s² = (k/m) δ0^{1/2} σ²): secant search in y = log(σ²/1.5 - 1).
 
     Matches ``kind`` "amplitude" (ε = w_max) or "velocity" (σ ṽ_max) to ``target``.
+    Cached (as :func:`_sonic_vacuum_wave`; arrays read-only, shared between calls): a
+    map's interfaces share their incident wave (``reproduce --full``'s validity map:
+    16 points, 3 precompressed waves, each solved 4 times, 0.15-0.3 s a solve; issue 13).
+    Four entries: a wave is at most 2^22 points (32 MB), in practice ≤ 1e5.
     """
+    w, hist, total, n_dom, sigma2 = _solve_precompressed(target, kind, ppg, tol, max_iter)
+    w.flags.writeable = hist.flags.writeable = False  # cached: shared between calls
+    return w, hist, total, n_dom, sigma2
+
+
+def _solve_precompressed(target, kind, ppg, tol, max_iter):
+    """:func:`_precompressed_wave`, uncached."""
     eps = target  # nesterenko_speed(1, 1, ε) is σ of Nesterenko's long-wave relation
     if kind == "velocity":  # long-wave estimate v ≈ V ξ  →  σ ε ≈ target
         for _ in range(30):

@@ -411,7 +411,8 @@ def phase_averaged_ratios(
     return full, float(est)
 
 
-def interface_activity(energy: ArrayLike, interface: int, halfwidth: int = 5) -> FloatArray:
+def interface_activity(energy: ArrayLike, interface: int, halfwidth: int = 5, *,
+                       overwrite: bool = False) -> FloatArray:
     """Fraction of the wave energy within ``halfwidth`` grains of an interface, per time.
 
     Σ_{|i - interface + ½| < halfwidth} |e_i| / Σ_i |e_i|, with ``interface`` the index
@@ -427,8 +428,13 @@ def interface_activity(energy: ArrayLike, interface: int, halfwidth: int = 5) ->
         First grain of the right section (e.g. ``n_left``).
     halfwidth : int
         Grains on each side.
+    overwrite : bool
+        ``energy`` is a float64 array the caller no longer needs: |e| is taken in place
+        (the same values, without a second array; measured, issue 13: a 256-row block
+        of 1,900 grains is 3.9 MB, a fresh mapping and its page faults per call).
     """
-    e = np.abs(_f(energy, "energy"))
+    e = _f(energy, "energy")
+    e = np.abs(e, out=e) if overwrite and e is energy else np.abs(e)
     if e.ndim != 2:
         raise ValueError("energy must be a (n_times, N) array")
     n = e.shape[1]

@@ -42,7 +42,8 @@ from .. import checkpoint as C
 from ..cache import atomic_path, cache_path, canonical_json
 from ..paper import DIAMETER, V0
 
-__all__ = ["MODES", "Context", "run_models", "run_scenario_cached", "read_summary",
+__all__ = ["MODES", "Context", "run_models", "run_scenario_cached", "run_point_cached",
+           "read_summary",
            "replace_by_reduced",
            "paper_scenario", "ContinuumProfile", "continuum_profile", "plot_continuum",
            "continuum_sentence", "DIFF_SHOWN", "new_figure", "save_figure", "log_ticks",
@@ -238,38 +239,79 @@ def run_scenario_cached(ctx: Context, stem: str, scenario, *, full: bool = True
     file: with ``full`` the whole run (:func:`run_models`: cached and checkpointed;
     :func:`discrete.load` reads it back, with the recorded energy grid — several MB),
     otherwise a small file with only the scenario and the summary as JSON attributes
-    (for sweeps of many points, e.g. Fig. 7), the run itself in memory only.
+    (:func:`run_point_cached`; for sweeps of many points, e.g. Fig. 7), the run itself in
+    memory only.
     """
-    from ..models import run
     from ..scenario import Scenario, parse_scenario
 
     sc = scenario if isinstance(scenario, Scenario) else parse_scenario(scenario)
     if full:
         result = run_models(ctx, stem, sc)
         return dict(result.discrete.summary), Path(result.discrete.path)
+    return run_point_cached(ctx, stem, sc, lambda result: dict(result.discrete.summary))
+
+
+def run_point_cached(ctx: Context, stem: str, scenario, reduce) -> tuple[dict, Path]:
+    """What an item keeps of one scenario's models, cached in a small HDF5 file.
+
+    For items of many points that print a few numbers per point (Fig. 7's labels, the
+    validity map's errors): every model of the scenario is run in memory by
+    :func:`hertzchain.models.run` (the one run path; no run files, no checkpoints: a
+    point takes seconds) and ``reduce(run)`` — a JSON-able dict (floats, also NaN, round
+    trip exactly) — is written to ``ctx.runs/<stem>-<hash>.h5``, keyed by the scenario
+    (:meth:`hertzchain.scenario.Scenario.to_dict`), sealed (:mod:`theory.integrity`),
+    with the scenario and the dict as JSON attributes (format
+    ``hertzchain.reproduce.summary/1``).  A finished file is reused (``ctx.force``
+    recomputes; a damaged one is recomputed) and counted in ``ctx.computed`` /
+    ``ctx.reused``.
+
+    Parameters
+    ----------
+    ctx : Context
+    stem : str
+        File-name stem (e.g. ``"fig7"``).
+    scenario : Scenario or dict
+        A scenario (a dict is validated by :func:`hertzchain.scenario.parse_scenario`).
+    reduce : callable
+        ``reduce(run: hertzchain.models.Run) -> dict``, what is kept.
+
+    Returns
+    -------
+    (dict, pathlib.Path)
+        ``reduce``'s dict (read back from the file when reused) and the file.
+
+    Raises
+    ------
+    hertzchain.checkpoint.Interrupted
+        SIGINT/SIGTERM during the point's simulation (the points before it are kept).
+    """
+    from ..models import run
+    from ..scenario import Scenario, parse_scenario
+
+    sc = scenario if isinstance(scenario, Scenario) else parse_scenario(scenario)
     params = sc.to_dict()
     path = cache_path(ctx.runs, stem, params)
     if path.exists() and not ctx.force:
         try:
-            summary = read_summary(path)
+            kept = read_summary(path)
         except (OSError, ValueError, KeyError) as exc:  # damaged or stale: recompute
             ctx.log(f"{stem}: recomputing the cached run: {exc}")
-            summary = None
-        if summary is not None:
+            kept = None
+        if kept is not None:
             ctx.reused.append(path)
-            return summary, path
+            return kept, path
     try:  # no output file, no checkpoint: the finished points are cached
-        summary = dict(run(sc, progress=ctx.progress, wave_cache=ctx.cache,
-                           checkpoint_interval=ctx.checkpoint_interval).discrete.summary)
+        kept = reduce(run(sc, progress=ctx.progress, wave_cache=ctx.cache,
+                          checkpoint_interval=ctx.checkpoint_interval))
     except C.Interrupted as exc:
         raise _retell(exc, ctx, f"this point is not saved, the {stem} points before it "
                       "are") from None
     with integrity.sealed_hdf5(path) as f:
         f.attrs["scenario"] = canonical_json(params)
-        f.attrs["summary"] = canonical_json(summary)
+        f.attrs["summary"] = canonical_json(kept)
         f.attrs["format"] = "hertzchain.reproduce.summary/1"
     ctx.computed.append(path)
-    return summary, path
+    return kept, path
 
 
 def read_summary(path: str | Path) -> dict:

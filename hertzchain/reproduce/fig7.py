@@ -35,7 +35,8 @@ QUICK = {"grid": 10, "lim": (0.2, 5.0), "backend": "loop"}
 """Both modes run the points in this process (``backend="loop"``); :func:`run` takes
 ``backend="sweep"`` and its ``workers`` (Dask processes, default 2) as overrides."""
 FULL = {"grid": 20, "lim": (0.2, 5.0), "backend": "loop",
-        "run": {"integrator": "blanes_moan4", "dt_fraction": 0.048}}
+        "run": {"integrator": "blanes_moan4", "dt_fraction": 0.048},
+        "record": {"energy_every": 16}}
 """--full: the 408 points in this process (``backend="loop"``) with Blanes–Moan 4 at
 0.048·2π/ω_max (``run``: keys of every point's ``[run]``; 24× velocity Verlet's default
 dt, 1/4 of its force evaluations; the chains are precompressed, no gaps, the method keeps
@@ -47,8 +48,19 @@ against 86.6 s before on a local Dask cluster of two processes (``backend="sweep
 worker start-up, imports, kernel loading, scheduler; in a two-lane ``--full`` its two
 workers also competed with Fig. 5's lane for the two cores), of which 7.7 s settle the
 incident wave (shared with Fig. 6 in a whole reproduction) — 22.7 s CPU for the 408
-points after that (load 8).  Per point, the runner's summary (energy-grid stacking and
-interface activity) now costs about as much as the integration (cProfile)."""
+points after that (load 8).
+
+``record``: keys of every point's ``[record]``: an energy-grid row every 16 steps (a few
+incident transits d/V) instead of the runner's automatic spacing (rows every 1/(r_max+1)
+transit, :func:`hertzchain.runner.split_row_spacing`, here every 1-2 steps).  Fig. 7
+reads only the labels, classified on the final state; the grid decides only whether the
+waves have separated (the summary's rule; the phase-averaged split its dense rows are
+for is Table 2's, not printed here, and is aliased on these rows).  Recording the dense
+grid was ~70 % of a point's integration (a point at α = (0.5, 2): 40 ms CPU with it, 20
+at every 8 steps, 12 without a grid).  Measured (issue 13, AMD EPYC Zen 4, load ~2): the
+408 labels are those of the automatic grid, every one, at 8, 16 and 32 steps per row;
+the item 29.2 s → 18.1 s CPU at 8 and 15.2 s at 32 (its own process, warm, with the
+block-wise interface activity and the memoised incident strain)."""
 BASE = {
     "chain": {"delta0_over_d": 1e-3, "material": "paper",
               "sections": [{"n": 500}, {"n": 1400, "alpha_rho": 1.0, "alpha_kn": 1.0}]},
@@ -73,10 +85,13 @@ def points(grid: int, lim=(0.2, 5.0)) -> list[tuple[str, float, float]]:
     return out
 
 
-def scenario(alpha_rho: float, alpha_kn: float, run: dict | None = None) -> dict:
-    """The scenario dict of one point (``run``: keys added to its ``[run]``, e.g. FULL's)."""
+def scenario(alpha_rho: float, alpha_kn: float, run: dict | None = None,
+             record: dict | None = None) -> dict:
+    """The scenario dict of one point (``run``/``record``: keys added, e.g. FULL's)."""
     sc = {k: (dict(v) if isinstance(v, dict) else v) for k, v in BASE.items()}
     sc["run"] = {**BASE["run"], **(run or {})}
+    if record:
+        sc["record"] = dict(record)
     sc["chain"] = dict(BASE["chain"])
     sc["chain"]["sections"] = [dict(BASE["chain"]["sections"][0]),
                                {"n": BASE["chain"]["sections"][1]["n"],
@@ -86,8 +101,8 @@ def scenario(alpha_rho: float, alpha_kn: float, run: dict | None = None) -> dict
 
 
 def compute_points(ctx: Context, pts, *, backend: str = "loop", workers: int = 2,
-                   run: dict | None = None) -> list[dict]:
-    """Runner summaries of the points (same order); ``run``: :func:`scenario`'s.
+                   run: dict | None = None, record: dict | None = None) -> list[dict]:
+    """Runner summaries of the points (same order); ``run``, ``record``: :func:`scenario`'s.
 
     ``backend="loop"`` runs them one after the other in this process (cached per point);
     ``"sweep"`` hands them to :func:`hertzchain.sweep.run_sweep` (a ``zip`` sweep on a
@@ -96,14 +111,15 @@ def compute_points(ctx: Context, pts, *, backend: str = "loop", workers: int = 2
     if backend == "loop":
         out = []
         for _, ar, ak in tqdm_iter(ctx, pts, desc="fig7 points", total=len(pts)):
-            summary, _ = run_scenario_cached(ctx, "fig7", scenario(ar, ak, run), full=False)
+            summary, _ = run_scenario_cached(ctx, "fig7", scenario(ar, ak, run, record),
+                                             full=False)
             out.append(summary)
         return out
     if backend != "sweep":
         raise ValueError(f"backend must be 'loop' or 'sweep' (got {backend!r})")
     from ..sweep import read_results, run_sweep
 
-    spec = {"name": f"fig7-{ctx.mode}", "base": scenario(1.0, 1.0, run),
+    spec = {"name": f"fig7-{ctx.mode}", "base": scenario(1.0, 1.0, run, record),
             "sweep": {"mode": "zip", "axes": [
                 {"path": "chain.sections.1.alpha_rho", "name": "alpha_rho_R",
                  "values": [p[1] for p in pts]},
@@ -159,7 +175,7 @@ def run(ctx: Context, **overrides) -> Fig7Result:
     ctx.log(f"fig7: {len(pts)} points ({s['grid']}×{s['grid']} grid + a–d, M, N, P, Q), "
             f"backend {s['backend']}")
     summ = compute_points(ctx, pts, backend=s["backend"],
-                          **{k: s[k] for k in ("workers", "run") if k in s})
+                          **{k: s[k] for k in ("workers", "run", "record") if k in s})
     ar = np.array([p[1] for p in pts])
     ak = np.array([p[2] for p in pts])
     tr = [str(x["transmitted"]) for x in summ]

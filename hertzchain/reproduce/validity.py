@@ -8,14 +8,14 @@ theory (Nesterenko's wave speeds, the linear-acoustic interface, Eqs. 9–13) ar
 vacuum (:data:`AMPLITUDES`; each row's chain, wave and run length from
 :func:`amplitude_row`).  Each point is the shipped sweep's scenario
 (``hertzchain/sweeps/model_validity.toml``) run through the one run path
-(:func:`.common.run_models`, cached in ``runs/`` and counted) and compared by
-:func:`hertzchain.compare.analyse`.  ``--quick``: one interface at three amplitudes
-(:data:`QUICK`); ``--full``: the four corner interfaces at four amplitudes
-(:data:`FULL`); the shipped 5 × 5 × 7 map is ``hertzchain sweep model_validity`` (about an
-hour on two cores), not part of ``reproduce``.  The error of a model: the largest of
-|ΔE_T|, |ΔE_R| (over the incident energy) and the relative transmitted front speed
-(:mod:`hertzchain.compare`); NaN, with the reason, where a measurement window does not
-hold.
+(:func:`.common.run_point_cached`: in memory, its row of errors cached in ``runs/`` and
+counted) and compared by :func:`hertzchain.compare.analyse`.  ``--quick``: one
+interface at three amplitudes (:data:`QUICK`); ``--full``: the four corner interfaces
+at four amplitudes (:data:`FULL`); the shipped 5 × 5 × 7 map is ``hertzchain sweep
+model_validity`` (about an hour on two cores), not part of ``reproduce``.  The error of
+a model: the largest of |ΔE_T|, |ΔE_R| (over the incident energy) and the relative
+transmitted front speed (:mod:`hertzchain.compare`); NaN, with the reason, where a
+measurement window does not hold.
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ import numpy as np
 from ..compare import THRESHOLDS, analyse
 from ..scenario import AUTO_EQ4_MAX_STRAIN
 from ..sweep.spec import load_sweep_spec
-from .common import Context, run_models, save_figure
+from .common import Context, run_point_cached, save_figure
 
 __all__ = ["QUICK", "FULL", "run", "figures", "report", "to_json"]
 
@@ -167,24 +167,37 @@ def _points(ctx: Context) -> list:
 _COLUMNS = ("incident_strain_over_delta0", "continuum_error", "theory_error",
             "continuum_energy", "continuum_speed", "theory_energy", "theory_speed")
 _TEXT = ("continuum_model", "continuum_stopped_by", "continuum_note", "theory_note")
+_KEYS = ("alpha_rho", "alpha_kn", "delta0_over_d", *_COLUMNS, *_TEXT)
+"""The table's columns, in order (a reused row comes back with its keys sorted)."""
+
+
+def _row(result) -> dict:
+    """One point's row of the table: the interface, δ0 and the models' errors."""
+    s = analyse(result).summary()
+    sc = result.scenario
+    return {"alpha_rho": float(sc.chain.sections[1].alpha_rho),
+            "alpha_kn": float(sc.chain.sections[1].alpha_kn),
+            "delta0_over_d": float(sc.chain.delta0_over_d),
+            **{k: float(s.get(k, math.nan)) for k in _COLUMNS},
+            **{k: str(s.get(k, "")) for k in _TEXT}}
 
 
 def run(ctx: Context) -> _Table:
-    """Compare every model at each point; a table of the errors and amplitudes."""
+    """Compare every model at each point; a table of the errors and amplitudes.
+
+    Each point's row is kept in ``runs/validity-point-<hash>.h5``
+    (:func:`.common.run_point_cached`: the scenario and the row; a rerun reuses it): the
+    runs themselves are compared in memory and not written (measured, issue 13,
+    ``--full``'s 16 points: writing them took 5.2 s of the item's 25-29 s).
+    """
     from .common import tqdm_iter
 
     rows = []
     points = _points(ctx)
     for p in tqdm_iter(ctx, points, desc="validity", total=len(points)):
         ctx.log(f"validity: {p.label()}")
-        s = analyse(run_models(ctx, "validity", p.scenario)).summary()
-        sc = p.scenario
-        rows.append({"alpha_rho": float(sc.chain.sections[1].alpha_rho),
-                     "alpha_kn": float(sc.chain.sections[1].alpha_kn),
-                     "delta0_over_d": float(sc.chain.delta0_over_d),
-                     **{k: float(s.get(k, math.nan)) for k in _COLUMNS},
-                     **{k: str(s.get(k, "")) for k in _TEXT}})
-    table = _Table({k: np.array([r[k] for r in rows]) for k in rows[0]})
+        rows.append(run_point_cached(ctx, "validity-point", p.scenario, _row)[0])
+    table = _Table({k: np.array([r[k] for r in rows]) for k in _KEYS})
     table.attrs = {"name": f"model validity (--{ctx.mode})", "n_ok": len(rows),
                    "n_failed": 0}
     return table

@@ -706,3 +706,18 @@ def test_fig3_4_transmitted_classification_delta0_zero(point):
         assert t.reason == "multipulse train" and t.second_ratio > 0.22
     else:
         assert t.second_ratio < 0.15
+
+
+def test_interface_activity_overwrite_takes_abs_in_place():
+    # overwrite=True: the same values, |e| left in the caller's float64 array; any
+    # other input (a list, another dtype) is never written
+    rng = np.random.default_rng(7)
+    e = rng.standard_normal((40, 30))
+    ref = D.interface_activity(e, 12)
+    work = e.copy()
+    assert np.array_equal(D.interface_activity(work, 12, overwrite=True), ref)
+    assert np.array_equal(work, np.abs(e))
+    e32 = e.astype(np.float32)
+    keep = e32.copy()
+    D.interface_activity(e32, 12, overwrite=True)
+    assert np.array_equal(e32, keep)

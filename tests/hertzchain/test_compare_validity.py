@@ -15,6 +15,7 @@ the energy; the theory's linear-acoustic energies ~2e-2–6e-2).
 """
 
 import dataclasses
+import json
 import math
 from importlib.resources import files
 
@@ -165,6 +166,14 @@ def test_reproduce_item_quick(tmp_path, monkeypatch):
     text = rep.to_markdown(tmp_path)
     assert "within 10 %" in text and "sonic vacuum" in text
     assert "continuum (Eq. 4)" in text and "continuum (Eq. 7)" in text
+    # one small file per point (scenario and row; the runs are compared in memory,
+    # not written), and a second run reuses them: the same table, bit for bit
+    assert sorted(p.name.split("-")[:2] == ["validity", "point"] for p in ctx.computed) \
+        == [True, True] and sorted(ctx.runs.iterdir()) == sorted(ctx.computed)
+    ctx2 = Context(tmp_path, progress=False)
+    again = validity.run(ctx2)
+    assert not ctx2.computed and sorted(ctx2.reused) == sorted(ctx.computed)
+    assert json.dumps(validity.to_json(again)) == json.dumps(data)
 
 
 @pytest.mark.parametrize("mode", ["quick", "full"])

@@ -328,3 +328,21 @@ def test_theory_reads_the_chain_and_is_mirrored_by_a_swap():
     mirror = {"I": "III", "II": "IV", "III": "I", "IV": "II"}
     assert ts.classes()["region"] == mirror[th.classes()["region"]]
     assert ts.classes()["transmitted"] != th.classes()["transmitted"]
+
+
+def test_strain_from_velocity_solves_v_equals_V_xi_and_is_memoised():
+    # v = V(ξ) ξ with Nesterenko's V (Eq. 1.4.28): the root to the bisection's 1e-13
+    # relative width (so v to ~1e-12, V(ξ)ξ being smooth and increasing); a second call
+    # for an equal side (a new dict) is the memo's, the same bits; no wave: NaN
+    mat, d = theory.PAPER_MATERIAL, theory.PAPER_DIAMETER
+    k, m = theory.hertz_constant(d, mat), theory.grain_mass(d, mat.density)
+    for d0 in (1e-3 * d, 0.0):
+        side = {"mass": m, "k": k, "delta0": d0, "d": d, "xi0": d0 / d,
+                "c_mat": float(theory.c_mat(k, m, d)),
+                "c0": float(theory.c0(k, m, d, d0)) if d0 > 0 else 0.0}
+        xi = M.strain_from_velocity(side, 0.5)
+        assert M._speed(side, xi) * xi == pytest.approx(0.5, rel=1e-11)
+        hits = M._strain_from_velocity.cache_info().hits
+        assert M.strain_from_velocity(dict(side), 0.5) == xi
+        assert M._strain_from_velocity.cache_info().hits == hits + 1
+    assert math.isnan(M.strain_from_velocity(side, 0.0))

@@ -273,8 +273,10 @@ def test_fig6_full_step(tmp_path):
 
 
 def test_fig7_full_step_keeps_labels(tmp_path):
-    # --full runs the points with fig7.FULL["run"] (Blanes-Moan 4, 24x the default dt):
-    # the labels are those of the default dt (all 408 --full points: benchmarks/full_dt.py)
+    # --full runs the points with fig7.FULL["run"] (Blanes-Moan 4, 24x the default dt)
+    # and FULL["record"] (an energy-grid row every 16 steps, not the automatic 1-2): the
+    # labels are those of the default dt and grid (all 408 --full points:
+    # benchmarks/full_dt.py for the dt, benchmarks/full_items.py --before for the grid)
     from hertzchain.reproduce import fig7
 
     quick = fig7.run(Context(tmp_path / "q", progress=False), grid=2)
@@ -284,6 +286,8 @@ def test_fig7_full_step_keeps_labels(tmp_path):
     sc = fig7.scenario(2.0, 0.5, fig7.FULL["run"])
     assert sc["run"] == {**fig7.BASE["run"], **fig7.FULL["run"]}
     assert fig7.scenario(2.0, 0.5)["run"] == fig7.BASE["run"]
+    assert fig7.scenario(2.0, 0.5, record=fig7.FULL["record"])["record"] == {
+        "energy_every": 16} and "record" not in fig7.scenario(2.0, 0.5)
 
 
 @pytest.mark.slow

@@ -391,3 +391,50 @@ def test_interface_activity_by_blocks_is_bitwise_the_whole_grids():
     a = _interface_activity(ek, ep, 150)
     assert a.shape == (n,) and np.array_equal(a, D.interface_activity(ek + ep, 150))
     assert _interface_activity(ek[:0], ep[:0], 150).shape == (0,)
+    # fn gets one reused block buffer (never a view of ek): a row-wise fn of the whole
+    # grid, bit for bit, over three blocks, and ek, ep untouched
+    from hertzchain.runner import total_energy_rows
+
+    ek0, ep0 = ek.copy(), ep.copy()
+
+    def fn(e):
+        a = np.abs(e, out=e)
+        return a.sum(axis=1), a[:, :5].sum(axis=1)
+
+    tot, left = total_energy_rows(ek, ep, fn)
+    whole = np.abs(ek + ep)
+    assert np.array_equal(tot, whole.sum(axis=1))
+    assert np.array_equal(left, whole[:, :5].sum(axis=1))
+    assert np.array_equal(ek, ek0) and np.array_equal(ep, ep0)
+
+
+def test_run_simulation_takes_the_built_initial_state(monkeypatch):
+    # hertzchain.models.run builds the initial state (an exact wave: a Petviashvili
+    # solve) and hands it on: the run is that of a state built anew, bit for bit, the
+    # wave is solved once, and a state of another chain is refused by name
+    import discrete.initial
+    import hertzchain.runner as R
+    from hertzchain.models import run
+
+    sc = parse_scenario({"name": "given", "chain": {
+        "delta0_over_d": 1e-3, "sections": [{"n": 120}, {"n": 120, "alpha_rho": 2.0}]},
+        "initial": {"kind": "exact_wave", "strain_max": 1e-3, "center": 60},
+        "run": {"t_end": 2e-4}})
+    ref, sim_ref = R.run_simulation(sc)
+    chain = R.build_chain(sc.chain)
+    init = R.build_initial_checked(sc, chain)
+    got, sim = R.run_simulation(sc, init=init)
+    drop = ("wall_time",)
+    assert {k: v for k, v in got.items() if k not in drop} == \
+        {k: v for k, v in ref.items() if k not in drop}
+    assert np.array_equal(sim.v, sim_ref.v) and np.array_equal(sim.u, sim_ref.u)
+    calls = []
+    real = discrete.initial.exact_wave
+    monkeypatch.setattr(R, "exact_wave", lambda *a, **k: calls.append(1) or real(*a, **k))
+    run(sc)
+    assert len(calls) == 1
+    other = R.build_initial_checked(
+        sc.with_values({"chain.sections.1.n": 121}),
+        R.build_chain(sc.with_values({"chain.sections.1.n": 121}).chain))
+    with pytest.raises(ValueError, match="init must be the initial state"):
+        R.run_simulation(sc, init=other)

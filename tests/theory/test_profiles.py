@@ -398,3 +398,20 @@ def test_continuum_validation():
     # vectorised over x, scalar in -> float out
     assert isinstance(compacton_strain(0.0, 1e-4, D), float)
     assert compacton_strain(np.zeros((2, 3)), 1e-4, D).shape == (2, 3)
+
+
+def test_precompressed_wave_is_solved_once_per_amplitude():
+    # a map's interfaces share their incident wave: the second request is the cache's,
+    # the same bits; the shared arrays are read-only (a caller cannot change the next
+    # caller's wave), the wave's own overlap profile is a fresh array
+    from theory import profiles as P
+
+    args = (1.0e10, 1.0e-3, 0.01, 1.0e-5)
+    a = P.discrete_solitary_wave(*args, amplitude=3.0e-6)
+    hits = P._precompressed_wave.cache_info().hits
+    b = P.discrete_solitary_wave(*args, amplitude=3.0e-6)
+    assert P._precompressed_wave.cache_info().hits == hits + 1
+    assert np.array_equal(a.overlap, b.overlap) and a.speed == b.speed
+    assert not b.residual_history.flags.writeable and b.overlap.flags.writeable
+    with pytest.raises(ValueError):
+        b.residual_history[0] = 0.0
