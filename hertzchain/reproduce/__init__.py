@@ -207,6 +207,14 @@ FULL_LANES = (("fig5",), ("fig3", "fig2", "fig4", "fig6", "fig7", "fig8", "table
                            "validity"))
 """The two lanes of a parallel ``--full`` reproduction (``workers=2``, :data:`LANES`'s rules).
 
+Fig. 5's four cases are shared: when the calling lane has run its items it runs the
+cases the worker has not started, last first (:func:`.fig5.run_spare`; claim files,
+:func:`.common.claim`), and the worker reuses their files: the same numbers, files and
+counts as one process (``tests/hertzchain/test_reproduce_parallel.py``).  Measured
+(issue 13, idle AMD EPYC Zen 4, after the Rosenau pass's four-node links and the lighter
+validity and Fig. 7 items, before the sharing): 102.6 s wall, the calling lane idle from
+~75 s while the worker ran Fig. 5's cases c and d.
+
 Fig. 5 alone in the forked worker: its continuum (Eq. 4 on 150,000 nodes, one compiled
 loop, single-threaded: 50,096-109,500 Yoshida-4 steps per case over an active window
 that grows to ~70,000 nodes) is about half of ``--full``'s CPU time, and in one process
@@ -353,8 +361,27 @@ def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
     """Run the lanes ``parts`` (:func:`lanes`); the runs in report order.
 
     The leading :data:`FIRST` items of ``parts[1]`` here (else its Fig. 3, if first:
-    :data:`LANES`), then ``parts[0]`` in a forked worker and the rest of ``parts[1]`` here.
+    :data:`LANES`), then ``parts[0]`` in a forked worker and the rest of ``parts[1]`` here,
+    then (if the worker runs Fig. 5) the cases of Fig. 5 the worker has not started.
     """
+    import shutil
+    import tempfile
+
+    # Fig. 5's cases can be shared: this lane runs those the worker has not started
+    # once its own items are done (fig5.run_spare); the claim files live in a directory
+    # of this call (a --force run recomputes each case where it is claimed: not shared)
+    share = "fig5" in parts[0] and not ctx.force
+    if share:
+        ctx.claims = Path(tempfile.mkdtemp(prefix="hertzchain-claims-"))
+    try:
+        return _run_lanes(ctx, parts, order, start, threads, share)
+    finally:
+        if share:
+            shutil.rmtree(ctx.claims, ignore_errors=True)
+            ctx.claims = None
+
+
+def _run_lanes(ctx, parts, order, start, threads, share: bool) -> list[ItemRun]:
     import multiprocessing as mp
 
     from ..checkpoint import Interrupted
@@ -385,6 +412,7 @@ def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
     send.close()
     try:
         mine = first + _run_lane(ctx, parts[1][k:], order, start, threads)
+        spared = _run_spare(ctx, start, threads) if share else []
         try:
             payload = recv.recv()
         except EOFError:
@@ -403,9 +431,28 @@ def _run_parallel(ctx, parts, order, start, threads) -> list[ItemRun]:
         raise payload[1]
     theirs = [ItemRun(name, importlib.import_module(f"{__name__}.{_MODULES[name][0]}"),
                       *rest) for name, *rest in payload[1]]
+    done_here = set(spared)
+    for r in theirs:  # files the worker reused because this lane computed them
+        r.computed += [p for p in r.reused if p in done_here]
+        r.reused = [p for p in r.reused if p not in done_here]
     ctx.notes.update(payload[2])
     ctx.compile_seconds += payload[3]
     return _in_report_order(ctx, mine + theirs, order)
+
+
+def _run_spare(ctx, start: float, threads) -> list:
+    """Run the calling lane's share of the worker's Fig. 5 (:func:`.fig5.run_spare`).
+
+    Returns the files it computed (counted as the worker's item's, which reuses them).
+    """
+    from . import fig5
+
+    c0 = len(ctx.computed)
+    with kernel_threads(threads), _compile_timer(ctx):
+        ctx.log(f"fig5: this process takes the cases the worker has not started "
+                f"({time.perf_counter() - start:.0f} s elapsed)")
+        fig5.run_spare(ctx)
+    return ctx.computed[c0:]
 
 
 def _in_report_order(ctx, runs, order: dict) -> list[ItemRun]:

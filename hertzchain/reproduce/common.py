@@ -27,8 +27,10 @@ from __future__ import annotations
 import gc
 import json
 import math
+import os
 import sys
 from collections.abc import Iterable
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -88,6 +90,10 @@ class Context:
     compile_seconds: float = 0.0
     """Seconds numba spent compiling kernels during the items (a cold cache: the first run
     after installing), summed over the processes (``reproduce``'s ``_compile_timer``)."""
+    claims: Path | None = None
+    """Directory of the claim files through which two lanes share an item's parts
+    (:func:`claim`, :func:`claim_if_free`; set by ``reproduce`` with two workers), None:
+    one process, nothing to share."""
 
     def __post_init__(self) -> None:
         self.out = Path(self.out)
@@ -167,6 +173,58 @@ def _count(ctx: Context, run_) -> None:
         if m.path is None or not (m.completed or m.cached):
             continue
         (ctx.reused if m.cached else ctx.computed).append(Path(m.path))
+
+
+@contextmanager
+def claim(ctx: Context, key: str):
+    """Hold the claim on the part ``key`` of an item while the block runs (waits for it).
+
+    With two lanes (``ctx.claims`` set) the other lane may be running this part (it
+    took it with :func:`claim_if_free` while idle): the block then starts when that run
+    is over, and finds its files finished (:func:`run_models` reuses them).  An
+    exclusive ``flock`` on ``<claims>/<key>.lock``, released when the block ends or the
+    process dies; no-op in one process.
+    """
+    if ctx.claims is None:
+        yield
+        return
+    import fcntl
+
+    fd = os.open(ctx.claims / f"{key}.lock", os.O_RDWR | os.O_CREAT, 0o600)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+        yield
+    finally:
+        os.close(fd)
+
+
+@contextmanager
+def claim_if_free(ctx: Context, key: str):
+    """Claim the part ``key`` only if no lane has claimed it before; yields whether it did.
+
+    For a lane with nothing left to do: the part is its own (True) unless the lane that
+    owns the item has started it or finished it (its :func:`claim` created the claim
+    file), or holds it right now; False in one process.  Never waits.
+    """
+    if ctx.claims is None:
+        yield False
+        return
+    import fcntl
+
+    try:
+        fd = os.open(ctx.claims / f"{key}.lock", os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o600)
+    except FileExistsError:
+        yield False
+        return
+    try:
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:  # the owner opened the new file and locked it first
+            yield False
+            return
+        yield True
+    finally:
+        os.close(fd)
 
 
 def run_models(ctx: Context, stem: str, scenario, *, samples: bool | None = None,

@@ -35,6 +35,8 @@ from .common import (
     V0,
     Context,
     ContinuumProfile,
+    claim,
+    claim_if_free,
     continuum_profile,
     continuum_sentence,
     new_figure,
@@ -45,7 +47,7 @@ from .common import (
 )
 
 __all__ = ["QUICK", "FULL", "CASES", "CaseResult", "scenario", "estimate_cost", "run",
-           "plot_case", "figures", "report", "to_json"]
+           "run_spare", "plot_case", "figures", "report", "to_json"]
 
 QUICK = {"n_grains": 10_000, "interface": 7_000, "snapshot": 9_900, "lead": 300}
 FULL = {"n_grains": 50_000, "interface": 35_000, "snapshot": 49_900, "lead": 300,
@@ -143,7 +145,8 @@ def _case(ctx: Context, case: str, s: dict) -> CaseResult:
                 f"~{cost['grain_updates']:.2g} grain updates, estimated "
                 f"~{cost['seconds']:.0f} s at {UPDATES_PER_SECOND:.0e} updates/s "
                 "(if not cached)")
-    r = run_models(ctx, "fig5", scenario(case, s))
+    with claim(ctx, f"fig5-{case}"):  # (the other lane may be running it: run_spare)
+        r = run_models(ctx, "fig5", scenario(case, s))
     sim, path = r.simulation, r.discrete.path
     n_left = p["interface"]
     chain = sim.chain
@@ -185,6 +188,25 @@ def run(ctx: Context, cases=CASES, **overrides) -> list[CaseResult]:
     return [_case(ctx, c, s) for c in cases]
 
 
+def run_spare(ctx: Context) -> None:
+    """Run the cases that the lane running this item has not started, last first.
+
+    Called by the other lane of a two-process ``reproduce`` once its own items are done
+    (``--full``: Fig. 5 alone takes longer than all the other items together); each case
+    it takes (:func:`.common.claim_if_free`) is computed into the run files, which the
+    item's own :func:`_case` then reuses (it waits while a case is being run).  The
+    same scenarios as :func:`run` with the mode's defaults, through the one run path;
+    nothing in one process.
+    """
+    s = ctx.pick(QUICK, FULL)
+    for case in reversed(CASES):
+        with claim_if_free(ctx, f"fig5-{case}") as mine:
+            if mine:
+                ctx.log(f"fig5 ({case}): run here, while the other process runs the "
+                        "earlier cases")
+                run_models(ctx, "fig5", scenario(case, s))
+
+
 def plot_case(ax, res: CaseResult, *, label: str | None = None, zoom: int = 250) -> None:
     """One panel: grain velocity / v0 against grain number at the snapshot.
 
@@ -210,7 +232,7 @@ def plot_case(ax, res: CaseResult, *, label: str | None = None, zoom: int = 250)
         ins = ax.inset_axes([0.22, 0.42, 0.42, 0.5])
         front = int(np.flatnonzero(np.abs(res.v) > 0.01 * np.abs(res.v).max())[-1])
         lo = max(res.interface, front - zoom)
-        g = np.arange(lo, front + 10)
+        g = np.arange(lo, min(front + 10, res.v.size))
         ins.plot(g + 1, res.v[g] / V0, lw=0.7, color="C0")
         plot_continuum(ins, res.continuum, res.v, inc, scale=V0, start=g[0], stop=g[-1] + 1)
         ins.axhline(0, color="0.7", lw=0.4)

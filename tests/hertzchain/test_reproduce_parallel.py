@@ -213,3 +213,59 @@ def test_compile_seconds_count_real_compiles_only(tmp_path):
     with R._compile_timer(ctx):
         assert fresh(2.0) == 5.0  # compiled already: no event
     assert ctx.compile_seconds == first
+
+
+def test_idle_lane_takes_fig5_cases_same_numbers_and_counts(tmp_path, monkeypatch, capsys):
+    # Fig. 5 in the worker, the calling lane idle after Fig. 3: it runs the cases the
+    # worker has not started (last first) and the worker reuses them; the numbers, the
+    # files and the computed/reused counts are those of one process
+    from hertzchain.reproduce import fig5
+
+    monkeypatch.setattr(fig5, "QUICK", {"n_grains": 1200, "interface": 900,
+                                        "snapshot": 1150, "lead": 100})
+    one = reproduce(["fig3", "fig5"], out=tmp_path / "one", progress=False, report=False,
+                    workers=1)
+    monkeypatch.setattr(R, "LANES", (("fig5",), ("fig3",)))
+    capsys.readouterr()
+    two = reproduce(["fig3", "fig5"], out=tmp_path / "two", progress=True, report=False,
+                    workers=2)
+    here = capsys.readouterr().err
+    assert "fig5 (d): run here" in here  # the worker starts with (a): (d) is free
+    assert json.dumps(jsonable(two["items"])) == json.dumps(jsonable(one["items"]))
+    assert sorted(p.name for p in two["computed"]) == sorted(p.name for p in one["computed"])
+    assert not two["reused"] and not one["reused"]
+    assert two["context"].claims is None  # the claim files are gone with the call
+    again = reproduce(["fig3", "fig5"], out=tmp_path / "two", progress=False,
+                      report=False, workers=2)
+    assert not again["computed"] and again["items"] == two["items"]
+
+
+def test_claims(tmp_path):
+    # claim_if_free takes a part only if nobody claimed it; claim waits for the holder
+    import threading
+
+    from hertzchain.reproduce.common import Context, claim, claim_if_free
+
+    ctx = Context(tmp_path, claims=tmp_path)
+    with claim_if_free(ctx, "x") as mine:
+        assert mine
+        got = []
+        t = threading.Thread(target=lambda: got.append(_wait_claim(ctx, "x")))
+        t.start()
+        t.join(0.3)
+        assert t.is_alive() and not got  # blocked while the part is held
+    t.join(10)
+    assert got == [True]
+    with claim_if_free(ctx, "x") as mine:  # claimed (and done) before: not free
+        assert not mine
+    with claim(ctx, "y"), claim_if_free(ctx, "y") as mine:
+        assert not mine
+    with claim_if_free(Context(tmp_path), "z") as mine:  # one process: nothing to share
+        assert not mine
+
+
+def _wait_claim(ctx, key):
+    from hertzchain.reproduce.common import claim
+
+    with claim(ctx, key):
+        return True
