@@ -215,15 +215,14 @@ def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac
                 sl = (uu[i] - uu[i + 1]) * ih
                 sr = (uu[i + 1] - uu[i + 2]) * ih
                 yy[i + 1] = ((k1[i] + b1[i] * sl) * sl - (k2[i] + b2[i] * sr) * sr) * ih
-        else:
-            h1, h2 = kh[L + 1:R + 2], kh[L + 2:R + 2]
-            z1, z2 = d0[L + 1:R + 2], d0[L + 2:R + 2]
-            e1, e2 = f0[L + 1:R + 2], f0[L + 2:R + 2]
+        else:  # (linear, Hertz: the flux carried from node to node, compiled smaller)
+            h1, z1, e1 = kh[L + 1:R + 2], d0[L + 1:R + 2], f0[L + 1:R + 2]
+            p_prev = _flux((uu[0] - uu[1]) * ih, nl, k1[0], b1[0], h1[0], z1[0], e1[0])
             for i in range(m_ - 2):
-                sl = (uu[i] - uu[i + 1]) * ih
                 sr = (uu[i + 1] - uu[i + 2]) * ih
-                yy[i + 1] = (_flux(sl, nl, k1[i], b1[i], h1[i], z1[i], e1[i])
-                             - _flux(sr, nl, k2[i], b2[i], h2[i], z2[i], e2[i])) * ih
+                p = _flux(sr, nl, k2[i], b2[i], h1[i + 1], z1[i + 1], e1[i + 1])
+                yy[i + 1] = (p_prev - p) * ih
+                p_prev = p
         s = (uu[m_ - 2] - uu[m_ - 1]) * ih
         yy[m_ - 1] = (_flux(s, nl, kk[R], bb[R], kh[R], d0[R], f0[R]) - p_hi) * ih
     # ---- sweep B: eliminate L -> k-1 (a) and R -> k+1 (b)
@@ -253,32 +252,16 @@ def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac
             b = y[j] * inv_b[j] - g_b[j] * b
             y[j] = b
             j -= 1
+    # the chains advance together, so at most one node of one of them is left
+    # (nt and nb_ differ by at most one)
     while i < k:
-        r = min(runs[0, i], k - i)
-        if r >= 4:
-            c1, c2 = inv_t[i], g_t[i]
-            p2 = c2 * c2
-            p3, p4 = -(p2 * c2), p2 * p2
-            for _ in range(r // 4):
-                a = _eliminate4(y, i, i + 1, i + 2, i + 3, c1, c2, p2, p3, p4, a)
-                i += 4
-        else:
-            a = y[i] * inv_t[i] - g_t[i] * a
-            y[i] = a
-            i += 1
+        a = y[i] * inv_t[i] - g_t[i] * a
+        y[i] = a
+        i += 1
     while j > k:
-        r = min(runs[1, j], j - k)
-        if r >= 4:
-            d1, d2 = inv_b[j], g_b[j]
-            e2 = d2 * d2
-            e3, e4 = -(e2 * d2), e2 * e2
-            for _ in range(r // 4):
-                b = _eliminate4(y, j, j - 1, j - 2, j - 3, d1, d2, e2, e3, e4, b)
-                j -= 4
-        else:
-            b = y[j] * inv_b[j] - g_b[j] * b
-            y[j] = b
-            j -= 1
+        b = y[j] * inv_b[j] - g_b[j] * b
+        y[j] = b
+        j -= 1
     # twist node: (d_k - e_{k-1} cp_t[k-1] - e_k cp_b[k+1]) x_k = r_k - e_{k-1} a - e_k b
     rk = y[k]
     if nt > 0:
@@ -311,32 +294,14 @@ def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac
             b = y[j] - cp_b[j] * b
             v[j] += beta * b
             j += 1
-    while i >= L:
-        r = min(runs[2, i], i - L + 1)
-        if r >= 4:
-            c = cp_t[i]
-            p2 = c * c
-            p3, p4 = -(p2 * c), p2 * p2
-            for _ in range(r // 4):
-                a = _substitute4(y, v, i, i - 1, i - 2, i - 3, c, p2, p3, p4, beta, a)
-                i -= 4
-        else:
-            a = y[i] - cp_t[i] * a
-            v[i] += beta * a
-            i -= 1
+    while i >= L:  # (at most one node left, as in sweep B)
+        a = y[i] - cp_t[i] * a
+        v[i] += beta * a
+        i -= 1
     while j <= R:
-        r = min(runs[3, j], R - j + 1)
-        if r >= 4:
-            d = cp_b[j]
-            e2 = d * d
-            e3, e4 = -(e2 * d), e2 * e2
-            for _ in range(r // 4):
-                b = _substitute4(y, v, j, j + 1, j + 2, j + 3, d, e2, e3, e4, beta, b)
-                j += 4
-        else:
-            b = y[j] - cp_b[j] * b
-            v[j] += beta * b
-            j += 1
+        b = y[j] - cp_b[j] * b
+        v[j] += beta * b
+        j += 1
     # ---- new active window: scan inwards from both edges
     lo = -1
     for i in range(L, R + 1):
