@@ -225,8 +225,10 @@ class BoussinesqPDE(ChainPDEBase):
         ``window``).
         """
         if not self._factor_cache:
-            self._factor_cache.extend(_stepper.rosenau_factors(*self._bands))
-            self._factor_cache.append(_stepper.constant_runs(self._factor_cache[0]))
+            fac, z, vfac = _stepper.rosenau_factors(*self._bands)
+            # (periodic chains are swept whole by the cyclic solve: no runs needed)
+            runs = None if self.bc == "periodic" else _stepper.constant_runs(fac)
+            self._factor_cache.extend((fac, z, vfac, runs))
         fac, z, vfac, runs = self._factor_cache
         kk, bb, kh, d0, f0 = self._kernel_arrays()
         h, bc, nl = float(self.disc.h), int(self._bc_code), int(self._nl_code)

@@ -544,15 +544,20 @@ def _check_given_initial(chain: discrete.Chain, init) -> None:
     """ValueError unless ``init`` (a built initial state) belongs to ``chain``.
 
     The state's chain is ``chain``, or ``chain`` with a striker grain prepended (an
-    impact's ``striker_mass``, section −1): the grain count and the grains' masses are
-    compared exactly (both are built from the same scenario keys).
+    impact's ``striker_mass``, section −1): the grain count, the grains' masses and the
+    contacts' constants and static overlaps (those behind a striker: all but its own
+    contact) are compared exactly (both are built from the same scenario keys).
     """
     c = init.chain
     s0 = int(np.count_nonzero(c.section < 0))  # a prepended striker grain
-    if not (c.n == chain.n + s0 and np.array_equal(c.mass[s0:], chain.mass)):
+    c0 = s0 + 1 if s0 else 0  # first contact of ``c`` that is one of ``chain``'s
+    q0 = 1 if s0 else 0
+    if not (c.n == chain.n + s0 and np.array_equal(c.mass[s0:], chain.mass)
+            and np.array_equal(c.k[c0:], chain.k[q0:])
+            and np.array_equal(c.delta0[c0:], chain.delta0[q0:])):
         raise ValueError(f"init must be the initial state of this scenario's chain "
                          f"({chain.n} grains; got a state of {c.n} grains or of other "
-                         "masses)")
+                         "masses, contact constants or static overlaps)")
 
 
 def _column_argmax(e: np.ndarray, block: int = 64) -> np.ndarray:

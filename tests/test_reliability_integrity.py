@@ -323,3 +323,26 @@ def test_theory_does_not_import_h5py_at_import():
     assert subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True).stdout.strip() == "False"
     assert theory.integrity is integrity
+
+
+def test_cached_point_of_another_kind_or_scenario_is_not_reused(tmp_path):
+    """A cached point keeps what its ``kept`` names: another ``kept`` (a changed
+    reduction) gets a file of its own, and a file holding another scenario than the
+    one asked for is refused by the reader, so a stale row is never printed."""
+    from hertzchain.reproduce.common import run_point_cached
+
+    ctx = Context(out=tmp_path / "repro", progress=False, checkpoint_interval=None)
+    one, p1 = run_point_cached(ctx, "pt", SCENARIO, lambda r: {"steps": r.discrete.summary[
+        "steps"]}, kept="steps/1")
+    two, p2 = run_point_cached(ctx, "pt", SCENARIO, lambda r: {"n": r.discrete.summary[
+        "n_grains"]}, kept="n/1")
+    assert p1 != p2 and one != two and ctx.computed == [p1, p2]
+    again, p3 = run_point_cached(ctx, "pt", SCENARIO, lambda r: {}, kept="steps/1")
+    assert (again, p3) == (one, p1) and ctx.reused == [p1]
+    other = parse_scenario({**SCENARIO, "run": {"t_end": 2e-4}}).to_dict()
+    with pytest.raises(ValueError, match="of another scenario"):
+        read_summary(p1, scenario=other)
+    with pytest.raises(ValueError, match="keeps 'steps/1', not 'n/1'"):
+        read_summary(p1, kept="n/1")
+    assert read_summary(p1, scenario=parse_scenario(SCENARIO).to_dict(),
+                        kept="steps/1") == one

@@ -434,12 +434,12 @@ def interface_activity(energy: ArrayLike, interface: int, halfwidth: int = 5, *,
         of 1,900 grains is 3.9 MB, a fresh mapping and its page faults per call).
     """
     e = _f(energy, "energy")
-    e = np.abs(e, out=e) if overwrite and e is energy else np.abs(e)
     if e.ndim != 2:
         raise ValueError("energy must be a (n_times, N) array")
     n = e.shape[1]
     if not 0 < interface < n or halfwidth < 1:
         raise ValueError("need 0 < interface < N and halfwidth >= 1")
+    e = np.abs(e, out=e) if overwrite and e is energy else np.abs(e)
     lo, hi = max(0, interface - halfwidth), min(n, interface + halfwidth)
     tot = e.sum(axis=1)
     loc = e[:, lo:hi].sum(axis=1)

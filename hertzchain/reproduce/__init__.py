@@ -412,7 +412,8 @@ def _run_lanes(ctx, parts, order, start, threads, share: bool) -> list[ItemRun]:
     send.close()
     try:
         mine = first + _run_lane(ctx, parts[1][k:], order, start, threads)
-        spared = _run_spare(ctx, start, threads) if share else []
+        spared = (_run_spare(ctx, start, threads,
+                             lambda: recv.poll() or not proc.is_alive()) if share else [])
         try:
             payload = recv.recv()
         except EOFError:
@@ -440,7 +441,7 @@ def _run_lanes(ctx, parts, order, start, threads, share: bool) -> list[ItemRun]:
     return _in_report_order(ctx, mine + theirs, order)
 
 
-def _run_spare(ctx, start: float, threads) -> list:
+def _run_spare(ctx, start: float, threads, stop) -> list:
     """Run the calling lane's share of the worker's Fig. 5 (:func:`.fig5.run_spare`).
 
     Returns the files it computed (counted as the worker's item's, which reuses them).
@@ -451,7 +452,7 @@ def _run_spare(ctx, start: float, threads) -> list:
     with kernel_threads(threads), _compile_timer(ctx):
         ctx.log(f"fig5: this process takes the cases the worker has not started "
                 f"({time.perf_counter() - start:.0f} s elapsed)")
-        fig5.run_spare(ctx)
+        fig5.run_spare(ctx, stop)
     return ctx.computed[c0:]
 
 

@@ -306,10 +306,16 @@ def run_scenario_cached(ctx: Context, stem: str, scenario, *, full: bool = True
     if full:
         result = run_models(ctx, stem, sc)
         return dict(result.discrete.summary), Path(result.discrete.path)
-    return run_point_cached(ctx, stem, sc, lambda result: dict(result.discrete.summary))
+    return run_point_cached(ctx, stem, sc, lambda result: dict(result.discrete.summary),
+                            kept=SUMMARY_KEPT)
 
 
-def run_point_cached(ctx: Context, stem: str, scenario, reduce) -> tuple[dict, Path]:
+SUMMARY_KEPT = "runner-summary/1"
+"""What :func:`run_scenario_cached` keeps of a point: the runner's summary (version 1)."""
+
+
+def run_point_cached(ctx: Context, stem: str, scenario, reduce, *, kept: str
+                     ) -> tuple[dict, Path]:
     """What an item keeps of one scenario's models, cached in a small HDF5 file.
 
     For items of many points that print a few numbers per point (Fig. 7's labels, the
@@ -317,10 +323,11 @@ def run_point_cached(ctx: Context, stem: str, scenario, reduce) -> tuple[dict, P
     :func:`hertzchain.models.run` (the one run path; no run files, no checkpoints: a
     point takes seconds) and ``reduce(run)`` — a JSON-able dict (floats, also NaN, round
     trip exactly) — is written to ``ctx.runs/<stem>-<hash>.h5``, keyed by the scenario
-    (:meth:`hertzchain.scenario.Scenario.to_dict`), sealed (:mod:`theory.integrity`),
-    with the scenario and the dict as JSON attributes (format
-    ``hertzchain.reproduce.summary/1``).  A finished file is reused (``ctx.force``
-    recomputes; a damaged one is recomputed) and counted in ``ctx.computed`` /
+    (:meth:`hertzchain.scenario.Scenario.to_dict`) and by ``kept``, sealed
+    (:mod:`theory.integrity`), with the scenario, ``kept`` and the dict as JSON
+    attributes (format ``hertzchain.reproduce.summary/1``).  A finished file is reused
+    only if its scenario and ``kept`` are this call's (:func:`read_summary`; ``ctx.force``
+    recomputes; a damaged or stale one is recomputed) and counted in ``ctx.computed`` /
     ``ctx.reused``.
 
     Parameters
@@ -332,6 +339,10 @@ def run_point_cached(ctx: Context, stem: str, scenario, reduce) -> tuple[dict, P
         A scenario (a dict is validated by :func:`hertzchain.scenario.parse_scenario`).
     reduce : callable
         ``reduce(run: hertzchain.models.Run) -> dict``, what is kept.
+    kept : str
+        Names what ``reduce`` keeps and its version (e.g. ``"validity-row/1"``): change
+        it whenever ``reduce`` changes, so that no file of the old reduction is reused
+        (a cached row is never recomputed otherwise).
 
     Returns
     -------
@@ -348,40 +359,50 @@ def run_point_cached(ctx: Context, stem: str, scenario, reduce) -> tuple[dict, P
 
     sc = scenario if isinstance(scenario, Scenario) else parse_scenario(scenario)
     params = sc.to_dict()
-    path = cache_path(ctx.runs, stem, params)
+    path = cache_path(ctx.runs, stem, {"scenario": params, "kept": kept})
     if path.exists() and not ctx.force:
         try:
-            kept = read_summary(path)
+            got = read_summary(path, scenario=params, kept=kept)
         except (OSError, ValueError, KeyError) as exc:  # damaged or stale: recompute
             ctx.log(f"{stem}: recomputing the cached run: {exc}")
-            kept = None
-        if kept is not None:
+            got = None
+        if got is not None:
             ctx.reused.append(path)
-            return kept, path
+            return got, path
     try:  # no output file, no checkpoint: the finished points are cached
-        kept = reduce(run(sc, progress=ctx.progress, wave_cache=ctx.cache,
-                          checkpoint_interval=ctx.checkpoint_interval))
+        got = reduce(run(sc, progress=ctx.progress, wave_cache=ctx.cache,
+                         checkpoint_interval=ctx.checkpoint_interval))
     except C.Interrupted as exc:
         raise _retell(exc, ctx, f"this point is not saved, the {stem} points before it "
                       "are") from None
     with integrity.sealed_hdf5(path) as f:
         f.attrs["scenario"] = canonical_json(params)
-        f.attrs["summary"] = canonical_json(kept)
+        f.attrs["kept"] = kept
+        f.attrs["summary"] = canonical_json(got)
         f.attrs["format"] = "hertzchain.reproduce.summary/1"
     ctx.computed.append(path)
-    return kept, path
+    return got, path
 
 
-def read_summary(path: str | Path) -> dict:
-    """The runner's summary stored in an HDF5 file (verified: :mod:`theory.integrity`).
+def read_summary(path: str | Path, *, scenario: dict | None = None,
+                 kept: str | None = None) -> dict:
+    """The dict stored by :func:`run_point_cached` (verified: :mod:`theory.integrity`).
+
+    ``scenario`` (:meth:`~hertzchain.scenario.Scenario.to_dict`) and ``kept``, if given,
+    must be the file's.
 
     Raises
     ------
     ValueError
-        Naming the file, if it is missing, unsealed or changed; KeyError without a
-        summary.
+        Naming the file, if it is missing, unsealed or changed, or holds another
+        scenario or another ``kept``; KeyError without a summary.
     """
     with integrity.open_hdf5(path, what="cached result") as f:
+        if scenario is not None and f.attrs["scenario"] != canonical_json(scenario):
+            raise ValueError(f"{path}: the cached result is of another scenario")
+        if kept is not None and f.attrs.get("kept") != kept:
+            raise ValueError(f"{path}: the cached result keeps {f.attrs.get('kept')!r}, "
+                             f"not {kept!r}")
         return json.loads(f.attrs["summary"])
 
 

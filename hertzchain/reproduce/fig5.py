@@ -22,6 +22,7 @@ it is large.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -188,7 +189,7 @@ def run(ctx: Context, cases=CASES, **overrides) -> list[CaseResult]:
     return [_case(ctx, c, s) for c in cases]
 
 
-def run_spare(ctx: Context) -> None:
+def run_spare(ctx: Context, stop=None) -> None:
     """Run the cases that the lane running this item has not started, last first.
 
     Called by the other lane of a two-process ``reproduce`` once its own items are done
@@ -196,10 +197,21 @@ def run_spare(ctx: Context) -> None:
     it takes (:func:`.common.claim_if_free`) is computed into the run files, which the
     item's own :func:`_case` then reuses (it waits while a case is being run).  The
     same scenarios as :func:`run` with the mode's defaults, through the one run path;
-    nothing in one process.
+    nothing in one process.  It starts once the item's lane has claimed a case (it
+    waits for that, asking ``stop()``; a lane that does not run this item claims none),
+    and ``stop()`` is asked before each case: True ends the sharing (the worker has
+    finished or died: its error is not kept waiting).
     """
+    if ctx.claims is None:
+        return
+    while not any(ctx.claims.glob("fig5-*.lock")):
+        if stop is None or stop():
+            return
+        time.sleep(0.05)
     s = ctx.pick(QUICK, FULL)
     for case in reversed(CASES):
+        if stop is not None and stop():
+            return
         with claim_if_free(ctx, f"fig5-{case}") as mine:
             if mine:
                 ctx.log(f"fig5 ({case}): run here, while the other process runs the "

@@ -168,6 +168,10 @@ _COLUMNS = ("incident_strain_over_delta0", "continuum_error", "theory_error",
             "continuum_energy", "continuum_speed", "theory_energy", "theory_speed")
 _TEXT = ("continuum_model", "continuum_stopped_by", "continuum_note", "theory_note")
 _KEYS = ("alpha_rho", "alpha_kn", "delta0_over_d", *_COLUMNS, *_TEXT)
+ROW_KEPT = "validity-row/1"
+"""Names what :func:`_row` keeps (:func:`.common.run_point_cached`): bump the version
+whenever :func:`_row`, the columns or :func:`hertzchain.compare.analyse`'s measurements
+change, so that no row of the old kind is reused."""
 """The table's columns, in order (a reused row comes back with its keys sorted)."""
 
 
@@ -196,7 +200,8 @@ def run(ctx: Context) -> _Table:
     points = _points(ctx)
     for p in tqdm_iter(ctx, points, desc="validity", total=len(points)):
         ctx.log(f"validity: {p.label()}")
-        rows.append(run_point_cached(ctx, "validity-point", p.scenario, _row)[0])
+        rows.append(run_point_cached(ctx, "validity-point", p.scenario, _row,
+                                     kept=ROW_KEPT)[0])
     table = _Table({k: np.array([r[k] for r in rows]) for k in _KEYS})
     table.attrs = {"name": f"model validity (--{ctx.mode})", "n_ok": len(rows),
                    "n_failed": 0}

@@ -322,8 +322,9 @@ def test_unfused_numba_refuses_kick_first_methods():
         VerletSolver(pde, backend="numba", **kw).make_stepper(state, pde.stable_dt(state))
 
 
+@pytest.mark.parametrize("nonlinearity", ["linear", "quadratic", "hertz"])
 @pytest.mark.parametrize("bc", ["free", "wall"])
-def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, rng):
+def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, nonlinearity, rng):
     """One pass of the compiled Rosenau kernel without drift kicks the window's nodes
     [L, R] by β (M⁻¹ r_w) there, M the whole chain's mass operator and r_w the flux
     divergence on the window, zero outside it (the active window's premise: the medium
@@ -331,8 +332,9 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, rng):
     side of the window is exact): checked against a dense solve (numpy.linalg) for windows that
     start and end inside and outside the constant runs of the factors (both ends, the
     interface of a three-section chain), of lengths 1 to 300 — every path of the
-    four-node links (:func:`continuum._stepper._eliminate4`) and their remainders.
-    Tolerance 1e-12 of the largest kick: both are backward-stable solves of a matrix
+    four-node links (:func:`continuum._stepper._eliminate4`) and their remainders, for
+    each flux (the quadratic one has a sweep of its own).  Tolerance 1e-12 of the
+    largest kick: both are backward-stable solves of a matrix
     with condition number < 10 (the links differ from the one-step recurrence by a
     few ulp, measured ≤ 2e-16)."""
     from continuum import _kernels, _stepper
@@ -340,7 +342,7 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, rng):
     sec = Medium.two_section(30, 40, DELTA0, 3.0, 0.5)
     med = Medium.from_grain_arrays(np.r_[sec.mass, sec.mass[:30] * 0.25],
                                    np.r_[sec.k, sec.k[1:31]], DELTA0)
-    pde = BoussinesqPDE(med, 3, bc=bc, nonlinearity="linear")
+    pde = BoussinesqPDE(med, 3, bc=bc, nonlinearity=nonlinearity)
     n = pde.grid.shape[0]
     h = pde.disc.h
     fac = _stepper.rosenau_factors(*pde._bands)[0]
@@ -359,8 +361,8 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, rng):
         v0 = v.copy()
         y = np.zeros(n)
         win = np.zeros(2, np.int64)
-        _stepper._rosenau_pass(u, v, y, lo, hi, 0.0, 0.7, h, code, 0, kk, bb, kh, d0, f0,
-                               fac, runs, 0.0, np.inf, win)
+        _stepper._rosenau_pass(u, v, y, lo, hi, 0.0, 0.7, h, code, pde._nl_code, kk, bb,
+                               kh, d0, f0, fac, runs, 0.0, np.inf, win)
         # flux divergence on the window: faces lo..hi+1 (outer ones from u beyond it)
         s = np.empty(hi - lo + 2)
         for j, q in enumerate(range(lo, hi + 2)):
@@ -370,7 +372,9 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, rng):
                 s[j] = 2.0 * u[-1] / h if bc == "wall" else 0.0
             else:
                 s[j] = (u[q - 1] - u[q]) / h
-        flux = kk[lo:hi + 2] * s
+        s_all = np.zeros(n + 1)
+        s_all[lo:hi + 2] = s
+        flux = pde.flux(s_all)[lo:hi + 2]  # the NumPy path's P(s) of the nonlinearity
         r = (flux[:-1] - flux[1:]) / h
         rhs = np.zeros(n)
         rhs[lo:hi + 1] = r

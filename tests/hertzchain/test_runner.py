@@ -438,3 +438,12 @@ def test_run_simulation_takes_the_built_initial_state(monkeypatch):
         R.build_chain(sc.with_values({"chain.sections.1.n": 121}).chain))
     with pytest.raises(ValueError, match="init must be the initial state"):
         R.run_simulation(sc, init=other)
+    # the same grains (masses) with other contacts (α_kn): refused too
+    stiff = sc.with_values({"chain.sections.1.alpha_rho": 1.0,
+                            "chain.sections.0.alpha_kn": 1.0})
+    soft = sc.with_values({"chain.sections.1.alpha_rho": 1.0,
+                           "chain.sections.1.alpha_kn": 2.0})
+    init_soft = R.build_initial_checked(soft, R.build_chain(soft.chain))
+    assert np.array_equal(init_soft.chain.mass, R.build_chain(stiff.chain).mass)
+    with pytest.raises(ValueError, match="contact constants"):
+        R.run_simulation(stiff, init=init_soft)
