@@ -4,8 +4,10 @@ Each kernel takes plain arrays (the state, preallocated scratch, the medium's fa
 node coefficients) and performs ``nsteps`` complete time steps without returning to
 Python and without allocating: the stepping, the flux-form right-hand side, the
 tridiagonal (Rosenau) solve and the bookkeeping of the active window are fused into
-two sweeps over the nodes per force evaluation.  They are module-level
-``@njit(cache=True)`` functions (compiled once per machine, not once per equation).
+three sweeps over the window per force evaluation (flux divergence; elimination;
+back substitution with the kick), the window's new edges found by scans from its ends.
+They are module-level ``@njit(cache=True)`` functions (compiled once per machine, not
+once per equation).
 The NumPy reference of every kernel is the PDE's :meth:`evolution_rate` driven by
 py-pde's generic stepping (``backend="numpy"``); the tests compare the two.
 
@@ -51,7 +53,7 @@ shrinks behind it where the medium comes back to rest).  Periodic chains are alw
 integrated whole (cyclic solve by Sherman–Morrison).
 
 The tridiagonal solve (Rosenau form)
------------------------------------
+------------------------------------
 Elimination a_i = r_i/d_i - g_i a_{i-1} and back substitution x_i = a_i - c_i x_{i+1}
 are first-order recurrences: one multiply and one add (6 cycles on Zen 4) per node on
 the dependency chain, two chains (the twisted factorisation's two directions) per sweep.
