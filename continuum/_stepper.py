@@ -63,7 +63,8 @@ four nodes per link, a_{i+3} = T_3 + g⁴ a_{i-1} with the local sums T off the 
 (:func:`_eliminate4`, :func:`_substitute4`): the same arithmetic as the one-step form
 to a few ulp (not bit for bit).  Measured (AMD EPYC Zen 4, 70,000 nodes, whole window,
 quadratic flux): a drift-and-kick pass 2.37 → 1.81 ns per node (elimination 0.83 →
-0.46, back substitution and kick 1.01 → 0.68; the flux sweep 0.6, bound by its loads).
+0.46, back substitution and kick 1.01 → 0.68; the flux sweep 0.6, bound by its loads:
+a vectorised form, each face's flux computed for both its nodes, was no faster).
 
 Boundary codes (as :mod:`continuum._kernels`): 0 = free, 1 = wall, 2 = periodic.
 Nonlinearity codes: 0 = linear K s, 1 = quadratic K s + B s², 2 = Hertz
@@ -170,16 +171,15 @@ def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac
                   tau_s, tau_v, win):
     """One drift (α Δt) and one kick (β Δt) over nodes [L, R], non-periodic ends.
 
-    Sweep A (vectorisable: each face's flux is computed for both its nodes, no value is
-    carried from one node to the next): drift, face strains and fluxes, flux divergence
-    r_i.  Sweep B: the "burn at both ends" (twisted) factorisation of the tridiagonal
-    mass operator, eliminating from L upwards and from R downwards at the same time (two
-    independent dependency chains) to the twist node k; sweep C: back substitution
-    outwards from k with the kick.  Where the factors are constant (``runs``,
-    :func:`constant_runs`: everywhere but a few tens of nodes at the chain's ends and
-    its interfaces) B and C advance four nodes per link of their dependency chains
-    (:func:`_eliminate4`, :func:`_substitute4`).  ``win`` receives the new active
-    window.
+    Sweep A (the drift vectorised; the flux of each face carried to the next node):
+    drift, face strains and fluxes, flux divergence r_i.  Sweep B: the "burn at both
+    ends" (twisted) factorisation of the tridiagonal mass operator, eliminating from L
+    upwards and from R downwards at the same time (two independent dependency chains)
+    to the twist node k; sweep C: back substitution outwards from k with the kick.
+    Where the factors are constant (``runs``, :func:`constant_runs`: everywhere but a
+    few tens of nodes at the chain's ends and its interfaces) B and C advance four
+    nodes per link of their dependency chains (:func:`_eliminate4`,
+    :func:`_substitute4`).  ``win`` receives the new active window.
     """
     n = u.size
     ih = 1.0 / h
@@ -196,37 +196,30 @@ def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac
         s = -2.0 * u[0] * ih if bc == WALL else 0.0
     else:
         s = (u[L - 1] - u[L]) * ih
-    p_lo = _flux(s, nl, kk[L], bb[L], kh[L], d0[L], f0[L])
+    p_prev = _flux(s, nl, kk[L], bb[L], kh[L], d0[L], f0[L])
+    k1 = kk[L + 1:R + 2]
+    b1 = bb[L + 1:R + 2]
+    if nl == 1:
+        for i in range(m_ - 1):
+            s = (uu[i] - uu[i + 1]) * ih
+            p = (k1[i] + b1[i] * s) * s
+            yy[i] = (p_prev - p) * ih
+            p_prev = p
+    else:
+        h1 = kh[L + 1:R + 2]
+        z1 = d0[L + 1:R + 2]
+        f1 = f0[L + 1:R + 2]
+        for i in range(m_ - 1):
+            s = (uu[i] - uu[i + 1]) * ih
+            p = _flux(s, nl, k1[i], b1[i], h1[i], z1[i], f1[i])
+            yy[i] = (p_prev - p) * ih
+            p_prev = p
     if R == n - 1:
         s = 2.0 * u[n - 1] * ih if bc == WALL else 0.0
     else:
         s = (u[R] - u[R + 1]) * ih
     q = R + 1
-    p_hi = _flux(s, nl, kk[q], bb[q], kh[q], d0[q], f0[q])
-    if m_ == 1:
-        y[L] = (p_lo - p_hi) * ih
-    else:
-        # node i + 1 of the window: left face L + i + 1, right face L + i + 2 (views
-        # from there: the loops index with i, i + 1, i + 2 only, so without wraparound)
-        k1, k2 = kk[L + 1:R + 2], kk[L + 2:R + 2]
-        b1, b2 = bb[L + 1:R + 2], bb[L + 2:R + 2]
-        s = (uu[0] - uu[1]) * ih
-        yy[0] = (p_lo - _flux(s, nl, k1[0], b1[0], kh[L + 1], d0[L + 1], f0[L + 1])) * ih
-        if nl == 1:
-            for i in range(m_ - 2):
-                sl = (uu[i] - uu[i + 1]) * ih
-                sr = (uu[i + 1] - uu[i + 2]) * ih
-                yy[i + 1] = ((k1[i] + b1[i] * sl) * sl - (k2[i] + b2[i] * sr) * sr) * ih
-        else:  # (linear, Hertz: the flux carried from node to node, compiled smaller)
-            h1, z1, e1 = kh[L + 1:R + 2], d0[L + 1:R + 2], f0[L + 1:R + 2]
-            p_prev = _flux((uu[0] - uu[1]) * ih, nl, k1[0], b1[0], h1[0], z1[0], e1[0])
-            for i in range(m_ - 2):
-                sr = (uu[i + 1] - uu[i + 2]) * ih
-                p = _flux(sr, nl, k2[i], b2[i], h1[i + 1], z1[i + 1], e1[i + 1])
-                yy[i + 1] = (p_prev - p) * ih
-                p_prev = p
-        s = (uu[m_ - 2] - uu[m_ - 1]) * ih
-        yy[m_ - 1] = (_flux(s, nl, kk[R], bb[R], kh[R], d0[R], f0[R]) - p_hi) * ih
+    y[R] = (p_prev - _flux(s, nl, kk[q], bb[q], kh[q], d0[q], f0[q])) * ih
     # ---- sweep B: eliminate L -> k-1 (a) and R -> k+1 (b)
     k = (L + R) // 2
     nt = k - L
