@@ -298,16 +298,13 @@ def run_scenario_cached(ctx: Context, stem: str, scenario, *, full: bool = True
     :func:`discrete.load` reads it back, with the recorded energy grid — several MB),
     otherwise a small file with only the scenario and the summary as JSON attributes
     (:func:`run_point_cached`; for sweeps of many points, e.g. Fig. 7), the run itself in
-    memory only.
+    memory only.  (Both take the scenario as it is: a dict is validated there.)
     """
-    from ..scenario import Scenario, parse_scenario
-
-    sc = scenario if isinstance(scenario, Scenario) else parse_scenario(scenario)
     if full:
-        result = run_models(ctx, stem, sc)
+        result = run_models(ctx, stem, scenario)
         return dict(result.discrete.summary), Path(result.discrete.path)
-    return run_point_cached(ctx, stem, sc, lambda result: dict(result.discrete.summary),
-                            kept=SUMMARY_KEPT)
+    return run_point_cached(ctx, stem, scenario,
+                            lambda result: dict(result.discrete.summary), kept=SUMMARY_KEPT)
 
 
 SUMMARY_KEPT = "runner-summary/1"

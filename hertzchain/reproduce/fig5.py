@@ -137,6 +137,15 @@ def estimate_cost(ctx: Context, case: str, s: dict) -> dict:
             "seconds": updates / UPDATES_PER_SECOND}
 
 
+def _run_case(ctx: Context, case: str, s: dict):
+    """Run the models of case ``case`` at the sizes ``s`` (:func:`.common.run_models`).
+
+    The one call of both :func:`_case` and :func:`run_spare`: both run the same
+    scenario, so the item reuses the files :func:`run_spare` wrote.
+    """
+    return run_models(ctx, "fig5", scenario(case, s))
+
+
 def _case(ctx: Context, case: str, s: dict) -> CaseResult:
     ar, ak = theory.PAPER_POINTS[case]
     p = {"case": case, **s}
@@ -147,7 +156,7 @@ def _case(ctx: Context, case: str, s: dict) -> CaseResult:
                 f"~{cost['seconds']:.0f} s at {UPDATES_PER_SECOND:.0e} updates/s "
                 "(if not cached)")
     with claim(ctx, f"fig5-{case}"):  # (the other lane may be running it: run_spare)
-        r = run_models(ctx, "fig5", scenario(case, s))
+        r = _run_case(ctx, case, s)
     sim, path = r.simulation, r.discrete.path
     n_left = p["interface"]
     chain = sim.chain
@@ -216,7 +225,7 @@ def run_spare(ctx: Context, stop=None) -> None:
             if mine:
                 ctx.log(f"fig5 ({case}): run here, while the other process runs the "
                         "earlier cases")
-                run_models(ctx, "fig5", scenario(case, s))
+                _run_case(ctx, case, s)
 
 
 def plot_case(ax, res: CaseResult, *, label: str | None = None, zoom: int = 250) -> None:
