@@ -721,8 +721,6 @@ def _interface_activity(ek: np.ndarray, ep: np.ndarray, iface: int) -> np.ndarra
 
     (:func:`total_energy_rows`: bit for bit the whole grid's; |e| taken in the block.)
     """
-    if not ek.shape[0]:
-        return np.zeros(0)
     return total_energy_rows(ek, ep,
                              lambda e: D.interface_activity(e, iface, overwrite=True))
 

@@ -201,10 +201,10 @@ def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
     ek, ep, t = grids.ek, grids.ep, grids.t
     iface = s["n_left"]
 
-    def per_row(e):  # (a block of rows of e = ek + ep; overwritten)
-        act, front = D.interface_activity(e, iface), _front(e, iface)
-        a = np.abs(e, out=e)
-        return act, front, a.sum(axis=1), a[:, :5].sum(axis=1)
+    def per_row(e):  # (a block of rows of e = ek + ep; overwritten with |e|)
+        front = _front(e, iface)  # (of the signed e: before |e| is taken in place)
+        act = D.interface_activity(e, iface, overwrite=True)  # e is |e| from here
+        return act, front, e.sum(axis=1), e[:, :5].sum(axis=1)
 
     # the interface activity (once: the row rules below read it), the transmitted front
     # and the energy near the left wall, per row, by row blocks (bit for bit the whole
