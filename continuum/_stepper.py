@@ -247,16 +247,11 @@ def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac
             b = y[j] * inv_b[j] - g_b[j] * b
             y[j] = b
             j -= 1
-    # the chains advance together, so at most one node of one of them is left
-    # (nt and nb_ differ by at most one)
-    while i < k:
-        a = y[i] * inv_t[i] - g_t[i] * a
-        y[i] = a
-        i += 1
-    while j > k:
+    # the chains advance together and nb_ - nt is 0 or 1: the top chain is done, at
+    # most one node of the bottom one is left
+    if j > k:
         b = y[j] * inv_b[j] - g_b[j] * b
         y[j] = b
-        j -= 1
     # twist node: (d_k - e_{k-1} cp_t[k-1] - e_k cp_b[k+1]) x_k = r_k - e_{k-1} a - e_k b
     rk = y[k]
     if nt > 0:
@@ -289,14 +284,9 @@ def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac
             b = y[j] - cp_b[j] * b
             v[j] += beta * b
             j += 1
-    while i >= L:  # (at most one node left, as in sweep B)
-        a = y[i] - cp_t[i] * a
-        v[i] += beta * a
-        i -= 1
-    while j <= R:
+    if j <= R:  # (at most one node left, of the bottom chain, as in sweep B)
         b = y[j] - cp_b[j] * b
         v[j] += beta * b
-        j += 1
     # ---- new active window: scan inwards from both edges
     lo = -1
     for i in range(L, R + 1):

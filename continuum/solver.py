@@ -83,7 +83,7 @@ def splitting_method(method: str | Splitting | None = None,
         if order not in ORDER_METHODS:
             raise ValueError(f"order must be 2 or 4 (got {order!r})")
         return get_splitting(ORDER_METHODS[order])
-    try:
+    try:  # (the message starts with the parameter's name, as every error of run's)
         m = get_splitting(method)
     except ValueError:
         raise ValueError(f"method must be one of {sorted(SPLITTINGS)} (got {method!r})"
@@ -178,13 +178,6 @@ class _CheckedSolver(SolverBase):
 
             self._chunk = chunk
         else:
-            if self.backend.name == "numba" and getattr(self, "method", None) is not None \
-                    and self.method.kick_first:
-                # py-pde compiles the single step; the kick-first one caches the last
-                # acceleration in a Python dict, which numba cannot type (a TypingError)
-                raise ValueError(f"fused=False with backend 'numba' steps drift-first "
-                                 f"methods only (method {self.method.name!r} is kick "
-                                 "first): use fused=True (default) or backend='numpy'")
             inner = self.backend.make_stepper(self, state)
             evals = self._evaluations_per_step()
 
@@ -362,6 +355,12 @@ class VerletSolver(_CheckedSolver):
         applied one after the other (the fused kernels add their coefficients: equal to
         round-off).
         """
+        if self.method.kick_first and self.backend.name == "numba":
+            # py-pde compiles the single step; the kick-first one caches the last
+            # acceleration in a Python dict, which numba cannot type (a TypingError)
+            raise ValueError(f"fused=False with backend 'numba' steps drift-first "
+                             f"methods only (method {self.method.name!r} is kick "
+                             "first): use fused=True (default) or backend='numpy'")
         rhs = self.backend.make_pde_rhs(self.pde, state)
         alpha, beta = self.alpha, self.beta
         nsub = beta.size
@@ -383,12 +382,12 @@ class VerletSolver(_CheckedSolver):
             if "u" in last and np.array_equal(last["u"], u):
                 acc1 = last["a"]
             else:
-                acc1 = rhs(state_data, t)[1].copy()
+                acc1 = rhs(state_data, t)[1]  # (a fresh array)
                 self._extra_evaluations += 1
             state_data[1] += beta[0] * dt * acc1
             for i in range(1, nsub):
                 state_data[0] += alpha[i] * dt * state_data[1]
-                acc1 = rhs(state_data, t)[1].copy()
+                acc1 = rhs(state_data, t)[1]  # (a fresh array)
                 state_data[1] += beta[i] * dt * acc1
             last["u"] = state_data[0].copy()
             last["a"] = acc1

@@ -865,7 +865,7 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
         raise ScenarioError(f"[models] order = {spec.order}; allowed: 2, 4 (deprecated: "
                             "use integrator)")
     if spec.continuum == "kdv" and (spec.integrator is not None or spec.order is not None
-                                    or spec.dt_safety != 0.5):
+                                    or spec.dt_safety != ModelsSpec.dt_safety):
         raise ScenarioError("[models] integrator, order and dt_safety do not apply to "
                             "continuum = \"kdv\" (KdV steps with py-pde's Runge-Kutta at its "
                             "own stable_dt): drop them")

@@ -60,7 +60,9 @@ class Splitting:
 
     Kick first (BAB) when ``len(kick) == len(drift) + 1``, drift first (ABA) when
     ``len(drift) == len(kick) + 1`` (module docstring).  Coefficients are fractions of
-    the step (dimensionless); each set sums to 1.
+    the step (dimensionless); each set sums to 1.  ``stability``: the largest stable
+    ω h on the harmonic oscillator (:data:`STABILITY_LIMITS`; swapping drift and kick
+    keeps it).
     """
 
     name: str
@@ -68,6 +70,7 @@ class Splitting:
     drift: tuple[float, ...]
     kick: tuple[float, ...]
     reference: str
+    stability: float
 
     def __post_init__(self) -> None:
         if abs(len(self.kick) - len(self.drift)) != 1:
@@ -93,13 +96,18 @@ class Splitting:
 
     def swapped(self, name: str, reference: str) -> Splitting:
         """The method with the roles of drift and kick exchanged (same order)."""
-        return Splitting(name, self.order, self.kick, self.drift, reference)
+        return Splitting(name, self.order, self.kick, self.drift, reference, self.stability)
+
+
+_CBRT2 = 2.0 ** (1.0 / 3.0)
+_W1 = 1.0 / (2.0 - _CBRT2)
+_YOSHIDA_REF = "H. Yoshida, Phys. Lett. A 150 (1990) 262, Eq. 5.19"
 
 
 def _yoshida4(w0: float, name: str, reference: str) -> Splitting:
-    w1 = 1.0 / (2.0 - 2.0 ** (1.0 / 3.0))
-    return Splitting(name, 4, (w1, w0, w1),
-                     (0.5 * w1, 0.5 * (w0 + w1), 0.5 * (w0 + w1), 0.5 * w1), reference)
+    return Splitting(name, 4, (_W1, w0, _W1),
+                     (0.5 * _W1, 0.5 * (w0 + _W1), 0.5 * (w0 + _W1), 0.5 * _W1), reference,
+                     1.573)
 
 
 def _blanes_moan4() -> Splitting:
@@ -110,14 +118,11 @@ def _blanes_moan4() -> Splitting:
     return Splitting("blanes_moan4", 4, (a1, a2, a3, a3, a2, a1),
                      (b1, b2, b3, b4, b3, b2, b1),
                      "S. Blanes & P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313, "
-                     "Table 3 (SRKN_6^b)")
+                     "Table 3 (SRKN_6^b)", 3.163)
 
 
-_CBRT2 = 2.0 ** (1.0 / 3.0)
-_W1 = 1.0 / (2.0 - _CBRT2)
-_YOSHIDA_REF = "H. Yoshida, Phys. Lett. A 150 (1990) 262, Eq. 5.19"
 _VERLET = Splitting("verlet", 2, (1.0,), (0.5, 0.5),
-                    "W. C. Swope et al., J. Chem. Phys. 76 (1982) 637, Eq. 7")
+                    "W. C. Swope et al., J. Chem. Phys. 76 (1982) 637, Eq. 7", 2.0)
 
 SPLITTINGS: dict[str, Splitting] = {
     "verlet": _VERLET,
@@ -125,19 +130,16 @@ SPLITTINGS: dict[str, Splitting] = {
     "blanes_moan4": _blanes_moan4(),
     "position_verlet": _VERLET.swapped(
         "position_verlet", "position Verlet (drift-kick-drift); Swope et al. (1982)"),
-    "position_yoshida4": _yoshida4(-_CBRT2 / (2.0 - _CBRT2), "yoshida4", "").swapped(
-        "position_yoshida4", _YOSHIDA_REF + " (drift first)"),
+    "position_yoshida4": _yoshida4(-_CBRT2 / (2.0 - _CBRT2), "position_yoshida4",
+                                   "").swapped("position_yoshida4",
+                                               _YOSHIDA_REF + " (drift first)"),
 }
 """The methods by name (module docstring's table)."""
 
-STABILITY_LIMITS: dict[str, float] = {
-    "verlet": 2.0, "position_verlet": 2.0,
-    "yoshida4": 1.573, "position_yoshida4": 1.573,
-    "blanes_moan4": 3.163,
-}
-"""Largest stable ω h on the harmonic oscillator v_t = -ω² u (dimensionless; Verlet: 2
-exactly; the 4th-order ones: the stability polynomial's first |trace| = 2 crossing,
-3 digits, rounded down)."""
+STABILITY_LIMITS: dict[str, float] = {n: m.stability for n, m in SPLITTINGS.items()}
+"""Each method's ``stability`` by name: the largest stable ω h on the harmonic oscillator
+v_t = -ω² u (dimensionless; Verlet: 2 exactly; the 4th-order ones: the stability
+polynomial's first |trace| = 2 crossing, 3 digits, rounded down)."""
 
 
 ORDER_METHODS: dict[int, str] = {2: "position_verlet", 4: "position_yoshida4"}
