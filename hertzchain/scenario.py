@@ -90,13 +90,6 @@ class ScenarioError(ValueError):
 
 
 # -- the schema -------------------------------------------------------------------------
-def _splitting_names() -> tuple:
-    """The names of :data:`theory.splitting.SPLITTINGS` (``[models] integrator``'s choices)."""
-    from theory.splitting import SPLITTINGS
-
-    return tuple(SPLITTINGS)
-
-
 @dataclass(frozen=True)
 class Key:
     """One scenario key: how it is read, validated and documented.
@@ -118,10 +111,8 @@ class Key:
         Unit for the docs ("" if dimensionless).
     low, high : float, optional
         Bounds of numbers (and list entries); ``low_open``/``high_open`` exclude them.
-    choices : tuple or callable
-        Allowed values of a ``"choice"`` key, or a function returning them (read when
-        needed: the integrator names come from :mod:`theory.splitting`, whose package
-        imports NumPy, which ``hertzchain --help``/``--version`` must not).
+    choices : tuple
+        Allowed values of a ``"choice"`` key.
     required : bool
         The key must be given.
     example : object
@@ -137,19 +128,14 @@ class Key:
     high: float | None = None
     low_open: bool = True
     high_open: bool = True
-    choices: Any = ()
+    choices: tuple = ()
     required: bool = False
     example: Any = None
-
-    @property
-    def allowed(self) -> tuple:
-        """The allowed values of a ``"choice"`` key (``choices``, called if callable)."""
-        return tuple(self.choices() if callable(self.choices) else self.choices)
 
     def range_text(self) -> str:
         """The allowed values, for messages and docs."""
         if self.kind == "choice":
-            return ", ".join(repr(c) for c in self.allowed)
+            return ", ".join(repr(c) for c in self.choices)
         if self.low is None and self.high is None:
             return ""
         lo = "-inf" if self.low is None else f"{self.low:g}"
@@ -174,6 +160,12 @@ s = 8.6 19 of 25 Eq. 4 runs blow up (Eq. 7 1.2–9.8 %)."""
 
 INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4")
 """Time integrators of the discrete solver (:data:`discrete.integrators.INTEGRATORS`)."""
+
+CONTINUUM_INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4", "position_verlet",
+                         "position_yoshida4")
+"""Values of ``[models] integrator``: the names of :data:`theory.splitting.SPLITTINGS`
+(written out, as :data:`INTEGRATORS` and :data:`LAWS` are: ``theory`` imports NumPy,
+which ``hertzchain --help`` must not; the test compares the two)."""
 
 MATERIAL_KEYS = ("density", "youngs_modulus", "poisson_ratio")
 
@@ -315,7 +307,7 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("nodes_per_grain", "integer", 5, "continuum grid nodes per grain (odd)", low=1),
         Key("integrator", "choice", None, "the continuum's splitting method "
             "(theory.splitting; kick-first ones with merged FSAL kicks); default: "
-            "\"position_yoshida4\" (or the one of order)", choices=_splitting_names,
+            "\"position_yoshida4\" (or the one of order)", choices=CONTINUUM_INTEGRATORS,
             example="blanes_moan4"),
         Key("order", "integer", None, "deprecated alias of integrator: 2 = "
             "\"position_verlet\", 4 = \"position_yoshida4\" (the default)", low=2,
@@ -427,9 +419,9 @@ def _read_value(key: Key, val, where: str):
             raise ScenarioError(f"[{where}] {key.name} must be a string (got {val!r})")
         return val
     if k == "choice":
-        if val not in key.allowed:
+        if val not in key.choices:
             raise ScenarioError(f"[{where}] {key.name} = {val!r}; allowed: "
-                                f"{list(key.allowed)}")
+                                f"{list(key.choices)}")
         return val
     if k in ("numbers", "integers"):
         if not isinstance(val, list):

@@ -88,6 +88,19 @@ def test_one_copy_of_the_coefficients():
     assert tuple(alpha) == SPLITTINGS["position_yoshida4"].drift
 
 
+def test_scenario_names_every_method_and_its_limit():
+    """hertzchain.scenario writes the table's names out (its import stays NumPy-free):
+    the same names, and each method's stability limit is the derived table's."""
+    from hertzchain.scenario import CONTINUUM_INTEGRATORS, INTEGRATORS
+    from theory.splitting import STABILITY_LIMITS
+
+    assert CONTINUUM_INTEGRATORS == tuple(SPLITTINGS)
+    assert INTEGRATORS == tuple(n for n, m in SPLITTINGS.items() if m.kick_first)
+    assert STABILITY_LIMITS == {n: m.stability for n, m in SPLITTINGS.items()}
+    assert all(SPLITTINGS["position_" + n].stability == SPLITTINGS[n].stability
+               for n in ("verlet", "yoshida4"))
+
+
 # ------------------------------------------------------------- order conditions (BCH)
 def _log_of_method(m, degree):
     """log of the composition ∏ exp(c X) in the free algebra of X ∈ {drift A, kick B},
