@@ -43,8 +43,7 @@ against a converged reference (Blanes–Moan-4 at ``dt_safety`` 0.2: its time er
 (1.45/0.2)^4 ≈ 2,800 × below the production one's).  Printed per variant: the L2
 relative difference of the final grain velocities to the reference, the force
 evaluations per 1/ω_max (S / (2 dt_safety)) and the CPU seconds of the continuum run
-with their ratio to today's default (Yoshida-4 drift first at 0.5), measured in the
-same run.
+with their ratio to a Yoshida-4 run at ``dt_safety`` 0.5, measured in the same run.
 
 Usage::
 

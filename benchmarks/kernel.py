@@ -9,7 +9,7 @@ reached, so it never fires) and the energy monitor (total and modified energy ev
 left, α_ρ = 5 on the right, δ0^L/d = 1e-3) with random grain velocities (normal,
 σ = 1 mm/s, seeded) *everywhere*: the active window covers all N grains at every step
 (checked).  A third kernel row keeps the refined maxima of v between the steps as well
-(``Recording(refined_maxima=True)``, issue 17 item 2; what an rtol run records): on this
+(``Recording(refined_maxima=True)``; what an rtol run records): on this
 chain about 1 % of the grains reach a new maximum at every step, a worst case for its
 per-step search.  The baseline is the plain NumPy velocity-Verlet step
 (:mod:`discrete.reference`) on the same chain and state, measured in the same run,
@@ -30,7 +30,7 @@ Usage::
     python benchmarks/kernel.py --threshold-scan
     python benchmarks/kernel.py --roofline           # what limits the kernel, and C
     python benchmarks/kernel.py --roofline --grains 10000 --cpu native --cpu znver3
-        # also the AVX2 code path (issue 17 item 4), emulated on this machine
+        # also the AVX2 code path, emulated on this machine
 
 ``--roofline`` times, in CPU seconds, a bare C velocity Verlet (``leapfrog.c`` beside this
 script; compiled at run time with ``gcc -O3 -march=<cpu> -fno-math-errno`` into a
@@ -101,7 +101,7 @@ def production(ch: Chain, v: np.ndarray, threads: int, recording: bool = True,
     """A warmed-up Simulation with the paper's recording (or none; or with refined maxima).
 
     ``refined``: also the refined maxima of v between the steps (``Recording(
-    refined_maxima=True)``, issue 17 item 2; off by default, on in rtol runs).
+    refined_maxima=True)``; off by default, on in rtol runs).
     """
     n = ch.n
     extra = {"refined_maxima": True} if refined else {}

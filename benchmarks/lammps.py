@@ -1,4 +1,4 @@
-"""hertzchain beside LAMMPS on the same problem (issue 17): agreement, throughput, time to solution.
+"""hertzchain beside LAMMPS on the same problem: agreement, throughput, time to solution.
 
 The problem: N paper grains (d = 5 mm, stainless steel E = 193 GPa, ν = 0.30,
 ρ = 7900 kg/m³), δ0 = 0, both ends free, grain 0 given v0 = 1 m/s, run until the

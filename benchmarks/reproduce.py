@@ -16,9 +16,10 @@ the script fails).
 The machine is shared: the CPU model and the load average before and after are printed;
 compare only ratios within one run.
 
-``--full`` measures ``reproduce --full`` the same way (issue 13: ≤ 2 min; its two
-workers are :data:`hertzchain.reproduce.FULL_LANES`, ~5 min per run on an idle 2-core
-machine, so ``--rounds 1`` is the practical choice).
+``--full`` measures ``reproduce --full`` the same way (its two workers are
+:data:`hertzchain.reproduce.FULL_LANES`; a run takes minutes, so ``--rounds 1`` is the
+practical choice).  ``--write-docs`` writes the table into its section of
+``docs/benchmarks.md`` (``reproduce-quick`` or ``reproduce-full``).
 
 Usage::
 
@@ -26,6 +27,7 @@ Usage::
     python benchmarks/reproduce.py --rounds 1 --skip-warmup
     python benchmarks/reproduce.py --full --rounds 1 --skip-warmup
     python benchmarks/reproduce.py --reference main.json   # numbers unchanged?
+    python benchmarks/reproduce.py --write-docs    # also into docs/benchmarks.md
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ import time
 from pathlib import Path
 
 import psutil
+from _docs import markdown_table, section, write_section
 from _machine import cpu_name
 
 
@@ -92,10 +95,13 @@ def main(argv=None) -> int:
     ap.add_argument("--reference", metavar="FILE",
                     help="the --json output of a reference version (e.g. main: "
                          "hertzchain reproduce --quick --json > FILE); fail unless equal")
+    ap.add_argument("--write-docs", action="store_true",
+                    help="write the table into docs/benchmarks.md (section "
+                         "'reproduce-quick' or 'reproduce-full')")
     args = ap.parse_args(argv)
     mode = "full" if args.full else "quick"
-    print(f"reproduce --{mode}; CPU: {cpu_name()}; load average before "
-          f"{os.getloadavg()[0]:.1f}")
+    load0 = os.getloadavg()[0]
+    print(f"reproduce --{mode}; CPU: {cpu_name()}; load average before {load0:.1f}")
     rows = []
     with tempfile.TemporaryDirectory(prefix="bench-reproduce-") as tmp:
         if not args.skip_warmup:
@@ -117,8 +123,24 @@ def main(argv=None) -> int:
             raise SystemExit(f"FAIL: the --json output differs from {args.reference}")
         print(f"--json output byte-identical to {args.reference}")
     med = {w: statistics.median(r["wall"] for r in rows if r["workers"] == w) for w in (1, 2)}
-    print(f"median wall: workers=1 {med[1]:.1f} s, workers=2 {med[2]:.1f} s; "
-          f"ratio {med[1] / med[2]:.2f}x; load average after {os.getloadavg()[0]:.1f}")
+    load1 = os.getloadavg()[0]
+    ratio = (f"median wall: workers=1 {med[1]:.1f} s, workers=2 {med[2]:.1f} s; ratio "
+             f"{med[1] / med[2]:.2f}x")
+    print(f"{ratio}; load average after {load1:.1f}")
+    table = markdown_table(
+        ["`--workers`", "wall s", "CPU s", "largest process peak RSS (MB)",
+         "PSS over all processes (MB)"],
+        [[r["workers"], f"{r['wall']:.1f}", f"{r['cpu']:.1f}", f"{r['hwm'] / 1e6:.0f}",
+          f"{r['pss_sum'] / 1e6:.0f}"] for r in rows])
+    print(table)
+    if args.write_docs:
+        notes = (f"`hertzchain reproduce --{mode} --json --out <fresh dir> --workers W`, "
+                 "warm kernel cache, every simulation computed; rows in the order run "
+                 f"(alternating, so that load drifts hit both counts alike); {ratio}.  "
+                 "Peak RSS is the kernel's high-water mark (`ru_maxrss`); PSS is sampled "
+                 "every 0.1 s (pages shared by the two processes counted once).  The "
+                 "`--json` output was byte-identical in every run.")
+        write_section(f"reproduce-{mode}", section(table, load=(load0, load1), notes=notes))
     return 0
 
 

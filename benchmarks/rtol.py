@@ -1,4 +1,4 @@
-"""Time to solution at a stated accuracy (issue 17): the default dt against ``rtol``.
+"""Time to solution at a stated accuracy: the default dt against ``rtol``.
 
 The problem: an impact (v0 = 1 m/s on grain 0) on N paper grains (d = 5 mm, steel,
 ν = 0.30), δ0 = 0, both ends free, run until the leading velocity peak passes grain
@@ -7,8 +7,8 @@ The problem: an impact (v0 = 1 m/s on grain 0) on N paper grains (d = 5 mm, stee
 recorded quantity is v̄max/v0, every grain's running maximum of v over v0, on the
 settled part of the chain (grains 0.1 N .. 0.7 N): the refined maximum
 (``record.vmax_refined``, between the steps; what rtol bounds) where the code records
-it, else the largest sample (``record.vmax``; a baseline tree of before issue 17 item
-2); both errors are printed ("err N/2" and "max err" of the run's refined maxima,
+it, else the largest sample (``record.vmax``; a baseline tree from before the refined
+maxima); both errors are printed ("err N/2" and "max err" of the run's refined maxima,
 "sampled" the max error of its samples).  "Converged" is the refined maxima of the same
 run with Blanes-Moan 4 at half the default dt (measured on a 150-grain impact: ~1e-9
 off; the target is 1e-4).  An rtol run of this one-section chain records no energy
@@ -37,7 +37,7 @@ windowed mean (:func:`discrete.diagnostics.phase_averaged_ratios`) against one r
 without an interface record no grid for the split and pay nothing.
 
 ``--baseline-tree DIR`` also times the default run of another checkout (``git archive``
-of an older commit) in a fresh process: "today's default run" of the issue; the
+of an older commit) in a fresh process; the
 speed-ups are then against it, and "vs def" against this tree's default run.
 """
 
@@ -72,7 +72,7 @@ def measure(n: int, **run) -> dict:
     cpu = time.process_time()
     summary, sim = run_simulation(scenario(n, **run))
     cpu = time.process_time() - cpu
-    refined = getattr(sim.record, "vmax_refined", None)  # (None: before issue 17 item 2)
+    refined = getattr(sim.record, "vmax_refined", None)  # (None: a tree without refined maxima)
     return {"wall_time": summary["wall_time"], "cpu": cpu, "dt": summary["dt"],
             "steps": summary["steps"], "front_speed": summary["front_speed_tr"],
             "rows": len(sim.record.energy_t),

@@ -1,4 +1,4 @@
-"""Start-up of a small run as a whole process (issue 17, item 3: target ≤ 0.8 s warm).
+"""Start-up of a small run as a whole process (target: ≤ 0.8 s warm).
 
 A warm ``hertzchain run`` of a 100-grain impact (kernels already in numba's cache) timed
 as a whole process, beside the floors any numba program pays on the same machine in
@@ -25,6 +25,7 @@ steadier one.  ``PYTHONDONTWRITEBYTECODE`` is removed from the children's enviro
 
     python benchmarks/startup.py              # 9 rounds
     python benchmarks/startup.py --repeats 21
+    python benchmarks/startup.py --write-docs # also into docs/benchmarks.md ('startup')
 """
 
 from __future__ import annotations
@@ -40,6 +41,7 @@ import tempfile
 import time
 from pathlib import Path
 
+from _docs import markdown_table, section, write_section
 from _machine import cpu_name
 
 from hertzchain.cli import GC_THRESHOLD0
@@ -69,7 +71,7 @@ def f(x):
 """
 
 TARGET = 0.8
-"""Issue 17 item 3: a warm run of a small scenario, as a whole process, s."""
+"""The target for a warm run of a small scenario, as a whole process, s."""
 
 
 def timed(cmd: list[str], env: dict, cwd: str) -> tuple[float, float]:
@@ -88,6 +90,8 @@ def timed(cmd: list[str], env: dict, cwd: str) -> tuple[float, float]:
 def main(argv=None) -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeats", type=int, default=9, help="rounds (>= 1; default 9)")
+    p.add_argument("--write-docs", action="store_true",
+                   help="write the table into docs/benchmarks.md (section 'startup')")
     a = p.parse_args(argv)
     if a.repeats < 1:
         p.error(f"--repeats must be >= 1, got {a.repeats}")
@@ -139,6 +143,19 @@ def main(argv=None) -> None:
     if load1[0] > 1.5:
         print(f"(load average {load1[0]:.1f} on {os.cpu_count()} cores: the wall times "
               "include waiting for the CPU; the CPU times are the processes' own)")
+    table = markdown_table(
+        ["process", "wall median s", "wall min s", "CPU median s", "CPU min s"],
+        [[f"`{k.strip()}`" if k.strip() == "hertzchain run" else k.strip(),
+          f"{med[k][0]:.3f}", f"{min(x[0] for x in t):.3f}", f"{med[k][1]:.3f}",
+          f"{min(x[1] for x in t):.3f}"] for k, t in times.items()])
+    print(table)
+    if a.write_docs:
+        notes = (f"{a.repeats} interleaved rounds after a warm-up.  `hertzchain run` is a "
+                 "warm 100-grain impact as a whole process; the rows above it are the "
+                 "floors any numba program pays (\"same, gc as ours\": a cached `@njit` "
+                 "with the collector set as a `hertzchain` command sets it).  Target: "
+                 f"≤ {TARGET} s.  Under load the CPU columns are the steadier ones.")
+        write_section("startup", section(table, load=(load0[0], load1[0]), notes=notes))
 
 if __name__ == "__main__":
     main()

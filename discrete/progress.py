@@ -10,10 +10,13 @@ total is known in advance and its ETA means something:
 * else a step limit: steps.
 
 A run with none of these (an unbounded ``until`` on an event inside the moving region)
-gets no bar.  On the first run after installing, the numba kernels are compiled (about
-15 s); if the compiled cache is cold (:func:`theory.jitcache.cache_is_warm`) the bar says
-so and starts only after the first chunk, so that the compilation does not distort the
-ETA.  Bars go to stderr.
+gets no bar.  On the first run after installing, the numba kernels are compiled; if the
+compiled cache is cold (:func:`theory.jitcache.cache_is_warm`) the compilation is
+announced before the run starts, with its expected duration
+(:func:`theory.jitcache.announce`: once, if a ``hertzchain`` command or an enclosing
+:func:`theory.jitcache.announce_compilation` block has not announced it already), and
+the bar starts only after the first chunk, so that the compilation does not distort the
+ETA.  Bars and notices go to stderr.
 """
 
 from __future__ import annotations
@@ -22,14 +25,13 @@ import math
 import sys
 import time
 
-from theory.jitcache import cache_is_warm
+from theory.jitcache import announce, cache_is_warm, compile_notice
 
 from .recording import WaveAt, as_event
 
 __all__ = ["RunProgress", "COMPILE_NOTICE"]
 
-COMPILE_NOTICE = ("compiling the solver's numba kernels (first run after installing; "
-                  "about 15 s on an idle machine, cached afterwards)")
+COMPILE_NOTICE = compile_notice("discrete")
 """Printed before a run whose compiled kernels are not in the cache yet."""
 
 
@@ -83,7 +85,7 @@ class RunProgress:
             self._s0 = sim.steps
             self._total = int(step_limit) - sim.steps
         if self._mode is not None and not cache_is_warm(sim.kernel):
-            print(COMPILE_NOTICE + " ...", file=sys.stderr, flush=True)
+            announce("discrete")
             self._waiting_compile = True
             self._clock = time.perf_counter()
         elif self._mode is not None:

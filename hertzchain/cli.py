@@ -412,13 +412,15 @@ def _main(argv: Sequence[str] | None, whole_process: bool) -> int:
         parser.print_help()
         return 0
     from discrete import InstabilityError
+    from theory.jitcache import announce_compilation
 
     from .checkpoint import Interrupted
 
     if whole_process:
         _process_gc("started")
     try:
-        return int(args.func(args) or 0)
+        with announce_compilation():  # a cold kernel cache is announced before compiling
+            return int(args.func(args) or 0)
     except BrokenPipeError:  # output piped into e.g. `head`
         return 0
     except (ValueError, OSError, InstabilityError) as exc:  # incl. FileNotFoundError

@@ -278,7 +278,7 @@ def write_report(cmp, out: Path, figs: list[tuple[Path, str]]) -> tuple[Path, Pa
                   "discrete (speeds relative); theory speeds at its predicted amplitudes "
                   "and at the discrete chain's measured ones")
     for path, caption in figs:
-        rep.figure(path.name, caption)
+        rep.figure(path, caption)  # (a path as save_figures returned it)
     return rep.write(out)
 
 

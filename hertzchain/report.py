@@ -1,7 +1,13 @@
 """Reports: ``report.md`` and ``report.html`` (figures embedded) from collected sections.
 
 A :class:`Report` collects, item by item, headings, paragraphs, tables and figures; the
-HTML version embeds each PNG as base64 so it is a single self-contained file.
+HTML version embeds each PNG as base64 so it is a single self-contained file, and the
+Markdown version links each PNG relative to the report's own directory, so both can be
+opened from anywhere and the directory can be moved as a whole.
+
+A figure is given as an ordinary path (absolute, or relative to the working directory
+at the time :meth:`Report.figure` is called) and must be an existing PNG file: a missing
+or unreadable figure is an error, never an empty image or a dead link.
 """
 
 from __future__ import annotations
@@ -11,10 +17,35 @@ import html
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
+from urllib.parse import quote
 
 from .cache import atomic_path
 
 __all__ = ["Report", "fmt"]
+
+_PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+"""The eight bytes every PNG file starts with (PNG specification, section 5.2)."""
+
+
+def _png_bytes(path: Path, *, head_only: bool = False) -> bytes:
+    """The bytes of the PNG file ``path`` (only its signature if ``head_only``).
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+    ValueError
+        ``path`` is not a PNG file.
+    """
+    try:
+        with open(path, "rb") as f:
+            data = f.read(len(_PNG_SIGNATURE)) if head_only else f.read()
+    except FileNotFoundError:
+        raise FileNotFoundError(f"report figure {str(path)!r} does not exist") from None
+    if not data.startswith(_PNG_SIGNATURE):
+        raise ValueError(f"report figure {str(path)!r} is not a PNG file (it does not "
+                         "start with the PNG signature)")
+    return data
 
 
 def fmt(value, digits: int = 5) -> str:
@@ -40,6 +71,7 @@ class _Table:
 @dataclass
 class _Figure:
     path: Path
+    """Absolute path of the PNG file."""
     caption: str
 
 
@@ -73,12 +105,35 @@ class Report:
         self.blocks.append(("table", _Table(list(header), [list(r) for r in rows], caption)))
 
     def figure(self, path: str | os.PathLike, caption: str) -> None:
-        """Add a PNG figure (path relative to the report directory or absolute)."""
-        self.blocks.append(("fig", _Figure(Path(path), caption)))
+        """Add a PNG figure.
+
+        Parameters
+        ----------
+        path : path-like
+            The PNG file: absolute, or relative to the current working directory (as
+            any path), resolved now.
+        caption : str
+            Caption and alternative text.
+
+        Raises
+        ------
+        FileNotFoundError
+            The file does not exist.
+        ValueError
+            It is not a PNG file.
+        """
+        absolute = Path(os.path.abspath(path))
+        _png_bytes(absolute, head_only=True)
+        self.blocks.append(("fig", _Figure(absolute, caption)))
 
     # -- rendering ---------------------------------------------------------------
-    def to_markdown(self, base: Path) -> str:
-        """Render as Markdown; figure paths relative to ``base``."""
+    def to_markdown(self, base: str | os.PathLike) -> str:
+        """Render as Markdown for a file in the directory ``base``.
+
+        Figures are linked relative to ``base`` (forward slashes, percent-encoded),
+        so the links hold wherever the report is opened from.
+        """
+        base = os.path.abspath(base)
         out = [f"# {self.title}", ""]
         for block in self.blocks:
             kind = block[0]
@@ -98,12 +153,21 @@ class Report:
                 out.append("")
             elif kind == "fig":
                 f = block[1]
-                rel = os.path.relpath(f.path, base) if f.path.is_absolute() else f.path
-                out += [f"![{f.caption}]({rel})", "", f"*{f.caption}*", ""]
+                link = quote(Path(os.path.relpath(f.path, base)).as_posix())
+                out += [f"![{f.caption}]({link})", "", f"*{f.caption}*", ""]
         return "\n".join(out)
 
-    def to_html(self, base: Path) -> str:
-        """Render as a single HTML page with the figures embedded as base64 PNG."""
+    def to_html(self, base: str | os.PathLike | None = None) -> str:
+        """Render as a single HTML page with the figures embedded as base64 PNG.
+
+        ``base`` (the directory of the page) is accepted for symmetry with
+        :meth:`to_markdown`; the page refers to no file.
+
+        Raises
+        ------
+        FileNotFoundError, ValueError
+            A figure has gone missing or is no longer a PNG file.
+        """
         esc = html.escape
         out = ["<!DOCTYPE html><html><head><meta charset='utf-8'>",
                f"<title>{esc(self.title)}</title><style>body{{font-family:sans-serif;"
@@ -128,8 +192,7 @@ class Report:
                 out.append(f"<table>{cap}<tr>{head}</tr>{body}</table>")
             elif kind == "fig":
                 f = block[1]
-                path = f.path if f.path.is_absolute() else base / f.path
-                data = base64.b64encode(path.read_bytes()).decode() if path.exists() else ""
+                data = base64.b64encode(_png_bytes(f.path)).decode("ascii")
                 out.append(f"<figure><img src='data:image/png;base64,{data}' "
                            f"alt='{esc(f.caption)}'><figcaption>{esc(f.caption)}"
                            "</figcaption></figure>")
@@ -137,11 +200,20 @@ class Report:
         return "\n".join(out)
 
     def write(self, directory: str | os.PathLike) -> tuple[Path, Path]:
-        """Write ``report.md`` and ``report.html`` into ``directory`` (atomically)."""
+        """Write ``report.md`` and ``report.html`` into ``directory`` (atomically).
+
+        Both are rendered before either is written: a missing figure
+        (FileNotFoundError) leaves no report behind.
+
+        Returns
+        -------
+        (Path, Path)
+            ``directory/report.md`` and ``directory/report.html``.
+        """
         base = Path(directory)
         md, page = base / "report.md", base / "report.html"
-        with atomic_path(md) as tmp:
-            tmp.write_text(self.to_markdown(base), encoding="utf-8")
-        with atomic_path(page) as tmp:
-            tmp.write_text(self.to_html(base), encoding="utf-8")
+        texts = self.to_markdown(base), self.to_html(base)
+        for path, text in zip((md, page), texts, strict=True):
+            with atomic_path(path) as tmp:
+                tmp.write_text(text, encoding="utf-8")
         return md, page

@@ -18,7 +18,7 @@ the directory :func:`configure` chooses:
 
 Inside it numba keeps one subdirectory per source directory (named by a hash of its
 path), so an installed copy and an editable checkout never share compiled files, and
-deleting the directory only costs one recompilation (about 15 s).
+deleting the directory only costs one recompilation (:data:`KERNEL_FAMILIES`).
 
 Numba chooses a function's cache directory when the ``cache=True`` decorator runs, so
 :func:`configure` must be called before the kernel modules define their functions:
@@ -26,6 +26,14 @@ each kernel module calls it first (``discrete/kernels.py``, ``continuum/_kernels
 ``continuum/_stepper.py``, ``hertzchain/sweep/synthetic.py``).  It also exports
 ``NUMBA_CACHE_DIR`` so that numba's configuration reloads and child processes (Dask
 workers) use the same directory.
+
+A compilation is announced before it starts (:func:`announce_compilation`): numba
+fires its ``"numba:compile"`` event (:mod:`numba.core.event`) only when a kernel is not
+in the cache, before compiling it, so a listener on that event prints a notice with the
+expected duration (:data:`KERNEL_FAMILIES`) the first time each family of kernels
+compiles, and nothing when the cache is warm.  ``hertzchain``'s commands run inside it;
+so do :class:`discrete.progress.RunProgress` and :func:`hertzchain.reproduce.reproduce`
+when they show progress.
 
 This module lives in :mod:`theory` because it is the one package that both
 :mod:`discrete` and :mod:`continuum` may import; it imports numba only when called.
@@ -37,9 +45,13 @@ import getpass
 import os
 import sys
 import tempfile
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["configure", "default_cache_dir", "cache_is_warm"]
+__all__ = ["configure", "default_cache_dir", "cache_is_warm", "KERNEL_FAMILIES",
+           "compile_notice", "announce_compilation", "announce"]
 
 _ENV = "NUMBA_CACHE_DIR"
 
@@ -132,3 +144,147 @@ def cache_is_warm(dispatcher) -> bool:
                    and f.stat().st_mtime >= src for f in Path(path).iterdir())
     except OSError:
         return False
+
+
+KERNEL_FAMILIES: dict[str, tuple[str, float]] = {
+    "discrete": ("the discrete solver's", 15.0),
+    "continuum": ("the continuum solver's", 5.0),
+}
+"""Kernel families announced when they compile: top-level package → (whose kernels,
+expected compile time in s of CPU).
+
+The expected times are those of a cold cache on an idle machine (docs/benchmarks.md):
+the discrete solver's kernels of one contact law (its force, energies, active window
+and stepping loop), and the continuum's stepping loop of one equation.  Another
+contact law, kernel variant or continuum equation compiles again, for about as long."""
+
+
+def compile_notice(family: str) -> str:
+    """The notice printed before ``family``'s kernels compile (:data:`KERNEL_FAMILIES`).
+
+    Parameters
+    ----------
+    family : str
+        A key of :data:`KERNEL_FAMILIES`.
+
+    Returns
+    -------
+    str
+    """
+    try:
+        what, seconds = KERNEL_FAMILIES[family]
+    except KeyError:
+        raise ValueError(f"family must be one of {', '.join(map(repr, KERNEL_FAMILIES))} "
+                         f"(got {family!r})") from None
+    return (f"compiling {what} numba kernels: not in the cache yet (the first run after "
+            f"installing or after a change of the code); about {seconds:.0f} s of CPU "
+            "time, cached afterwards")
+
+
+def _family(dispatcher) -> str | None:
+    """The :data:`KERNEL_FAMILIES` key of a numba dispatcher's module, or None."""
+    py = getattr(dispatcher, "py_func", None)
+    module = getattr(py, "__module__", None) or ""
+    family = module.split(".", 1)[0]
+    return family if family in KERNEL_FAMILIES else None
+
+
+class _Announcer:
+    """Prints :func:`compile_notice` once per family (the ``"numba:compile"`` listener)."""
+
+    def __init__(self, log: Callable[[str], None]) -> None:
+        self.log = log
+        self.announced: set[str] = set()
+        self._lock = threading.Lock()
+
+    def announce(self, family: str) -> bool:
+        with self._lock:
+            if family in self.announced:
+                return False
+            self.announced.add(family)
+        self.log(compile_notice(family) + " ...")
+        return True
+
+    def listener(self):
+        from numba.core import event
+
+        announcer = self
+
+        class _Listener(event.Listener):
+            def on_start(self, ev) -> None:
+                family = _family(ev.data.get("dispatcher"))
+                if family is not None:
+                    announcer.announce(family)
+
+            def on_end(self, ev) -> None:
+                pass
+
+        return _Listener()
+
+
+_active: list[_Announcer] = []
+"""The announcers entered (innermost last); only the outermost listens to numba."""
+
+
+def _stderr(message: str) -> None:
+    print(message, file=sys.stderr, flush=True)
+
+
+@contextmanager
+def announce_compilation(enabled: bool = True,
+                         log: Callable[[str], None] | None = None) -> Iterator[None]:
+    """Inside the block, announce each family of our kernels before it compiles.
+
+    The first time a kernel of a :data:`KERNEL_FAMILIES` package is compiled (numba's
+    ``"numba:compile"`` event, fired after a cache miss and before compiling),
+    :func:`compile_notice` is passed to ``log``, once per family and block.  A warm
+    cache prints nothing.  Nested blocks share the outermost one's listener and record
+    (one notice per family in all); a process forked inside the block inherits both.
+
+    Parameters
+    ----------
+    enabled : bool
+        False: do nothing (an enclosing block still announces).
+    log : callable, optional
+        Receives each notice (default: print it on stderr).
+    """
+    if not enabled or _active:
+        yield
+        return
+    from numba.core import event
+
+    announcer = _Announcer(log or _stderr)
+    _active.append(announcer)
+    try:
+        with event.install_listener("numba:compile", announcer.listener()):
+            yield
+    finally:
+        _active.remove(announcer)
+
+
+def announce(family: str, log: Callable[[str], None] | None = None) -> bool:
+    """Announce that ``family``'s kernels are about to compile.
+
+    For a caller that knows, before calling a kernel, that it will compile (a progress
+    bar that checked :func:`cache_is_warm`): inside an :func:`announce_compilation`
+    block the notice goes through it (once per family: the block then does not
+    announce that family again), else to ``log``.
+
+    Parameters
+    ----------
+    family : str
+        A key of :data:`KERNEL_FAMILIES`.
+    log : callable, optional
+        Receives the notice outside an :func:`announce_compilation` block (default:
+        print it on stderr).
+
+    Returns
+    -------
+    bool
+        Whether the notice was printed (False: the block had announced it already).
+    """
+    notice = compile_notice(family)  # (ValueError for an unknown family)
+    if _active:
+        return _active[0].announce(family)
+    (log or _stderr)(notice + " ...")
+    return True

@@ -290,8 +290,11 @@ def _compile_timer(ctx):
 
 
 def _run_lane(ctx, names, order: dict, start: float, threads) -> list[ItemRun]:
+    from theory.jitcache import announce_compilation
+
     runs = []
-    with kernel_threads(threads), _compile_timer(ctx):
+    with kernel_threads(threads), _compile_timer(ctx), \
+            announce_compilation(enabled=ctx.progress, log=ctx.log):
         for name in names:  # "item k of n" before each item's messages
             ctx.log(f"[{order[name]}/{len(order)}] {name} ({time.perf_counter() - start:.0f} "
                     "s elapsed)")
@@ -446,10 +449,13 @@ def _run_spare(ctx, start: float, threads, stop) -> list:
 
     Returns the files it computed (counted as the worker's item's, which reuses them).
     """
+    from theory.jitcache import announce_compilation
+
     from . import fig5
 
     c0 = len(ctx.computed)
-    with kernel_threads(threads), _compile_timer(ctx):
+    with kernel_threads(threads), _compile_timer(ctx), \
+            announce_compilation(enabled=ctx.progress, log=ctx.log):
         ctx.log(f"fig5: this process takes the cases the worker has not started "
                 f"({time.perf_counter() - start:.0f} s elapsed)")
         fig5.run_spare(ctx, stop)
