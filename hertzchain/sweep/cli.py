@@ -9,7 +9,6 @@ from __future__ import annotations
 import argparse
 import copy
 import dataclasses
-import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -36,6 +35,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     some points failed, or ran but ended before their stop condition (``completed``
     false).  The table is written in every case.
     """
+    from ..cli import print_json, progress_wanted
     from .engine import (
         default_point_function,
         default_workers,
@@ -73,9 +73,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
            f"{done} done before, {len(points) - done} to run on {where}; output {out}")
     if args.dry_run:
         if args.json:
-            print(json.dumps({"name": spec.name, "n_points": len(points), "done": done,
-                              "to_run": len(points) - done, "out": str(out),
-                              "axes": [a.name for a in spec.axes]}))
+            print_json({"name": spec.name, "n_points": len(points), "done": done,
+                        "to_run": len(points) - done, "out": str(out),
+                        "axes": [a.name for a in spec.axes]})
         else:
             print(msg)
         return 0
@@ -86,14 +86,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                             workers=args.workers,
                             scheduler=args.scheduler, full_output=args.full_output,
                             retry_failed=args.retry_failed, max_points=args.max_points,
-                            progress=not args.no_progress,
+                            progress=progress_wanted(args),
                             consolidate_every=args.consolidate_every)
     except KeyboardInterrupt:
         print(f"\ninterrupted; finished points are kept in {out}. Run the same command "
               "again to compute only the rest.", file=sys.stderr)
         return 130
     if args.json:
-        print(json.dumps(outcome.to_dict()))
+        print_json(outcome.to_dict())
     else:
         print(f"{outcome.n_run} points run in {outcome.elapsed:.1f} s: table {outcome.table} "
               f"has {outcome.n_ok} ok, {outcome.n_failed} failed, {outcome.n_pending} pending")
@@ -128,6 +128,7 @@ def cmd_plot_sweep(args: argparse.Namespace) -> int:
     """Draw the phase-diagram map and cuts of a results table; print the agreement."""
     import numpy as np
 
+    from ..cli import print_json
     from ..sweep_plot import save_sweep_figures
     from .analysis import classification_agreement
     from .store import read_results
@@ -138,14 +139,24 @@ def cmd_plot_sweep(args: argparse.Namespace) -> int:
     if "alpha_rho" in results and np.isfinite(results["alpha_rho"]).any():
         agreement = classification_agreement(results)
     if args.json:
-        print(json.dumps({"figures": [str(p) for p in written],
-                          "agreement": agreement.to_dict() if agreement else None}))
+        print_json({"figures": [str(p) for p in written],
+                    "agreement": agreement.to_dict() if agreement else None})
         return 0
     for path in written:
         print(f"wrote {path}")
     if agreement is not None and agreement.n_classified:
         print(agreement.summary())
     return 0
+
+
+def shipped_sweep_names() -> list[str]:
+    """Names of the sweeps shipped in ``hertzchain/sweeps`` (for ``--help``, NumPy-free).
+
+    The same files as :func:`hertzchain.sweep.spec.shipped_sweeps` (a test compares them);
+    listed here without importing the spec module, which imports NumPy.
+    """
+    folder = Path(__file__).resolve().parent.parent / "sweeps"
+    return sorted(f.stem for f in folder.glob("*.toml"))
 
 
 def add_sweep_parsers(subparsers) -> None:
@@ -156,8 +167,8 @@ def add_sweep_parsers(subparsers) -> None:
         "on a Dask cluster and collect the run summaries in DIR/results.h5. Rerunning the "
         "same command computes only the points without a record.")
     p.add_argument("spec", metavar="SWEEP.toml", type=Path,
-                   help="sweep specification, or the name of a shipped one (fig7_map, "
-                   "tiny, gamma_lines, amplitude_precompression)")
+                   help="sweep specification, or the name of a shipped one ("
+                   f"{', '.join(shipped_sweep_names())})")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=positive_int, default=None, metavar="N",
                        help="worker processes of the local cluster (default: all cores)")
@@ -181,7 +192,9 @@ def add_sweep_parsers(subparsers) -> None:
     from ..cli import add_rtol_argument
 
     add_rtol_argument(p)
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    from ..cli import add_progress_argument
+
+    add_progress_argument(p)
     p.add_argument("--dry-run", action="store_true",
                    help="validate every point and report what would run")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -205,12 +218,13 @@ def add_sweep_parsers(subparsers) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m hertzchain.sweep {sweep,plot-sweep} ...``; returns the exit status."""
+    """``python -m hertzchain.sweep {sweep,plot-sweep} ...``; returns the exit status.
+
+    Errors are handled as by ``hertzchain`` itself (:func:`hertzchain.cli.run_command`).
+    """
+    from ..cli import run_command
+
     parser = argparse.ArgumentParser(prog="python -m hertzchain.sweep")
     add_sweep_parsers(parser.add_subparsers(dest="command", metavar="COMMAND", required=True))
     args = parser.parse_args(argv)
-    try:
-        return int(args.func(args) or 0)
-    except (ValueError, FileNotFoundError) as exc:
-        print(f"hertzchain: error: {exc}", file=sys.stderr)
-        return 2
+    return run_command(args, whole_process=argv is None)
