@@ -19,7 +19,7 @@ from pathlib import Path
 from ._argtypes import nonnegative_float, positive_float, positive_int, scenario_number
 
 __all__ = ["main", "build_parser", "run_command", "print_json", "resolve_run_out",
-           "progress_wanted"]
+           "progress_wanted", "is_disk_full_text"]
 
 
 def cmd_theory(args: argparse.Namespace) -> int:
@@ -652,14 +652,19 @@ def _main(argv: Sequence[str] | None, whole_process: bool) -> int:
     return run_command(args, whole_process=whole_process)
 
 
+def is_disk_full_text(text: str) -> bool:
+    """A message of a write that failed for lack of space (HDF5's, the OS's, ours)."""
+    return any(m in text for m in ("errno = 28", "No space left", "File too large",
+                                   "disk full", "errno = 27"))
+
+
 def _is_disk_full(exc: BaseException | None) -> bool:
     """A write failed for lack of space (ENOSPC, EFBIG), here or in a cause of ``exc``."""
     seen = 0
     while exc is not None and seen < 10:
         if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EFBIG):
             return True
-        text = str(exc)
-        if "errno = 28" in text or "No space left" in text or "File too large" in text:
+        if is_disk_full_text(str(exc)):
             return True
         exc = exc.__cause__ or exc.__context__
         seen += 1
@@ -667,34 +672,43 @@ def _is_disk_full(exc: BaseException | None) -> bool:
 
 
 class _FailedWrites:
-    """``sys.unraisablehook`` while a command runs: HDF5's failed writes, counted not shown.
+    """HDF5's failed writes while a command runs: counted, not shown.
 
-    On a full disk h5py reports every failed flush from an object's destructor
-    (``Exception ignored in h5py._objects.ObjectID.__dealloc__``): tens to hundreds of
-    tracebacks before the one message that matters.  They are counted here and the
-    command ends with one message naming the disk; any other unraisable error is shown
-    as usual.
+    On a full disk h5py reports every failed flush from an object's destructor, twice:
+    a traceback through ``sys.excepthook`` (Cython prints it before) and ``Exception
+    ignored in h5py._objects.ObjectID.__dealloc__`` through ``sys.unraisablehook`` —
+    tens to hundreds of them before the one message that matters.  Both hooks are
+    replaced while the command runs: disk-full errors are counted (the command ends with
+    one message naming the disk), any other error is shown as usual.
     """
 
     def __init__(self) -> None:
         self.count = 0
         self.example = ""
-        self._previous = None
+        self._unraisable = self._except = None
 
     def __enter__(self):
-        self._previous = sys.unraisablehook
-        sys.unraisablehook = self.hook
+        self._unraisable, self._except = sys.unraisablehook, sys.excepthook
+        sys.unraisablehook, sys.excepthook = self.unraisable_hook, self.except_hook
         return self
 
     def __exit__(self, *exc) -> None:
-        sys.unraisablehook = self._previous
+        sys.unraisablehook, sys.excepthook = self._unraisable, self._except
 
-    def hook(self, unraisable) -> None:
-        if _is_disk_full(unraisable.exc_value):
-            self.count += 1
-            self.example = self.example or str(unraisable.exc_value).splitlines()[0]
-            return
-        self._previous(unraisable)
+    def _absorb(self, exc: BaseException | None) -> bool:
+        if not _is_disk_full(exc):
+            return False
+        self.count += 1
+        self.example = self.example or str(exc).splitlines()[0]
+        return True
+
+    def unraisable_hook(self, unraisable) -> None:
+        if not self._absorb(unraisable.exc_value):
+            self._unraisable(unraisable)
+
+    def except_hook(self, kind, value, tb) -> None:
+        if not self._absorb(value):
+            self._except(kind, value, tb)
 
 
 def run_command(args: argparse.Namespace, *, whole_process: bool = False) -> int:

@@ -101,7 +101,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         print(f"{outcome.n_lost} point(s) lost their worker (KilledWorker: it crashed or "
               "was killed, e.g. out of memory); they stay pending: rerun the same command "
               "to retry them", file=sys.stderr)
-    if outcome.n_failed:
+    full = _disk_full_points(out) if outcome.n_failed else []
+    if full:
+        print(f"hertzchain: error: disk full: {len(full)} point(s) could not write their "
+              f"output under {out} ({full[0]}); free space and rerun with --retry-failed",
+              file=sys.stderr)
+    elif outcome.n_failed:
         print(f"{outcome.n_failed} point(s) failed (see the 'error' column); rerun with "
               "--retry-failed to retry them", file=sys.stderr)
     if outcome.n_incomplete:
@@ -109,10 +114,20 @@ def cmd_sweep(args: argparse.Namespace) -> int:
               "(column 'completed' false, the reason in 'incomplete_reason'): raise "
               "[run] max_steps or t_end in the sweep's base scenario", file=sys.stderr)
     status = exit_status(outcome)
-    if status == EXIT_ALL_FAILED:
+    if status == EXIT_ALL_FAILED and not full:
         print(f"hertzchain: error: every point of the sweep failed (table {outcome.table})",
               file=sys.stderr)
     return status
+
+
+def _disk_full_points(out: Path) -> list[str]:
+    """The errors of the failed points that are a full disk (from ``records.jsonl``)."""
+    from ..cli import is_disk_full_text
+    from .store import RecordStore
+
+    records = RecordStore(Path(out) / "records.jsonl").load()
+    return [r.get("error", "") for r in records.values()
+            if r.get("status") == "failed" and is_disk_full_text(r.get("error", ""))]
 
 
 def exit_status(outcome) -> int:
