@@ -1033,7 +1033,7 @@ class Simulation:
         Each overlap r_j = δ0_j + (u_{j-1} - u_j) is a double near δ0_j, resolved to
         about ε δ0_j (ε the machine epsilon), and the static force F(δ0_j) times that is
         the energy the contact's wave energy U(r_j) - U(δ0_j) ≈ F(δ0_j)(r_j - δ0_j) + …
-        cannot resolve (docs/physics.md §6, the wave energy); the sum over the contacts
+        cannot resolve (docs/physics.md §13); the sum over the contacts
         bounds the round-off of the monitored total, independent of the wave's
         amplitude and of dt (measured: the drift of a v0 = 1e-6 m/s impact on δ0/d =
         1e-3 stays at ~2 % of this bound at every dt).  Zero without static load.
