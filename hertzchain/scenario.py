@@ -431,10 +431,13 @@ MATERIAL_UNITS = {"density": "kg/m³", "youngs_modulus": "Pa", "poisson_ratio": 
 
 
 def _read_material(val, where: str):
-    """A material: ``"paper"``/``"table1"`` (kept as the name, the paper's materials), another
-    name of :data:`theory.MATERIALS` (read into its table, with its ``name``: the values
-    are recorded with the run), or a table ``{density, youngs_modulus, poisson_ratio}``
-    (kg/m³, Pa, 1) with an optional ``name``."""
+    """One material key, validated: a name or a table.
+
+    ``"paper"``/``"table1"`` are kept as the name (the paper's materials); another name of
+    :data:`theory.MATERIALS` is read into its table, with its ``name`` (the values are
+    recorded with the run); a table ``{density, youngs_modulus, poisson_ratio}`` (kg/m³,
+    Pa, 1) may carry a ``name``.
+    """
     if isinstance(val, str):
         from theory import MATERIALS, resolve_material_name
 

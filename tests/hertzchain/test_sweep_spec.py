@@ -227,5 +227,6 @@ def test_file_errors(tmp_path):
     typo = tmp_path / "typo.toml"
     typo.write_text('[base.chain]\nsections = [{n = 5}]\n[base.run]\nt_end = 1e-4\n'
                     '[sweep]\n[[sweep.axes]]\npath = "chain.sections.0.nn"\nvalues = [1]\n')
-    with pytest.raises(SweepError, match=r"(?s)typo.toml: .*unknown key 'nn' in .*did you mean 'n'"):
+    with pytest.raises(SweepError,
+                       match=r"(?s)typo.toml: .*unknown key 'nn' in .*did you mean 'n'"):
         load_sweep_spec(typo)
