@@ -165,7 +165,8 @@ def resolve_run_out(out, scenario_arg: str, name: str) -> Path | None:
                               "an HDF5 result (.h5); refusing to overwrite it. Give a "
                               "directory (the run is written there as <scenario>.h5) or "
                               "a file name ending in .h5")
-    return out / f"{name or 'run'}.h5"
+    stem = "".join(c if c.isalnum() or c in "-_." else "_" for c in (name or "run"))
+    return out / f"{stem.strip('.') or 'run'}.h5"
 
 
 def cmd_run(args: argparse.Namespace) -> int:

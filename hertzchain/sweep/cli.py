@@ -149,7 +149,14 @@ def cmd_plot_sweep(args: argparse.Namespace) -> int:
     from .store import read_results
 
     results = read_results(args.results)
-    written = save_sweep_figures(results, args.out, x=args.x, y=args.y, energy=args.energy)
+    out = args.out
+    if out is not None and out.suffix.lower() != ".png":  # a directory (docs/guide/cli.md)
+        if out.exists() and not out.is_dir():
+            raise FileExistsError(f"--out {out} is an existing file that is not a PNG; give "
+                                  "a directory or a name ending in .png")
+        out.mkdir(parents=True, exist_ok=True)
+        out = out / "phase_map.png"
+    written = save_sweep_figures(results, out, x=args.x, y=args.y, energy=args.energy)
     agreement = None
     if "alpha_rho" in results and np.isfinite(results["alpha_rho"]).any():
         agreement = classification_agreement(results)
@@ -222,8 +229,9 @@ def add_sweep_parsers(subparsers) -> None:
         "classification agrees with theory.")
     q.add_argument("results", metavar="RESULTS", type=Path,
                    help="results.h5 or the sweep's output directory")
-    q.add_argument("--out", type=Path, default=None, metavar="PNG",
-                   help="map PNG (default RESULTS_DIR/phase_map.png; cuts go to *-cuts.png)")
+    q.add_argument("--out", type=Path, default=None, metavar="OUT",
+                   help="a directory (OUT/phase_map.png) or the map's name ending in .png "
+                   "(default RESULTS_DIR/phase_map.png; the cuts go beside it, *-cuts.png)")
     q.add_argument("--x", default=None, help="column on the x axis (default alpha_rho)")
     q.add_argument("--y", default=None, help="column on the y axis (default alpha_kn)")
     q.add_argument("--energy", default="Ek_re", choices=["Ek_re", "Ep_re", "Et_re"],
