@@ -10,6 +10,7 @@ import argparse
 import errno
 import gc
 import json
+import math
 import os
 import sys
 from collections.abc import Sequence
@@ -17,43 +18,99 @@ from pathlib import Path
 
 from ._argtypes import nonnegative_float, positive_float, positive_int, scenario_number
 
-__all__ = ["main", "build_parser"]
+__all__ = ["main", "build_parser", "run_command", "print_json", "resolve_run_out",
+           "progress_wanted", "is_disk_full_text"]
 
 
 def cmd_theory(args: argparse.Namespace) -> int:
-    """Print the linear-acoustic interface predictions for (α_ρ, α_kn)."""
+    """Print the linear-acoustic interface predictions for (α_ρ, α_kn) or two materials.
+
+    ``--left``/``--right`` name materials (:data:`theory.MATERIALS`); their ratios are
+    :func:`theory.material_ratios` (equal diameters).  ``--delta0-over-d`` adds the sound
+    speeds c0 of both sections (paper Eq. 5) for the left material and ``--diameter``.
+    """
     import theory
 
-    pred = theory.predict(args.alpha_rho, args.alpha_kn)
+    def material(flag: str, name: str | None):
+        try:
+            return None if name is None else theory.get_material(name)
+        except ValueError as exc:
+            raise ValueError(f"{flag}: {exc}") from None
+
+    left = material("--left", args.left) or theory.PAPER_MATERIAL
+    right = material("--right", args.right)
+    if right is not None:
+        if args.alpha_rho is not None or args.alpha_kn is not None:
+            raise ValueError("give --right MATERIAL or --alpha-rho/--alpha-kn, not both (the "
+                             "materials set the ratios)")
+        alpha_rho, alpha_kn = theory.material_ratios(left, right)
+    elif args.alpha_rho is None or args.alpha_kn is None:
+        raise ValueError("give --alpha-rho and --alpha-kn (the ratios rho_R/rho_L and "
+                         "k_n^R/k_n^L, > 0), or --right MATERIAL (and --left MATERIAL; "
+                         "`hertzchain materials` lists them)")
+    else:
+        alpha_rho, alpha_kn = args.alpha_rho, args.alpha_kn
+    pred = theory.predict(alpha_rho, alpha_kn)
     out = pred.to_dict()
-    if args.delta0 is not None and args.delta0 > 0:
-        mat = theory.PAPER_MATERIAL
+    if right is not None:
+        out = {"material_left": args.left or "paper", "material_right": args.right,
+               "alpha_rho": alpha_rho, "alpha_kn": alpha_kn,
+               **{k: v for k, v in out.items() if k not in ("alpha_rho", "alpha_kn")}}
+    if args.delta0_over_d is not None and args.delta0_over_d > 0:
         d = args.diameter
-        m = theory.grain_mass(d, mat.density)
-        k = theory.hertz_constant(d, mat)
-        c0l = theory.c0(k, m, d, args.delta0 * d)
-        out["delta0_over_d_left"] = args.delta0
-        out["delta0_over_d_right"] = args.delta0 * pred.delta0_ratio
+        m = theory.grain_mass(d, left.density)
+        k = theory.hertz_constant(d, left)
+        c0l = theory.c0(k, m, d, args.delta0_over_d * d)
+        out["delta0_over_d_left"] = args.delta0_over_d
+        out["delta0_over_d_right"] = args.delta0_over_d * pred.delta0_ratio
         out["c0_left_m_per_s"] = c0l
         out["c0_right_m_per_s"] = c0l * pred.gamma_c0
-        out["material_left"] = mat.name
+        out.setdefault("material_left", left.name)
     if args.json:
-        print(json.dumps(out, indent=2))
+        print_json(out)
         return 0
     width = max(len(k) for k in out)
     print("Interface predictions (paper Eqs. 9, 12, 13; linear acoustics)")
     for key, value in out.items():
-        text = f"{value:.6g}" if isinstance(value, float) else str(value)
-        print(f"  {key:<{width}}  {text}")
+        print(f"  {key:<{width}}  {_text(value)}")
     return 0
 
 
-def _json_default(obj):
-    import numpy as np
+def cmd_materials(args: argparse.Namespace) -> int:
+    """Print the material library (:data:`theory.MATERIALS`): values, units, sources."""
+    from theory import MATERIALS
 
-    if isinstance(obj, np.generic):
-        return obj.item()
-    raise TypeError(type(obj).__name__)
+    rows = [m.to_dict() for m in MATERIALS.values()]
+    if args.json:
+        print_json(rows)
+        return 0
+    print("Materials (use a name in a scenario: material = \"brass\"; or in "
+          "`hertzchain theory --left steel --right brass`)")
+    head = f"  {'name':<20} {'density kg/m³':>13} {'E GPa':>8} {'ν':>6}  aliases"
+    print(head)
+    for r in rows:
+        print(f"  {r['name']:<20} {r['density']:>13.0f} {r['youngs_modulus'] / 1e9:>8.4g} "
+              f"{r['poisson_ratio']:>6.3g}  {', '.join(r['aliases']) or '—'}")
+    print("Sources:")
+    for r in rows:
+        print(f"  {r['name']}: {r['description']}; {r['source']}")
+    return 0
+
+
+def _text(value) -> str:
+    """A value for a person: floats to 6 digits, NaN/None as "n/a"."""
+    if value is None or (isinstance(value, float) and math.isnan(value)):
+        return "n/a"
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    return str(value)
+
+
+def print_json(obj) -> None:
+    """Print ``obj`` as strict JSON: NaN and ±inf become null (never ``NaN``/``Infinity``)."""
+    from .reproduce.command import jsonable
+
+    print(json.dumps(jsonable(obj), allow_nan=False))
 
 
 def _with_rtol(scenario, rtol: float | None):
@@ -69,13 +126,57 @@ def add_rtol_argument(p: argparse.ArgumentParser) -> None:
                    "wins)")
 
 
-def cmd_run(args: argparse.Namespace) -> int:
-    """Run every model of a scenario TOML file (:func:`hertzchain.models.run`), print a summary.
+def add_progress_argument(p: argparse.ArgumentParser) -> None:
+    """``--no-progress``: no progress bars (every command that shows them)."""
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress bars on stderr (--json implies it unless stderr is a "
+                   "terminal)")
 
-    With ``--out`` the discrete run is written there (checkpointed to ``OUT.ckpt`` every
-    ``--checkpoint-interval`` seconds of wall time; rerunning the same command resumes
-    from it, bit for bit; ``--restart`` discards it) and a continuum beside it
-    (``OUT`` with the suffix ``.continuum.h5``).
+
+def add_force_argument(p: argparse.ArgumentParser, what: str) -> None:
+    """``--force``: recompute, discarding what is cached or checkpointed."""
+    p.add_argument("--force", action="store_true", help=what)
+
+
+RESULT_SUFFIXES = (".h5", ".hdf5")
+"""Suffixes that make ``run --out`` a file name; any other ``--out`` is a directory."""
+
+
+def resolve_run_out(out, scenario_arg: str, name: str) -> Path | None:
+    """The HDF5 file ``hertzchain run --out OUT`` writes (docs/guide/cli.md, ``--out``).
+
+    ``OUT`` ending in ``.h5``/``.hdf5`` is that file; any other ``OUT`` is a directory
+    (created if absent) and the file is ``OUT/<scenario name>.h5``.  Refused (OSError
+    naming ``--out``): an existing file that is not an HDF5 result (the scenario itself:
+    ``run s.toml --out s.toml`` replaced it), and the scenario file as output.
+    """
+    if out is None:
+        return None
+    out = Path(out)
+    src = Path(scenario_arg)
+    if src.exists() and out.exists() and os.path.samefile(out, src):
+        raise FileExistsError(errno.EEXIST, f"--out {out} is the scenario file itself; "
+                              "refusing to overwrite it with the run (give a directory "
+                              "or a .h5 name)")
+    if out.suffix.lower() in RESULT_SUFFIXES:
+        return out
+    if out.exists() and not out.is_dir():
+        raise FileExistsError(errno.EEXIST, f"--out {out} is an existing file that is not "
+                              "an HDF5 result (.h5); refusing to overwrite it. Give a "
+                              "directory (the run is written there as <scenario>.h5) or "
+                              "a file name ending in .h5")
+    stem = "".join(c if c.isalnum() or c in "-_." else "_" for c in (name or "run"))
+    return out / f"{stem.strip('.') or 'run'}.h5"
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    """Run every model of a scenario (:func:`hertzchain.models.run`), print a summary.
+
+    With ``--out`` the discrete run is written (:func:`resolve_run_out`: a ``.h5`` file,
+    or ``DIR/<scenario>.h5``), checkpointed to ``<file>.ckpt`` every
+    ``--checkpoint-interval`` seconds of wall time (rerunning the same command resumes
+    from it, bit for bit; ``--force`` discards it), and a continuum beside it (the
+    suffix ``.continuum.h5``).
 
     Exit status 0 when every model completed; 2 on an error (invalid scenario,
     unreachable stop, instability, I/O); :data:`EXIT_INCOMPLETE` (3) when a run ended
@@ -91,7 +192,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from .scenario import load_scenario
 
     scenario = _with_rtol(load_scenario(args.scenario), args.rtol)
-    out = args.out
+    out = resolve_run_out(args.out, args.scenario, scenario.name)
     if out is not None:  # a read-only place or a directory: refused before the run
         check_output(out, "file")
         if scenario.models.continuum:  # written beside it
@@ -101,13 +202,12 @@ def cmd_run(args: argparse.Namespace) -> int:
         print(f"hertzchain: {message}", file=sys.stderr, flush=True)
 
     try:
-        result = run(scenario, out=out, progress=not args.json,
-                     checkpoint_interval=args.checkpoint_interval, resume=not args.restart,
+        result = run(scenario, out=out, progress=progress_wanted(args),
+                     checkpoint_interval=args.checkpoint_interval, resume=not args.force,
                      threads=args.threads, log=log)
     except OutputWriteError as exc:  # finished, but the file failed: show what was found
         _print_summary(scenario, args, exc.summary)
-        print(f"hertzchain: error: {exc}", file=sys.stderr)
-        return 2
+        raise
     summary = result.summary()
     _print_summary(scenario, args, summary)
     if not args.json:
@@ -130,17 +230,39 @@ def cmd_run(args: argparse.Namespace) -> int:
     return EXIT_INCOMPLETE if failed else status
 
 
+def progress_wanted(args: argparse.Namespace) -> bool:
+    """Progress bars on stderr: unless ``--no-progress``; with ``--json`` only on a terminal.
+
+    (The bars never touch stdout, so ``--json`` output stays one JSON document.)
+    """
+    if getattr(args, "no_progress", False):
+        return False
+    return not getattr(args, "json", False) or sys.stderr.isatty()
+
+
+INTERFACE_KEYS = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re", "front_speed_re",
+                  "front_speed_tr_over_c0L", "transmitted", "reflected",
+                  "n_transmitted_pulses", "separated", "separation_fraction",
+                  "split_estimate", "split_meets_rtol")
+"""Summary quantities of the interface (:func:`hertzchain.runner.summarise`): a chain of
+one section has none, and ``hertzchain run`` says so instead of printing them empty."""
+
+
 def _print_summary(scenario, args: argparse.Namespace, summary: dict) -> None:
-    """The summary of ``hertzchain run``: one JSON object, or a table."""
+    """The summary of ``hertzchain run``: one strict JSON object, or a table."""
     if args.json:
-        print(json.dumps(summary, default=_json_default, allow_nan=True))
+        print_json(summary)
         return
-    print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains; "
-          f"models: {', '.join(scenario.models.names)}")
+    n_sections = len(scenario.chain.sections)
+    print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains in "
+          f"{n_sections} section{'s' if n_sections > 1 else ''}; models: "
+          f"{', '.join(scenario.models.names)}")
     for key, value in summary.items():
-        text = (f"{value:.6g}" if isinstance(value, float)
-                else "n/a" if value is None else str(value))
-        print(f"  {key:<26} {text}")
+        if n_sections == 1 and key in INTERFACE_KEYS:
+            continue
+        print(f"  {key:<26} {_text(value)}")
+    if n_sections == 1:
+        print(f"  {'interface':<26} none (one section: no transmitted or reflected wave)")
 
 
 def cmd_compare(args: argparse.Namespace) -> int:
@@ -153,7 +275,6 @@ def cmd_compare(args: argparse.Namespace) -> int:
     """
     from .compare import compare
     from .files import check_output
-    from .reproduce.command import jsonable
     from .scenario import load_scenario
 
     scenario = _with_rtol(load_scenario(args.scenario), args.rtol)
@@ -166,11 +287,11 @@ def cmd_compare(args: argparse.Namespace) -> int:
     def log(message: str) -> None:
         print(f"hertzchain: {message}", file=sys.stderr, flush=True)
 
-    cmp = compare(scenario, out=args.out, force=args.force, progress=not args.json,
+    cmp = compare(scenario, out=args.out, force=args.force, progress=progress_wanted(args),
                   checkpoint_interval=args.checkpoint_interval, threads=args.threads,
                   log=log)
     if args.json:
-        print(json.dumps(jsonable(cmp.to_dict()), allow_nan=False))
+        print_json(cmp.to_dict())
     else:
         from .compare_output import difference_rows
 
@@ -204,20 +325,96 @@ def _incomplete_status(summary: dict, out) -> int:
     return EXIT_INCOMPLETE
 
 
-def cmd_info(args: argparse.Namespace) -> int:
-    """Describe an HDF5 file written by either solver."""
-    from .files import describe
+def file_info(path) -> dict:
+    """What ``hertzchain info`` shows: the file's attributes (JSON ones decoded) and datasets.
 
-    print(describe(args.file))
+    The file is first verified as :func:`hertzchain.files.describe` does (seal, readable
+    objects, a discrete run's datasets): ValueError naming the file otherwise.
+    """
+    import h5py
+    import numpy as np
+
+    from .files import describe, open_result
+
+    describe(path)  # the checks (ValueError naming the file)
+
+    def value(v):
+        if isinstance(v, bytes):
+            v = v.decode()
+        if isinstance(v, str) and v[:1] in "{[":
+            try:
+                return json.loads(v)
+            except json.JSONDecodeError:
+                return v
+        if isinstance(v, np.ndarray):
+            return v.tolist()
+        return v.item() if isinstance(v, np.generic) else v
+
+    datasets: dict = {}
+    with open_result(path) as f:
+        attrs = {k: value(f.attrs[k]) for k in sorted(f.attrs)}
+
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset):
+                datasets[name] = {"shape": list(obj.shape), "dtype": str(obj.dtype)}
+
+        f.visititems(visit)
+    return {"file": str(path), "attributes": attrs, "datasets": datasets}
+
+
+def _info_lines(obj, indent: str = "  ") -> list[str]:
+    """Nested attributes as indented ``key: value`` lines (no Python reprs)."""
+    lines = []
+    for key, val in obj.items():
+        if isinstance(val, dict):
+            lines.append(f"{indent}{key}:" + ("" if val else " (empty)"))
+            lines += _info_lines(val, indent + "  ")
+        elif isinstance(val, list) and val and all(isinstance(v, dict) for v in val):
+            lines.append(f"{indent}{key}: ({len(val)})")
+            for i, v in enumerate(val):
+                lines.append(f"{indent}  [{i}]")
+                lines += _info_lines(v, indent + "    ")
+        elif isinstance(val, list):
+            lines.append(f"{indent}{key}: " + (", ".join(_text(v) for v in val)
+                                               if val else "(none)"))
+        else:
+            lines.append(f"{indent}{key}: {_text(val)}")
+    return lines
+
+
+def cmd_info(args: argparse.Namespace) -> int:
+    """Describe an HDF5 file written by either solver: readable text, or ``--json``."""
+    info = file_info(args.file)
+    if args.json:
+        print_json(info)
+        return 0
+    attrs = info["attributes"]
+    print(f"{args.file}: {attrs.get('format', 'hertzchain result')}")
+    print("attributes:")
+    print("\n".join(_info_lines(attrs)))
+    print("datasets:")
+    for name, d in info["datasets"].items():
+        print(f"  {name}  {' x '.join(map(str, d['shape'])) or 'scalar'}  {d['dtype']}")
     return 0
 
 
 def cmd_plot(args: argparse.Namespace) -> int:
-    """Plot an HDF5 result file to PNG."""
-    from .files import plot_file
+    """Plot an HDF5 result file to PNG (``--out``: a ``.png`` file or a directory)."""
+    from .files import check_output, plot_file
 
-    out = plot_file(args.file, args.out)
-    print(f"written: {out}")
+    out = args.out
+    if out is not None:
+        out = Path(out)
+        if out.suffix.lower() != ".png":  # a directory (docs/guide/cli.md, --out)
+            if out.exists() and not out.is_dir():
+                raise FileExistsError(errno.EEXIST, f"--out {out} is an existing file that "
+                                      "is not a PNG; give a directory or a name ending in "
+                                      ".png")
+            out.mkdir(parents=True, exist_ok=True)
+            out = out / f"{Path(args.file).stem}.png"
+        check_output(out, "file")
+    written = plot_file(args.file, out)
+    print(f"written: {written}")
     return 0
 
 
@@ -244,6 +441,18 @@ def _clean_caches(directory: Path, force: bool) -> None:
             print(f"hertzchain: removed the settled wave {p} (--force)", file=sys.stderr)
 
 
+class _DeprecatedAlias(argparse.Action):
+    """An old flag spelling: works as ``new`` and says so once on stderr."""
+
+    def __init__(self, option_strings, dest, new: str, **kwargs):
+        self.new = new
+        super().__init__(option_strings, dest, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        print(f"hertzchain: {option_string} is deprecated; use {self.new}", file=sys.stderr)
+        setattr(namespace, self.dest, True if self.nargs == 0 else values)
+
+
 class _VersionAction(argparse.Action):
     """``--version``: the installed version, read only when asked for (start-up)."""
 
@@ -255,11 +464,14 @@ class _VersionAction(argparse.Action):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """Build the argument parser with every sub-command."""
+    """Build the argument parser with every sub-command (docs/guide/cli.md: the grammar)."""
     parser = argparse.ArgumentParser(
         prog="hertzchain",
         description="Solitary waves in Hertzian granular chains: discrete (DEM), "
-        "continuum (long-wave) and closed-form theory, side by side.",
+        "continuum (long-wave) and closed-form theory, side by side. Grain indices count "
+        "from 0; --out names where a command writes (a directory, or for run/plot a "
+        ".h5/.png file); --json prints strict JSON; exit status 0 ok, 2 error, 3 "
+        "incomplete, 4 not verified (docs/guide/cli.md).",
     )
     from .scenario import schema_key
 
@@ -267,55 +479,77 @@ def build_parser() -> argparse.ArgumentParser:
                         help="show program's version number and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
-    p = sub.add_parser("theory", help="interface predictions for (alpha_rho, alpha_kn)")
-    p.add_argument("--alpha-rho", type=positive_float, required=True,
+    p = sub.add_parser("theory", help="interface predictions for (alpha_rho, alpha_kn) or "
+                       "two materials")
+    p.add_argument("--alpha-rho", type=positive_float, default=None,
                    help="density ratio rho_R/rho_L (> 0)")
-    p.add_argument("--alpha-kn", type=positive_float, required=True,
+    p.add_argument("--alpha-kn", type=positive_float, default=None,
                    help="contact-stiffness ratio k_n^R/k_n^L (> 0)")
+    p.add_argument("--left", metavar="MATERIAL", default=None,
+                   help="left section's material (default: the paper's steel; `hertzchain "
+                   "materials` lists the names)")
+    p.add_argument("--right", metavar="MATERIAL", default=None,
+                   help="right section's material: the ratios follow (equal diameters), "
+                   "instead of --alpha-rho/--alpha-kn")
     d0_key = schema_key("chain", "delta0_over_d")
+    p.add_argument("--delta0-over-d", type=scenario_number("chain", "delta0_over_d"),
+                   default=None, metavar="D0",
+                   help="left-section precompression delta0/d (dimensionless, range "
+                   f"{d0_key.range_text()}: [chain] delta0_over_d of a scenario); adds the "
+                   "sound speeds c0")
     p.add_argument("--delta0", type=scenario_number("chain", "delta0_over_d"),
-                   default=None, help="left-section precompression delta0/d (dimensionless, "
-                   f"range {d0_key.range_text()}: [chain] delta0_over_d of a scenario)")
+                   action=_DeprecatedAlias, new="--delta0-over-d", dest="delta0_over_d",
+                   help=argparse.SUPPRESS)
     p.add_argument("--diameter", type=scenario_number("chain", "diameter"),
                    default=5e-3, help="grain diameter in m (> 0; default 5e-3, the paper's)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_theory)
 
-    p = sub.add_parser("run", help="run a scenario TOML file (the models of its [models] "
-                       "table)")
-    p.add_argument("scenario", help="scenario file (see hertzchain/scenarios/*.toml)")
-    p.add_argument("--out", default=None, help="write the full run to this HDF5 file "
-                   "(atomically; checkpoints go to OUT.ckpt)")
+    p = sub.add_parser("materials", help="the material library: density, Young's modulus, "
+                       "Poisson ratio and their sources")
+    p.add_argument("--json", action="store_true", help="print one JSON list")
+    p.set_defaults(func=cmd_materials)
+
+    scenario_help = ("scenario TOML file, or the name of a shipped one (e.g. fig2a, "
+                     "chain_sections: hertzchain/scenarios/)")
+    p = sub.add_parser("run", help="run a scenario (the models of its [models] table)")
+    p.add_argument("scenario", help=scenario_help)
+    p.add_argument("--out", default=None, metavar="OUT",
+                   help="write the full run: a directory (OUT/<scenario>.h5) or a file "
+                   "name ending in .h5 (written atomically; checkpoints beside it, .ckpt)")
     p.add_argument("--json", action="store_true", help="print the summary as JSON")
     p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
                    metavar="SECONDS", help="wall time between checkpoints with --out, s "
                    "(>= 0; default 300). Rerunning the same command resumes from the last "
                    "checkpoint, bit for bit; Ctrl-C stops with a checkpoint")
-    p.add_argument("--restart", action="store_true",
-                   help="discard an existing checkpoint of --out and start over")
+    add_force_argument(p, "discard an existing checkpoint of --out and start over")
+    p.add_argument("--restart", action=_DeprecatedAlias, new="--force", dest="force",
+                   nargs=0, help=argparse.SUPPRESS)
     add_rtol_argument(p)
     p.add_argument("--threads", type=positive_int, default=None, metavar="N",
                    help="kernel threads (>= 1; default: numba's; results are identical)")
+    add_progress_argument(p)
     p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("compare", help="run the discrete chain, the continuum and the "
                        "theory of a scenario side by side and compare them")
-    p.add_argument("scenario", help="scenario file (or the name of a shipped one, see "
-                   "hertzchain/scenarios/)")
-    p.add_argument("--out", default="hertzchain-compare",
-                   help="output directory (compare.h5, figures, report.md, runs/)")
+    p.add_argument("scenario", help=scenario_help)
+    p.add_argument("--out", default="hertzchain-compare", metavar="DIR",
+                   help="output directory (compare.h5, figures, report.md, runs/; default "
+                   "./hertzchain-compare)")
     p.add_argument("--json", action="store_true", help="print every number as JSON")
     p.add_argument("--continuum", default=None,
                    choices=("auto", "eq4", "eq7", "kdv", "off"),
                    help="override [models] continuum (default: the scenario's)")
-    p.add_argument("--force", action="store_true",
-                   help="recompute the runs even if cached in OUT/runs")
+    add_force_argument(p, "recompute the runs even if cached in OUT/runs (discards "
+                       "checkpoints)")
     p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
                    metavar="SECONDS", help="wall time between checkpoints of the discrete "
                    "run, s (>= 0; default 300); rerunning resumes from the last one")
     add_rtol_argument(p)
     p.add_argument("--threads", type=positive_int, default=None, metavar="N",
                    help="kernel threads of the discrete solver (>= 1)")
+    add_progress_argument(p)
     p.set_defaults(func=cmd_compare)
 
     from .reproduce.command import add_arguments as reproduce_arguments
@@ -325,12 +559,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_reproduce)
 
     p = sub.add_parser("info", help="describe an HDF5 result file")
-    p.add_argument("file")
+    p.add_argument("file", help="an HDF5 file written by hertzchain")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=cmd_info)
 
     p = sub.add_parser("plot", help="plot an HDF5 result file to PNG")
-    p.add_argument("file")
-    p.add_argument("--out", default=None, help="PNG path (default: beside the file)")
+    p.add_argument("file", help="an HDF5 file written by hertzchain run")
+    p.add_argument("--out", default=None, metavar="OUT",
+                   help="a directory (OUT/<file>.png) or a file name ending in .png "
+                   "(default: beside the file)")
     p.set_defaults(func=cmd_plot)
 
     from .sweep import add_sweep_parsers
@@ -411,6 +648,80 @@ def _main(argv: Sequence[str] | None, whole_process: bool) -> int:
     if getattr(args, "func", None) is None:
         parser.print_help()
         return 0
+    if whole_process:
+        _process_gc("started")
+    return run_command(args, whole_process=whole_process)
+
+
+def is_disk_full_text(text: str) -> bool:
+    """A message of a write that failed for lack of space (HDF5's, the OS's, ours)."""
+    return any(m in text for m in ("errno = 28", "No space left", "File too large",
+                                   "disk full", "errno = 27"))
+
+
+def _is_disk_full(exc: BaseException | None) -> bool:
+    """A write failed for lack of space (ENOSPC, EFBIG), here or in a cause of ``exc``."""
+    seen = 0
+    while exc is not None and seen < 10:
+        if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EFBIG):
+            return True
+        if is_disk_full_text(str(exc)):
+            return True
+        exc = exc.__cause__ or exc.__context__
+        seen += 1
+    return False
+
+
+class _FailedWrites:
+    """HDF5's failed writes while a command runs: counted, not shown.
+
+    On a full disk h5py reports every failed flush from an object's destructor, twice:
+    a traceback through ``sys.excepthook`` (Cython prints it before) and ``Exception
+    ignored in h5py._objects.ObjectID.__dealloc__`` through ``sys.unraisablehook`` —
+    tens to hundreds of them before the one message that matters.  Both hooks are
+    replaced while the command runs: disk-full errors are counted (the command ends with
+    one message naming the disk), any other error is shown as usual.
+    """
+
+    def __init__(self) -> None:
+        self.count = 0
+        self.example = ""
+        self._unraisable = self._except = None
+
+    def __enter__(self):
+        self._unraisable, self._except = sys.unraisablehook, sys.excepthook
+        sys.unraisablehook, sys.excepthook = self.unraisable_hook, self.except_hook
+        return self
+
+    def __exit__(self, *exc) -> None:
+        sys.unraisablehook, sys.excepthook = self._unraisable, self._except
+
+    def _absorb(self, exc: BaseException | None) -> bool:
+        if not _is_disk_full(exc):
+            return False
+        self.count += 1
+        self.example = self.example or str(exc).splitlines()[0]
+        return True
+
+    def unraisable_hook(self, unraisable) -> None:
+        if not self._absorb(unraisable.exc_value):
+            self._unraisable(unraisable)
+
+    def except_hook(self, kind, value, tb) -> None:
+        if not self._absorb(value):
+            self._except(kind, value, tb)
+
+
+def run_command(args: argparse.Namespace, *, whole_process: bool = False) -> int:
+    """Run a parsed command; every user error becomes one message and an exit status.
+
+    ``hertzchain: error: ...`` on stderr and exit status 2 for invalid input, I/O errors
+    and instabilities (no traceback); 130 on Ctrl-C (a checkpointed run: its own
+    status).  On a full disk the HDF5 library's destructor tracebacks are suppressed
+    (:class:`_FailedWrites`) and, in a process that is one command, the process ends at
+    once after the message (HDF5 objects of a failed write can crash the interpreter
+    when they are freed).
+    """
     from discrete import InstabilityError
     from theory.jitcache import announce_compilation
 
@@ -418,26 +729,36 @@ def _main(argv: Sequence[str] | None, whole_process: bool) -> int:
 
     if whole_process:
         _process_gc("started")
-    try:
-        with announce_compilation():  # a cold kernel cache is announced before compiling
-            return int(args.func(args) or 0)
-    except BrokenPipeError:  # output piped into e.g. `head`
-        return 0
-    except (ValueError, OSError, InstabilityError) as exc:  # incl. FileNotFoundError
-        print(f"hertzchain: error: {exc}", file=sys.stderr)
-        if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EFBIG):
-            # a failed HDF5 write can leave h5py objects that crash the interpreter
-            # when they are freed (a segfault after the message): leave at once
-            sys.stdout.flush()
-            sys.stderr.flush()
-            os._exit(2)
-        return 2
-    except Interrupted as exc:  # SIGINT/SIGTERM during a checkpointed run
-        print(f"hertzchain: {exc}", file=sys.stderr)
-        return exc.exit_code
-    except KeyboardInterrupt:
-        print("hertzchain: interrupted", file=sys.stderr)
-        return 130
+    with _FailedWrites() as failed:
+        try:
+            with announce_compilation():  # a cold kernel cache is announced before compiling
+                status = int(args.func(args) or 0)
+            disk_full = False
+        except BrokenPipeError:  # output piped into e.g. `head`
+            return 0
+        except (ValueError, OSError, InstabilityError, MemoryError) as exc:
+            if isinstance(exc, MemoryError):
+                exc = MemoryError("out of memory: the chain or its recording does not fit "
+                                  "(lower [chain.sections] n, t_end or the recording)")
+            print(f"hertzchain: error: {exc}", file=sys.stderr)
+            status, disk_full = 2, _is_disk_full(exc)
+        except Interrupted as exc:  # SIGINT/SIGTERM during a checkpointed run
+            print(f"hertzchain: {exc}", file=sys.stderr)
+            return exc.exit_code
+        except KeyboardInterrupt:
+            print("hertzchain: interrupted", file=sys.stderr)
+            return 130
+        if failed.count and not disk_full:  # a write failed inside, and was absorbed
+            print(f"hertzchain: error: disk full: {failed.count} HDF5 write(s) failed "
+                  f"({failed.example}); free space and rerun", file=sys.stderr)
+            status, disk_full = max(status, 2), True
+    if disk_full and whole_process:
+        # a failed HDF5 write can leave h5py objects that crash the interpreter when
+        # they are freed (a segfault after the message): leave at once
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
+    return status
 
 
 if __name__ == "__main__":  # pragma: no cover

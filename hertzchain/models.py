@@ -70,7 +70,7 @@ from theory import integrity
 
 from . import checkpoint as C
 from .cache import cache_path, canonical_json
-from .runner import build_chain, build_initial_checked, interfaces, run_simulation
+from .runner import build_chain, build_initial_checked, check_size, interfaces, run_simulation
 from .scenario import ModelsSpec, Scenario, ScenarioError
 
 __all__ = ["ModelRun", "IncidentWave", "TheoryModel", "Run", "run", "sample_grid",
@@ -1141,6 +1141,7 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
     stem = stem or scenario.name or "run"
     cache = None if cache is None else Path(cache)
     wave_cache = wave_cache if wave_cache is not None else cache
+    check_size(scenario)  # before anything is allocated ([chain.sections] n named)
     try:
         chain = build_chain(scenario.chain)
     except ValueError as exc:

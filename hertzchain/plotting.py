@@ -1,7 +1,9 @@
 """Plotting functions for the paper's figures; each draws on a given matplotlib ``ax``.
 
-Grain numbers on the axes are the paper's 1-based numbers (array index + 1).  None of
-these functions calls ``show()``; callers save the figure.
+Grains on the axes are grain indices, counted from 0 as everywhere in hertzchain
+(docs/guide/cli.md); ``numbering="paper"`` labels them with the paper's 1-based grain
+numbers (index + 1) instead, for the figures of ``hertzchain reproduce`` that reproduce
+the paper's.  None of these functions calls ``show()``; callers save the figure.
 """
 
 from __future__ import annotations
@@ -26,17 +28,35 @@ __all__ = [
 ]
 
 
-def mark_interface(ax, interface: int | None, **kwargs) -> None:
-    """Draw a vertical line between grains ``interface`` and ``interface + 1`` (1-based)."""
+NUMBERINGS = {"index": (0, "grain index $i$"), "paper": (1, "grain number $i$ (paper's)")}
+"""Grain labels on the axes: (first label, axis title) of ``numbering="index"`` (0-based,
+hertzchain's) and ``"paper"`` (the paper's 1-based numbers)."""
+
+
+def _numbering(numbering: str) -> tuple[int, str]:
+    if numbering not in NUMBERINGS:
+        raise ValueError(f"numbering must be one of {sorted(NUMBERINGS)} (got {numbering!r})")
+    return NUMBERINGS[numbering]
+
+
+def mark_interface(ax, interface: int | None, *, numbering: str = "index",
+                   **kwargs) -> None:
+    """A vertical line between the last grain left of the interface and the first right.
+
+    ``interface`` is the number of grains left of it (the index of the first grain of
+    the second section).
+    """
     if interface is None:
         return
+    first, _ = _numbering(numbering)
     style = {"color": "0.4", "ls": ":", "lw": 1.0} | kwargs
-    ax.axvline(interface + 0.5, **style)
+    ax.axvline(interface + first - 0.5, **style)
 
 
 def plot_grain_profile(ax, values, *, interface: int | None = None, label: str | None = None,
-                       ylabel: str = r"$v_i/v_0$", start: int = 0, **kwargs):
-    """Plot a per-grain quantity against the grain number (paper Figs. 3a, 4a, 5).
+                       ylabel: str = r"$v_i/v_0$", start: int = 0, numbering: str = "index",
+                       **kwargs):
+    """Plot a per-grain quantity against the grain index (paper Figs. 3a, 4a, 5).
 
     Parameters
     ----------
@@ -50,32 +70,39 @@ def plot_grain_profile(ax, values, *, interface: int | None = None, label: str |
         Legend label and y-axis label.
     start : int
         Array index of ``values[0]`` (to plot a window of a long chain).
+    numbering : {"index", "paper"}
+        Grain indices (0-based) or the paper's grain numbers (1-based) on the axis.
     """
+    first, title = _numbering(numbering)
     values = np.asarray(values)
-    grains = np.arange(start, start + values.size) + 1
+    grains = np.arange(start, start + values.size) + first
     line = ax.plot(grains, values, label=label, **({"lw": 0.8} | kwargs))
-    mark_interface(ax, interface)
-    ax.set_xlabel("grain number $i$")
+    mark_interface(ax, interface, numbering=numbering)
+    ax.set_xlabel(title)
     ax.set_ylabel(ylabel)
     return line
 
 
 def plot_vmax(ax, vmax_over_v0, *, mean: float | None = None, grain_range=None,
-              label: str | None = None):
-    """Per-grain maximum velocity / v0 with its mean (paper Fig. 2, squares and dashed line)."""
+              label: str | None = None, numbering: str = "index"):
+    """Per-grain maximum velocity / v0 with its mean (paper Fig. 2, squares and dashed line).
+
+    ``grain_range``: the index range [lo, hi) of the mean.
+    """
+    first, title = _numbering(numbering)
     vmax_over_v0 = np.asarray(vmax_over_v0)
-    grains = np.arange(vmax_over_v0.size) + 1
+    grains = np.arange(vmax_over_v0.size) + first
     ax.plot(grains, vmax_over_v0, "s", ms=2, mfc="none", label=label)
     if mean is not None:
         lo, hi = grain_range if grain_range is not None else (0, vmax_over_v0.size)
-        ax.hlines(mean, lo + 1, hi, colors="k", linestyles="--",
+        ax.hlines(mean, lo + first, hi - 1 + first, colors="k", linestyles="--",
                   label=rf"mean $\bar v_{{max}}/v_0$ = {mean:.4f}")
-    ax.set_xlabel("grain number $i$")
+    ax.set_xlabel(title)
     ax.set_ylabel(r"$v_{max}/v_0$")
 
 
 def plot_displacement_time(ax, t, u, grains, *, u_ref: float = 1.0, free_flight=None,
-                           time_unit: float = 1e-3):
+                           time_unit: float = 1e-3, numbering: str = "index"):
     """Displacement of chosen grains against time (paper Figs. 3c/d, 4c/d).
 
     Parameters
@@ -85,7 +112,8 @@ def plot_displacement_time(ax, t, u, grains, *, u_ref: float = 1.0, free_flight=
     u : array (n_t, n_grains)
         Displacements, m.
     grains : sequence of int
-        Array indices of the grains (labelled with 1-based numbers).
+        Array indices of the grains (labelled by ``numbering``: the index, or the paper's
+        1-based number).
     u_ref : float
         Normalisation (paper: ū_max).
     free_flight : array (n_t, n_grains) of bool, optional
@@ -93,33 +121,35 @@ def plot_displacement_time(ax, t, u, grains, *, u_ref: float = 1.0, free_flight=
     time_unit : float
         Seconds per unit on the time axis (default ms).
     """
+    first, _ = _numbering(numbering)
     t = np.asarray(t) / time_unit
     u = np.asarray(u) / u_ref
     for j, g in enumerate(grains):
-        (line,) = ax.plot(t, u[:, j], lw=0.9, label=f"{g + 1}")
+        (line,) = ax.plot(t, u[:, j], lw=0.9, label=f"{g + first}")
         if free_flight is not None:
             mask = np.asarray(free_flight)[:, j]
             ax.plot(np.where(mask, t, np.nan), np.where(mask, u[:, j], np.nan), lw=3,
                     color=line.get_color(), alpha=0.4)
     ax.set_xlabel("time (ms)" if time_unit == 1e-3 else f"time (×{time_unit:g} s)")
     ax.set_ylabel(r"$u_i/\bar u_{max}$" if u_ref != 1.0 else r"$u_i$ (m)")
-    ax.legend(title="grain", fontsize="x-small", ncol=2)
+    ax.legend(title="grain" if first == 0 else "grain (paper's)", fontsize="x-small", ncol=2)
 
 
 def plot_spacetime(ax, t, values, *, interface: int | None = None, cmap: str = "inferno",
                    vmin=None, vmax=None, label: str = "", time_unit: float = 1e-3,
-                   start: int = 0):
+                   start: int = 0, numbering: str = "index"):
     """Space-time map of a per-grain quantity (paper Fig. 8); returns the image.
 
-    ``values`` has shape (n_times, n_grains); x is the grain number, y the time.
+    ``values`` has shape (n_times, n_grains); x is the grain (``numbering``), y the time.
     """
+    first, title = _numbering(numbering)
     values = np.asarray(values)
     t = np.asarray(t) / time_unit
-    extent = (start + 0.5, start + values.shape[1] + 0.5, t[0], t[-1])
+    extent = (start + first - 0.5, start + values.shape[1] + first - 0.5, t[0], t[-1])
     im = ax.imshow(values, origin="lower", aspect="auto", extent=extent, cmap=cmap,
                    vmin=vmin, vmax=vmax, interpolation="nearest")
-    mark_interface(ax, interface, color="w")
-    ax.set_xlabel("grain number $i$")
+    mark_interface(ax, interface, numbering=numbering, color="w")
+    ax.set_xlabel(title)
     ax.set_ylabel("time (ms)" if time_unit == 1e-3 else "time")
     if label:
         ax.figure.colorbar(im, ax=ax, label=label)
@@ -243,7 +273,7 @@ def plot_fronts(ax, fronts: dict, *, theory=None, theory_speeds: dict | None = N
         for wave, x in fr.items():
             x = np.asarray(x)
             if np.isfinite(x).any():
-                ax.plot(np.asarray(t) * 1e3, x + 1, _WAVE_MARK[wave], ms=4, mfc="none",
+                ax.plot(np.asarray(t) * 1e3, x, _WAVE_MARK[wave], ms=4, mfc="none",
                         color=style["color"], label=f"{label}: {wave}")
     if theory is not None:
         t, fr = theory
@@ -251,12 +281,12 @@ def plot_fronts(ax, fronts: dict, *, theory=None, theory_speeds: dict | None = N
             x = np.asarray(x)
             if np.isfinite(x).any():
                 sp = (theory_speeds or {}).get(wave)
-                ax.plot(np.asarray(t) * 1e3, x + 1, "-", color="C3", lw=0.9,
+                ax.plot(np.asarray(t) * 1e3, x, "-", color="C3", lw=0.9,
                         label=f"theory: {wave}" + (f" ({sp:.1f} m/s)" if sp else ""))
     if interface is not None:
-        ax.axhline(interface + 0.5, color="0.4", ls=":", lw=1.0)
+        ax.axhline(interface - 0.5, color="0.4", ls=":", lw=1.0)
     ax.set_xlabel("t (ms)")
-    ax.set_ylabel("front position (grain number)")
+    ax.set_ylabel("front position (grain index)")
     ax.legend(fontsize="xx-small", ncol=2)
 
 

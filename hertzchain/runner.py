@@ -395,6 +395,19 @@ def check_run(scenario: Scenario, init) -> None:
       the event could never happen and the run would go on to ``max_steps``.
     """
     run, ini = scenario.run, scenario.initial
+    if run.dt_fraction is not None:  # its stability limit depends on the chain
+        law, drag = build_law(scenario.chain)
+        step = discrete.TimeStep.choose(init.chain, init.u, init.v, init.wall_left,
+                                        init.wall_right, law=law, drag=drag, check=False,
+                                        fraction=run.dt_fraction)
+        stable, auto = step.stable, step.default
+        limit = run.dt_fraction * stable / auto
+        if auto > stable:
+            raise ScenarioError(
+                f"[run] dt_fraction = {run.dt_fraction!r} gives dt = {auto:.4g} s, above the "
+                f"largest linearly stable time step {stable:.4g} s of this chain (Gershgorin "
+                f"bound 2/ω_lat at the largest expected overlaps); allowed range (0, "
+                f"{limit:.4g}] for this chain")
     if run.dt is not None:
         stable, auto = _stable_and_auto_dt(init, scenario.chain)
         if run.dt > stable:

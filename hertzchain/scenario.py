@@ -6,8 +6,12 @@ item of ``hertzchain reproduce``, read the same file and run it through one path
 (:func:`hertzchain.models.run`).  It is validated strictly: unknown keys are errors (they
 are usually typos) and every error names the key, the value and the allowed range.
 
-Grain indices are 0-based (the paper's grain 201 is index 200).  Lengths are in m, times
-in s, velocities in m/s.
+Grain indices count from 0, here as everywhere in hertzchain (the paper's grain 201 is
+index 200; docs/guide/cli.md); with a striker (``[initial] striker_mass`` other than 1)
+the striker is grain 0 of the run and the indices of ``[run]`` and ``[record]`` count it.
+Lengths are in m, times in s, velocities in m/s, densities in kg/m³, moduli in Pa.
+Materials are named (:data:`theory.MATERIALS`, ``hertzchain materials``) or given as a
+table ``{density, youngs_modulus, poisson_ratio}`` (kg/m³, Pa, 1; an optional ``name``).
 
 {schema}
 
@@ -53,6 +57,7 @@ two agree); checks that involve several keys live in the table's ``_check_*`` fu
 
 from __future__ import annotations
 
+import difflib
 import math
 import tomllib
 from dataclasses import asdict, dataclass, field, fields, replace
@@ -184,9 +189,10 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("delta0_over_d", "number", 0.0, "static overlap of the first section's "
             "contacts / d (each section's follows from force equilibrium)", low=0,
             low_open=False, high=0.1, example=1e-3),
-        Key("material", "material", "paper", "first section's material: \"paper\" (Hertz "
-            "constant, ν = 0.30, reproduces the paper), \"table1\" (ν = 0.25) or a table "
-            "{density, youngs_modulus, poisson_ratio}"),
+        Key("material", "material", "paper", "first section's material: a name of "
+            "theory.MATERIALS (\"paper\": Hertz constant, ν = 0.30, reproduces the paper; "
+            "\"table1\": ν = 0.25; \"steel\", \"brass\", \"ptfe\", …: `hertzchain "
+            "materials`) or a table {density (kg/m³), youngs_modulus (Pa), poisson_ratio}"),
         Key("left_wall", "choice", "paper", "left end: \"paper\" (as a grain–grain "
             "contact), \"hertz\" (rigid flat) or \"free\" (only at δ0 = 0)",
             choices=("paper", "hertz", "free")),
@@ -212,11 +218,12 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
     ),
     "chain.sections": (
         Key("n", "integer", None, "grains of this section (sum over sections >= 2)", low=1,
-            required=True, example=200),
+            low_open=False, required=True, example=200),
         Key("alpha_rho", "number", 1.0, "density / the first section's", low=0),
         Key("alpha_kn", "number", 1.0, "contact stiffness k_n / the first section's", low=0),
         Key("material", "material", None, "instead of alpha_rho/alpha_kn: a material name "
-            "or table"),
+            "(`hertzchain materials`) or table {density (kg/m³), youngs_modulus (Pa), "
+            "poisson_ratio}"),
         Key("diameter", "number", None, "this section's grain diameter (default: [chain] "
             "diameter)", "m", low=0),
         Key("profile", "choice", "uniform", "per-grain profile: \"uniform\", \"tapered\" "
@@ -239,7 +246,9 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("disorder_diameter", "number", 0.0, "seeded disorder: relative standard "
             "deviation of the diameters (masses and contact constants follow)", low=0,
             low_open=False, high=0.5, high_open=False),
-        Key("seed", "integer", 0, "seed of the disorder's random numbers", low=0),
+        Key("seed", "integer", None, "seed of the disorder's random numbers (default: the "
+            "section's index 0, 1, …, so that two disordered sections differ)", low=0,
+            low_open=False),
     ),
     "initial": (
         Key("kind", "choice", "impact", "\"impact\" (grain 0 at v0), \"cut_wave\" (the "
@@ -251,9 +260,9 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "other than 1 the striker is an extra grain prepended as grain 0 of the run "
             "(so the run's grain i + 1 is the chain's grain i)", low=0),
         Key("center", "integer", None, "cut_wave, exact_wave: grain of the wave's peak",
-            low=0, example=100),
+            low=0, low_open=False, example=100),
         Key("half_width", "integer", 40, "cut_wave: grains kept on each side of the peak",
-            low=30),
+            low=30, low_open=False),
         Key("velocity_max", "number", None, "exact_wave: peak grain velocity", "m/s", low=0),
         Key("strain_max", "number", None, "exact_wave, instead of velocity_max: peak "
             "dynamic overlap (r - δ0)/d", low=0),
@@ -262,35 +271,39 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("t_end", "number", None, "end time (give t_end and/or until_front_at)", "s",
             low=0, example=2.4e-3),
         Key("until_front_at", "integer", None, "stop when the leading wave's velocity peak "
-            "passes this grain", low=0),
+            "passes this grain", low=0, low_open=False),
         Key("dt", "auto_number", None, "time step: \"auto\" (a fraction dt_fraction of the "
             "shortest contact period) or a value", "s", low=0, example="auto"),
         Key("dt_fraction", "number", None, "\"auto\" dt as a fraction of the shortest "
-            "contact period (default: the integrator's, 0.002 for verlet)", low=0,
-            high=1, high_open=False),
+            "contact period 2π/ω_max (default: the integrator's, 0.002 for verlet); at most "
+            "1/π, velocity Verlet's stability limit dt < 2/ω — a chain's own limit is lower "
+            "(√2/(2π) ≈ 0.225 for identical grains) and is checked on the built chain",
+            low=0, high=1 / math.pi, high_open=False),
         Key("integrator", "choice", "verlet", "discrete time integrator (\"auto\": the "
             "cheapest for rtol; needs rtol)", choices=(*INTEGRATORS, "auto")),
         Key("rtol", "number", None, "relative accuracy of the recorded quantities: dt (and "
             "with integrator = \"auto\" the method) chosen from a step-doubling probe "
             "(discrete.timestep); default none: dt_fraction", low=0, high=1),
-        Key("max_steps", "integer", 100_000_000, "step limit", low=1),
+        Key("max_steps", "integer", 100_000_000, "step limit", low=1, low_open=False),
     ),
     "record": (
         Key("snapshot_times", "numbers", (), "times of full snapshots (u, v, overlaps)", "s",
             low=0, low_open=False, example=[0.0]),
         Key("snapshot_grains", "integers", (), "full snapshots when the leading wave's peak "
-            "passes these grains", low=0),
+            "passes these grains", low=0, low_open=False),
         Key("time_series_grains", "integers", (), "grains whose u, v and contact overlaps "
-            "are recorded every series_every steps", low=0),
-        Key("series_every", "integer", 1, "steps between time-series samples", low=1),
+            "are recorded every series_every steps", low=0, low_open=False),
+        Key("series_every", "integer", 1, "steps between time-series samples", low=1,
+            low_open=False),
         Key("energy_every", "integer", 0, "steps between rows of the per-grain energy "
             "space–time grid (0: automatic, every half grain transit, if energy_grid)",
-            low=0),
+            low=0, low_open=False),
         Key("energy_grid", "bool", True, "record the energy grid (the runner's energy ratios "
             "and front speeds need it)"),
         Key("running_max", "bool", True, "per-grain running maxima of v and u"),
         Key("sensors", "integers", (), "grains read as embedded force sensors (the mean of "
-            "their two contact forces, N), sampled every series_every steps", low=0),
+            "their two contact forces, N), sampled every series_every steps", low=0,
+            low_open=False),
         Key("wall_forces", "bool", False, "record the force on each wall (N), sampled "
             "every series_every steps"),
         Key("strain_maxima", "bool", False, "running maximum of every contact's overlap "
@@ -304,7 +317,8 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "\"kdv\" (one precompressed section) or false", example="auto"),
         Key("theory", "bool", True, "closed-form theory: wave speeds (Eq. 5, 8, Nesterenko), "
             "linear-acoustic interface (Eqs. 9–13)"),
-        Key("nodes_per_grain", "integer", 5, "continuum grid nodes per grain (odd)", low=1),
+        Key("nodes_per_grain", "integer", 5, "continuum grid nodes per grain (odd)", low=1,
+            low_open=False),
         Key("integrator", "choice", None, "the continuum's splitting method "
             "(theory.splitting; kick-first ones with merged FSAL kicks); default: "
             "\"position_yoshida4\" (or the one of order)", choices=CONTINUUM_INTEGRATORS,
@@ -328,7 +342,8 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "-min(k², cap), grains⁻² (<= 10 keeps the energy bounded below)", low=0,
             high=10, high_open=False),
         Key("samples", "integer", 40, "common sample times of the comparison (profiles, "
-            "fronts, energy partition); the discrete run stores a snapshot at each", low=2),
+            "fronts, energy partition); the discrete run stores a snapshot at each", low=2,
+            low_open=False),
         Key("compare_times", "numbers", (), "times of the profile panels (default: before, "
             "during and after the interface)", "s", low=0, low_open=False),
     ),
@@ -353,11 +368,33 @@ def _where(table: str) -> str:
     return "top level" if table == "" else table
 
 
-def _check_keys(data: dict, allowed, where: str) -> None:
-    unknown = set(data) - set(allowed)
-    if unknown:
-        raise ScenarioError(
-            f"unknown key(s) {sorted(unknown)} in [{where}]; allowed: {sorted(allowed)}")
+def did_you_mean(word, known) -> str:
+    """``"; did you mean 'x'?"`` for the closest of ``known`` to ``word`` (difflib), or ""."""
+    close = difflib.get_close_matches(str(word), [str(k) for k in known], n=2, cutoff=0.6)
+    return f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+
+
+def _check_keys(data: dict, allowed, where: str, tables=()) -> None:
+    """ScenarioError for keys of ``data`` not in ``allowed`` (tables: also allowed here).
+
+    Each unknown key is named with the closest allowed key or table (did you mean), and
+    the allowed keys and tables are listed.
+    """
+    unknown = sorted(set(data) - set(allowed) - set(tables), key=str)
+    if not unknown:
+        return
+    parts = []
+    prefix = "" if where == "top level" else f"{where}."
+    for k in unknown:
+        if did_you_mean(k, tables):  # a misspelt table, e.g. [inital]
+            close = difflib.get_close_matches(str(k), tables, n=1, cutoff=0.6)[0]
+            parts.append(f"unknown table [{prefix}{k}]; did you mean [{prefix}{close}]?")
+        else:
+            parts.append(f"unknown key {k!r} in [{where}]{did_you_mean(k, allowed)}")
+    listed = f"allowed keys: {', '.join(sorted(allowed))}" if allowed else "no keys"
+    if tables:
+        listed += f"; tables: {', '.join(f'[{prefix}{t}]' for t in tables)}"
+    raise ScenarioError(f"{'; '.join(parts)} ({listed})")
 
 
 def _read_number(key: Key, val, where: str, name: str | None = None) -> float:
@@ -379,27 +416,58 @@ def _read_integer(key: Key, val, where: str, name: str | None = None) -> int:
     name = name or key.name
     if isinstance(val, bool) or not isinstance(val, int):
         raise ScenarioError(f"[{where}] {name} must be an integer (got {val!r})")
-    if key.low is not None and val < key.low:
-        raise ScenarioError(f"[{where}] {name} = {val} must be >= {key.low:g}")
+    # the same bounds as numbers, open or closed as range_text() documents them
+    bad_low = key.low is not None and (val <= key.low if key.low_open else val < key.low)
+    bad_high = key.high is not None and (val >= key.high if key.high_open else val > key.high)
+    if bad_low or bad_high:
+        op, bound = ((">" if key.low_open else ">=", key.low) if bad_low
+                     else ("<" if key.high_open else "<=", key.high))
+        raise ScenarioError(f"[{where}] {name} = {val} must be {op} {bound:g} (allowed "
+                            f"range {key.range_text()})")
     return val
 
 
+MATERIAL_UNITS = {"density": "kg/m³", "youngs_modulus": "Pa", "poisson_ratio": ""}
+
+
 def _read_material(val, where: str):
+    """One material key, validated: a name or a table.
+
+    ``"paper"``/``"table1"`` are kept as the name (the paper's materials); another name of
+    :data:`theory.MATERIALS` is read into its table, with its ``name`` (the values are
+    recorded with the run); a table ``{density, youngs_modulus, poisson_ratio}`` (kg/m³,
+    Pa, 1) may carry a ``name``.
+    """
     if isinstance(val, str):
-        if val not in ("paper", "table1"):
-            raise ScenarioError(f"[{where}] material = {val!r}; allowed: 'paper', 'table1' "
-                                "or a table {density, youngs_modulus, poisson_ratio}")
-        return val
+        from theory import MATERIALS, resolve_material_name
+
+        try:
+            key = resolve_material_name(val)
+        except ValueError as exc:
+            raise ScenarioError(f"[{where}] material = {val!r}: {exc}") from None
+        if key in ("paper", "table1"):
+            return key
+        m = MATERIALS[key].material
+        return {"name": key, "density": m.density, "youngs_modulus": m.youngs_modulus,
+                "poisson_ratio": m.poisson_ratio}
     if not isinstance(val, dict):
-        raise ScenarioError(f"[{where}] material must be a name or a table (got {val!r})")
+        raise ScenarioError(f"[{where}] material must be a name (`hertzchain materials`) or "
+                            "a table {density (kg/m³), youngs_modulus (Pa), poisson_ratio} "
+                            f"(got {val!r})")
     w = f"{where}.material"
-    _check_keys(val, MATERIAL_KEYS, w)
+    _check_keys(val, (*MATERIAL_KEYS, "name"), w)
     out = {}
+    if "name" in val:
+        if not isinstance(val["name"], str):
+            raise ScenarioError(f"[{w}] name must be a string (got {val['name']!r})")
+        out["name"] = val["name"]
     for name, low, high in (("density", 0, None), ("youngs_modulus", 0, None),
                             ("poisson_ratio", -1, 0.5)):
         if name not in val:
-            raise ScenarioError(f"[{w}] {name} is required")
-        out[name] = _read_number(Key(name, "number", low=low, high=high), val[name], w)
+            unit = f" ({MATERIAL_UNITS[name]})" if MATERIAL_UNITS[name] else ""
+            raise ScenarioError(f"[{w}] {name}{unit} is required")
+        out[name] = _read_number(Key(name, "number", low=low, high=high,
+                                     unit=MATERIAL_UNITS[name]), val[name], w)
     return out
 
 
@@ -420,8 +488,9 @@ def _read_value(key: Key, val, where: str):
         return val
     if k == "choice":
         if val not in key.choices:
-            raise ScenarioError(f"[{where}] {key.name} = {val!r}; allowed: "
-                                f"{list(key.choices)}")
+            raise ScenarioError(f"[{where}] {key.name} = {val!r}"
+                                f"{did_you_mean(val, key.choices)} (allowed: "
+                                f"{', '.join(repr(c) for c in key.choices)})")
         return val
     if k in ("numbers", "integers"):
         if not isinstance(val, list):
@@ -438,8 +507,9 @@ def _read_value(key: Key, val, where: str):
         if val is True:
             return "auto"
         if val not in CONTINUUM_MODELS:
-            raise ScenarioError(f"[{where}] {key.name} = {val!r}; allowed: "
-                                f"{list(CONTINUUM_MODELS)} or false")
+            raise ScenarioError(f"[{where}] {key.name} = {val!r}"
+                                f"{did_you_mean(val, CONTINUUM_MODELS)} (allowed: "
+                                f"{', '.join(repr(c) for c in CONTINUUM_MODELS)} or false)")
         return val
     raise AssertionError(f"unknown key kind {k!r}")  # pragma: no cover - schema bug
 
@@ -461,13 +531,17 @@ def read_key(table: str, name: str, value):
     return _read_value(schema_key(table, name), value, _where(table))
 
 
-def _read_table(data, table: str) -> dict[str, Any]:
-    """Values of every key of ``table`` (defaults filled in), validated one by one."""
+def _read_table(data, table: str, tables=()) -> dict[str, Any]:
+    """Values of every key of ``table`` (defaults filled in), validated one by one.
+
+    ``tables``: the names of the sub-tables allowed in ``data`` besides the keys (named
+    in the message for an unknown key that is close to one).
+    """
     where = _where(table)
     if not isinstance(data, dict):
         raise ScenarioError(f"[{where}] must be a table (got {data!r})")
     keys = SCHEMA[table]
-    _check_keys(data, [k.name for k in keys], where)
+    _check_keys(data, [k.name for k in keys], where, tables)
     out = {}
     for key in keys:
         if key.name in data:
@@ -569,6 +643,11 @@ class InitialSpec:
     half_width: int = 40
     velocity_max: float | None = None
     strain_max: float | None = None
+
+    @property
+    def striker_grains(self) -> int:
+        """1 if an impact's striker is an extra grain of the run (grain 0), else 0."""
+        return int(self.kind == "impact" and self.striker_mass != 1.0)
 
 
 @dataclass(frozen=True)
@@ -724,6 +803,11 @@ _SPECS = {"chain": ChainSpec, "chain.sections": SectionSpec, "initial": InitialS
 
 
 # -- cross-key checks, one function per table --------------------------------------------
+def _disordered(values: dict) -> bool:
+    return bool(values["disorder_mass"] or values["disorder_stiffness"]
+                or values["disorder_diameter"])
+
+
 def _check_sections(values: dict, where: str, raw: dict) -> None:
     if values["material"] is not None and ("alpha_rho" in raw or "alpha_kn" in raw):
         raise ScenarioError(f"[{where}] give either material or alpha_rho/alpha_kn, not both")
@@ -817,12 +901,20 @@ def _check_initial_law(spec: InitialSpec, chain: ChainSpec) -> None:
                             " with [chain] gravity > 0 use kind = 'impact'")
 
 
-def _check_run(spec: RunSpec, n: int) -> None:
+def _grains_text(n: int, initial: InitialSpec) -> str:
+    """``"100 grains"``, or with a striker ``"99 grains and the striker (grain 0)"``."""
+    if initial.striker_grains:
+        return f"{n - 1} grains and the striker (grain 0 of the run)"
+    return f"{n} grains"
+
+
+def _check_run(spec: RunSpec, n: int, initial: InitialSpec) -> None:
     if spec.t_end is None and spec.until_front_at is None:
         raise ScenarioError("[run] give t_end (s, > 0) and/or until_front_at (grain index)")
     if spec.until_front_at is not None and spec.until_front_at >= n:
         raise ScenarioError(f"[run] until_front_at = {spec.until_front_at} can never be "
-                            f"reached: allowed range [0, {n - 1}] for {n} grains")
+                            f"reached: allowed range [0, {n - 1}] for "
+                            f"{_grains_text(n, initial)}")
     if spec.dt is not None and spec.dt_fraction is not None:
         raise ScenarioError("[run] give dt or dt_fraction, not both (dt_fraction sets the "
                             "'auto' dt)")
@@ -835,12 +927,16 @@ def _check_run(spec: RunSpec, n: int) -> None:
                             f"{', '.join(INTEGRATORS)}")
 
 
-def _check_record(spec: RecordSpec, n: int, t_end: float | None) -> None:
+def _check_record(spec: RecordSpec, n: int, t_end: float | None,
+                  initial: InitialSpec) -> None:
     if t_end is not None and any(x > t_end for x in spec.snapshot_times):
         raise ScenarioError(f"[record] snapshot_times must be <= run.t_end = {t_end}")
     for name in ("time_series_grains", "snapshot_grains", "sensors"):
-        if any(g >= n for g in getattr(spec, name)):
-            raise ScenarioError(f"[record] {name} must lie in [0, {n - 1}]")
+        bad = [g for g in getattr(spec, name) if g >= n]
+        if bad:
+            raise ScenarioError(f"[record] {name} = {list(getattr(spec, name))}: {bad[0]} is "
+                                f"not a grain; allowed range [0, {n - 1}] for "
+                                f"{_grains_text(n, initial)}")
     if spec.strain_maxima and not spec.running_max:
         raise ScenarioError("[record] strain_maxima = true needs running_max = true")
 
@@ -883,6 +979,16 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
             "[models] theory = true does not apply to this chain: the closed-form wave "
             "speeds and interface coefficients are the lossless Hertz chain's, and "
             f"{', '.join(beyond)}; set [models] theory = false")
+    last = chain.sections[-1]
+    if (spec.theory or spec.continuum) and len(chain.sections) > 1 and last.n == 1 \
+            and chain.right_wall == "free":
+        i = len(chain.sections) - 1
+        raise ScenarioError(
+            f"[chain.sections[{i}]] n = 1 with [chain] right_wall = 'free': the last "
+            "section has no contact of its own (its grain touches only the interface), so "
+            "the theory and the continuum have no contact constant k_n for it; give it "
+            "n >= 2, a wall (right_wall = 'paper' or 'hertz'), or set [models] theory = "
+            "false and continuum = false")
     d0 = chain.delta0_over_d
     model = spec.continuum_model(d0)
     if model in ("eq4", "kdv") and d0 == 0:
@@ -901,7 +1007,7 @@ def parse_scenario(data: dict) -> Scenario:
     if not isinstance(data, dict):
         raise ScenarioError("a scenario must be a table")
     top = {k: v for k, v in data.items() if k not in _TABLES}
-    values = _read_table(top, "")
+    values = _read_table(top, "", _TABLES)
     for key in _TABLES:
         if key in data and not isinstance(data[key], dict):
             raise ScenarioError(f"[{key}] must be a table")
@@ -921,16 +1027,20 @@ def parse_scenario(data: dict) -> Scenario:
             v = _read_table(s, "chain.sections")
         except ScenarioError as exc:
             raise ScenarioError(str(exc).replace("[chain.sections]", f"[{where}]")) from None
+        if v["seed"] is None:  # the section's index: disordered sections differ
+            v["seed"] = i if _disordered(v) else 0
         _check_sections(v, where, s)
         sections.append(SectionSpec(**v))
-    chain = ChainSpec(sections=tuple(sections), **_read_table(raw_chain, "chain"))
+    chain = ChainSpec(sections=tuple(sections),
+                      **_read_table(raw_chain, "chain", ("sections",)))
     _check_chain(chain)
     n = chain.n
     initial = InitialSpec(**_read_table(data.get("initial", {}), "initial"))
     _check_initial(initial, n)
     _check_initial_law(initial, chain)
+    n_run = n + initial.striker_grains
     run = RunSpec(**_read_table(data.get("run", {}), "run"))
-    _check_run(run, n)
+    _check_run(run, n_run, initial)
     if run.integrator not in ("verlet", "auto") and (chain.law == "viscoelastic_hertz"
                                                      or chain.drag > 0):
         cause = "drag > 0" if chain.drag > 0 else "law = 'viscoelastic_hertz'"
@@ -940,7 +1050,7 @@ def parse_scenario(data: dict) -> Scenario:
             "'verlet' (velocity Verlet between exact dissipative sub-steps, "
             "discrete.kernels)")
     record = RecordSpec(**_read_table(data.get("record", {}), "record"))
-    _check_record(record, n, run.t_end)
+    _check_record(record, n_run, run.t_end, initial)
     raw_models = data.get("models", {})
     models = ModelsSpec(**_read_table(raw_models, "models"))
     _check_models(models, chain)

@@ -25,6 +25,7 @@ import discrete
 from hertzchain import checkpoint as C
 from hertzchain.cache import canonical_json
 from hertzchain.cli import main
+from hertzchain.reproduce.command import jsonable
 from hertzchain.runner import build_simulation, run_scenario, summarise
 from hertzchain.scenario import parse_scenario
 
@@ -323,8 +324,8 @@ def test_real_process_sigint_then_sigkill_then_resume(tmp_path):
     assert proc.returncode == 0, err
     assert "resuming from" in err
     # `hertzchain run` prints the runner's summary and, after it, the other models' keys
-    cli = json.loads(stdout)
-    assert _same_summary({k: cli[k] for k in ref_summary if k in cli}, ref_summary)
+    cli = json.loads(stdout)  # strict JSON: NaN is null
+    assert _same_summary({k: cli[k] for k in ref_summary if k in cli}, jsonable(ref_summary))
     assert not ckpt.exists()
     assert not [p for p in tmp_path.iterdir() if p.name.endswith(".tmp")]
     _assert_same_file(out, ref)

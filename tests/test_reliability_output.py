@@ -93,11 +93,12 @@ def test_check_output_cases(tmp_path):
     assert not list(tmp_path.glob(".hertzchain-probe-*"))
 
 
-@pytest.mark.parametrize("where", ["directory", "read-only", "under a file"])
+@pytest.mark.parametrize("where", ["the scenario", "read-only", "under a file"])
 def test_run_refuses_bad_out_before_integrating(where, scenario, tmp_path, monkeypatch,
                                                 capsys):
+    # (a directory is a valid --out since the one CLI grammar: docs/guide/cli.md)
     _no_run(monkeypatch)
-    out = {"directory": tmp_path, "read-only": _unwritable(tmp_path) / "r.h5",
+    out = {"the scenario": scenario, "read-only": _unwritable(tmp_path) / "r.h5",
            "under a file": scenario / "r.h5"}[where]
     assert main(["run", str(scenario), "--out", str(out)]) == 2
     err = capsys.readouterr().err

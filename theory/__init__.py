@@ -27,15 +27,21 @@ from .interface import (
     velocity_transmission,
 )
 from .materials import (
+    MATERIALS,
     PAPER_DIAMETER,
     PAPER_MATERIAL,
     STEEL_TABLE1,
+    LibraryMaterial,
     Material,
     effective_modulus,
+    get_material,
     grain_mass,
     hertz_constant,
     hertz_constant_wall,
+    material_names,
+    material_ratios,
     paper_kn,
+    resolve_material_name,
 )
 from .precompression import static_energy, static_force, static_overlaps, wave_contact_energy
 from .profiles import (
@@ -82,6 +88,12 @@ __all__ = [
     "STEEL_TABLE1",
     "InterfacePrediction",
     "Material",
+    "LibraryMaterial",
+    "MATERIALS",
+    "get_material",
+    "material_names",
+    "material_ratios",
+    "resolve_material_name",
     "alphas_from_gammas",
     "c0",
     "c_mat",

@@ -6,7 +6,6 @@ Kept free of heavy imports: the solvers are imported only when the command runs.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import sys
 
@@ -26,8 +25,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     size.add_argument("--full", dest="mode", action="store_const", const="full",
                       help="the paper's sizes (Fig. 5: 50,000 grains; denser Figs. 6, 7)")
     p.set_defaults(mode="quick")
-    p.add_argument("--out", default="hertzchain-reproduce",
-                   help="output directory (runs/*.h5, figures/*.png, report.md, report.html)")
+    p.add_argument("--out", default="hertzchain-reproduce", metavar="DIR",
+                   help="output directory (runs/*.h5, figures/*.png, report.md, report.html;"
+                   " default ./hertzchain-reproduce)")
     p.add_argument("--json", action="store_true",
                    help="print the items' numbers as one JSON object (keyed by item if "
                         "several)")
@@ -46,6 +46,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "reuses the finished simulations and resumes the interrupted one "
                         "from its last checkpoint, bit for bit; Ctrl-C stops with a "
                         "checkpoint")
+    from ..cli import add_progress_argument
+
+    add_progress_argument(p)
 
 
 def jsonable(obj):
@@ -93,12 +96,13 @@ def _text(result: dict) -> str:
 def run_command(args: argparse.Namespace) -> int:
     """Run ``hertzchain reproduce``; print JSON or a short summary; return the exit status."""
     from ..checkpoint import Interrupted
+    from ..cli import print_json, progress_wanted
     from . import reproduce
 
     items = check_items(args.items)  # ValueError → "hertzchain: error: ..." (exit 2)
     try:
         result = reproduce(items, mode=args.mode, out=args.out, force=args.force,
-                           progress=not args.json or sys.stderr.isatty(),
+                           progress=progress_wanted(args),
                            checkpoint_interval=args.checkpoint_interval,
                            workers=args.workers)
     except Interrupted:  # during a simulation: the message says how to resume
@@ -110,7 +114,7 @@ def run_command(args: argparse.Namespace) -> int:
     if args.json:
         nums = result["items"]
         out = nums[items[0]] if len(items) == 1 else nums
-        print(json.dumps(jsonable(out), allow_nan=False))
+        print_json(out)
     else:
         print(_text(result))
     return 0

@@ -181,7 +181,7 @@ def plot_panel(ax, result: Fig2Result, delta0_over_d: float, *, every: int | Non
     p = result.plateaus[delta0_over_d]
     n = prof["v"].size
     every = max(1, n // 300) if every is None else every
-    plot_grain_profile(ax, prof["v"], ylabel=r"$v_i/v_0$", color="C0",
+    plot_grain_profile(ax, prof["v"], ylabel=r"$v_i/v_0$", color="C0", numbering="paper",
                        label=rf"$v_i/v_0$ at $t$ = {prof['t'] * 1e3:.3g} ms")
     g = np.arange(0, n, every)
     ax.plot(g + 1, prof["vmax"][g], "s", ms=2.5, mfc="none", color="C3",

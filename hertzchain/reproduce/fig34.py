@@ -189,7 +189,7 @@ def plot_velocity(ax, case: CaseResult, *, label: str = "") -> None:
     """
     n = case.v.size
     plot_grain_profile(ax, case.v / V0, interface=case.interface, ylabel=r"$v_i$ (m/s)",
-                       color="C0", label="discrete")
+                       color="C0", label="discrete", numbering="paper")
     plot_continuum(ax, case.continuum, case.v, case.incident_peak, scale=V0)
     if case.continuum is not None:
         ax.legend(fontsize="x-small", loc="lower left")
@@ -215,7 +215,7 @@ def plot_displacements(ax, case: CaseResult, *, label: str = "") -> None:
     moving = np.nonzero(np.any(np.abs(ser[:, :, 1]) > 1e-3 * case.incident_peak, axis=1))[0]
     i0 = max(0, moving[0] - 20) if moving.size else 0
     plot_displacement_time(ax, t[i0:], u[i0:], [g - 1 for g in case.grains],
-                           u_ref=case.u_bar_max, free_flight=free[i0:])
+                           u_ref=case.u_bar_max, free_flight=free[i0:], numbering="paper")
     g = case.grains[case.grains.index(case.interface) - 1]
     for k, a in enumerate(case.gaps.openings[:2]):
         ax.axvline(a * 1e3, color="0.5", lw=0.6, ls=":")

@@ -236,7 +236,7 @@ def plot_case(ax, res: CaseResult, *, label: str | None = None, zoom: int = 250)
     difference where it is large (also in the inset).
     """
     plot_grain_profile(ax, res.v / V0, interface=res.interface, ylabel=r"$v_i/v_0$",
-                       color="C0", lw=0.5, label="discrete")
+                       color="C0", lw=0.5, label="discrete", numbering="paper")
     inc = res.numbers["incident_peak_v"]
     plot_continuum(ax, res.continuum, res.v, inc, scale=V0)
     if res.continuum is not None:

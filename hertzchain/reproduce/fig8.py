@@ -112,7 +112,7 @@ def plot_map(ax, d: dict, kind: str, *, vmin=None, vmax=None, colorbar: bool = T
     vals = d[key][:, :grains]
     label = dict((k, lab) for k, _, lab in KINDS)[kind] if colorbar else ""
     return plot_spacetime(ax, d["t"], vals, interface=d["interface"], cmap="inferno",
-                          vmin=vmin, vmax=vmax, label=label)
+                          vmin=vmin, vmax=vmax, label=label, numbering="paper")
 
 
 def figures(ctx: Context, data: dict) -> list:

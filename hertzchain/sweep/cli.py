@@ -9,7 +9,6 @@ from __future__ import annotations
 import argparse
 import copy
 import dataclasses
-import json
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -36,6 +35,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     some points failed, or ran but ended before their stop condition (``completed``
     false).  The table is written in every case.
     """
+    from ..cli import print_json, progress_wanted
     from .engine import (
         default_point_function,
         default_workers,
@@ -73,9 +73,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
            f"{done} done before, {len(points) - done} to run on {where}; output {out}")
     if args.dry_run:
         if args.json:
-            print(json.dumps({"name": spec.name, "n_points": len(points), "done": done,
-                              "to_run": len(points) - done, "out": str(out),
-                              "axes": [a.name for a in spec.axes]}))
+            print_json({"name": spec.name, "n_points": len(points), "done": done,
+                        "to_run": len(points) - done, "out": str(out),
+                        "axes": [a.name for a in spec.axes]})
         else:
             print(msg)
         return 0
@@ -86,14 +86,14 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                             workers=args.workers,
                             scheduler=args.scheduler, full_output=args.full_output,
                             retry_failed=args.retry_failed, max_points=args.max_points,
-                            progress=not args.no_progress,
+                            progress=progress_wanted(args),
                             consolidate_every=args.consolidate_every)
     except KeyboardInterrupt:
         print(f"\ninterrupted; finished points are kept in {out}. Run the same command "
               "again to compute only the rest.", file=sys.stderr)
         return 130
     if args.json:
-        print(json.dumps(outcome.to_dict()))
+        print_json(outcome.to_dict())
     else:
         print(f"{outcome.n_run} points run in {outcome.elapsed:.1f} s: table {outcome.table} "
               f"has {outcome.n_ok} ok, {outcome.n_failed} failed, {outcome.n_pending} pending")
@@ -101,7 +101,12 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         print(f"{outcome.n_lost} point(s) lost their worker (KilledWorker: it crashed or "
               "was killed, e.g. out of memory); they stay pending: rerun the same command "
               "to retry them", file=sys.stderr)
-    if outcome.n_failed:
+    full = _disk_full_points(out) if outcome.n_failed else []
+    if full:
+        print(f"hertzchain: error: disk full: {len(full)} point(s) could not write their "
+              f"output under {out} ({full[0]}); free space and rerun with --retry-failed",
+              file=sys.stderr)
+    elif outcome.n_failed:
         print(f"{outcome.n_failed} point(s) failed (see the 'error' column); rerun with "
               "--retry-failed to retry them", file=sys.stderr)
     if outcome.n_incomplete:
@@ -109,10 +114,20 @@ def cmd_sweep(args: argparse.Namespace) -> int:
               "(column 'completed' false, the reason in 'incomplete_reason'): raise "
               "[run] max_steps or t_end in the sweep's base scenario", file=sys.stderr)
     status = exit_status(outcome)
-    if status == EXIT_ALL_FAILED:
+    if status == EXIT_ALL_FAILED and not full:
         print(f"hertzchain: error: every point of the sweep failed (table {outcome.table})",
               file=sys.stderr)
     return status
+
+
+def _disk_full_points(out: Path) -> list[str]:
+    """The errors of the failed points that are a full disk (from ``records.jsonl``)."""
+    from ..cli import is_disk_full_text
+    from .store import RecordStore
+
+    records = RecordStore(Path(out) / "records.jsonl").load()
+    return [r.get("error", "") for r in records.values()
+            if r.get("status") == "failed" and is_disk_full_text(r.get("error", ""))]
 
 
 def exit_status(outcome) -> int:
@@ -128,24 +143,42 @@ def cmd_plot_sweep(args: argparse.Namespace) -> int:
     """Draw the phase-diagram map and cuts of a results table; print the agreement."""
     import numpy as np
 
+    from ..cli import print_json
     from ..sweep_plot import save_sweep_figures
     from .analysis import classification_agreement
     from .store import read_results
 
     results = read_results(args.results)
-    written = save_sweep_figures(results, args.out, x=args.x, y=args.y, energy=args.energy)
+    out = args.out
+    if out is not None and out.suffix.lower() != ".png":  # a directory (docs/guide/cli.md)
+        if out.exists() and not out.is_dir():
+            raise FileExistsError(f"--out {out} is an existing file that is not a PNG; give "
+                                  "a directory or a name ending in .png")
+        out.mkdir(parents=True, exist_ok=True)
+        out = out / "phase_map.png"
+    written = save_sweep_figures(results, out, x=args.x, y=args.y, energy=args.energy)
     agreement = None
     if "alpha_rho" in results and np.isfinite(results["alpha_rho"]).any():
         agreement = classification_agreement(results)
     if args.json:
-        print(json.dumps({"figures": [str(p) for p in written],
-                          "agreement": agreement.to_dict() if agreement else None}))
+        print_json({"figures": [str(p) for p in written],
+                    "agreement": agreement.to_dict() if agreement else None})
         return 0
     for path in written:
         print(f"wrote {path}")
     if agreement is not None and agreement.n_classified:
         print(agreement.summary())
     return 0
+
+
+def shipped_sweep_names() -> list[str]:
+    """Names of the sweeps shipped in ``hertzchain/sweeps`` (for ``--help``, NumPy-free).
+
+    The same files as :func:`hertzchain.sweep.spec.shipped_sweeps` (a test compares them);
+    listed here without importing the spec module, which imports NumPy.
+    """
+    folder = Path(__file__).resolve().parent.parent / "sweeps"
+    return sorted(f.stem for f in folder.glob("*.toml"))
 
 
 def add_sweep_parsers(subparsers) -> None:
@@ -156,8 +189,8 @@ def add_sweep_parsers(subparsers) -> None:
         "on a Dask cluster and collect the run summaries in DIR/results.h5. Rerunning the "
         "same command computes only the points without a record.")
     p.add_argument("spec", metavar="SWEEP.toml", type=Path,
-                   help="sweep specification, or the name of a shipped one (fig7_map, "
-                   "tiny, gamma_lines, amplitude_precompression)")
+                   help="sweep specification, or the name of a shipped one ("
+                   f"{', '.join(shipped_sweep_names())})")
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=positive_int, default=None, metavar="N",
                        help="worker processes of the local cluster (default: all cores)")
@@ -181,7 +214,9 @@ def add_sweep_parsers(subparsers) -> None:
     from ..cli import add_rtol_argument
 
     add_rtol_argument(p)
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    from ..cli import add_progress_argument
+
+    add_progress_argument(p)
     p.add_argument("--dry-run", action="store_true",
                    help="validate every point and report what would run")
     p.add_argument("--json", action="store_true", help="print one JSON object")
@@ -194,8 +229,9 @@ def add_sweep_parsers(subparsers) -> None:
         "classification agrees with theory.")
     q.add_argument("results", metavar="RESULTS", type=Path,
                    help="results.h5 or the sweep's output directory")
-    q.add_argument("--out", type=Path, default=None, metavar="PNG",
-                   help="map PNG (default RESULTS_DIR/phase_map.png; cuts go to *-cuts.png)")
+    q.add_argument("--out", type=Path, default=None, metavar="OUT",
+                   help="a directory (OUT/phase_map.png) or the map's name ending in .png "
+                   "(default RESULTS_DIR/phase_map.png; the cuts go beside it, *-cuts.png)")
     q.add_argument("--x", default=None, help="column on the x axis (default alpha_rho)")
     q.add_argument("--y", default=None, help="column on the y axis (default alpha_kn)")
     q.add_argument("--energy", default="Ek_re", choices=["Ek_re", "Ep_re", "Et_re"],
@@ -205,12 +241,13 @@ def add_sweep_parsers(subparsers) -> None:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """``python -m hertzchain.sweep {sweep,plot-sweep} ...``; returns the exit status."""
+    """``python -m hertzchain.sweep {sweep,plot-sweep} ...``; returns the exit status.
+
+    Errors are handled as by ``hertzchain`` itself (:func:`hertzchain.cli.run_command`).
+    """
+    from ..cli import run_command
+
     parser = argparse.ArgumentParser(prog="python -m hertzchain.sweep")
     add_sweep_parsers(parser.add_subparsers(dest="command", metavar="COMMAND", required=True))
     args = parser.parse_args(argv)
-    try:
-        return int(args.func(args) or 0)
-    except (ValueError, FileNotFoundError) as exc:
-        print(f"hertzchain: error: {exc}", file=sys.stderr)
-        return 2
+    return run_command(args, whole_process=argv is None)

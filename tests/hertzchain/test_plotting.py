@@ -16,9 +16,18 @@ def test_plots_draw_on_given_axes(tmp_path, rng):
     plotting.plot_theory_lines(axes[1, 1])
     fig.savefig(tmp_path / "x.png")
     assert im.get_array().shape == (30, 50)
-    assert axes[0, 0].get_xlabel() == "grain number $i$"
-    # the interface line sits between grains 25 and 26 (1-based)
-    assert any(np.allclose(line.get_xdata(), 25.5) for line in axes[0, 0].lines)
+    # grain indices count from 0 (docs/guide/cli.md): the interface of 25 grains on the
+    # left sits between grains 24 and 25, and the first grain is at 0
+    assert axes[0, 0].get_xlabel() == "grain index $i$"
+    assert any(np.allclose(line.get_xdata(), 24.5) for line in axes[0, 0].lines)
+    assert axes[0, 0].lines[0].get_xdata()[0] == 0
+    # the paper's figures keep its 1-based numbers, labelled as such
+    fig2, ax = plt.subplots()
+    plotting.plot_grain_profile(ax, rng.normal(size=50), interface=25, numbering="paper")
+    assert ax.get_xlabel() == "grain number $i$ (paper's)"
+    assert any(np.allclose(line.get_xdata(), 25.5) for line in ax.lines)
+    assert ax.lines[0].get_xdata()[0] == 1
+    plt.close(fig2)
     # the region numerals are placed in the regions theory assigns
     texts = sorted(t.get_text() for t in axes[1, 1].texts)
     assert texts == ["I", "II", "III", "IV"]

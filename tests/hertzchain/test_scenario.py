@@ -110,5 +110,6 @@ def test_load_errors(tmp_path):
         load_scenario(bad)
     typo = tmp_path / "typo.toml"
     typo.write_text("[chian]\n")
-    with pytest.raises(ScenarioError, match=r"typo.toml.*unknown key"):
+    with pytest.raises(ScenarioError, match=r"typo.toml: unknown table \[chian\]; did you "
+                                            r"mean \[chain\]\?"):
         load_scenario(typo)

@@ -189,7 +189,7 @@ BAD = [
     ("through a value", _axis(path="chain.delta0_over_d.x", values=[1]), "is a value"),
     ("index a missing list", _axis(path="chain.segments.0.n", values=[1]), "does not exist"),
     ("typo in key", _axis(path="chain.sections.1.alpha_rhoo", values=[1.0]),
-     "unknown key(s) ['alpha_rhoo']"),
+     "unknown key 'alpha_rhoo' in [chain.sections[1]]; did you mean 'alpha_rho'"),
     ("invalid point value", _axis(path="chain.sections.1.alpha_rho", values=[1.0, -2.0]),
      "point 3 (chain.sections.1.alpha_rho=-2.0, "),
     ("overlapping paths", lambda d: d["sweep"]["axes"].append(
@@ -227,5 +227,6 @@ def test_file_errors(tmp_path):
     typo = tmp_path / "typo.toml"
     typo.write_text('[base.chain]\nsections = [{n = 5}]\n[base.run]\nt_end = 1e-4\n'
                     '[sweep]\n[[sweep.axes]]\npath = "chain.sections.0.nn"\nvalues = [1]\n')
-    with pytest.raises(SweepError, match=r"(?s)typo.toml: .*unknown key\(s\) \['nn'\]"):
+    with pytest.raises(SweepError,
+                       match=r"(?s)typo.toml: .*unknown key 'nn' in .*did you mean 'n'"):
         load_sweep_spec(typo)
