@@ -727,8 +727,6 @@ def run_command(args: argparse.Namespace, *, whole_process: bool = False) -> int
 
     from .checkpoint import Interrupted
 
-    if whole_process:
-        _process_gc("started")
     with _FailedWrites() as failed:
         try:
             with announce_compilation():  # a cold kernel cache is announced before compiling
