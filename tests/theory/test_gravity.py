@@ -107,6 +107,19 @@ def test_long_wave_energy_against_the_exact_lattice_wave():
         assert G.solitary_wave_energy(K, d0, amp) == pytest.approx(exact, rel=tol)
 
 
+def test_compacton_width_against_the_exact_lattice_wave():
+    # W = π d √(n(n+1)/6)/(n-1): 5πd/√10 for Hertz (docs/physics.md §3), π d for n = 2; its
+    # half-maximum width against the exact lattice wave's: measured +4.8 %, +9.0 %, +15.9 %
+    # for n = 3/2, 2, 3 (tolerances: those + 0.5 %).
+    assert G.compacton_width(D) == pytest.approx(5 * np.pi * D / np.sqrt(10), rel=1e-14)
+    assert G.compacton_width(D, exponent=2.0) == pytest.approx(np.pi * D, rel=1e-14)
+    for n, excess in ((1.5, 0.048), (2.0, 0.090), (3.0, 0.159)):
+        w = theory.discrete_solitary_wave(K, M, D, velocity_max=0.1, exponent=n)
+        kappa = np.pi / G.compacton_width(1.0, exponent=n)
+        fwhm = 2 * np.arccos(2 ** (-(n - 1) / 2)) / kappa  # in grains
+        assert fwhm / w.width(0.5) - 1 == pytest.approx(excess, abs=0.005)
+
+
 def test_depth_laws():
     # Hong, Ji & Kim (1999): phase speed h^{1/6}, displacement h^{-1/12}, velocity h^{-1/4}
     # for Hertz; the local sound speed follows the first exactly without a top force.
