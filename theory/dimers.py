@@ -19,7 +19,7 @@ linearised cell, ω² = c0² q² (1 - γ q² + O(q⁴)), gives the long-wave dis
 of a precompressed chain).  A sonic-vacuum wave is about two cells wide, and there the
 long-wave width fails: with γ in place of the monoatomic d²/12, Nesterenko's compacton
 (:func:`theory.gravity.compacton_width`) is 27 % narrower than the discrete dimer's wave
-at ε = 0.3428 (its FWHM 1.62 L against 1.19 L; measured in docs/physics.md), so no
+at ε = 0.3428 (its FWHM 1.62 L against 1.19 L; measured in docs/physics.md §13), so no
 dimer width is offered.
 
 **Anti-resonances** (Jayaprakash, Starosvetsky & Vakakis, Phys. Rev. Lett. 106 (2011)
@@ -31,7 +31,7 @@ wave leaves the light grains oscillating and decays.  Their first value for Hert
 computes the leading-order small-ε estimate derived here: the light grain, driven by the
 heavy grains' motion in the ε → 0 limit (the heavy chain with k_eff = 2^{-n} k), is left
 at rest after the wave's passage.  It is asymptotic: measured against the discrete
-chain's ε_k, 0.81, 0.94, 1.01 × for k = 1, 2, 3 (docs/physics.md).
+chain's ε_k, 0.81, 0.94, 1.01 × for k = 1, 2, 3 (docs/physics.md §13).
 """
 
 from __future__ import annotations
@@ -202,7 +202,7 @@ def cell_solitary_speed(cell: HomogenisedCell, force_max, static_force: float = 
     (:func:`theory.gravity.solitary_wave_speed`).  At δ0 = 0,
     V = √(2/(n+1)) L √(k_eff/M) Δ_m^{(n-1)/2}; for a dimer with equal contacts this is
     the monoatomic speed of grains of the mean mass (m_1 + m_2)/2 and the mean spacing at
-    the same force.  Measured against the discrete chain: docs/physics.md.
+    the same force.  Measured against the discrete chain: docs/physics.md §13.
 
     Parameters
     ----------
@@ -319,7 +319,7 @@ def antiresonance_mass_ratios(count: int = 3, *, exponent: float = 1.5) -> np.nd
     the passage; a tail-free wave needs it left at rest, i.e. the energy it keeps after
     the passage (relative to the wave's) to vanish.  Its zeros are the ε_k, independent of
     the wave's amplitude (the δ0 = 0 wave is self-similar).  For Hertz: 0.2777, 0.1463,
-    0.0913; the discrete chain's are 0.343, 0.155, 0.090 (docs/physics.md): the estimate
+    0.0913; the discrete chain's are 0.343, 0.155, 0.090 (docs/physics.md §13): the estimate
     improves as ε_k → 0.
 
     Parameters

@@ -26,7 +26,7 @@ of a discrete system", their abstract).  On the lattice the pair never merges (t
 real root always exists); the profile turns monotonic where the real root starts to
 decay more slowly than the pair, at c s/K = 0.263 for Hertz (against the long-wave
 1/3; :func:`critical_viscosity_lattice`).  Both against the discrete chain:
-docs/physics.md.
+docs/physics.md §13.
 
 **Damped solitary waves** (first order in the damping).  A weakly damped wave stays the
 lossless exact wave (docs/physics.md §7) of slowly falling amplitude; its energy E = C m v²
@@ -364,7 +364,7 @@ def kuwabara_kono_wave_decay(grains, velocity_max: float, k: float, mass: float,
     .. math:: v_{max}(j) = v_0 (1 + j/j_*)^{-5}, \qquad
               j_* = \frac{10\,C}{A J s_1 \sqrt{k/m}\;λ_0^{1/4}},
 
-    λ0 = (v0 √(m/k))^{4/5} (the unit wave's scale is its v_max; docs/physics.md).
+    λ0 = (v0 √(m/k))^{4/5} (the unit wave's scale is its v_max; docs/physics.md §13).
 
     Parameters
     ----------

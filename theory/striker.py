@@ -21,7 +21,7 @@ C_E = 1.0693, C_P = 1.6700 for Hertz).  Energy and momentum conservation,
 
 For r < C_P²/(2C_E) (1.30 for Hertz) ρ < 0: one wave, and the same v_1 is then the wave of
 the one-wave-plus-recoiling-striker balance.  As r → ∞, v_1 → (C_P/C_E) v0 = 1.56 v0 and
-ρ → 1 - C_P²/(C_E r).  Measured on the discrete Hertz chain (docs/physics.md): v_1 within
+ρ → 1 - C_P²/(C_E r).  Measured on the discrete Hertz chain (docs/physics.md §13): v_1 within
 0.6, 0.3, 2.9, 6.8, 11, 14 % (low) at r = 1, 2, 4, 8, 16, 32; the ratio of successive
 amplitudes tends to ρ along the train (0.719 against 0.720 at r = 8), while the leading
 waves are larger than geometric.
