@@ -402,7 +402,7 @@ def weak_wave_depth_exponents(exponent: float = 1.5) -> DepthExponents:
     Hong, Ji & Kim, Phys. Rev. Lett. 82 (1999) 3058, abstract and their analysis of the
     linearised chain under gravity with F = k δ^p: phase velocity ∝ h^{(1-1/p)/2},
     displacement ∝ h^{-(1-1/p)/4}, grain velocity ∝ h^{-(1/3+1/p)/4} (measured on the
-    leading peak, 0.250 for Hertz: Hong & Ji, arXiv:patt-sol/9808008).  The phase-speed
+    leading peak, 0.250 for Hertz: arXiv:patt-sol/9808008).  The phase-speed
     law is that of :func:`local_sound_speed` with δ0 ∝ h^{1/n}.
 
     Parameters
