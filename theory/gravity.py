@@ -26,7 +26,7 @@ A wave launched downward meets a precompression that grows with depth.  Two regi
   time by the Airy delay of the lattice dispersion (:func:`weak_pulse_arrival_times`).
 
 For Hertz (n = 3/2) the local sound speed grows as depth^{1/6} (Sinkovits & Sen 1995;
-Hong et al. 1999).  Arrival times against the discrete chain: docs/physics.md §13.
+Hong et al. 1999).  Arrival times against the discrete chain: docs/physics.md §14.
 
 The long-wave solitary-wave relations for exponent n (:func:`solitary_wave_speed`,
 :func:`solitary_wave_energy`, :func:`solitary_wave_amplitude`) do not depend on gravity;
@@ -470,7 +470,7 @@ def solitary_wave_descent(n_grains: int, mass: float, k: float, d: float, g: flo
     the wave is a solitary wave of the local load: an impact whose wave is strongly
     nonlinear near the top (A ≳ δ0 there).  Measured against the discrete chain over 300
     steel grains: ≤ 0.9 % for impacts of 0.01 … 1 m/s from grain 10 on, ≤ 2.6 % from the
-    struck grain (docs/physics.md §13).  Far down, where A ≪ δ0, V → c0 and the amplitude
+    struck grain (docs/physics.md §14).  Far down, where A ≪ δ0, V → c0 and the amplitude
     stops mattering; the measured pulse there is no longer adiabatic (its amplitude falls
     more slowly than this one's, as Hong et al.'s weak pulse does), which changes the
     arrival times by < 0.1 %.
@@ -517,7 +517,7 @@ def weak_pulse_arrival_times(n_grains: int, mass: float, k: float, d: float, g: 
     t_i = τ_i + s_1 (3Λ_i)^{1/3}, s_1 = 1.01879 (:data:`AIRY_PEAK`).  For Hertz without
     a top force τ ∝ depth^{5/6} and the delay ∝ depth^{1/6}.  Measured against the
     discrete chain (v0 = 1e-4 m/s, 300 grains): within 1.0 % from the struck grain,
-    0.15 % from grain 10 (docs/physics.md §13).
+    0.15 % from grain 10 (docs/physics.md §14).
 
     Parameters
     ----------
