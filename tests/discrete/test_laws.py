@@ -1,4 +1,4 @@
-"""Contact laws (discrete.laws): compiled pieces vs NumPy twins, kernels vs the NumPy
+"""Contact laws (theory.laws): compiled pieces vs NumPy twins, kernels vs the NumPy
 reference, the damped splitting's order, the energy balance, and the kernel cache."""
 
 import json
@@ -24,7 +24,7 @@ from discrete import (
 )
 from discrete import kernels as K
 from discrete import reference as R
-from discrete.laws import law_from_dict
+from theory.laws import law_from_dict
 
 LAWS = {"hertz": HERTZ, "linear": PowerLaw(1.0), "quadratic": PowerLaw(2.0),
         "n52": PowerLaw(2.5), "kk": ViscoelasticHertz(3e-6)}
@@ -394,7 +394,7 @@ def test_documented_way_to_add_a_law(rng, make_composite):
     # The docs' recipe (one class) gives a law the kernels compile and whose run matches
     # the NumPy reference integrator (rounding only; tolerance 1e-12 as above), and the
     # law is found by name in files.
-    from discrete.laws import LAWS
+    from theory.laws import LAWS
 
     cls = _documented_law()
     try:

@@ -1,4 +1,4 @@
-"""Physics of the contact laws (discrete.laws), each against theory or the literature.
+"""Physics of the contact laws (theory.laws), each against theory or the literature.
 
 * power laws F = k δ^n: the solitary wave's speed V ∝ v_max^{(n-1)/(n+1)} from the exact
   wave and from an impact (n = 3/2, 2, 5/2); n = 1 is the harmonic chain (dispersion
