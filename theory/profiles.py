@@ -22,6 +22,7 @@ import numpy as np
 from numpy.fft import irfft, rfft, rfftfreq
 from numpy.typing import ArrayLike
 
+from ._numerics import power_remainder
 from ._validate import (
     check_exponent,
     check_finite,
@@ -219,29 +220,16 @@ def _nonlinear(w, rho0, exponent=1.5):
     """N(w) = (ρ0 + w)_+^n - ρ0^n - n ρ0^{n-1} w for ρ0 ∈ {0, 1}, without cancellation.
 
     ρ0 = 0: N(w) = w_+^n.  ρ0 = 1: for Hertz (n = 3/2) exactly e²(3/2 + e) with
-    e = √(1+w) - 1; else the binomial series Σ_{j>=2} C(n, j) w^j for |w| <= 1/4 (each
-    term at most a quarter of the previous one, summed to 1e-17 of the first; finite
-    for integer n) and expm1(n log1p(w)) - n w beyond (relative error ≲ 1e-15/(n-1)).
-    For w < -1 (a gap) N = -1 - n w.
+    e = √(1+w) - 1, else :func:`theory._numerics.power_remainder`.  For w < -1 (a gap)
+    N = -1 - n w.
     """
     if rho0 == 0.0:
         return np.maximum(w, 0.0) ** exponent
-    n = exponent
+    if exponent != 1.5:
+        return power_remainder(w, exponent)
     wc = np.maximum(w, -1.0)
-    if n == 1.5:
-        e = wc / (1.0 + np.sqrt(1.0 + wc))  # √(1+w) - 1;  then N = e² (3/2 + e) exactly
-        return np.where(w >= -1.0, e * e * (1.5 + e), -1.0 - 1.5 * w)
-    small = np.abs(w) <= 0.25
-    ws = np.where(small, w, 0.0)
-    term = 0.5 * n * (n - 1.0) * ws * ws
-    series, j = term.copy(), 2
-    while np.any(np.abs(term) > 1e-17 * np.abs(series)) and j < 200:
-        term = term * ws * ((n - j) / (j + 1.0))
-        series += term
-        j += 1
-    with np.errstate(divide="ignore"):
-        direct = np.expm1(n * np.log1p(wc)) - n * wc  # wc = -1: exactly -1 + n
-    return np.where(small, series, np.where(w >= -1.0, direct, -1.0 - n * w))
+    e = wc / (1.0 + np.sqrt(1.0 + wc))  # √(1+w) - 1;  then N = e² (3/2 + e) exactly
+    return np.where(w >= -1.0, e * e * (1.5 + e), -1.0 - 1.5 * w)
 
 
 def _petviashvili(sigma2, rho0, n_dom, ppg, w, tol, max_iter, exponent=1.5):

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._numerics import power_remainder
 from ._validate import check_exponent, check_nonnegative, check_positive
 
 __all__ = [
@@ -157,21 +158,6 @@ def sonic_vacuum_speed(c_mat_, xi_max, exponent=1.5):
     return _ret(np.sqrt(2.0 / (n + 1.0)) * c_mat_ * xi_max ** (0.5 * (n - 1.0)))
 
 
-def _series_ratio2(eps, n):
-    """V²/c0² of :func:`nesterenko_speed` for small eps = ξr - 1: its Taylor series.
-
-    2/(n(n+1)) Σ_{j>=2} C(n+1, j) eps^{j-2} = 1 + (n-1)/3 eps + (n-1)(n-2)/12 eps² + …,
-    to eps^5 (for Hertz 1 + eps/6 - eps²/48 + eps³/160 - …).  Each term is eps^j
-    divided by the reciprocal coefficient (6, -48, 160 for Hertz: exact).
-    """
-    out, coef = 1.0, 1.0
-    for j in range(1, 6):
-        coef *= (n - j) / (j + 2.0)  # 2 C(n+1, j+2)/(n(n+1)) = Π_{i=1..j} (n-i)/(i+2)
-        if coef != 0.0:
-            out = out + eps**j / (1.0 / coef)
-    return out
-
-
 def nesterenko_speed(c_mat_, xi0, xi_max, exponent=1.5):
     r"""Solitary-wave speed of the long-wave equation for any precompression, m/s.
 
@@ -184,7 +170,8 @@ def nesterenko_speed(c_mat_, xi0, xi_max, exponent=1.5):
     at its peak (docs/physics.md, "Long waves for a power-law contact").  For Hertz
     (n = 3/2) it is Nesterenko's (2001, Eq. 1.4.28; Sen et al., Phys. Rep. 462 (2008)
     Eq. 14) :math:`V_s = \frac{c_0}{\xi_r - 1}\sqrt{\tfrac{4}{15}(3 + 2\xi_r^{5/2} -
-    5\xi_r)}` (the same numbers, bit for bit).  ``xi0 = 0`` returns the compacton's
+    5\xi_r)}`, evaluated in that printed form (and its series for ξr - 1 < 1e-3);
+    other n without cancellation (:func:`theory._numerics.power_remainder`).  ``xi0 = 0`` returns the compacton's
     :func:`sonic_vacuum_speed` (Eq. 8); ``xi_max → 0`` gives c0, to first order
     :math:`c_0(1 + (n-1)\xi_{max}/(6\xi_0))` (paper Eq. 5 for Hertz).
 
@@ -212,16 +199,22 @@ def nesterenko_speed(c_mat_, xi0, xi_max, exponent=1.5):
     pre = ~vac
     cc0 = np.sqrt(n) * c_mat_[pre] * xi0[pre] ** half
     eps = xi_max[pre] / xi0[pre]
-    fr = 1.0 + eps
-    # For small eps the closed form cancels catastrophically; use its series there
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        # (2/(n(n+1)))(n + fr^{n+1} - (n+1) fr): for Hertz (4/15)(3 + 2 fr^{5/2} - 5 fr)
-        # halved and doubled exactly, so the same bits
-        big = np.sqrt(2.0 / (n * (n + 1.0)) * (n + fr ** (n + 1.0) - (n + 1.0) * fr)) / eps
-        # fr^{n+1} overflows for eps ≳ 1e123 (δ0/d ≲ 1e-120): the ratio is inf or NaN
-        # there and V_s its δ0 → 0 limit, the compacton's
-        series = np.where(eps < 1e-3, np.sqrt(_series_ratio2(eps, n)), 0.0)
-    ratio = np.where(eps < 1e-3, series, big)
+        if n == 1.5:
+            # Nesterenko's printed form and its series below eps = 1e-3 (the closed form
+            # cancels there: ≲ 5e-11 relative at eps = 1e-3), kept bit for bit: the
+            # paper scenarios' speeds and exact-wave guesses are made of it
+            fr = 1.0 + eps
+            big = np.sqrt(4.0 / 15.0 * (3.0 + 2.0 * fr**2.5 - 5.0 * fr)) / eps
+            series = np.where(eps < 1e-3, np.sqrt(1.0 + eps / 6.0 - eps**2 / 48.0
+                                                   + eps**3 / 160.0), 0.0)
+            ratio = np.where(eps < 1e-3, series, big)
+        else:
+            # (2/(n(n+1))) [(1+eps)^{n+1} - 1 - (n+1) eps]/eps², free of cancellation
+            ratio = np.where(eps > 0, np.sqrt(2.0 / (n * (n + 1.0))
+                                              * power_remainder(eps, n + 1.0)) / eps, 1.0)
+    # fr^{n+1} overflows for eps ≳ 1e123 (δ0/d ≲ 1e-120): the ratio is inf or NaN there
+    # and V_s its δ0 → 0 limit, the compacton's
     out[pre] = np.where(np.isfinite(ratio), cc0 * ratio,
                         vac_coef * c_mat_[pre] * xi_max[pre] ** half)
     return _ret(out)

@@ -131,8 +131,8 @@ class ViscoelasticHertz(ContactLaw):
         Parameters
         ----------
         restitution : float
-            e, in (0, 1]; 1 gives A = 0.  e below e(β = 1e4) ≈ 1e-3 (a nearly
-            critically damped contact) is refused.
+            e, in (0, 1]; 1 gives A = 0.  e below e(β = 1e4) ≈ 3e-7 (an overdamped
+            contact, A beyond 1e4 collision times) is refused.
         impact_speed : float
             Relative normal speed g of the two bodies before the impact, m/s (> 0).
         reduced_mass : float
