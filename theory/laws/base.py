@@ -47,9 +47,9 @@ the elastic part), ``key``, ``params``, ``to_dict`` and ``describe``; a conserva
 gives the compiled and NumPy ``force`` (it gets everything else from its elastic part
 :math:`k[\delta]_+^n`), a dissipative one its damping coefficient ``make_damping`` and
 ``damping`` instead.  A law whose elastic part is not :math:`k[\delta]_+^n` overrides
-the elastic pieces (``make_elastic``/``elastic``, ``make_energy``/``energy``,
-``make_stiffness``/``stiffness``, ``overlap_with_energy``, ``static_overlap``) and
-:meth:`~ContactLaw.long_wave` (which then raises unless overridden).  Register it with
+all the elastic pieces (:data:`ELASTIC_PIECES`: a class that overrides some but not all
+is refused when it is defined), and :meth:`~ContactLaw.long_wave` raises for it unless
+it overrides that too.  Register it with
 :func:`theory.laws.register_law` (one line), and test it against its NumPy twin and the
 physics it claims (docs/guide/laws_and_chains.md, "Adding a law").
 """
@@ -61,12 +61,17 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-__all__ = ["ContactLaw", "LongWave", "compile_piece", "N_PARAMS"]
+__all__ = ["ContactLaw", "LongWave", "compile_piece", "N_PARAMS", "ELASTIC_PIECES"]
 
 N_PARAMS = 2
 """Length of the runtime parameter vector every law hands to the kernels."""
 
 _INLINE = {"inline": "always", "nogil": True, "error_model": "numpy"}
+
+ELASTIC_PIECES = ("make_elastic", "elastic", "make_energy", "energy", "make_stiffness",
+                  "stiffness", "overlap_with_energy", "static_overlap")
+"""The methods the base class derives from the elastic part k[δ]_+^n: a law overrides
+none of them or all."""
 
 
 def compile_piece(func):
@@ -245,6 +250,20 @@ class ContactLaw:
     integrate its damping in exact dissipative sub-steps)."""
 
     exponent: float = 1.5
+
+    def __init_subclass__(cls, **kwargs) -> None:
+        """Refuse a class that overrides some of :data:`ELASTIC_PIECES` but not all."""
+        super().__init_subclass__(**kwargs)
+        own = [p for p in ELASTIC_PIECES if getattr(cls, p) is not getattr(ContactLaw, p)]
+        if own and len(own) < len(ELASTIC_PIECES):
+            missing = [p for p in ELASTIC_PIECES if p not in own]
+            raise TypeError(f"{cls.__name__} overrides {', '.join(own)} of the elastic part "
+                            f"but not {', '.join(missing)}: the base class derives those "
+                            "from k [delta]_+^n, which would then be a different force")
+
+    def _power_elastic(self) -> bool:
+        """True if the elastic part is the base class's k[δ]_+^n."""
+        return type(self).elastic is ContactLaw.elastic
 
     # ------------------------------------------------------------ identity
     def key(self) -> tuple:
@@ -469,6 +488,10 @@ class ContactLaw:
         """
         from .._validate import check_nonnegative, check_positive
         from ..speeds import c0, c_mat, long_wave_dispersion
+
+        if not self._power_elastic():
+            raise NotImplementedError(f"{type(self).__name__} has its own elastic part: "
+                                      "its long-wave coefficients are not k d^n's")
 
         k, mass, d = (float(check_positive(n_, v)) for n_, v in
                       (("k", k), ("mass", mass), ("d", d)))
