@@ -235,9 +235,9 @@ def test_long_wave_limit_of_precompressed_wave_any_exponent(n):
     # F = k r^n, δ0 > 0: the exact lattice wave's speed tends to the long-wave formula
     # V² = c0² 2/(n(n+1)) (ξr^{n+1} - 1 - (n+1)(ξr - 1))/(ξr - 1)² (theory.nesterenko_speed)
     # as ξr - 1 → 0, with an O((ξr - 1)²) error: measured 8.2e-7, 1.9e-6, 3.3e-6 at
-    # ξr - 1 = 0.01 for n = 2, 5/2, 3 (halving it divides the error by 4.0); tolerance
-    # 0.05 (ξr - 1)² and a ratio in (3, 5).  Profile -> KdV sech² with κ² = (n-1) ε per
-    # grain², O(ε) relative error.
+    # ξr - 1 = 0.01 for n = 2, 5/2, 3 (3.96x more at 0.02); tolerance 0.05 (ξr - 1)² and
+    # a ratio in (3, 5).  Profile -> KdV sech² with κ² = (n-1) ε per grain², O(ε)
+    # relative error (2.1e-3 … 2.9e-3 at ε = 0.01, ratio 1.99; tolerance 0.02, (1.6, 2.4)).
     rel, shape = [], []
     c = theory.c_mat(K, M, D, exponent=n)
     for eps in (0.02, 0.01):
