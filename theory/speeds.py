@@ -171,9 +171,10 @@ def nesterenko_speed(c_mat_, xi0, xi_max, exponent=1.5):
     (n = 3/2) it is Nesterenko's (2001, Eq. 1.4.28; Sen et al., Phys. Rep. 462 (2008)
     Eq. 14) :math:`V_s = \frac{c_0}{\xi_r - 1}\sqrt{\tfrac{4}{15}(3 + 2\xi_r^{5/2} -
     5\xi_r)}`, evaluated in that printed form (and its series for ξr - 1 < 1e-3);
-    other n without cancellation (:func:`theory._numerics.power_remainder`).  ``xi0 = 0`` returns the compacton's
-    :func:`sonic_vacuum_speed` (Eq. 8); ``xi_max → 0`` gives c0, to first order
-    :math:`c_0(1 + (n-1)\xi_{max}/(6\xi_0))` (paper Eq. 5 for Hertz).
+    other n without cancellation (:func:`theory._numerics.power_remainder`).
+    ``xi0 = 0`` returns the compacton's :func:`sonic_vacuum_speed` (Eq. 8);
+    ``xi_max → 0`` gives c0, to first order :math:`c_0(1 + (n-1)\xi_{max}/(6\xi_0))`
+    (paper Eq. 5 for Hertz).
 
     Parameters
     ----------
