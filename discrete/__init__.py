@@ -1,6 +1,6 @@
 """Discrete-element solver for 1-D chains of Hertzian spheres (paper Section 2, Eqs. 1-2).
 
-Chains (:class:`Chain`, :class:`Section`), contact laws (:mod:`discrete.laws`: Hertz,
+Chains (:class:`Chain`, :class:`Section`), contact laws (:mod:`theory.laws`: Hertz,
 power laws, viscoelastic Hertz), the :class:`Simulation` with numba kernels built per law
 (:mod:`discrete.kernels`) and a NumPy reference (:mod:`discrete.reference`), the time
 step (:class:`TimeStep`),
@@ -9,9 +9,10 @@ energies (:mod:`discrete.energy`), recording (:class:`Recording`, :class:`WaveAt
 (:func:`save`, :func:`load`).
 """
 
+from theory.laws import HERTZ, ContactLaw, PowerLaw, ViscoelasticHertz
+
 from .chain import Chain, Disorder, Periodic, Section, Tapered
 from .initial import Initial, cut_wave, exact_wave, impact, place_wave, settled_wave
-from .laws import HERTZ, ContactLaw, PowerLaw, ViscoelasticHertz
 from .recording import AtTime, Record, Recording, Snapshot, WaveAt
 from .simulation import InstabilityError, RunInfo, SavedSimulation, Simulation, State
 from .timestep import DT_FRACTION, TimeStep, default_dt, expected_overlaps, stable_dt

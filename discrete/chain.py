@@ -393,7 +393,7 @@ class Chain:
             Metadata to store.
         exponent : float
             Exponent n of the contact law F = k δ^n the static overlaps balance (3/2:
-            Hertz; :mod:`discrete.laws`); recorded in ``params``.
+            Hertz; :mod:`theory.laws`); recorded in ``params``.
         """
         mass = np.asarray(mass, dtype=float)
         if mass.ndim != 1 or mass.size < 2:

@@ -4,7 +4,7 @@ r"""Energies of the chain as NumPy functions (paper Fig. 8, Table 2; docs/physic
 * wave potential energy of contact j: :math:`e^c_j = \tfrac25 k_j([r_j]_+^{5/2} -
   \delta_{0,j}^{5/2})` (J), the integral of Eq. 1 minus the static energy of the same
   contact (for another contact law :math:`U(r_j) - U(\delta_{0,j})` with U its elastic
-  energy, :meth:`discrete.laws.ContactLaw.energy`).  The linear term
+  energy, :meth:`theory.laws.ContactLaw.energy`).  The linear term
   :math:`F_0 (r_j - \delta_{0,j})` is kept (docs/physics.md §6), so the potential energy
   of an expansive wave is negative;
 * per grain: :math:`e^p_i = \tfrac12(e^c_i + e^c_{i+1})`, :math:`e^t_i = e^k_i + e^p_i`
@@ -21,8 +21,8 @@ from __future__ import annotations
 import numpy as np
 
 from theory import wave_contact_energy
+from theory.laws import HERTZ, ContactLaw
 
-from .laws import HERTZ, ContactLaw
 from .reference import overlaps
 
 __all__ = ["contact_energy", "kinetic_energy", "grain_energy", "total_energy",
@@ -33,7 +33,7 @@ def contact_energy(r, k, delta0, law: ContactLaw | None = None):
     """Wave potential energy (2/5) k([r]_+^{5/2} - δ0^{5/2}) of each contact, J.
 
     Hertz: :func:`theory.wave_contact_energy`; another law: its
-    :meth:`~discrete.laws.ContactLaw.energy` (the kernels compile the law's own
+    :meth:`~theory.laws.ContactLaw.energy` (the kernels compile the law's own
     ``make_energy`` for the hot path).
     """
     if law is None or law == HERTZ or law.exponent == 1.5:

@@ -27,9 +27,9 @@ from pathlib import Path
 import numpy as np
 
 from theory import integrity
+from theory.laws import ContactLaw, as_law
 
 from .chain import Chain
-from .laws import ContactLaw, as_law
 from .recording import Recording, WaveAt
 from .simulation import Simulation
 from .timestep import DT_FRACTION, default_dt
@@ -265,7 +265,8 @@ def exact_wave(chain: Chain, centre: float, *, velocity_max: float | None = None
     fit in the chain or section).  Velocities below ``tail`` × peak are set to exactly 0
     (the spectral sampling leaves a uniform ~1e-13 × peak velocity behind the wave), so
     the grains behind it are inert.  ``law``: the contact law whose (elastic) exponent n
-    the wave is solved for (:mod:`discrete.laws`; default Hertz; n ≠ 3/2 needs δ0 = 0).
+    the wave is solved for (:mod:`theory.laws`; default Hertz; any n, with or without
+    precompression: build the chain with ``exponent=n``).
     Other keyword arguments go to :func:`theory.discrete_solitary_wave`.
     """
     from theory import discrete_solitary_wave

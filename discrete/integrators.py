@@ -58,7 +58,7 @@ def step(u, v, a, dt, mass, k, delta0, wall_left=0.0, wall_right=0.0,
          integrator: str | Integrator = "verlet", *, law=None):
     """One step of ``integrator`` in plain NumPy (reference for the tests); new (u, v, a).
 
-    ``law``: a conservative contact law (:mod:`discrete.laws`; default Hertz).
+    ``law``: a conservative contact law (:mod:`theory.laws`; default Hertz).
     """
     m = get_integrator(integrator)
     args = (mass, k, delta0, wall_left, wall_right)

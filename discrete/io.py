@@ -3,7 +3,7 @@
 Layout: root attributes ``format``, ``package_version``, ``solver``, ``dt`` (s),
 ``steps``, ``t`` (s), ``t0`` (s), ``energy0`` (J), ``energy_drift``, ``wall_left``,
 ``wall_right`` (m), ``chain_params``, ``recording`` and ``contact_law`` (JSON,
-:meth:`discrete.laws.ContactLaw.to_dict`; absent means Hertz), ``drag`` (1/s) and
+:meth:`theory.laws.ContactLaw.to_dict`; absent means Hertz), ``drag`` (1/s) and
 ``units`` (JSON: the unit of every dataset); groups ``chain`` (mass, k, delta0,
 diameter, section), ``state`` (u, v, a; optional ``dissipated``, the energy booked per
 contact, and ``delta_expected``, the largest expected overlaps of the run's initial
@@ -39,10 +39,10 @@ import h5py
 import numpy as np
 
 from theory import integrity
+from theory.laws import HERTZ, law_from_dict
 
 from .chain import Chain
 from .integrators import get_integrator
-from .laws import HERTZ, law_from_dict
 from .recording import Record, Recording, Snapshot, event_from_dict, event_to_dict
 from .simulation import SavedSimulation, Simulation
 

@@ -1,7 +1,7 @@
 r"""Compiled time-stepping kernels for the chain, built per contact law (pyro2 style arrays).
 
 Equation of motion (paper Eq. 2) with a contact law :math:`F(\delta, \dot\delta; k)`
-(:mod:`discrete.laws`; Hertz, paper Eq. 1, by default), written relative to the static
+(:mod:`theory.laws`; Hertz, paper Eq. 1, by default), written relative to the static
 force :math:`f_{0,j} = F(\delta_{0,j}, 0; k_j)`:
 
 .. math::
@@ -25,7 +25,7 @@ One law, one kernel
 :func:`make_kernels` builds the kernels of one contact law (and drag or not): it asks
 the law for its compiled force (``law.make_force()``, an ``inline="always"`` scalar
 function) and closes the passes below over it, the way py-pde compiles operators into
-closures.  Kernels are built once per :meth:`ContactLaw.key <discrete.laws.ContactLaw.key>`
+closures.  Kernels are built once per :meth:`ContactLaw.key <theory.laws.ContactLaw.key>`
 and process, and compiled lazily: a run compiles (or loads from numba's disk cache)
 only the entry points it calls.  Numba's own cache cannot key a closure (it pickles
 the closed-over dispatchers, whose pickle changes every process), so each entry point
@@ -49,7 +49,7 @@ of a chunk stores a and stops at the synchronous velocity.
 Dissipation
 -----------
 *Velocity-dependent forces* — a dissipative law :math:`F = \max(0, F_{el}(r) + c(r)\dot
-r)` (:mod:`discrete.laws`, :math:`c \ge 0` in N·s/m) and the on-site drag
+r)` (:mod:`theory.laws`, :math:`c \ge 0` in N·s/m) and the on-site drag
 :math:`-m_i\beta v_i` — are split off the elastic force (Strang splitting):
 
 .. math::
@@ -140,6 +140,8 @@ parameters with the drag rate β (1/s) last.
 from __future__ import annotations
 
 import hashlib
+import inspect
+import marshal
 import os
 from typing import NamedTuple
 
@@ -156,9 +158,9 @@ import numba.extending  # noqa: E402
 import numpy as np  # noqa: E402
 
 from theory import jitcache  # noqa: E402
+from theory.laws import N_PARAMS, ContactLaw, as_law  # noqa: E402
 
 from .interpolation import hermite_max_from  # noqa: E402
-from .laws import N_PARAMS, ContactLaw, as_law, source_digest  # noqa: E402
 
 jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
 
@@ -339,8 +341,8 @@ if _FunctionCache is not None:
         numba keys a closure's cache entry by a pickle of the closed-over values; those
         are dispatchers here, whose pickle holds a per-process id, so every process
         would miss (and grow the index).  The key is instead the bytecode, the law's
-        :meth:`~discrete.laws.ContactLaw.key` and a digest of the kernel sources
-        (:func:`discrete.laws.source_digest`): a changed law or kernel recompiles.
+        :meth:`~theory.laws.ContactLaw.key` and a digest of the kernel sources
+        (:func:`_source_digest`): a changed law or kernel recompiles.
         """
 
         def __init__(self, py_func, key: str) -> None:
@@ -362,6 +364,40 @@ def _entry(py_func, key: str, **options):
         except Exception:  # pragma: no cover - numba internals changed: run uncached
             pass
     return disp
+
+
+_DIGESTS: dict[type, str] = {}
+
+
+def _source_digest(law: ContactLaw) -> str:
+    """SHA-256 of the sources the compiled kernels of ``law`` are made of.
+
+    This module and the source file of the law's class and of each of its bases that
+    is a :class:`~theory.laws.ContactLaw` (``inspect.getsourcefile``: the law's own
+    file and ``theory/laws/base.py``); a class whose file cannot be read (defined by
+    ``exec``) contributes the bytecode of its functions instead.  Part of every
+    kernel's cache key, so that editing a law or the kernels recompiles.  Computed once
+    per law class.
+    """
+    cls = type(law)
+    if cls not in _DIGESTS:
+        h = hashlib.sha256()
+        with open(os.path.abspath(__file__), "rb") as f:
+            h.update(f.read())
+        for base in cls.__mro__:
+            if not (isinstance(base, type) and issubclass(base, ContactLaw)):
+                continue
+            try:
+                path = inspect.getsourcefile(base)
+                with open(path, "rb") as f:  # type: ignore[arg-type]
+                    h.update(f.read())
+            except (TypeError, OSError):
+                for name, attr in sorted(vars(base).items()):
+                    func = getattr(attr, "__func__", attr)
+                    if hasattr(func, "__code__"):
+                        h.update(name.encode() + marshal.dumps(func.__code__))
+        _DIGESTS[cls] = h.hexdigest()
+    return _DIGESTS[cls]
 
 
 def _interp_digest() -> str:
@@ -412,7 +448,7 @@ def make_kernels(law: ContactLaw | None = None, drag: bool = False,
     Parameters
     ----------
     law : ContactLaw, optional
-        The contact law (:mod:`discrete.laws`); None: :data:`discrete.laws.HERTZ`.
+        The contact law (:mod:`theory.laws`); None: :data:`theory.laws.HERTZ`.
     drag : bool
         Include the on-site drag term -m β v (its rate β is a runtime parameter,
         :func:`kernel_params`).
@@ -463,7 +499,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     DRAG = bool(drag)
     NP = N_PARAMS  # index of the drag rate in p
     RMAX = bool(rmax)  # running maxima of the overlaps
-    ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{source_digest()}|{_interp_digest()}"
+    ckey = f"{law.key()!r}|drag={DRAG}|rmax={RMAX}|{_source_digest(law)}|{_interp_digest()}"
     tag = _tag(law, DRAG, RMAX, refined)
 
     def jit(**options):

@@ -1,7 +1,7 @@
 r"""Plain-NumPy velocity-Verlet step for the chain — a reference for the tests only.
 
 Same equations as :mod:`discrete.kernels` (paper Eq. 2 with a contact law of
-:mod:`discrete.laws`, Hertz's Eq. 1 by default; velocity Verlet, Swope et al. 1982
+:mod:`theory.laws`, Hertz's Eq. 1 by default; velocity Verlet, Swope et al. 1982
 Eq. 7), vectorised over the whole chain with the *absolute* contact forces
 :math:`F_j = F(r_j, \dot r_j; k_j)` and the law's NumPy twin; no active window, no
 recording.  Velocity-dependent forces (a dissipative law, the drag -mβv) are split off
@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .laws import ContactLaw, as_law
+from theory.laws import ContactLaw, as_law
 
 __all__ = ["overlaps", "overlap_rates", "forces", "accelerations", "dissipate", "step",
            "run", "hermite_max", "refined_maxima"]

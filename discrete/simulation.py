@@ -1,7 +1,7 @@
 r"""The :class:`Simulation` object: a chain, a contact law, its state, the time step, the recording.
 
 The time step is chosen by :class:`discrete.timestep.TimeStep` (default, stability
-bound, expected overlaps: see that module).  The contact law (:mod:`discrete.laws`,
+bound, expected overlaps: see that module).  The contact law (:mod:`theory.laws`,
 Hertz by default) and an optional on-site drag select the compiled kernels
 (:func:`discrete.kernels.make_kernels`).
 
@@ -70,10 +70,11 @@ from typing import Any
 import numba
 import numpy as np
 
+from theory.laws import ContactLaw, as_law
+
 from . import kernels as K
 from .chain import Chain
 from .integrators import get_integrator
-from .laws import ContactLaw, as_law
 from .progress import RunProgress
 from .recording import (
     AtTime,
@@ -231,7 +232,7 @@ class Simulation:
         (ValueError naming the allowed range); False only for tests of the run-time
         instability detection.
     law : ContactLaw, optional
-        The contact law (:mod:`discrete.laws`); default Hertz (paper Eq. 1).
+        The contact law (:mod:`theory.laws`); default Hertz (paper Eq. 1).
     drag : float
         On-site viscous drag rate β, 1/s (>= 0): force -m_i β v_i on every grain.
     rtol : float, optional

@@ -126,9 +126,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from theory.laws import ContactLaw, as_law
+
 from .chain import Chain
 from .integrators import Integrator, get_integrator
-from .laws import ContactLaw, as_law
 from .recording import Recording
 from .reference import overlaps as _overlaps
 

@@ -25,7 +25,7 @@ exact wave at every phase, ``tests/discrete/test_chains_sensors.py``).
 
 Damped solitary wave (first-order estimate)
 -------------------------------------------
-A weakly dissipative law (:class:`~discrete.laws.ViscoelasticHertz` with a small A)
+A weakly dissipative law (:class:`~theory.laws.ViscoelasticHertz` with a small A)
 changes the shape of a solitary wave only at O(A); to first order the wave stays the
 *lossless* exact wave (:func:`theory.discrete_solitary_wave`) with a slowly decreasing
 amplitude, and its energy falls at the rate the law dissipates in that wave:
@@ -62,10 +62,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from theory import DiscreteSolitaryWave, discrete_solitary_wave
+from theory.laws import ContactLaw, as_law
 
 from .diagnostics.waves import arrival_times as _arrival_times
 from .diagnostics.waves import find_pulses
-from .laws import ContactLaw, as_law
 from .reference import overlap_rates
 
 __all__ = ["wave_dissipation", "damped_wave_decay", "series_accelerations", "arrival_times",

@@ -1,10 +1,12 @@
 """Closed-form theory of solitary waves in Hertzian granular chains.
 
-Materials and Hertz constants (:mod:`theory.materials`), static precompression
-(:mod:`theory.precompression`), wave speeds (:mod:`theory.speeds`), linear-acoustic
-interface predictions (:mod:`theory.interface`), solitary-wave profiles
-(:mod:`theory.profiles`) and the table of symplectic splitting methods the solvers step
-with (:mod:`theory.splitting`).  Depends on nothing else of hertzchain.
+The contact laws shared by the three models (:mod:`theory.laws`: Hertz, power laws,
+viscoelastic Hertz, with their long-wave coefficients), materials and Hertz constants
+(:mod:`theory.materials`), static precompression (:mod:`theory.precompression`), wave
+speeds (:mod:`theory.speeds`), linear-acoustic interface predictions
+(:mod:`theory.interface`), solitary-wave profiles (:mod:`theory.profiles`) and the table
+of symplectic splitting methods the solvers step with (:mod:`theory.splitting`).
+Depends on nothing else of hertzchain.
 """
 
 from .interface import (
@@ -26,6 +28,17 @@ from .interface import (
     velocity_reflection,
     velocity_transmission,
 )
+from .laws import (
+    HERTZ,
+    LAWS,
+    ContactLaw,
+    LongWave,
+    PowerLaw,
+    ViscoelasticHertz,
+    as_law,
+    law_from_dict,
+    register_law,
+)
 from .materials import (
     MATERIALS,
     PAPER_DIAMETER,
@@ -43,12 +56,19 @@ from .materials import (
     paper_kn,
     resolve_material_name,
 )
-from .precompression import static_energy, static_force, static_overlaps, wave_contact_energy
+from .precompression import (
+    static_energy,
+    static_force,
+    static_overlap,
+    static_overlaps,
+    wave_contact_energy,
+)
 from .profiles import (
     ChainState,
     DiscreteSolitaryWave,
     compacton_motion,
     compacton_strain,
+    compacton_width,
     discrete_solitary_wave,
     discrete_speed_constant,
     kdv_soliton_motion,
@@ -62,12 +82,25 @@ from .speeds import (
     kdv_speed_exact,
     lattice_dispersion,
     linear_stiffness,
+    long_wave_dispersion,
     nesterenko_speed,
     sonic_vacuum_speed,
 )
 from .splitting import ORDER_METHODS, SPLITTINGS, STABILITY_LIMITS, Splitting, get_splitting
 
 __all__ = [
+    "HERTZ",
+    "LAWS",
+    "ContactLaw",
+    "LongWave",
+    "PowerLaw",
+    "ViscoelasticHertz",
+    "as_law",
+    "law_from_dict",
+    "register_law",
+    "compacton_width",
+    "long_wave_dispersion",
+    "static_overlap",
     "ChainState",
     "ORDER_METHODS",
     "SPLITTINGS",

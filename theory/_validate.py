@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_finite", "check_positive", "check_range", "check_nonnegative"]
+__all__ = ["check_finite", "check_positive", "check_range", "check_nonnegative", "check_exponent"]
 
 
 def _describe(value) -> str:
@@ -59,3 +59,12 @@ def check_range(
         br = ("[" if closed[0] else "(") + f"{low}, {high}" + ("]" if closed[1] else ")")
         raise ValueError(f"{name} must lie in {br} (got {_describe(arr)})")
     return arr
+
+
+def check_exponent(value, *, low: float = 1.0, closed_low: bool = True) -> float:
+    """The exponent n of a power-law contact F = k δ^n as a float; ValueError unless in [1, 10].
+
+    ``low``/``closed_low`` narrow the lower end (e.g. n > 1 where a solitary wave needs
+    a nonlinear force).
+    """
+    return float(check_range("exponent", value, low, 10.0, closed=(closed_low, True)))

@@ -1,4 +1,4 @@
-r"""Solitary-wave profiles of a Hertz chain: KdV, Nesterenko compacton, exact lattice wave.
+r"""Solitary-wave profiles of a granular chain: KdV, Nesterenko compacton, exact lattice wave.
 
 Units are SI; the strain is ξ = -u_x (dimensionless), in the chain ξ ≈ (overlap - δ0)/d.
 Contact j lies between grains j-1 and j; r_j = δ0 + u_{j-1} - u_j is its overlap.
@@ -6,9 +6,11 @@ All waves travel to the right (+x); u → 0 ahead of the wave and u = D > 0 (the
 shift) behind it.
 
 * ``kdv_soliton_*`` — sech² wave of the corrected paper Eq. 4 (docs/physics.md §2).
-* ``compacton_*`` — Nesterenko's cos⁴ compacton of Eq. 7, speed Eq. 8 (docs/physics.md §3).
+* ``compacton_*`` — Nesterenko's cos⁴ compacton of Eq. 7, speed Eq. 8 (docs/physics.md §3),
+  and its cos^{2/(n-1)} generalisation for F = k δ^n (``exponent``).
 * :func:`discrete_solitary_wave` — exact travelling wave of the lattice (Eq. 2), δ0 >= 0,
-  by Petviashvili iteration (docs/physics.md §7); ``.sample`` gives a DEM initial condition.
+  any F = k δ^n, by Petviashvili iteration (docs/physics.md §7); ``.sample`` gives a DEM
+  initial condition.
 """
 
 from __future__ import annotations
@@ -20,13 +22,20 @@ import numpy as np
 from numpy.fft import irfft, rfft, rfftfreq
 from numpy.typing import ArrayLike
 
-from ._validate import check_finite, check_nonnegative, check_positive, check_range
+from ._numerics import power_remainder
+from ._validate import (
+    check_exponent,
+    check_finite,
+    check_nonnegative,
+    check_positive,
+    check_range,
+)
 from .speeds import kdv_speed_exact, nesterenko_speed, sonic_vacuum_speed
 
 __all__ = [
     "kdv_soliton_strain", "kdv_soliton_width", "kdv_soliton_motion", "compacton_strain",
-    "compacton_motion", "ChainState", "DiscreteSolitaryWave", "discrete_solitary_wave",
-    "discrete_speed_constant",
+    "compacton_motion", "compacton_width", "ChainState", "DiscreteSolitaryWave",
+    "discrete_solitary_wave", "discrete_speed_constant",
 ]  # fmt: skip
 
 
@@ -109,21 +118,49 @@ def kdv_soliton_motion(
     return _ret(u), _ret(kdv_speed_exact(c0_, d, delta0, amplitude) * strain)
 
 
-def _compacton_phase(x, d, x0):
-    q = np.sqrt(10.0) / (5.0 * check_positive("d", d))
+def _compacton_wavenumber(n: float) -> float:
+    """The compacton's q d (ξ ∝ cos^{2/(n-1)}(q x)): (n-1)√(6/(n(n+1))), √10/5 for Hertz."""
+    return (n - 1.0) * np.sqrt(6.0 / (n * (n + 1.0)))
+
+
+def _compacton_phase(x, d, x0, n=1.5):
+    q = _compacton_wavenumber(n) / check_positive("d", d)
     theta = q * (check_finite("x", x) - check_finite("x0", x0))
     return np.clip(theta, -np.pi / 2, np.pi / 2), q
 
 
-def compacton_strain(x: ArrayLike, amplitude: ArrayLike, d: ArrayLike, x0: ArrayLike = 0.0) -> Real:
-    r"""Nesterenko's compacton ξ = A cos⁴(√10 (x - x0)/(5d)), zero for |x - x0| > 5πd/(2√10).
+def compacton_width(d: ArrayLike, exponent: float = 1.5) -> Real:
+    r"""Support width π/q of the compacton, m: 5πd/√10 ≈ 4.97 d for Hertz.
 
-    Travelling wave of the conservative form of paper Eq. 7 (docs/physics.md §3; Nesterenko
-    2001, Ch. 1): u(x - Vt) in u_tt = -c² ∂x[ξ^{3/2} + (d²/10) ξ^{1/4} (ξ^{5/4})_xx]
-    integrates to V² ξ = c² [ξ^{3/2} + (d²/10) ξ^{1/4} (ξ^{5/4})''].  With θ = √10 x/(5d),
-    ξ^{1/4}(ξ^{5/4})'' = A^{3/2} (10/(25d²)) (20 cos⁴θ - 25 cos⁶θ), so the bracket is
-    (4/5) A^{3/2} cos⁴θ and V = (2/√5) c_mat A^{1/4} (paper Eq. 8,
-    :func:`theory.speeds.sonic_vacuum_speed`).  Support width 5πd/√10 ≈ 4.97 d.
+    q = (n-1)√(6/(n(n+1)))/d (:func:`compacton_strain`), so the width is
+    :math:`\pi d/((n-1)\sqrt{6/(n(n+1))})`, independent of the amplitude
+    (Nesterenko 2001, §1.2).
+
+    Parameters
+    ----------
+    d : float or array
+        Grain diameter, m.
+    exponent : float
+        n of F = k δ^n, in (1, 10].
+    """
+    n = check_exponent(exponent, closed_low=False)
+    return _ret(np.pi * check_positive("d", d) / _compacton_wavenumber(n))
+
+
+def compacton_strain(x: ArrayLike, amplitude: ArrayLike, d: ArrayLike, x0: ArrayLike = 0.0,
+                     exponent: float = 1.5) -> Real:
+    r"""Nesterenko's compacton ξ = A cos^{2/(n-1)}(q (x - x0)), zero for |q (x - x0)| > π/2.
+
+    Travelling wave of the conservative long-wave equation for F = k δ^n
+    (docs/physics.md §3 and "Long waves for a power-law contact"; Nesterenko 2001, §1.2):
+    u(x - Vt) in :math:`u_{tt} = -c^2\partial_x[\xi^n + a\,\xi^{(n-1)/2}
+    (\xi^{(n+1)/2})_{xx}]`, a = n d²/(6(n+1)), integrates to
+    :math:`V^2\xi = c^2[\xi^n + a\,\xi^{(n-1)/2}(\xi^{(n+1)/2})'']`, solved with
+    q = (n-1)√(6/(n(n+1)))/d and V² = 2c²A^{n-1}/(n+1)
+    (:func:`theory.speeds.sonic_vacuum_speed`).  Hertz (n = 3/2, Eq. 7): ξ = A
+    cos⁴(√10 (x - x0)/(5d)); with θ = √10 x/(5d), ξ^{1/4}(ξ^{5/4})'' = A^{3/2}
+    (10/(25d²)) (20 cos⁴θ - 25 cos⁶θ), so the bracket is (4/5) A^{3/2} cos⁴θ and
+    V = (2/√5) c_mat A^{1/4} (paper Eq. 8).  Support width :func:`compacton_width`.
 
     Parameters
     ----------
@@ -131,58 +168,79 @@ def compacton_strain(x: ArrayLike, amplitude: ArrayLike, d: ArrayLike, x0: Array
         Position and position of the peak, m.
     amplitude, d : float
         Peak strain A (> 0) and grain diameter (m).
+    exponent : float
+        n of F = k δ^n, in (1, 10].
     """
-    amplitude, (theta, _) = check_positive("amplitude", amplitude), _compacton_phase(x, d, x0)
-    return _ret(np.where(np.abs(theta) < np.pi / 2, amplitude * np.cos(theta) ** 4, 0.0))
+    n = check_exponent(exponent, closed_low=False)
+    amplitude, (theta, _) = check_positive("amplitude", amplitude), _compacton_phase(x, d, x0, n)
+    return _ret(np.where(np.abs(theta) < np.pi / 2,
+                         amplitude * np.cos(theta) ** (2.0 / (n - 1.0)), 0.0))
 
 
 def compacton_motion(
-    x: ArrayLike, amplitude: ArrayLike, d: ArrayLike, c_mat_: ArrayLike, x0: ArrayLike = 0.0
+    x: ArrayLike, amplitude: ArrayLike, d: ArrayLike, c_mat_: ArrayLike, x0: ArrayLike = 0.0,
+    exponent: float = 1.5,
 ) -> tuple[Real, Real]:
-    """Displacement and particle velocity (u, v) of the right-going compacton, (m, m/s).
+    r"""Displacement and particle velocity (u, v) of the right-going compacton, (m, m/s).
 
-    u(x) = ∫_x^∞ ξ dx' = (5dA/√10)(G(π/2) - G(θ)), G(θ) = 3θ/8 + sin 2θ/4 + sin 4θ/32
-    (a primitive of cos⁴), θ clipped to [-π/2, π/2]; the net shift behind the wave is
-    3π√10 d A/16.  v = V ξ with V from paper Eq. 8.
+    u(x) = ∫_x^∞ ξ dx' = (A/q)(G(π/2) - G(θ)) with G a primitive of cos^p, p = 2/(n-1),
+    θ clipped to [-π/2, π/2]: :math:`G(\theta) = \mathrm{sgn}\,\theta\,\tfrac12
+    B(\tfrac12, \tfrac{p+1}2)\,I_{\sin^2\theta}(\tfrac12, \tfrac{p+1}2)` (the
+    regularised incomplete beta function; substitute s = sin²t), for Hertz (p = 4)
+    G(θ) = 3θ/8 + sin 2θ/4 + sin 4θ/32 and the net shift behind the wave 3π√10 d A/16.
+    v = V ξ with V from :func:`theory.speeds.sonic_vacuum_speed`.
 
     Parameters
     ----------
-    x, amplitude, d, x0
+    x, amplitude, d, x0, exponent
         As in :func:`compacton_strain`.
     c_mat_ : float
-        Material speed c_mat = √(k_n d^{5/2}/m), m/s (:func:`theory.speeds.c_mat`).
+        Material speed c = √(k_n d^{n+1}/m), m/s (:func:`theory.speeds.c_mat`).
     """
-    strain = np.asarray(compacton_strain(x, amplitude, d, x0))
-    theta, q = _compacton_phase(x, d, x0)
+    n = check_exponent(exponent, closed_low=False)
+    strain = np.asarray(compacton_strain(x, amplitude, d, x0, n))
+    theta, q = _compacton_phase(x, d, x0, n)
+    p = 2.0 / (n - 1.0)
+    if p == 4.0:
+        def prim(th):
+            return 3.0 * th / 8.0 + np.sin(2.0 * th) / 4.0 + np.sin(4.0 * th) / 32.0
+    else:
+        from scipy.special import beta, betainc
 
-    def prim(th):
-        return 3.0 * th / 8.0 + np.sin(2.0 * th) / 4.0 + np.sin(4.0 * th) / 32.0
+        b = 0.5 * (p + 1.0)
+
+        def prim(th):
+            return np.sign(th) * 0.5 * beta(0.5, b) * betainc(0.5, b, np.sin(th) ** 2)
 
     u = np.asarray(amplitude, dtype=float) / q * (prim(np.pi / 2) - prim(theta))
-    return _ret(u), _ret(sonic_vacuum_speed(c_mat_, amplitude) * strain)
+    return _ret(u), _ret(sonic_vacuum_speed(c_mat_, amplitude, exponent=n) * strain)
 
 
 def _nonlinear(w, rho0, exponent=1.5):
-    """N(w) = (ρ0 + w)_+^{3/2} - ρ0^{3/2} - (3/2) ρ0^{1/2} w for ρ0 ∈ {0, 1}, no cancellation.
+    """N(w) = (ρ0 + w)_+^n - ρ0^n - n ρ0^{n-1} w for ρ0 ∈ {0, 1}, without cancellation.
 
-    For ρ0 = 0 any exponent n: N(w) = w_+^n.
+    ρ0 = 0: N(w) = w_+^n.  ρ0 = 1: for Hertz (n = 3/2) exactly e²(3/2 + e) with
+    e = √(1+w) - 1, else :func:`theory._numerics.power_remainder`.  For w < -1 (a gap)
+    N = -1 - n w.
     """
     if rho0 == 0.0:
         return np.maximum(w, 0.0) ** exponent
+    if exponent != 1.5:
+        return power_remainder(w, exponent)
     wc = np.maximum(w, -1.0)
     e = wc / (1.0 + np.sqrt(1.0 + wc))  # √(1+w) - 1;  then N = e² (3/2 + e) exactly
     return np.where(w >= -1.0, e * e * (1.5 + e), -1.0 - 1.5 * w)
 
 
 def _petviashvili(sigma2, rho0, n_dom, ppg, w, tol, max_iter, exponent=1.5):
-    """Solve σ² w = Λ∗[(ρ0+w)_+^{3/2} - ρ0^{3/2}] on a periodic grid; return (w, history).
+    """Solve σ² w = Λ∗[(ρ0+w)_+^n - ρ0^n] on a periodic grid; return (w, history).
 
-    ρ0 = 0 takes any exponent n of the force law: σ² w = Λ∗w_+^n.
+    ρ0 ∈ {0, 1}; n the exponent of the force law (3/2: Hertz).
     """
     n = n_dom * ppg
     q = 2.0 * np.pi * rfftfreq(n, d=1.0 / ppg)
     p_op = np.sinc(q / (2.0 * np.pi)) ** 2  # Λ̂(q) = [sin(q/2)/(q/2)]²
-    lin = sigma2 - 1.5 * np.sqrt(rho0) * p_op  # > 0 iff σ² > (3/2) ρ0^{1/2}
+    lin = sigma2 - exponent * rho0 ** (exponent - 1.0) * p_op  # > 0 iff σ² > n ρ0^{n-1}
     wt = np.where((q == 0) | ((n % 2 == 0) & (q == q[-1])), 1.0, 2.0)  # Parseval weights
     gamma = exponent / (exponent - 1.0) if rho0 == 0.0 else 2.0  # p/(p-1), degree p = n or 2
     history, first, best = [], None, (w, np.inf, 0)
@@ -238,18 +296,31 @@ def _velocity_profile(w, ppg):
 
 @lru_cache(maxsize=8)
 def _sonic_vacuum_wave(ppg, tol, max_iter, exponent=1.5):
-    """Normalised δ0 = 0 wave, σ = 1, w = Λ∗w_+^n: (w, history, w_max, ṽ_max)."""
-    n_dom = 24  # doubly-exponential tail: w/w_max < 1e-15 at 5 grains from the peak
-    theta = np.sqrt(10.0) / 5.0 * (np.arange(n_dom * ppg) - n_dom * ppg // 2) / ppg
-    w0 = np.where(np.abs(theta) < np.pi / 2, np.cos(theta) ** 4, 0.0)  # compacton guess
+    """Normalised δ0 = 0 wave, σ = 1, w = Λ∗w_+^n: (w, history, w_max, ṽ_max).
+
+    The tail is doubly exponential, w_{j+1} ~ w_j^n grain by grain beyond the core
+    (English & Pego 2005): the domain covers the compacton's half-width π/(2q) plus
+    log 40/log n grains on each side (24 grains for Hertz: w/w_max < 1e-15 at 5 grains
+    from the peak), and a tail above 1e-15 of the peak at its ends is an error.
+    """
+    q = _compacton_wavenumber(exponent)
+    n_dom = max(24, 2 * int(np.ceil(np.pi / (2.0 * q) + np.log(40.0) / np.log(exponent))))
+    theta = q * (np.arange(n_dom * ppg) - n_dom * ppg // 2) / ppg
+    w0 = np.where(np.abs(theta) < np.pi / 2,  # compacton guess
+                  np.cos(np.clip(theta, -np.pi / 2, np.pi / 2)) ** (2.0 / (exponent - 1.0)),
+                  0.0)
     w, hist = _petviashvili(1.0, 0.0, n_dom, ppg, w0, tol, max_iter, exponent)
+    edge = max(np.max(np.abs(w[: 2 * ppg])), np.max(np.abs(w[-2 * ppg :])))
+    if edge > 1e-15 * np.max(w):
+        raise RuntimeError(f"solitary-wave tail not resolved by the periodic domain of "
+                           f"{n_dom} grains (exponent {exponent:g})")
     w.flags.writeable = hist.flags.writeable = False  # cached: shared between calls
     return w, hist, _trig_max(w, ppg), _trig_max(_velocity_profile(w, ppg), ppg)
 
 
 @lru_cache(maxsize=4)
-def _precompressed_wave(target, kind, ppg, tol, max_iter):
-    """δ0 > 0 (R = δ0 ρ, s² = (k/m) δ0^{1/2} σ²): secant search in y = log(σ²/1.5 - 1).
+def _precompressed_wave(target, kind, ppg, tol, max_iter, exponent=1.5):
+    """δ0 > 0 (R = δ0 ρ, s² = (k/m) δ0^{n-1} σ²): secant search in y = log(σ²/n - 1).
 
     Matches ``kind`` "amplitude" (ε = w_max) or "velocity" (σ ṽ_max) to ``target``.
     Cached (as :func:`_sonic_vacuum_wave`; arrays read-only, shared between calls): a
@@ -257,32 +328,36 @@ def _precompressed_wave(target, kind, ppg, tol, max_iter):
     16 points, 3 precompressed waves, each solved 4 times, 0.15-0.3 s a solve; issue 13).
     Four entries: a wave is at most 2^22 points (32 MB), in practice ≤ 1e5.
     """
-    w, hist, total, n_dom, sigma2 = _solve_precompressed(target, kind, ppg, tol, max_iter)
+    w, hist, total, n_dom, sigma2 = _solve_precompressed(target, kind, ppg, tol, max_iter,
+                                                         exponent)
     w.flags.writeable = hist.flags.writeable = False  # cached: shared between calls
     return w, hist, total, n_dom, sigma2
 
 
-def _solve_precompressed(target, kind, ppg, tol, max_iter):
+def _solve_precompressed(target, kind, ppg, tol, max_iter, exponent=1.5):
     """:func:`_precompressed_wave`, uncached."""
-    eps = target  # nesterenko_speed(1, 1, ε) is σ of Nesterenko's long-wave relation
+    n = exponent
+    eps = target  # nesterenko_speed(1, 1, ε, n) is σ of the long-wave relation
     if kind == "velocity":  # long-wave estimate v ≈ V ξ  →  σ ε ≈ target
         for _ in range(30):
-            eps = target / nesterenko_speed(1.0, 1.0, eps)
+            eps = target / nesterenko_speed(1.0, 1.0, eps, exponent=n)
     from scipy.fft import next_fast_len  # lazy: scipy costs 0.4 s of start-up (issue 17)
     from scipy.optimize import brentq
 
-    mu = nesterenko_speed(1.0, 1.0, eps) ** 2 / 1.5 - 1.0
-    # tail e^{-κ|z|}: σ² = (3/2)(sinh(κ/2)/(κ/2))², evaluated at a smaller σ for margin
+    mu = nesterenko_speed(1.0, 1.0, eps, exponent=n) ** 2 / n - 1.0
+    # tail e^{-κ|z|}: σ² = n (sinh(κ/2)/(κ/2))², evaluated at a smaller σ for margin
     kappa = 2 * brentq(lambda x: np.sinh(x) / x - np.sqrt(1 + 0.7 * mu), 1e-12, 60, xtol=1e-14)
     n_dom = 2 * next_fast_len(int(np.ceil(8.0 + 45.0 / kappa)))
     if n_dom * ppg > 2**22:
         raise ValueError("amplitude too small relative to delta0 (the wave is wider than "
                          f"{2**22 // ppg} grains); raise it or lower points_per_grain")
-    w = eps * _sech2(min(np.sqrt(eps / 2.0), 1.0) * (np.arange(n_dom * ppg) / ppg - n_dom / 2))
+    # KdV guess: κ² = (n - 1) ε per grain² (docs/physics.md §2; ε/2 for Hertz)
+    w = eps * _sech2(min(np.sqrt((n - 1.0) * eps), 1.0)
+                     * (np.arange(n_dom * ppg) / ppg - n_dom / 2))
 
     def quantity(y, w):
-        sigma2 = 1.5 * (1.0 + np.exp(y))
-        w, hist = _petviashvili(sigma2, 1.0, n_dom, ppg, w, tol, max_iter)
+        sigma2 = n * (1.0 + np.exp(y))
+        w, hist = _petviashvili(sigma2, 1.0, n_dom, ppg, w, tol, max_iter, n)
         val = _trig_max(w, ppg)
         if kind == "velocity":
             val = np.sqrt(sigma2) * _trig_max(_velocity_profile(w, ppg), ppg)
@@ -299,7 +374,7 @@ def _solve_precompressed(target, kind, ppg, tol, max_iter):
     else:
         raise RuntimeError("secant iteration for the wave speed did not converge")
     edge = max(np.max(np.abs(w[: 2 * ppg])), np.max(np.abs(w[-2 * ppg :])))
-    if edge > max(tol, 1e-15 / (sigma2 / 1.5 - 1.0)) * np.max(w):  # round-off ∝ 1/μ
+    if edge > max(tol, 1e-15 / (sigma2 / n - 1.0)) * np.max(w):  # round-off ∝ 1/μ
         raise RuntimeError("solitary-wave tail not resolved by the periodic domain")
     return w, hist, total, n_dom, sigma2
 
@@ -330,12 +405,13 @@ class ChainState:
 
 @dataclass(frozen=True, eq=False)
 class DiscreteSolitaryWave:
-    """Exact travelling solitary wave of the Hertz lattice (:func:`discrete_solitary_wave`).
+    """Exact travelling solitary wave of the lattice (:func:`discrete_solitary_wave`).
 
     Attributes
     ----------
     k_n, mass, d, delta0 : float
-        Hertz constant (N/m^{3/2}), grain mass (kg), diameter (m), static overlap (m).
+        Contact constant (N/m^n; Hertz: N/m^{3/2}), grain mass (kg), diameter (m), static
+        overlap (m).
     speed, grain_rate : float
         Wave speed V (m/s) and s = V/d (grains/s).
     amplitude, velocity_max, net_shift : float
@@ -377,9 +453,13 @@ class DiscreteSolitaryWave:
 
     @property
     def speed_constant(self) -> float:
-        """V / (c_mat ξ_max^{1/4}); amplitude independent at δ0 = 0 (Eq. 8 gives 2/√5)."""
-        c_mat = np.sqrt(self.k_n * self.d**2.5 / self.mass)
-        return float(self.speed / (c_mat * self.strain_max**0.25))
+        """V / (c ξ_max^{(n-1)/2}), c = √(k d^{n+1}/m): amplitude independent at δ0 = 0.
+
+        The long-wave compacton gives √(2/(n+1)) (2/√5 for Hertz, paper Eq. 8).
+        """
+        n = self.exponent
+        c_mat = np.sqrt(self.k_n * self.d ** (n + 1.0) / self.mass)
+        return float(self.speed / (c_mat * self.strain_max ** (0.5 * (n - 1.0))))
 
     def momentum(self) -> float:
         """Momentum Σ_i m v_i of the wave, kg·m/s: exactly m s D.
@@ -470,35 +550,35 @@ def discrete_solitary_wave(
     points_per_grain: int = 32, tol: float = 1e-13, max_iter: int = 500,
     exponent: float = 1.5,
 ) -> DiscreteSolitaryWave:
-    r"""Exact solitary wave of the Hertz chain, δ0 = 0 or δ0 > 0 (Petviashvili + FFT).
+    r"""Exact solitary wave of the chain with F = k[r]_+^n, δ0 = 0 or δ0 > 0 (Petviashvili + FFT).
 
     Derivation (Friesecke & Wattis 1994; MacKay 1999; English & Pego 2005; Ahnert &
     Pikovsky 2009, PRE 79, 026209).  The overlaps obey m r̈_j = F(r_{j-1}) - 2F(r_j)
-    + F(r_{j+1}), F(r) = k [r]_+^{3/2} (paper Eqs. 1-2).  A travelling wave
+    + F(r_{j+1}), F(r) = k [r]_+^n (paper Eqs. 1-2 for Hertz, n = 3/2; any power law,
+    Nesterenko 2001, *Dynamics of Heterogeneous Materials*, §1.1).  A travelling wave
     r_j(t) = R(j - s t), s = V/d, satisfies s² R'' = (k/m) Δ₂F(R); in Fourier space
     R̂ = (k/(m s²)) sinc²(q/2) F̂(R), i.e. R = (k/(m s²)) Λ∗F(R), Λ the hat function.
-    With R = λρ and s² = (k/m) λ^{1/2} σ²:
+    With R = λρ and s² = (k/m) λ^{n-1} σ²:
 
-    * δ0 = 0 (σ = 1, λ free): ρ = Λ∗ρ_+^{3/2}, homogeneous of degree p = 3/2; solved once
-      and rescaled, A ∝ λ, V ∝ λ^{1/4} ∝ A^{1/4}, v_max ∝ λ^{5/4}.  For a power law
-      F = k[r]_+^n (``exponent``; Nesterenko 2001, *Dynamics of Heterogeneous
-      Materials*, §1.1; English & Pego, Proc. AMS 133 (2005) 1763) the same with
-      s² = (k/m) λ^{n-1}: ρ = Λ∗ρ_+^n, V ∝ λ^{(n-1)/2}, v_max ∝ λ^{(n+1)/2}, hence
-      V ∝ v_max^{(n-1)/(n+1)} (1/5 for Hertz) and γ = n/(n-1).
-    * δ0 > 0 (λ = δ0, w = ρ - 1): σ² w = Λ∗(K w + N(w)), K = 3/2 (K = (3/2) k δ0^{1/2}
-      in units), N = (1+w)^{3/2} - 1 - K w.  L = σ² - K sinc²(q/2) is positive iff
-      σ² > 3/2, i.e. V > c0; σ is found by a secant search matching A (or v_max).
+    * δ0 = 0 (σ = 1, λ free): ρ = Λ∗ρ_+^n, homogeneous of degree p = n; solved once and
+      rescaled (English & Pego, Proc. AMS 133 (2005) 1763), A ∝ λ, V ∝ λ^{(n-1)/2},
+      v_max ∝ λ^{(n+1)/2}, hence V ∝ v_max^{(n-1)/(n+1)} (1/5 for Hertz: V ∝ A^{1/4})
+      and γ = n/(n-1) (3 for Hertz).
+    * δ0 > 0 (λ = δ0, w = ρ - 1): σ² w = Λ∗(K w + N(w)), K = n (K = n k δ0^{n-1} in
+      units), N = (1+w)^n - 1 - K w.  L = σ² - K sinc²(q/2) is positive iff σ² > n,
+      i.e. V > c0 (:func:`theory.speeds.c0`); σ is found by a secant search matching A
+      (or v_max), started from the long-wave speed (:func:`theory.speeds.nesterenko_speed`).
 
     Petviashvili iteration ŵ ← M^γ Λ̂ N̂(w)/L, M = ⟨w, L w⟩/⟨w, Λ∗N(w)⟩ (Pelinovsky &
-    Stepanyants 2004, SIAM J. Numer. Anal. 42, 1110), γ = p/(p-1): 3 for δ0 = 0, 2 for
-    δ0 > 0 (quadratic leading order); past ``tol`` it goes on while the residual falls.
-    The periodic grid covers the tail: doubly exponential at δ0 = 0, e^{-κ|z|} with
-    σ² = (3/2)(sinh(κ/2)/(κ/2))² for δ0 > 0 (wide for small amplitudes).
+    Stepanyants 2004, SIAM J. Numer. Anal. 42, 1110), γ = p/(p-1): n/(n-1) for δ0 = 0,
+    2 for δ0 > 0 (quadratic leading order); past ``tol`` it goes on while the residual
+    falls.  The periodic grid covers the tail: doubly exponential at δ0 = 0, e^{-κ|z|}
+    with σ² = n (sinh(κ/2)/(κ/2))² for δ0 > 0 (wide for small amplitudes).
 
     Parameters
     ----------
     k_n, mass : float
-        Hertz constant (N/m^{3/2}) and grain mass (kg).
+        Contact constant (N/m^n; Hertz: N/m^{3/2}) and grain mass (kg).
     d, delta0 : float
         Grain diameter (> 0) and static overlap (>= 0), m.
     amplitude, velocity_max : float, optional
@@ -507,8 +587,7 @@ def discrete_solitary_wave(
         Grid points per grain, in [8, 256]; relative max-norm residual required, in
         (0, 1e-6]; maximum Petviashvili iterations per solve.
     exponent : float
-        n of the contact law F = k[r]_+^n, in (1, 10]; n ≠ 3/2 needs δ0 = 0 (k_n is then
-        in N/m^n).
+        n of the contact law F = k[r]_+^n, in (1, 10] (3/2: Hertz).
 
     Returns
     -------
@@ -527,10 +606,7 @@ def discrete_solitary_wave(
             raise ValueError(f"{name} must be an integer in [{lo}, {hi}] (got {val!r})")
     ppg, max_iter = int(points_per_grain), int(max_iter)
     tol = float(check_range("tol", tol, 0.0, 1e-6, closed=(False, True)))
-    n = float(check_range("exponent", exponent, 1.0, 10.0, closed=(False, True)))
-    if n != 1.5 and delta0 != 0.0:
-        raise ValueError(f"exponent = {n:g} needs delta0 = 0 (the precompressed wave is "
-                         "solved for Hertz, exponent 1.5, only)")
+    n = check_exponent(exponent, closed_low=False)
     rate = np.sqrt(k_n / mass)  # s² = rate² λ^{(n-1)} σ²;  v = s λ ṽ
     if delta0 == 0.0:
         w, hist, w_max, v_max = _sonic_vacuum_wave(ppg, tol, max_iter, n)
@@ -538,8 +614,9 @@ def discrete_solitary_wave(
         sigma, n_dom, total = 1.0, w.size // ppg, hist.size
     else:
         lam, kind = delta0, "amplitude" if use_amp else "velocity"
-        target /= delta0 if use_amp else rate * delta0**1.25
-        w, hist, total, n_dom, sigma2 = _precompressed_wave(target, kind, ppg, tol, max_iter)
+        target /= delta0 if use_amp else rate * delta0 ** (0.5 * (n + 1.0))
+        w, hist, total, n_dom, sigma2 = _precompressed_wave(target, kind, ppg, tol, max_iter,
+                                                            n)
         sigma = np.sqrt(sigma2)
         w_max, v_max = _trig_max(w, ppg), _trig_max(_velocity_profile(w, ppg), ppg)
     s = rate * lam ** (0.5 * (n - 1.0)) * sigma
@@ -553,11 +630,12 @@ def discrete_solitary_wave(
     )
 
 
-def discrete_speed_constant(points_per_grain: int = 32) -> float:
-    """V / (c_mat ξ_max^{1/4}) of the exact lattice wave at δ0 = 0 (cf. 2/√5 of Eq. 8).
+def discrete_speed_constant(points_per_grain: int = 32, exponent: float = 1.5) -> float:
+    """V / (c ξ_max^{(n-1)/2}) of the exact lattice wave at δ0 = 0 (cf. √(2/(n+1)) of Eq. 8).
 
-    With R = λρ, V = d √(k/m) λ^{1/4} and ξ_max = λ ρ_max/d, it is ρ_max^{-1/4} of the
-    normalised solution ρ = Λ∗ρ_+^{3/2} (see :func:`discrete_solitary_wave`).
+    With R = λρ, V = d √(k/m) λ^{(n-1)/2} and ξ_max = λ ρ_max/d, it is
+    ρ_max^{-(n-1)/2} of the normalised solution ρ = Λ∗ρ_+^n (see
+    :func:`discrete_solitary_wave`); for Hertz ρ_max^{-1/4}, against the compacton's 2/√5.
     """
-    return discrete_solitary_wave(1, 1, 1, amplitude=1, points_per_grain=points_per_grain
-                                  ).speed_constant
+    return discrete_solitary_wave(1, 1, 1, amplitude=1, points_per_grain=points_per_grain,
+                                  exponent=exponent).speed_constant

@@ -1,8 +1,12 @@
-r"""Characteristic and solitary-wave speeds of a Hertz chain.
+r"""Characteristic and solitary-wave speeds of a granular chain (Hertz, or F = k δ^n).
 
-Notation: d grain diameter (m), m grain mass (kg), k_n Hertz constant (N/m^{3/2}),
-δ0 static overlap (m), ξ = -u_x strain (dimensionless; in the chain ξ ≈ overlap
-change / d), ξ0 = δ0/d the static strain.
+Notation: d grain diameter (m), m grain mass (kg), k_n contact constant (N/m^{3/2} for
+Hertz, N/m^n for the power law F = k δ^n), δ0 static overlap (m), ξ = -u_x strain
+(dimensionless; in the chain ξ ≈ overlap change / d), ξ0 = δ0/d the static strain.
+The speeds and coefficients of the long-wave equations take the law's ``exponent`` n
+(3/2, Hertz, by default; the KdV speeds are Hertz's): the formulas below are Hertz's,
+the general ones are in the functions' docstrings (docs/physics.md, "Long waves for a
+power-law contact").
 
 * c0² = (3/2)(k_n/m) d² δ0^{1/2}  — sound speed of the precompressed chain (paper Eq. 4),
   i.e. c0 = d √(K/m) with the linearised stiffness K = dF/dδ = (3/2) k_n δ0^{1/2}.
@@ -24,12 +28,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._validate import check_nonnegative, check_positive
+from ._numerics import power_remainder
+from ._validate import check_exponent, check_nonnegative, check_positive
 
 __all__ = [
     "linear_stiffness",
     "c0",
     "c_mat",
+    "long_wave_dispersion",
     "kdv_speed",
     "kdv_speed_exact",
     "sonic_vacuum_speed",
@@ -43,40 +49,71 @@ def _ret(x):
     return x if x.ndim else float(x)
 
 
-def linear_stiffness(k_n, delta0):
-    """Linearised contact stiffness K = (3/2) k_n δ0^{1/2}, N/m (derivative of Eq. 1)."""
+def linear_stiffness(k_n, delta0, exponent=1.5):
+    """Linearised contact stiffness K = n k_n δ0^{n-1}, N/m (derivative of F = k δ^n).
+
+    (3/2) k_n δ0^{1/2} for Hertz (derivative of paper Eq. 1).  ``exponent`` n in [1, 10].
+    """
     k_n = check_positive("k_n", k_n)
     delta0 = check_positive("delta0", delta0)
-    return _ret(1.5 * k_n * np.sqrt(delta0))
+    n = check_exponent(exponent)
+    return _ret(n * k_n * delta0 ** (n - 1.0))
 
 
-def c0(k_n, mass, d, delta0):
-    """Sound speed of a precompressed chain, c0 = √((3/2)(k_n/m) d² δ0^{1/2}), m/s (Eq. 4).
+def c0(k_n, mass, d, delta0, exponent=1.5):
+    r"""Sound speed of a precompressed chain, :math:`c_0 = d\sqrt{n k_n\delta_0^{n-1}/m}`, m/s.
+
+    c0 = d √(K/m) with the linearised stiffness K = n k δ0^{n-1} (:func:`linear_stiffness`):
+    the long-wave limit of the linearised lattice (Nesterenko 2001, §1.1).  For Hertz,
+    c0² = (3/2)(k_n/m) d² δ0^{1/2} (paper Eq. 4).
 
     Parameters
     ----------
     k_n : float or array
-        Hertz constant, N/m^{3/2}.
+        Contact constant, N/m^n (Hertz: N/m^{3/2}).
     mass : float or array
         Grain mass, kg.
     d : float or array
         Grain diameter (= lattice spacing), m.
     delta0 : float or array
         Static overlap, m (> 0; a chain without precompression has no sound speed).
+    exponent : float
+        n of the law F = k δ^n, in [1, 10].
     """
     k_n = check_positive("k_n", k_n)
     mass = check_positive("mass", mass)
     d = check_positive("d", d)
     delta0 = check_positive("delta0", delta0)
-    return _ret(np.sqrt(1.5 * k_n / mass * np.sqrt(delta0)) * d)
+    n = check_exponent(exponent)
+    return _ret(np.sqrt(n * k_n / mass * delta0 ** (n - 1.0)) * d)
 
 
-def c_mat(k_n, mass, d):
-    """Nesterenko's material speed c_mat = √(k_n d^{5/2}/m), m/s (paper Eq. 7)."""
+def c_mat(k_n, mass, d, exponent=1.5):
+    r"""Nesterenko's material speed :math:`c = \sqrt{k_n d^{n+1}/m}`, m/s.
+
+    The speed of the strongly nonlinear long-wave equation
+    :math:`u_{tt} = -c^2\partial_x[\xi^n + \dots]` (Nesterenko 2001, §1.2); paper
+    Eq. 7 for Hertz, c² = k_n d^{5/2}/m.  So c0² = n c² ξ0^{n-1}.
+    """
     k_n = check_positive("k_n", k_n)
     mass = check_positive("mass", mass)
     d = check_positive("d", d)
-    return _ret(np.sqrt(k_n * d**2.5 / mass))
+    n = check_exponent(exponent)
+    return _ret(np.sqrt(k_n * d ** (n + 1.0) / mass))
+
+
+def long_wave_dispersion(d, exponent=1.5):
+    r"""Dispersion coefficient a = n d²/(6(n+1)) of the strongly nonlinear long-wave equation, m².
+
+    .. math:: u_{tt} = -c^2\,\partial_x\!\left[\xi^n + a\,\xi^{(n-1)/2}\,
+              \partial_{xx}\xi^{(n+1)/2}\right]
+
+    for F = k δ^n (Nesterenko 2001, §1.2, derived for any n in docs/physics.md, "Long
+    waves for a power-law contact"); d²/10 for Hertz (the corrected paper Eq. 7).
+    """
+    d = check_positive("d", d)
+    n = check_exponent(exponent)
+    return _ret(n * d * d / (6.0 * (n + 1.0)))
 
 
 def kdv_speed(c0_, d, delta0, xi_max):
@@ -107,54 +144,80 @@ def kdv_speed_exact(c0_, d, delta0, xi_max):
     return _ret(c0_ * np.sqrt(1.0 + d * xi_max / (6.0 * delta0)))
 
 
-def sonic_vacuum_speed(c_mat_, xi_max):
-    """Nesterenko's solitary-wave speed V_S0 = (2/√5) c_mat ξ_max^{1/4}, m/s (paper Eq. 8)."""
+def sonic_vacuum_speed(c_mat_, xi_max, exponent=1.5):
+    r"""Compacton speed at δ0 = 0, :math:`V = c\sqrt{2/(n+1)}\,\xi_{max}^{(n-1)/2}`, m/s.
+
+    The travelling wave of the strongly nonlinear long-wave equation for F = k δ^n
+    (Nesterenko 2001, §1.2; :func:`theory.profiles.compacton_strain`); for Hertz
+    Nesterenko's V_S0 = (2/√5) c_mat ξ_max^{1/4} (paper Eq. 8).  ``c_mat_`` from
+    :func:`c_mat` with the same exponent; ``exponent`` n in [1, 10].
+    """
     c_mat_ = check_positive("c_mat", c_mat_)
     xi_max = check_nonnegative("xi_max", xi_max)
-    return _ret(2.0 / np.sqrt(5.0) * c_mat_ * xi_max**0.25)
+    n = check_exponent(exponent)
+    return _ret(np.sqrt(2.0 / (n + 1.0)) * c_mat_ * xi_max ** (0.5 * (n - 1.0)))
 
 
-def nesterenko_speed(c_mat_, xi0, xi_max):
-    r"""Nesterenko's solitary-wave speed for any precompression, m/s.
+def nesterenko_speed(c_mat_, xi0, xi_max, exponent=1.5):
+    r"""Solitary-wave speed of the long-wave equation for any precompression, m/s.
 
-    .. math:: V_s = \frac{c_0}{f_r - 1}\sqrt{\tfrac{4}{15}(3 + 2 f_r^{5/2} - 5 f_r)},
-              \quad c_0 = \sqrt{3/2}\, c_{mat}\, \xi_0^{1/4},
-              \quad f_r = 1 + \xi_{max}/\xi_0
+    .. math:: V^2 = c_0^2\,\frac{2}{n(n+1)}\,\frac{\xi_r^{n+1} - 1 - (n+1)(\xi_r - 1)}
+              {(\xi_r - 1)^2},\quad c_0^2 = n c^2 \xi_0^{n-1},
+              \quad \xi_r = 1 + \xi_{max}/\xi_0
 
-    (Nesterenko 2001, Eq. 1.4.28).  ``xi0 = 0`` returns Eq. 8; ``xi_max → 0`` gives c0
-    and to first order Eq. 5.
+    for F = k δ^n: the first integral of the travelling wave of
+    :math:`u_{tt} = -c^2\partial_x[\xi^n + a\xi^{(n-1)/2}(\xi^{(n+1)/2})_{xx}]`
+    at its peak (docs/physics.md, "Long waves for a power-law contact").  For Hertz
+    (n = 3/2) it is Nesterenko's (2001, Eq. 1.4.28; Sen et al., Phys. Rep. 462 (2008)
+    Eq. 14) :math:`V_s = \frac{c_0}{\xi_r - 1}\sqrt{\tfrac{4}{15}(3 + 2\xi_r^{5/2} -
+    5\xi_r)}`, evaluated in that printed form (and its series for ξr - 1 < 1e-3);
+    other n without cancellation (:func:`theory._numerics.power_remainder`).
+    ``xi0 = 0`` returns the compacton's :func:`sonic_vacuum_speed` (Eq. 8);
+    ``xi_max → 0`` gives c0, to first order :math:`c_0(1 + (n-1)\xi_{max}/(6\xi_0))`
+    (paper Eq. 5 for Hertz).
 
     Parameters
     ----------
     c_mat_ : float or array
-        Material speed, m/s.
+        Material speed c = √(k d^{n+1}/m), m/s (:func:`c_mat`).
     xi0 : float or array
         Static strain δ0/d (>= 0).
     xi_max : float or array
-        Dynamic strain amplitude (>= 0).
+        Dynamic strain amplitude (>= 0), on top of ξ0.
+    exponent : float
+        n, in [1, 10].
     """
     c_mat_ = check_positive("c_mat", c_mat_)
     xi0 = check_nonnegative("xi0", xi0)
     xi_max = check_nonnegative("xi_max", xi_max)
+    n = check_exponent(exponent)
     c_mat_, xi0, xi_max = np.broadcast_arrays(c_mat_, xi0, xi_max)
+    vac_coef = np.sqrt(2.0 / (n + 1.0))  # the compacton's V/(c ξ^{(n-1)/2})
+    half = 0.5 * (n - 1.0)
     out = np.empty(c_mat_.shape)
     vac = xi0 == 0
-    out[vac] = 2.0 / np.sqrt(5.0) * c_mat_[vac] * xi_max[vac] ** 0.25
+    out[vac] = vac_coef * c_mat_[vac] * xi_max[vac] ** half
     pre = ~vac
-    cc0 = np.sqrt(1.5) * c_mat_[pre] * xi0[pre] ** 0.25
+    cc0 = np.sqrt(n) * c_mat_[pre] * xi0[pre] ** half
     eps = xi_max[pre] / xi0[pre]
-    fr = 1.0 + eps
-    # For small eps the closed form cancels catastrophically; use its series there:
-    # (4/15)(3 + 2 fr^{5/2} - 5 fr) = eps² (1 + eps/6 - eps²/48 + eps³/160 + ...).
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        big = np.sqrt(4.0 / 15.0 * (3.0 + 2.0 * fr**2.5 - 5.0 * fr)) / eps
-        # fr^{5/2} overflows for eps ≳ 1e123 (δ0/d ≲ 1e-120): the ratio is inf or NaN
-        # there and V_s its δ0 → 0 limit, Eq. 8 (c0 √(8/15) eps^{1/4} = (2/√5) c_mat ξ^{1/4})
-        series = np.where(eps < 1e-3, np.sqrt(1.0 + eps / 6.0 - eps**2 / 48.0
-                                               + eps**3 / 160.0), 0.0)
-    ratio = np.where(eps < 1e-3, series, big)
+        if n == 1.5:
+            # Nesterenko's printed form and its series below eps = 1e-3 (the closed form
+            # cancels there: ≲ 5e-11 relative at eps = 1e-3), kept bit for bit: the
+            # paper scenarios' speeds and exact-wave guesses are made of it
+            fr = 1.0 + eps
+            big = np.sqrt(4.0 / 15.0 * (3.0 + 2.0 * fr**2.5 - 5.0 * fr)) / eps
+            series = np.where(eps < 1e-3, np.sqrt(1.0 + eps / 6.0 - eps**2 / 48.0
+                                                   + eps**3 / 160.0), 0.0)
+            ratio = np.where(eps < 1e-3, series, big)
+        else:
+            # (2/(n(n+1))) [(1+eps)^{n+1} - 1 - (n+1) eps]/eps², free of cancellation
+            ratio = np.where(eps > 0, np.sqrt(2.0 / (n * (n + 1.0))
+                                              * power_remainder(eps, n + 1.0)) / eps, 1.0)
+    # fr^{n+1} overflows for eps ≳ 1e123 (δ0/d ≲ 1e-120): the ratio is inf or NaN there
+    # and V_s its δ0 → 0 limit, the compacton's
     out[pre] = np.where(np.isfinite(ratio), cc0 * ratio,
-                        2.0 / np.sqrt(5.0) * c_mat_[pre] * xi_max[pre] ** 0.25)
+                        vac_coef * c_mat_[pre] * xi_max[pre] ** half)
     return _ret(out)
 
 

@@ -9,7 +9,7 @@ from discrete import Chain
 def random_composite(rng, n=60, *, delta0=2e-7, exponent=1.5):
     """A random composite chain of steel-like grains (masses ×[0.2, 5], k ×[0.2, 5]).
 
-    ``exponent``: the contact law's n the static overlaps balance (discrete.laws).
+    ``exponent``: the contact law's n the static overlaps balance (theory.laws).
     """
     m0, k0 = 5.17e-4, 5.0e9
     mass = m0 * np.exp(rng.uniform(np.log(0.2), np.log(5.0), n))

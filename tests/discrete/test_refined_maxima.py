@@ -158,7 +158,7 @@ def test_velocity_dependent_forces_refuse_refined_maxima(kw):
     # would not be the velocity between the steps.  True is refused naming the key;
     # None (the default, on with rtol) means off there, the sampled maxima stay.
     from discrete import Simulation
-    from discrete.laws import ViscoelasticHertz
+    from theory.laws import ViscoelasticHertz
 
     kw = {"law": ViscoelasticHertz(1e-5)} if "law" in kw else kw
     init = _impact(60)

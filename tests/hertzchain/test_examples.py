@@ -407,11 +407,11 @@ def test_example_through_the_models_run_path():
 
 
 def test_scenario_laws_are_discrete_laws():
-    # [chain] law offers the registered laws of discrete.laws by their names, and each
+    # [chain] law offers the registered laws of theory.laws by their names, and each
     # maps to an instance of its class (hertzchain.runner.build_law)
-    from discrete.laws import LAWS
     from hertzchain.runner import build_law
     from hertzchain.scenario import LAWS as SCENARIO_LAWS
+    from theory.laws import LAWS
 
     assert set(SCENARIO_LAWS) <= set(LAWS)
     assert {discrete.PowerLaw.name, discrete.ViscoelasticHertz.name} <= set(SCENARIO_LAWS)

@@ -131,7 +131,7 @@ def lattice_residual(wave):
     Shifts by one grain are exact index rolls; R'' is spectral.
     """
     ppg = wave.points_per_grain
-    force = wave.k_n * np.maximum(wave.overlap, 0.0) ** 1.5
+    force = wave.k_n * np.maximum(wave.overlap, 0.0) ** wave.exponent
     rhs = (np.roll(force, ppg) - 2 * force + np.roll(force, -ppg)) / wave.mass
     q = 2 * np.pi * rfftfreq(wave.z.size, d=1 / ppg)
     lhs = wave.grain_rate**2 * irfft(-(q**2) * rfft(wave.overlap - wave.delta0), n=wave.z.size)
@@ -147,6 +147,11 @@ CASES = {
     "sonic_vacuum": dict(delta0=0.0, amplitude=1e-6),
     "paper_vmax": dict(delta0=DELTA0, velocity_max=0.0822),
     "strong": dict(delta0=DELTA0, amplitude=10 * DELTA0),
+    # other power laws F = k r^n (k_n then in N/m^n), with and without precompression
+    "n2_vacuum": dict(delta0=0.0, amplitude=1e-6, exponent=2.0),
+    "n2_precompressed": dict(delta0=DELTA0, amplitude=0.5 * DELTA0, exponent=2.0),
+    "n52_precompressed": dict(delta0=DELTA0, velocity_max=0.05, exponent=2.5),
+    "n3_strong": dict(delta0=DELTA0, amplitude=10 * DELTA0, exponent=3.0),
 }
 
 
@@ -171,7 +176,7 @@ def test_petviashvili_converges(waves, name):
     assert hist[-1] < 1e-13
     assert hist[-1] <= hist.min()
     assert waves[name].iterations >= hist.size
-    if name == "sonic_vacuum":  # cold start: geometric decrease over ~70 iterations
+    if name.endswith("vacuum"):  # cold start: geometric decrease over ~70 iterations
         assert hist.size > 20
         assert hist[-1] < 1e-12 * hist[0]
         assert np.all(hist[5::5] < hist[:-5:5])
@@ -223,6 +228,38 @@ def test_kdv_limit_of_precompressed_wave():
     assert 3.0 < rel[0] / rel[1] < 5.0
     assert shape[1] < 0.01
     assert 1.6 < shape[0] / shape[1] < 2.4
+
+
+@pytest.mark.parametrize("n", [2.0, 2.5, 3.0])
+def test_long_wave_limit_of_precompressed_wave_any_exponent(n):
+    # F = k r^n, δ0 > 0: the exact lattice wave's speed tends to the long-wave formula
+    # V² = c0² 2/(n(n+1)) (ξr^{n+1} - 1 - (n+1)(ξr - 1))/(ξr - 1)² (theory.nesterenko_speed)
+    # as ξr - 1 → 0, with an O((ξr - 1)²) error: measured 8.2e-7, 1.9e-6, 3.3e-6 at
+    # ξr - 1 = 0.01 for n = 2, 5/2, 3 (3.96x more at 0.02); tolerance 0.05 (ξr - 1)² and
+    # a ratio in (3, 5).  Profile -> KdV sech² with κ² = (n-1) ε per grain², O(ε)
+    # relative error (2.1e-3 … 2.9e-3 at ε = 0.01, ratio 1.99; tolerance 0.02, (1.6, 2.4)).
+    rel, shape = [], []
+    c = theory.c_mat(K, M, D, exponent=n)
+    for eps in (0.02, 0.01):
+        wave = discrete_solitary_wave(K, M, D, DELTA0, amplitude=eps * DELTA0,
+                                      points_per_grain=16, exponent=n)
+        assert wave.speed > theory.c0(K, M, D, DELTA0, exponent=n)
+        v_lw = theory.nesterenko_speed(c, DELTA0 / D, wave.strain_max, exponent=n)
+        rel.append(abs(wave.speed / v_lw - 1))
+        kdv = eps * DELTA0 / np.cosh(np.sqrt((n - 1) * eps) * wave.z) ** 2
+        shape.append(np.max(np.abs(wave.overlap - DELTA0 - kdv)) / wave.amplitude)
+    assert rel[1] < 0.05 * 0.01**2
+    assert 3.0 < rel[0] / rel[1] < 5.0
+    assert shape[1] < 0.02 and 1.6 < shape[0] / shape[1] < 2.4
+
+
+def test_velocity_max_reproduced_any_exponent():
+    # the "velocity" search of a precompressed n = 5/2 wave and its round trip
+    wave = discrete_solitary_wave(K, M, D, DELTA0, velocity_max=0.03, exponent=2.5)
+    assert wave.velocity_max == pytest.approx(0.03, rel=1e-10)
+    again = discrete_solitary_wave(K, M, D, DELTA0, amplitude=wave.amplitude, exponent=2.5)
+    assert again.speed == pytest.approx(wave.speed, rel=1e-12)
+    assert again.velocity_max == pytest.approx(0.03, rel=1e-10)
 
 
 @pytest.mark.parametrize("eps", [0.1, 1.0, 10.0, 100.0])
@@ -296,7 +333,10 @@ def test_wide_wave_leaves_the_grains_behind_it_at_rest():
 
 
 @pytest.mark.parametrize("name,n_grains,center,travel", [("sonic_vacuum", 40, 12.0, 14.0),
-                                                         ("paper_vmax", 200, 80.0, 40.0)])
+                                                         ("paper_vmax", 200, 80.0, 40.0),
+                                                         ("n2_vacuum", 40, 12.0, 14.0),
+                                                         ("n2_precompressed", 120, 50.0, 30.0),
+                                                         ("n52_precompressed", 120, 50.0, 30.0)])
 def test_wave_travels_unchanged_in_lattice(waves, name, n_grains, center, travel):
     # integrate the lattice (paper Eq. 2, walls at the sampled wall displacements) from
     # sample(t=0) for `travel` grains and compare with sample(t=T); DOP853 at rtol 1e-11
@@ -306,7 +346,7 @@ def test_wave_travels_unchanged_in_lattice(waves, name, n_grains, center, travel
 
     def rhs(_, y):
         u = np.concatenate([[u_left], y[:n_grains], [u_right]])
-        f = wave.k_n * np.maximum(wave.delta0 + u[:-1] - u[1:], 0.0) ** 1.5
+        f = wave.k_n * np.maximum(wave.delta0 + u[:-1] - u[1:], 0.0) ** wave.exponent
         return np.concatenate([y[n_grains:], (f[:-1] - f[1:]) / wave.mass])
 
     t_end = travel / wave.grain_rate
