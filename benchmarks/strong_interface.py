@@ -20,14 +20,14 @@ Two sets of points:
   strongly nonlinear amplitudes strain/δ0 = 9, 100 and the sonic vacuum (``--all``: all
   seven of the map's amplitudes, 175 points);
 * ``off``: interfaces off that grid, log-uniform in [1/4, 4]² from a fixed seed, at
-  strain/δ0 = 1, 2, 3, 4, 6, 9, 30, 100 and the sonic vacuum.  The crossover of the
+  strain/δ0 = 1, 1.5, 2, 2.5, 3, 4, 6, 9, 30, 100 and the sonic vacuum.  The crossover of the
   quasi-particle and lattice-acoustic theories' median errors on this set is
   :data:`theory.strong_interface.STRONG_THRESHOLD` (printed: "crossover").
 
 A point costs well under a second of CPU (chains of 160-3,400 grains); numba compiles
 the kernel first (tens of seconds).  The script lowers its own priority (``os.nice``).
 
-    python benchmarks/strong_interface.py               # grid (75) + off-grid (24 x 9)
+    python benchmarks/strong_interface.py               # grid (75) + off-grid (24 x 11)
     python benchmarks/strong_interface.py --all         # the whole 175-point map too
     python benchmarks/strong_interface.py --off 8 --no-grid   # quick look
     python benchmarks/strong_interface.py --json out.json
@@ -46,7 +46,7 @@ import numpy as np
 
 GRID = tuple(float(x) for x in np.logspace(np.log10(0.25), np.log10(4.0), 5))
 STRONG = (9.0, 100.0, math.inf)
-OFF_AMPLITUDES = (1.0, 2.0, 3.0, 4.0, 6.0, 9.0, 30.0, 100.0, math.inf)
+OFF_AMPLITUDES = (1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0, 9.0, 30.0, 100.0, math.inf)
 
 
 def row_for(eps: float) -> dict:

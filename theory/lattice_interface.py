@@ -124,7 +124,7 @@ def _pulse_spectrum(eps: float) -> tuple[np.ndarray, np.ndarray]:
     if eps < TABLE_RANGE[0]:  # KdV: w = ε sech²(κζ), ŵ(q) = ε π q / (κ² sinh(π q/(2κ)))
         s = math.sqrt(1.5 * (1.0 + eps / 6.0))
         kappa = math.sqrt(eps / 2.0)
-        q = np.linspace(0.0, min(cut / s, 60.0 * kappa), 4097)[1:]
+        q = np.linspace(0.0, min(cut / s * (1.0 - 1e-9), 60.0 * kappa), 4097)[1:]
         w_hat = eps * math.pi * q / (kappa * kappa * np.sinh(np.pi * q / (2.0 * kappa)))
     else:
         from .profiles import discrete_solitary_wave

@@ -53,13 +53,13 @@ from .solitary_family import SolitaryWaveFamily
 __all__ = ["STRONG_THRESHOLD", "THEORIES", "OutgoingWave", "StrongInterfacePrediction",
            "quasi_particle_scattering", "predict_strong"]
 
-STRONG_THRESHOLD = 4.0
+STRONG_THRESHOLD = 2.6
 """Incident strain/δ0 from which :func:`predict_strong` uses the quasi-particle theory.
 
-The crossover of the two theories' median errors against the discrete chain, measured on
-interfaces off the validity map's grid (docs/physics.md §13.5; benchmarks/strong_interface.py
-prints the measurement): lattice acoustics is the better one below it, the quasi-particle
-theory above."""
+The crossover (2.64, rounded) of the two theories' median errors against the discrete
+chain on interfaces off the validity map's grid (docs/physics.md §13.4;
+benchmarks/strong_interface.py prints it): lattice acoustics is the better one below it,
+the quasi-particle theory above."""
 
 THEORIES = ("auto", "quasi-particle", "lattice acoustics")
 """Values of :func:`predict_strong`'s ``theory``."""
