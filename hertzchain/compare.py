@@ -58,7 +58,8 @@ crossing and the discrete run's waves had separated from the interface by then (
 run summary's rule, :func:`hertzchain.measure.separated_by`: before, the partition is
 not the scattering result yet); its transmitted speed only if at least three samples of
 the front lie between the crossing and the comparison time; its reflected speed only if
-the discrete run measured a reflected wave (``reflected`` not "none"); fronts and peaks
+the discrete run's summary measured a reflected front (``front_speed_re`` finite: a
+reflected wave that is classified and travels, :mod:`hertzchain.measure`); fronts and peaks
 at the comparison time only after the crossing; and nothing counts if no sample
 precedes a wave's arrival at a chain end.  Outside its window a quantity, its
 difference and everything derived from it are NaN (JSON null);
@@ -509,8 +510,10 @@ def _windows(cmp: Comparison) -> dict[str, str]:
 
     Keys: ``energy`` (the Table-2 rows: crossed and separated by the comparison time),
     ``after`` (fronts and peaks of the transmitted and reflected waves at the comparison
-    time: crossed), ``reflected`` (the reflected front speed: the discrete run measured
-    a reflected wave) and ``all`` (no common sample before a wave reached a chain end).
+    time: crossed), ``reflected`` (the reflected front speed: the discrete run's own
+    summary measured a reflected front, :func:`hertzchain.measure.summarise` — the one
+    owner of whether there is one) and ``all`` (no common sample before a wave reached
+    a chain end).
     """
     why = {"all": cmp.window, "energy": "", "after": "", "reflected": ""}
     if cmp.run.interface is None:
@@ -531,14 +534,11 @@ def _windows(cmp: Comparison) -> dict[str, str]:
             f"grains of it stayed above {M.SEPARATION_FRACTIONS[-1]:g} of the chain's, "
             "hertzchain.measure.separated_by): the energy partition is not the "
             "scattering result yet")
-    label = (cmp.run.discrete.summary.get("reflected", None)
-             if cmp.run.discrete is not None else None)
-    if label in (None, "none"):
-        why["reflected"] = (
-            "the discrete run measured no reflected wave (reflected = none)"
-            if label == "none" else "the discrete run's reflected wave is not classified "
-            f"({cmp.run.discrete.summary.get('labels_note', '')})"
-            if cmp.run.discrete is not None else "no discrete run")
+    run_summary = cmp.run.discrete.summary if cmp.run.discrete is not None else {}
+    if not math.isfinite(run_summary.get("front_speed_re", math.nan)):
+        why["reflected"] = ("the discrete run measured no reflected front (front_speed_re: "
+                            + (run_summary.get("front_speed_re_note") or "not measured")
+                            + ")")
     return why
 
 

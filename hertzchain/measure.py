@@ -190,10 +190,12 @@ def end_arrival_row(fraction_at_end: np.ndarray, *, fraction: float = END_FRACTI
     ``active_start`` says what an end that already holds energy at the first row means:
 
     * ``"rise"`` (the discrete chain's own windows): a wave arrives when the end's
-      share rises by more than ``fraction`` above the least it held since the first
-      row.  An impact starts at the left end and leaves drifting grains there (0.1–1 %
-      of the energy at δ0 = 0): they are no arrival, a returning wave is.  For an end
-      quiet at the start this is "exceeds ``fraction``" to within the share it held;
+      share rises above the least it held since the first row by more than
+      ``fraction`` and by more than that least share itself (it more than doubles).
+      An impact starts at the left end, where the share wobbles at ~1 while the wave
+      forms, and leaves drifting grains there (0.1–1 % of the energy at δ0 = 0): they
+      are no arrival, a returning wave is.  For an end quiet at the start this is
+      "exceeds ``fraction``" to within the share it held;
     * ``"arrived"`` (two models whose end conditions differ, :func:`valid_until`): an
       end not quiet (share ≥ ``fraction``) at the first row counts as reached then
       (the models differ there from the start); otherwise the first row at which the
@@ -208,7 +210,8 @@ def end_arrival_row(fraction_at_end: np.ndarray, *, fraction: float = END_FRACTI
             return 0
         hit = np.flatnonzero(~quiet)
     elif active_start == "rise":
-        hit = np.flatnonzero(f - np.minimum.accumulate(f) > fraction)
+        low = np.minimum.accumulate(f)
+        hit = np.flatnonzero(f - low > np.maximum(fraction, low))
     else:
         raise ValueError(f"active_start must be 'rise' or 'arrived' (got {active_start!r})")
     return int(hit[0]) if hit.size else None
@@ -418,8 +421,8 @@ def front_speed(t, energy, grains: range, i_start: int, d: float, *, skip: int =
     ``front_speed_meets_rtol``).  Measured on a decaying wave (viscoelastic Hertz, see
     :data:`hertzchain.runner.GRID_ROWS_DISSIPATIVE`): estimates 2.6e-5, 3.9e-3, 2.0e-2,
     2.1e-3 at 1/8, 1/4, 1/2, 1 transit a row, errors 1e-6, 1.8e-5, 2.1e-3, 1.8e-2 (the
-    drop of the even rows alone gave 1.3e-3 at one transit: nearly passed).  ``grains`` is a range of
-    columns (step ±1): the grid is read through a view, never copied.
+    drop of the even rows alone gave 1.3e-3 at one transit: nearly passed).  ``grains``
+    is a range of columns (step ±1): the grid is read through a view, never copied.
 
     Returns
     -------

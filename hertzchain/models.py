@@ -956,7 +956,7 @@ class Run:
     initial : discrete.Initial
         The shared initial grain state.
     interfaces : list of int
-        First grain of every section after the first (:func:`hertzchain.runner.interfaces`).
+        First grain of every section after the first (:func:`hertzchain.measure.interfaces`).
     incident : IncidentWave
     discrete, continuum : ModelRun or None
     theory : TheoryModel or None
