@@ -5,7 +5,7 @@ reproduce`` report about the waves of a run is measured here, with the low-level
 of :mod:`discrete.diagnostics`, and only inside the window in which it is what its name
 says.  Outside its window a number is NaN and a label None (JSON null), and a
 ``*_note`` says why; everything derived from it (a difference, an error, a verdict)
-inherits the window (docs/physics.md §15).
+inherits the window (docs/physics.md §13).
 
 Geometry
     :func:`first_grain` (the first grain of section 0, past a striker grain prepended
@@ -30,7 +30,7 @@ Quantities and their windows (:func:`summarise`)
       (:func:`discrete.diagnostics.phase_averaged_ratios`); normalised to the incident
       energy of section 0 in the window before ``t_incident`` (``ratios_normalised_to``
       says so); a dissipative run also gets the energy dissipated between the two
-      windows, ``Ed``, so that E_T + E_R + E_d = 1 (§15), and ``dissipated`` (J);
+      windows, ``Ed``, so that E_T + E_R + E_d = 1 (docs/physics.md §13), and ``dissipated`` (J);
     * front speeds: arrival-time fits (:func:`front_speed`) on the rows before a wave
       reached a chain end, reported only if converged in the grid's row spacing;
     * labels (fracture/squeeze, compressive/expansive, pulse count) on the final state,
