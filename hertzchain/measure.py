@@ -315,7 +315,8 @@ def windows(chain: Any, t: np.ndarray, ek: np.ndarray, ep: np.ndarray, coarsen: 
 def separated_by(sim: Any, until: float) -> float:
     """When the waves of a discrete run had separated from its first interface, s.
 
-    :func:`separated_row` on the rows of its energy grid up to ``until`` (s): NaN if they
+    :func:`separated_row` on the rows of its energy grid up to ``until`` (s, a sample's
+    nominal time: the rows up to the step that took it): NaN if they
     had not (or the chain has no interface, or no grid was recorded).  ``compare``'s
     window for an energy partition: the run summary's rule, read up to the comparison
     time.
@@ -327,7 +328,9 @@ def separated_by(sim: Any, until: float) -> float:
     ifaces = interfaces(sim.chain)
     if not ifaces:
         return math.nan
-    rows = int(np.searchsorted(t, until * (1 + 1e-12), side="right"))
+    # (a sample at a nominal time is the state at the first step at or after it: the
+    # rows up to that step)
+    rows = int(np.searchsorted(t, until + float(sim.dt) * (1 - 1e-9), side="right"))
     iface = ifaces[0] // rec.energy_coarsen
     if rows < 2 or not 0 < iface < ek.shape[1]:
         return math.nan
