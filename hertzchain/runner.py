@@ -518,11 +518,7 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
         # asked for, not left to Simulation's default: the front speed depends on them
         refined_maxima=True if maxima_front else None,
         sensors=list(rec.sensors), wall_forces=rec.wall_forces,
-        strain_maxima=rec.strain_maxima,
-        # a dissipative run samples the dissipated energy with every grid row (the
-        # ratios' Ed, hertzchain.measure: interpolating D(t) between samples 10,000
-        # steps apart was 1e-3 of the incident energy off)
-        **({"monitor_every": every} if every and (law.dissipative or drag > 0) else {}))
+        strain_maxima=rec.strain_maxima)
     kwargs = {} if threads is None else {"threads": threads}
     sim = init.simulation(dt=step, record=recording, check_dt=check, law=law, drag=drag,
                           **kwargs)
