@@ -294,8 +294,6 @@ def test_a_dissipative_run_books_the_dissipated_energy_and_its_normalisation():
     # ratios are normalised to an incident energy that had already decayed, not said.
     # Energy conservation with dissipation: E_T + E_R + E_d = 1 (to the run's drift,
     # 1e-4, and the ratio windows' averaging).
-    from hertzchain.runner import run_scenario
-
     # Ed is the energy decrease of the grid between the ratio windows (E + D = E(0));
     # independently, the kernel's own booking of D(t) (Simulation.dissipated) sampled
     # with every grid row of a reference run of the same scenario, averaged over the
@@ -303,7 +301,7 @@ def test_a_dissipative_run_books_the_dissipated_energy_and_its_normalisation():
     import discrete
     from discrete import diagnostics as D
     from hertzchain.measure import interfaces, windows
-    from hertzchain.runner import build_simulation
+    from hertzchain.runner import build_simulation, run_scenario
 
     def two(**chain):
         return _sc([{"n": 150}, {"n": 200, "alpha_rho": 2.0}],
