@@ -21,16 +21,17 @@ Windows of a discrete run (:class:`Windows`, :func:`windows`, read off its energ
       (:func:`separated_row`);
     * **a wave reached a chain end** ``t_end_reached``: the first row at which the
       energy of the :data:`END_GRAINS` grains at an end rises by more than
-      :data:`END_FRACTION` of the chain's (its largest total so far) above the least it
-      held since the start (:func:`end_arrival_row`): a wall's echo or grains piling up
-      at a free end.
+      :data:`END_FRACTION` of the chain's (its largest total so far), and more than
+      doubles, above the least it held since the start (:func:`end_arrival_row`): a
+      wall's echo or grains piling up at a free end.
 
 Quantities and their windows (:func:`summarise`)
     * energy ratios (Table 2, docs/physics.md §6): after separation, phase-averaged
       (:func:`discrete.diagnostics.phase_averaged_ratios`); normalised to the incident
       energy of section 0 in the window before ``t_incident`` (``ratios_normalised_to``
       says so); a dissipative run also gets the energy dissipated between the two
-      windows, ``Ed``, so that E_T + E_R + E_d = 1 (docs/physics.md §13), and ``dissipated`` (J);
+      windows, ``Ed``, so that E_T + E_R + E_d = 1 (docs/physics.md §13), and
+      ``dissipated`` (J);
     * front speeds: arrival-time fits (:func:`front_speed`) on the rows before a wave
       reached a chain end, reported only if converged in the grid's row spacing;
     * labels (fracture/squeeze, compressive/expansive, pulse count) on the final state,
@@ -64,12 +65,12 @@ __all__ = [
     "ACTIVITY_ROWS", "CROSSING_GRAINS", "END_FRACTION", "END_GRAINS", "EXIT_ERROR",
     "EXIT_INCOMPLETE", "EXIT_NOT_VERIFIED", "EXIT_OK", "EXIT_PENDING", "FIT_FROM",
     "FRONT_ROWS_RTOL", "FRONT_THRESHOLD", "SEPARATION", "SEPARATION_FRACTIONS",
-    "TRANSMITTED_FLOOR", "Windows", "crossing_time", "end_arrival_row", "first_grain",
-    "fit_sample_speed", "front_speed", "front_speed_from_maxima", "grain_energies",
-    "incident_extent", "incident_grain", "incident_peak", "incident_strain", "interfaces",
-    "classification_amplitude", "sample_fronts", "separated_by", "separated_row",
-    "summarise", "total_energy_rows",
-    "unverified", "valid_until", "windows",
+    "TRANSMITTED_FLOOR", "Windows", "classification_amplitude", "crossing_time",
+    "end_arrival_row", "first_grain", "fit_sample_speed", "front_speed",
+    "front_speed_from_maxima", "grain_energies", "incident_extent", "incident_grain",
+    "incident_peak", "incident_strain", "interfaces", "sample_fronts", "separated_by",
+    "separated_row", "summarise", "total_energy_rows", "unverified", "valid_until",
+    "windows",
 ]
 
 # -- exit status --------------------------------------------------------------------
@@ -840,15 +841,6 @@ classifying round-off dust of 1e-50 m/s can fail)."""
 _RATIOS = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
 
 
-def _incident_amplitude(chain: Any, u, v, wall_left: float, wall_right: float) -> float:
-    """Max dynamic strain (r − δ0)/δ0 of a state, or max |v| at δ0 = 0 (classification's)."""
-    if np.any(chain.delta0 > 0):
-        r = D.overlaps_from_displacements(u, chain.delta0, wall_left, wall_right)
-        ok = chain.delta0 > 0
-        return float(np.max(np.abs(r[ok] - chain.delta0[ok]) / chain.delta0[ok]))
-    return float(np.max(np.abs(v)))
-
-
 def _dissipated_between(sim: Any, t: np.ndarray, ek: np.ndarray, ep: np.ndarray,
                         spans) -> float:
     """Energy dissipated between the two ratio windows, J.
@@ -891,6 +883,20 @@ def _normalisation(sim: Any, e_in: float, spans) -> str:
                  f"{e0:.6g} J) by the end of the incident window, and Ed is the energy "
                  "dissipated between the two windows over E_in: Et_tr + Et_re + Ed = 1")
     return text
+
+
+def classification_amplitude(chain: Any, u, v, wall_left: float = 0.0,
+                             wall_right: float = 0.0) -> float:
+    """The incident amplitude :func:`summarise` classifies against (of the initial state).
+
+    Max dynamic strain (r − δ0)/δ0 under precompression, max |v| (m/s) at δ0 = 0 (the
+    reference of :func:`discrete.diagnostics.classify_reflected`'s "none").
+    """
+    if np.any(chain.delta0 > 0):
+        r = D.overlaps_from_displacements(u, chain.delta0, wall_left, wall_right)
+        ok = chain.delta0 > 0
+        return float(np.max(np.abs(r[ok] - chain.delta0[ok]) / chain.delta0[ok]))
+    return float(np.max(np.abs(v)))
 
 
 def summarise(chain: Any, sim: Any, incident: float | None = None, *,
@@ -1043,13 +1049,3 @@ def summarise(chain: Any, sim: Any, incident: float | None = None, *,
         out["front_speed_re"] = math.nan
         out["front_speed_re_note"] = "no reflected wave (reflected = none)"
     return out
-
-
-def classification_amplitude(chain: Any, u, v, wall_left: float = 0.0,
-                             wall_right: float = 0.0) -> float:
-    """The incident amplitude :func:`summarise` classifies against (of the initial state).
-
-    Max dynamic strain (r − δ0)/δ0 under precompression, max |v| (m/s) at δ0 = 0.
-    """
-    return _incident_amplitude(chain, u, v, wall_left, wall_right)
-

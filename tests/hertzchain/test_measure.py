@@ -369,3 +369,26 @@ def test_the_plotted_interface_is_the_sections_not_a_striker_s(tmp_path, monkeyp
                         lambda ax, v, **kw: seen.append(kw["interface"]) or real(ax, v, **kw))
     plot_file(tmp_path / "s.h5", tmp_path / "s.png")
     assert seen == [31]  # the striker (grain 0) and 30 grains of section 0
+
+
+def test_interfaces_skip_a_striker_and_end_arrivals_follow_their_rules():
+    from types import SimpleNamespace
+
+    from hertzchain.measure import end_arrival_row, first_grain, interfaces
+
+    striker = SimpleNamespace(section=np.array([-1, 0, 0, 0, 1, 1, 2]), n=7)
+    assert first_grain(striker) == 1 and interfaces(striker) == [4, 6]
+    assert interfaces(SimpleNamespace(section=np.zeros(5, int), n=5)) == []
+    # "rise": an impact's end wobbles at ~1 while its wave forms and keeps drifting
+    # grains (1e-3): no arrival; a wave coming back (1e-3 -> 0.05) is one
+    impact_end = np.array([1.0, 0.9997, 1.0, 0.2, 6e-3, 1.3e-3, 1.45e-3, 1.3e-3, 0.05])
+    assert end_arrival_row(impact_end) == 8
+    assert end_arrival_row(impact_end[:8]) is None
+    quiet = np.array([0.0, 0.0, 5e-5, 2e-4, 0.3])
+    assert end_arrival_row(quiet) == 3  # a quiet end: above 1e-4 (of the chain's energy)
+    # "arrived" (two models whose ends differ): an end not quiet at the start counts at
+    # once; a quiet one at the first share >= 1e-4
+    assert end_arrival_row(impact_end, active_start="arrived") == 0
+    assert end_arrival_row(quiet, active_start="arrived") == 3
+    with pytest.raises(ValueError, match="active_start"):
+        end_arrival_row(quiet, active_start="later")
