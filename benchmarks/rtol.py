@@ -13,7 +13,7 @@ maxima); both errors are printed ("err N/2" and "max err" of the run's refined m
 run with Blanes-Moan 4 at half the default dt (measured on a 150-grain impact: ~1e-9
 off; the target is 1e-4).  An rtol run of this one-section chain records no energy
 grid: its summary's front speed (the one number it read from the grid) comes from the
-refined peak times (``runner._front_speed_from_maxima``).  "rows" is the grid's row
+refined peak times (``hertzchain.measure.front_speed_from_maxima``).  "rows" is the grid's row
 count (0: none) and "front dev" the relative difference of the run's front speed from
 the converged run's (the grid estimator, :func:`converged`).  Each
 row is timed by the run's own summary (``wall_time``: chain, initial state, the rtol

@@ -215,14 +215,19 @@ def cmd_run(args: argparse.Namespace) -> int:
             if path:
                 print(f"written: {path}")
     status = _incomplete_status(summary, out)
+    from .measure import unverified
+
     if summary.get("split_meets_rtol") is False:
-        status = status or EXIT_NOT_VERIFIED
         print(f"hertzchain: error: the kinetic/potential split Ek_*/Ep_* is not verified "
               f"to rtol = {summary['rtol']:g} (its estimated error split_estimate = "
               f"{summary['split_estimate']:.2g}); Et_* and the other quantities are "
               "(the split's windows need the waves separated and away from the chain's "
               "ends: docs/physics.md §6)",
               file=sys.stderr)
+    if unverified(summary):
+        status = status or EXIT_NOT_VERIFIED
+        print(f"hertzchain: error: not verified to rtol = {summary['rtol']:g}: "
+              f"{', '.join(unverified(summary))} false", file=sys.stderr)
     failed = [m for m in result.models if m.name != "discrete" and not m.completed]
     for m in failed:
         print(f"hertzchain: error: the {m.name} model did not complete: {m.stopped_by}",
@@ -303,7 +308,10 @@ def cmd_compare(args: argparse.Namespace) -> int:
     for m in failed:
         print(f"hertzchain: error: the {m.name} model did not complete ({m.stopped_by}); "
               "it is not compared", file=sys.stderr)
-    return EXIT_INCOMPLETE if failed else 0
+    if cmp.unverified:  # the one exit-status contract (docs/guide/exit_status.md)
+        print(f"hertzchain: error: the discrete run is not verified to rtol "
+              f"({', '.join(cmp.unverified)} false)", file=sys.stderr)
+    return EXIT_INCOMPLETE if failed else EXIT_NOT_VERIFIED if cmp.unverified else 0
 
 
 EXIT_INCOMPLETE = 3

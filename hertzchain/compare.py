@@ -14,21 +14,24 @@ What is measured, on every sampled model, with the discrete chain's definitions
   contact split half and half), over the incident energies (everything left of the
   interface at t = 0; the same for every model, which starts from the same grains) —
   the paper's Table 2 definition, at every sample time.
-* **Fronts**: the peak positions (grains, parabola-refined) of the leading pulses of the
-  grain kinetic energy ½mv² above :data:`hertzchain.models.FRONT_THRESHOLD` of the
-  incident wave's peak: the incident wave (right-most pulse left of the interface,
-  until the crossing), the transmitted wave (right-most pulse right of it) and the
-  reflected wave (left-most pulse left of it, after the crossing).  The crossing time
-  is the theory's arrival time of the incident peak at the interface plus, at its
-  speed, the larger of :data:`CROSSING_GRAINS` and the incident wave's extent behind
-  its peak (:func:`incident_extent`: the grains beyond which lies only
-  :data:`SEPARATION` of its energy, measured on the common initial state — ~20 grains
-  for the paper's wave, ~200 at strain/δ0 = 1e-3): from then on at most that fraction of
-  the incident energy has still to cross.  Front speeds are straight-line fits of these
-  positions over the samples whose front is ≥ :data:`FIT_FROM` grains from the
-  interface (transmitted and reflected: from the crossing to the comparison time;
-  incident: until the theory's arrival time of its peak at the interface — later the
-  right-most pulse left of it is its tail and the forming reflected wave).
+* **Fronts** (:func:`hertzchain.measure.sample_fronts`): the peak positions (grains,
+  parabola-refined) of the leading pulses of the grain kinetic energy ½mv² above
+  :data:`hertzchain.measure.FRONT_THRESHOLD` of the incident wave's peak: the incident
+  wave (right-most pulse left of the interface, until the crossing), the transmitted
+  wave (right-most pulse right of it) and the reflected wave (left-most pulse left of
+  it, after the crossing).  The crossing time (:func:`hertzchain.measure.crossing_time`)
+  is the theory's arrival time of the measured incident peak at the interface plus, at
+  its speed, the larger of :data:`~hertzchain.measure.CROSSING_GRAINS` and the incident
+  wave's extent behind its peak (:func:`hertzchain.measure.incident_extent`: the grains
+  beyond which lies only :data:`~hertzchain.measure.SEPARATION` of its energy, measured
+  on the common initial state — ~20 grains for the paper's wave, ~200 at strain/δ0 =
+  1e-3): from then on at most that fraction of the incident energy has still to cross.
+  Front speeds (:func:`hertzchain.measure.fit_sample_speed`) are straight-line fits of
+  these positions over the samples whose front is ≥ :data:`~hertzchain.measure.FIT_FROM`
+  grains from the interface (transmitted and reflected: from the crossing to the
+  comparison time; incident: until the theory's arrival time of its peak at the
+  interface — later the right-most pulse left of it is its tail and the forming
+  reflected wave).
 * **Differences** to the discrete chain (the reference): E_T and E_R (kinetic,
   potential, total) at the comparison time; front positions, speeds, leading-pulse
   peaks (parabola-refined between grains) and arrival times at
@@ -40,16 +43,28 @@ What is measured, on every sampled model, with the discrete chain's definitions
 
 The comparison time is the last common sample at which no wave has reached a chain end
 where the continuum's end condition differs from the discrete chain's
-(:attr:`hertzchain.models.ModelRun.valid_until`).
+(:attr:`hertzchain.models.ModelRun.valid_until`, :func:`hertzchain.measure.valid_until`).
+Every difference is measured at that one time ``t_compare`` (one common sample: the
+kinetic/potential split of a single sample carries the lattice phase, docs/physics.md
+§6), the speeds over the samples from the crossing to it; the run summary's own
+numbers (``Ek_tr`` …, ``front_speed_*``, in :meth:`Comparison.summary`) are the
+discrete run's, in their windows (:mod:`hertzchain.measure`: phase-averaged after the
+separation, arrival-time fits on the energy grid), and the report names both.
 
 Measurement windows (never a number from an invalid one)
 ---------------------------------------------------------
-A model's energy difference counts only if the comparison time is at or after the
-crossing (before it the partition is not the scattering result yet: a wide wave still
-straddles the interface); its transmitted speed only if at least three samples of the
-front lie between the crossing and the comparison time; and nothing counts if no sample
-precedes a wave's arrival at a chain end.  Otherwise the error is NaN and
-:attr:`Comparison.notes` (summary keys ``<model>_note``) says why.
+A model's energy partition counts only if the comparison time is at or after the
+crossing and the discrete run's waves had separated from the interface by then (the
+run summary's rule, :func:`hertzchain.measure.separated_by`: before, the partition is
+not the scattering result yet); its transmitted speed only if at least three samples of
+the front lie between the crossing and the comparison time; its reflected speed only if
+the discrete run's summary measured a reflected front (``front_speed_re`` finite: a
+reflected wave that is classified and travels, :mod:`hertzchain.measure`); fronts and peaks
+at the comparison time only after the crossing; and nothing counts if no sample
+precedes a wave's arrival at a chain end.  Outside its window a quantity, its
+difference and everything derived from it are NaN (JSON null);
+:attr:`Comparison.notes` (summary keys ``<model>_note``) and
+:attr:`Comparison.unmeasured` say why.
 
 Validity (:data:`THRESHOLDS`)
 -----------------------------
@@ -61,7 +76,12 @@ speed).  Within
 observables (the paper's own numbers differ from the linear theory by ~1e-3–1e-2,
 its Table 2 reports five digits); within **10 %** it gets the physics right (which
 waves, how fast, where the energy goes) but not the numbers; beyond 10 % it does not
-hold.  A model that did not complete is not compared (its row says so).
+hold.  The verdict weighs the velocity profile too: its words are those of the
+largest of the error and the profile's relative L2 difference at ``t_compare`` (a
+continuum whose energies agree but whose waves are elsewhere does not hold).  A model
+that did not complete is not compared (its row says so); a discrete run whose numbers
+are not verified to the rtol asked for (``*_meets_rtol`` false) is said so in the
+verdict, and ``hertzchain compare`` exits 4 (docs/guide/exit_status.md).
 """
 
 from __future__ import annotations
@@ -74,14 +94,13 @@ from typing import Any
 
 import numpy as np
 
-from discrete import diagnostics as D
-
-from .models import FRONT_THRESHOLD, ModelRun, Run, grain_energies, run
+from . import measure as M
+from .measure import CROSSING_GRAINS, FIT_FROM, SEPARATION, grain_energies
+from .models import ModelRun, Run, run
 from .scenario import Scenario, load_scenario
 
 __all__ = ["Comparison", "ModelSeries", "compare", "analyse", "compare_point", "THRESHOLDS",
-           "ARRIVAL_DISTANCE", "FIT_FROM", "CROSSING_GRAINS", "SEPARATION", "FORMAT",
-           "validity_word", "incident_extent"]
+           "ARRIVAL_DISTANCE", "FORMAT", "validity_word"]
 
 FORMAT = "hertzchain.compare/1"
 THRESHOLDS = (0.01, 0.10)
@@ -89,8 +108,6 @@ THRESHOLDS = (0.01, 0.10)
 ARRIVAL_DISTANCE = 100
 """Grains past the interface at which arrival times and front positions are compared
 (fewer if the run ends earlier: 80 % of the discrete front's final distance)."""
-FIT_FROM = 10
-"""Fronts closer than this to the interface (grains) are left out of the speed fits."""
 _TABLE2 = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
 
 
@@ -108,10 +125,15 @@ def validity_word(error: float) -> str:
 def _verdict_part(label: str, e: dict, interface: bool, note: str = "") -> str:
     """The verdict's clause for one model with errors ``e`` (NaN: not measured).
 
-    ``note``: why the error is not measured (:attr:`Comparison.notes`).
+    ``note``: why the error is not measured (:attr:`Comparison.notes`).  A finite
+    ``e["profile_l2"]`` (the velocity profile's relative L2 difference at the comparison
+    time) is weighed with the error: the words are those of the larger.
     """
     measures = ((("energy", "energy", "{:.1e}"), ("transmitted speed", "speed", "{:.1%}"))
                 if interface else (("front speed", "speed", "{:.1%}"),))
+    profile = e.get("profile_l2", math.nan)
+    if math.isfinite(profile):
+        measures += (("velocity profile L2", "profile_l2", "{:.2g}"),)
     got = [f"{what} {fmt.format(e[key])}" for what, key, fmt in measures
            if math.isfinite(e[key])]
     missing = [what for what, key, _ in measures if not math.isfinite(e[key])]
@@ -122,7 +144,8 @@ def _verdict_part(label: str, e: dict, interface: bool, note: str = "") -> str:
         return (f"{label} could not be compared with the discrete chain (no "
                 f"{' and no '.join(missing)} difference: a wave front or an energy was "
                 "not found in one of the models)")
-    text = f"{label} is {validity_word(e['error'])} of the discrete chain ({', '.join(got)}"
+    worst = max(e["error"], profile) if math.isfinite(profile) else e["error"]
+    text = f"{label} is {validity_word(worst)} of the discrete chain ({', '.join(got)}"
     if missing:
         text += f"; {' and '.join(missing)} not measured"
     return text + ")"
@@ -214,97 +237,18 @@ def _incident_energies(chain, first: ModelRun, iface: int | None) -> dict[str, f
     return {"kinetic": k, "potential": p, "total": k + p}
 
 
-def _fronts(chain, mrun: ModelRun, iface: int | None, ref_ek: float, i_cross: int) -> tuple:
-    kin, _ = grain_energies(chain, mrun.v, mrun.strain)
-    k = mrun.times.size
-    n = chain.n
-    fronts = {w: np.full(k, np.nan) for w in ("incident", "transmitted", "reflected")}
-    peaks = {w: np.full(k, np.nan) for w in fronts}
-    strains = {w: np.full(k, np.nan) for w in fronts}
-    i = n if iface is None else iface
-    d = float(chain.diameter[0])
-
-    def peak(signal, lo, hi) -> float:
-        """Parabola-refined extreme of ``signal`` in [lo, hi) (its value between samples)."""
-        found = D.find_pulses(signal, threshold=0.0, lo=lo, hi=hi)
-        return max((q.amplitude for q in found), key=abs) if found else math.nan
-
-    def put(which, s, p):
-        fronts[which][s] = p.position
-        lo, hi = max(p.start - 1, 0), min(p.stop + 1, n)
-        peaks[which][s] = peak(mrun.v[s], lo, hi)
-        strains[which][s] = abs(peak(mrun.strain[s], lo, min(hi + 1, n + 1))) / d
-
-    for s in range(k):
-        ek = kin[s]
-        if s < i_cross:
-            p = D.leading_pulse(ek, lo=0, hi=i, threshold=FRONT_THRESHOLD, reference=ref_ek)
-            if p is not None:
-                put("incident", s, p)
-        else:
-            if i > 1:
-                p = D.leading_pulse(ek, direction=-1, lo=0, hi=i, threshold=FRONT_THRESHOLD,
-                                    reference=ref_ek)
-                if p is not None:
-                    put("reflected", s, p)
-        if iface is not None and i < n - 1:
-            p = D.leading_pulse(ek, lo=i, hi=n, threshold=FRONT_THRESHOLD, reference=ref_ek)
-            if p is not None:
-                put("transmitted", s, p)
-    return fronts, peaks, strains
-
-
-def _fit_speed(t, x, iface: float | None, d: float, sign: int) -> float:
-    """Speed (m/s) of a front from samples ≥ FIT_FROM grains from the interface."""
-    ok = np.isfinite(x)
-    if iface is not None:
-        ok &= np.abs(x - iface) >= FIT_FROM
-    if ok.sum() < 3:
-        return math.nan
-    slope = np.polyfit(t[ok], x[ok], 1)[0]
-    return float(sign * slope * d)
-
-
-CROSSING_GRAINS = 5.0
-"""The incident wave has crossed the interface at least this many grains (at its speed)
-after its peak reached it (the half-width of the paper's precompressed wave; the
-compacton at δ0 = 0 is narrower); wider waves take their :func:`incident_extent`."""
-
-SEPARATION = 1e-4
-"""Energy fraction of the incident wave that may still be on its way across the
-interface at the crossing time (:func:`incident_extent`): 100 times below the 1 %
-validity threshold, so that a partition measured after the crossing is the scattering
-result to better than 1e-4 of the incident energy."""
-
-
-def incident_extent(chain, v: np.ndarray, strain: np.ndarray, x0: float,
-                    fraction: float = SEPARATION) -> float:
-    """Grains behind a right-going wave's peak ``x0`` holding all but ``fraction`` of its energy.
-
-    ``v`` (m/s, one per grain) and ``strain`` (m, δ − δ0 per contact) describe one state
-    of ``chain`` holding only that wave; the energy per grain is its kinetic energy plus
-    half the |potential energy| of each of its contacts (docs/physics.md §6).  The result
-    L is the smallest distance such that the grains more than L behind ``x0`` carry at
-    most ``fraction`` of the total: once the peak is L past the interface, at most that
-    fraction of the wave has still to cross.  For the KdV wave (strain ∝
-    sech²(x/W), W = √(2δ0/ξ_m) grains, whose linear potential energy F0 ξ dominates)
-    L ≈ (W/2) ln(1/fraction): ~21 grains at the paper's ξ_m/δ0 = 0.09, ~200 at 1e-3.
-    """
-    kin, pot = grain_energies(chain, v, strain)
-    e = np.abs(kin) + 0.5 * (np.abs(pot[:-1]) + np.abs(pot[1:]))
-    total = float(e.sum())
-    if not total > 0 or not math.isfinite(total):
-        return 0.0
-    first = int(np.flatnonzero(np.cumsum(e) > fraction * total)[0])
-    return max(0.0, float(x0) - first)
-
-
 def _crossing(times: np.ndarray, result: Run, extent: float) -> tuple[int, float]:
-    """First sample after the incident wave has crossed the interface, and that time (s)."""
+    """First sample after the incident wave has crossed the interface, and that time (s).
+
+    :func:`hertzchain.measure.crossing_time` from the theory's arrival time of the
+    incident peak, which starts from the measured incident wave (a placed wave's initial
+    state, an impact's snapshot on the discrete run: the same with or without a
+    continuum).
+    """
     est = result.estimates
     if est is None or not est.has_interface:
         return times.size, math.inf
-    t = est.t_hit + max(CROSSING_GRAINS, extent) * est.left["d"] / est.speed_in
+    t = M.crossing_time(est.t_hit, extent, est.left["d"], est.speed_in)
     after = np.flatnonzero(times > t)
     return (int(after[0]) if after.size else times.size), float(t)
 
@@ -342,6 +286,11 @@ class Comparison:
     window : str
         Why no sample can be compared at all ("" if some can): a wave reached a chain
         end before the first common sample.
+    t_separated : float
+        When the discrete run's waves had separated from the interface, read up to the
+        comparison time, s (:func:`hertzchain.measure.separated_by`; NaN: they had not).
+    unmeasured : dict
+        Per model: quantity of :attr:`differences` → why it is NaN (outside its window).
     """
 
     run: Run
@@ -358,6 +307,8 @@ class Comparison:
     extent: float = 0.0
     t_cross: float = math.inf
     window: str = ""
+    t_separated: float = math.nan
+    unmeasured: dict[str, dict[str, str]] = field(default_factory=dict)
 
     # ------------------------------------------------------------------ numbers
     @property
@@ -376,6 +327,27 @@ class Comparison:
         """The comparison time, s."""
         return float(self.times[self.i_compare])
 
+    @property
+    def unverified(self) -> list[str]:
+        """The discrete run's ``*_meets_rtol`` keys that are false (not verified to rtol)."""
+        disc = self.run.discrete
+        return M.unverified(disc.summary) if disc is not None else []
+
+    @property
+    def measured_at(self) -> dict[str, str]:
+        """When and how each kind of number is measured, in words (module docstring)."""
+        s = self.run.discrete.summary if self.run.discrete is not None else {}
+        return {
+            "differences": f"t_compare = {self.t_compare:.6g} s, one common sample of "
+                           "every model",
+            "speeds": f"straight-line fits of the sampled fronts from t_cross = "
+                      f"{self.t_cross:.6g} s to t_compare",
+            "run_ratios": s.get("ratios_normalised_to", "") or s.get("ratios_note", ""),
+            "run_front_speeds": "arrival times of the energy peak on the discrete run's "
+                                "energy grid (hertzchain.measure.front_speed), rows before "
+                                "a wave reached a chain end",
+            "run_labels": f"the discrete run's final state, t = {s.get('t', math.nan):.6g} s"}
+
     def verdict(self) -> str:
         """One sentence: where the continuum and the theory hold for this scenario."""
         parts = []
@@ -390,12 +362,19 @@ class Comparison:
                 "the theory (Nesterenko speeds, Eqs. 9–13)"
             parts.append(_verdict_part(label, e, self.run.interface is not None,
                                        self.notes.get(name, "")))
+        flagged = ""
+        if self.unverified:
+            s = self.run.discrete.summary
+            flagged = (f"  The discrete chain is not verified to rtol = {s.get('rtol')!r} "
+                       f"({', '.join(self.unverified)} false; split_estimate = "
+                       f"{s.get('split_estimate', math.nan):.2g}): its numbers are "
+                       "reported but not to the accuracy asked for.")
         if not parts:
-            return "Only the discrete chain ran: nothing to compare."
+            return "Only the discrete chain ran: nothing to compare." + flagged
         when = f"up to t = {self.t_compare * 1e3:.4g} ms"
         if math.isfinite(self.run.continuum.valid_until if self.run.continuum else math.inf):
             when += " (later a wave reaches a chain end, where the continuum's end differs)"
-        return f"For this scenario, {when}, " + "; ".join(parts) + "."
+        return f"For this scenario, {when}, " + "; ".join(parts) + "." + flagged
 
     def summary(self) -> dict[str, Any]:
         """Flat numbers (a sweep row): the run's summary, then differences and errors."""
@@ -410,6 +389,7 @@ class Comparison:
                     out[f"{name}_d_{key}"] = float(diff)
         out["t_compare"] = self.t_compare
         out["t_cross"] = self.t_cross
+        out["t_separated_by_compare"] = self.t_separated
         out["incident_extent"] = self.extent
         out["verdict"] = self.verdict()
         return out
@@ -422,6 +402,8 @@ class Comparison:
                 "differences": {m: {k: list(v) for k, v in d.items()}
                                 for m, d in self.differences.items()},
                 "errors": self.errors, "notes": self.notes,
+                "unmeasured": self.unmeasured, "measured_at": self.measured_at,
+                "unverified": self.unverified, "t_separated": self.t_separated,
                 "profile_errors": self.profile_errors,
                 "speeds": {m: s.speeds for m, s in self.series.items()},
                 "theory": self.run.theory.to_dict() if self.run.theory else None,
@@ -450,7 +432,7 @@ def analyse(result: Run) -> Comparison:
     m_left = float(chain.mass[max(0, (iface or chain.n) // 2)])
     ref_ek = 0.5 * m_left * result.incident.velocity ** 2
     # a placed wave's extent, on the common initial state (an impact's forms later)
-    extent = incident_extent(chain, ref.v[0], ref.strain[0], result.incident.x0) \
+    extent = M.incident_extent(chain, ref.v[0], ref.strain[0], result.incident.x0) \
         if result.incident.measured_at == 0 and ref.times[0] == 0 else 0.0
     i_cross, t_cross = _crossing(ref.times, result, extent)
     d = float(chain.diameter[0])
@@ -469,20 +451,24 @@ def analyse(result: Run) -> Comparison:
     i_hit = int(np.searchsorted(ref.times, hit, side="right"))
     for m in sampled:
         part = _partition(chain, m, iface, incident)
-        fr, pk, st = _fronts(chain, m, iface, ref_ek, i_cross)
+        fr, pk, st = M.sample_fronts(chain, m.v, m.strain, iface, ref_ek, i_cross)
         before = slice(0, min(i_hit, i_compare + 1))
         after = slice(min(i_cross, i_compare + 1), i_compare + 1)  # crossed, comparable
-        speeds = {"incident": _fit_speed(m.times[before], fr["incident"][before], x_if, d,
-                                         1),
-                  "transmitted": _fit_speed(m.times[after], fr["transmitted"][after], x_if,
-                                            d, 1),
-                  "reflected": _fit_speed(m.times[after], fr["reflected"][after], x_if, d,
-                                          -1)}
+        speeds = {"incident": M.fit_sample_speed(m.times[before], fr["incident"][before],
+                                                 x_if, d, 1),
+                  "transmitted": M.fit_sample_speed(m.times[after],
+                                                    fr["transmitted"][after], x_if, d, 1),
+                  "reflected": M.fit_sample_speed(m.times[after], fr["reflected"][after],
+                                                  x_if, d, -1)}
         series[m.name] = ModelSeries(m.name, m.label, m.times, part, fr, pk, st, speeds,
                                      m.completed, m.stopped_by, _own_partition(m))
+    sim = result.simulation
+    t_sep = (M.separated_by(sim, float(ref.times[i_compare]))
+             if sim is not None and iface is not None and "discrete" in series
+             else math.nan)
     cmp = Comparison(result, series, incident, i_cross, i_compare,
                      _display(result, ref.times, i_cross, i_compare), extent=extent,
-                     t_cross=t_cross, window=window)
+                     t_cross=t_cross, window=window, t_separated=t_sep)
     _differences(cmp)
     return cmp
 
@@ -519,8 +505,76 @@ def _interp(times, x, t) -> float:
     return float(np.interp(t, times[ok], x[ok]))
 
 
+def _windows(cmp: Comparison) -> dict[str, str]:
+    """Why each kind of difference is outside its window ("" where it is inside).
+
+    Keys: ``energy`` (the Table-2 rows: crossed and separated by the comparison time),
+    ``after`` (fronts and peaks of the transmitted and reflected waves at the comparison
+    time: crossed), ``reflected`` (the reflected front speed: the discrete run's own
+    summary measured a reflected front, :func:`hertzchain.measure.summarise` — the one
+    owner of whether there is one) and ``all`` (no common sample before a wave reached
+    a chain end).
+    """
+    why = {"all": cmp.window, "energy": "", "after": "", "reflected": ""}
+    if cmp.run.interface is None:
+        return why
+    if cmp.i_compare < cmp.i_cross:
+        t_c = cmp.t_compare * 1e3
+        why["after"] = (
+            f"the incident wave had not crossed the interface by the comparison time "
+            f"t = {t_c:.4g} ms (all but {SEPARATION:g} of its energy past it at "
+            f"t = {cmp.t_cross * 1e3:.4g} ms, {max(CROSSING_GRAINS, cmp.extent):.0f} "
+            "grains after its peak)")
+        why["energy"] = why["after"] + ": the energy partition is not the scattering " \
+            "result yet"
+    elif not cmp.t_separated <= cmp.t_compare and cmp.run.discrete is not None:
+        why["energy"] = (
+            f"the discrete run's waves had not separated from the interface by the "
+            f"comparison time t = {cmp.t_compare * 1e3:.4g} ms (the energy within 5 "
+            f"grains of it stayed above {M.SEPARATION_FRACTIONS[-1]:g} of the chain's, "
+            "hertzchain.measure.separated_by): the energy partition is not the "
+            "scattering result yet")
+    run_summary = cmp.run.discrete.summary if cmp.run.discrete is not None else {}
+    if not math.isfinite(run_summary.get("front_speed_re", math.nan)):
+        why["reflected"] = ("the discrete run measured no reflected front (front_speed_re: "
+                            + (run_summary.get("front_speed_re_note") or "not measured")
+                            + ")")
+    return why
+
+
+_GROUP = {"Ek_tr": "energy", "Ek_re": "energy", "Ep_tr": "energy", "Ep_re": "energy",
+          "Et_tr": "energy", "Et_re": "energy", "peak_transmitted": "after",
+          "peak_reflected": "after", "front_transmitted": "after",
+          "front_reflected": "after", "speed_reflected": "reflected",
+          "speed_reflected_at_measured_amplitude": "reflected"}
+"""The window (:func:`_windows`) of each row of :attr:`Comparison.differences`."""
+
+
+def _masked(cmp: Comparison, name: str, rows: dict[str, tuple]) -> dict[str, tuple]:
+    """``rows`` with every row outside its window NaN (value, model, difference).
+
+    The reasons go to ``cmp.unmeasured[name]``.
+    """
+    why = _windows(cmp)
+    out, gone = {}, {}
+    for key, row in rows.items():
+        reason = why["all"] or why.get(_GROUP.get(key, ""), "")
+        if reason:
+            out[key] = (math.nan, math.nan, math.nan)
+            gone[key] = reason
+        else:
+            out[key] = row
+    if gone:
+        cmp.unmeasured[name] = gone
+    return out
+
+
 def _differences(cmp: Comparison) -> None:
-    """Fill ``differences``, ``errors`` and ``profile_errors`` against the discrete chain."""
+    """Fill ``differences``, ``errors`` and ``profile_errors`` against the discrete chain.
+
+    A row outside its window (:func:`_windows`) is NaN, with the reason in
+    ``unmeasured``; so is the error built from it (:func:`_error`).
+    """
     result = cmp.run
     disc = cmp.series.get("discrete")
     if disc is None:
@@ -561,21 +615,25 @@ def _differences(cmp: Comparison) -> None:
                                         _interp(s.times, s.fronts["transmitted"], t_arr),
                                         _interp(s.times, s.fronts["transmitted"], t_arr)
                                         - (iface - 0.5 + cmp.arrival_distance))
+        rows = _masked(cmp, name, rows)
         cmp.differences[name] = rows
         prof = []
-        for j in cmp.display:
+        for j in sorted({*cmp.display, i}):
             diff = m.v[j] - dv[j]
             norm = float(np.linalg.norm(dv[j]))
             prof.append({"t": float(cmp.times[j]),
                          "l2": float(np.linalg.norm(diff)) / norm if norm else math.nan,
                          "linf": float(np.max(np.abs(diff))) / v_in})
-        cmp.profile_errors[name] = prof
+        cmp.profile_errors[name] = [p for p in prof if p["t"] in
+                                    {float(cmp.times[j]) for j in cmp.display}]
+        at_compare = next(p for p in prof if p["t"] == float(cmp.times[i]))
         energy = max(abs(rows["Et_tr"][2]), abs(rows["Et_re"][2])) if iface is not None \
             else math.nan
         speed_key = "speed_transmitted" if iface is not None else None
         speed = abs(rows[speed_key][2]) if speed_key else abs(
             (s.speeds["incident"] - disc.speeds["incident"]) / disc.speeds["incident"])
-        cmp.errors[name] = {**_error(cmp, name, energy, speed), "profile_l2": prof[-1]["l2"]}
+        cmp.errors[name] = {**_error(cmp, name, energy, speed),
+                            "profile_l2": math.nan if cmp.window else at_compare["l2"]}
     th = result.theory
     if th is not None:
         rows = {}
@@ -600,12 +658,14 @@ def _differences(cmp: Comparison) -> None:
                 x_th = th.fronts(np.array([t_arr]))["transmitted"][0]
                 rows["front_at_arrival"] = (iface - 0.5 + cmp.arrival_distance, float(x_th),
                                             float(x_th) - (iface - 0.5 + cmp.arrival_distance))
+            rows = _masked(cmp, "theory", rows)
             energy = max(abs(rows["Et_tr"][2]), abs(rows["Et_re"][2]))
             speed = abs(rows["speed_transmitted"][2])
         else:
             a = disc.speeds["incident"]
             rows["speed_incident"] = (a, th.speed_in, (th.speed_in - a) / a if a
                                       else math.nan)
+            rows = _masked(cmp, "theory", rows)
             energy, speed = math.nan, abs(rows["speed_incident"][2])
         cmp.differences["theory"] = rows
         cmp.errors["theory"] = _error(cmp, "theory", energy, speed)
@@ -617,19 +677,14 @@ def _error(cmp: Comparison, name: str, energy: float, speed: float) -> dict[str,
     The reason goes to ``cmp.notes[name]`` (module docstring, "Measurement windows").
     """
     result, disc = cmp.run, cmp.series["discrete"]
+    win = _windows(cmp)
     why = []
-    if cmp.window:
-        why.append(cmp.window)
+    if win["all"]:
+        why.append(win["all"])
         energy = speed = math.nan
     elif result.interface is not None:
-        if cmp.i_compare < cmp.i_cross:
-            t_c = cmp.t_compare * 1e3
-            why.append(
-                f"the incident wave had not crossed the interface by the comparison time "
-                f"t = {t_c:.4g} ms (all but {SEPARATION:g} of its energy past it at "
-                f"t = {cmp.t_cross * 1e3:.4g} ms, {max(CROSSING_GRAINS, cmp.extent):.0f} "
-                "grains after its peak): the energy partition is not the scattering "
-                "result yet")
+        if win["energy"]:
+            why.append(win["energy"])
             energy = math.nan
         if not math.isfinite(speed):
             fitted = [n for n, m in (("discrete chain", disc.speeds["transmitted"]),
@@ -678,6 +733,9 @@ def compare(scenario: Scenario | str | Path, *, cache: str | Path | None = None,
     sc = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     if cache is None and out is not None:
         cache = Path(out) / "runs"
+    # the discrete run is sampled at the common times whatever else runs: the theory is
+    # compared on the same samples with or without a continuum
+    kwargs.setdefault("samples", True)
     cmp = analyse(run(sc, cache=cache, **kwargs))
     if out is not None:
         cmp.write(out)
@@ -691,7 +749,7 @@ def compare_point(scenario: Scenario, *, out: str | Path | None = None,
     The signature of :data:`hertzchain.sweep.engine.DEFAULT_POINT_FUNCTION`; ``out``
     (a file name) writes the discrete run there.
     """
-    result = run(scenario, out=out, progress=progress)
+    result = run(scenario, out=out, progress=progress, samples=True)
     if result.discrete is None or not result.discrete.completed:
         return result.summary()
     return analyse(result).summary()

@@ -37,7 +37,8 @@ from theory import integrity
 from .cache import atomic_path, canonical_json
 from .report import Report
 
-__all__ = ["write_all", "write_hdf5", "save_figures", "write_report", "difference_rows"]
+__all__ = ["write_all", "write_hdf5", "save_figures", "write_report", "difference_rows",
+           "run_rows"]
 
 _WAVES = ("incident", "transmitted", "reflected")
 
@@ -244,6 +245,30 @@ def difference_rows(cmp) -> list[list[str]]:
     return rows
 
 
+def run_rows(cmp) -> list[list[str]]:
+    """Rows of the discrete run's own numbers: quantity, value, when/how it is measured."""
+    disc = cmp.run.discrete
+    if disc is None:
+        return []
+    s = disc.summary
+    at = cmp.measured_at
+    rows = []
+    for key in ("Et_tr", "Et_re", "Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Ed"):
+        if key in s:
+            rows.append([key, _num(s[key], ".5f"), at["run_ratios"] or "—"])
+    for key in ("front_speed_tr", "front_speed_re"):
+        if key in s:
+            rows.append([f"{key} (m/s)", _num(s[key], ".2f"),
+                         s.get(f"{key}_note") or at["run_front_speeds"]])
+    for key in ("transmitted", "reflected", "n_transmitted_pulses"):
+        if key in s:
+            rows.append([key, _num(s[key]), s.get("labels_note") or at["run_labels"]])
+    if "incident_strain" in s:
+        rows.append(["incident_strain (r − δ0)/d", _num(s["incident_strain"], ".4g"),
+                     s.get("incident_strain_note") or "hertzchain.measure.incident_strain"])
+    return rows
+
+
 def write_report(cmp, out: Path, figs: list[tuple[Path, str]]) -> tuple[Path, Path]:
     """Write ``report.md`` and ``report.html``."""
     sc = cmp.scenario
@@ -267,16 +292,31 @@ def write_report(cmp, out: Path, figs: list[tuple[Path, str]]) -> tuple[Path, Pa
                       "not compared.")
     rep.heading("Verdict")
     rep.paragraph(cmp.verdict())
+    if cmp.unverified:
+        rep.paragraph(f"**Not verified to rtol**: the discrete run's "
+                      f"{', '.join(cmp.unverified)} is false; `hertzchain compare` exits 4 "
+                      "(docs/guide/exit_status.md).")
     models = [m for m in ("continuum", "theory") if m in cmp.differences]
     if models:
         rep.heading("Differences to the discrete chain")
-        header = ["quantity", "discrete"]
+        header = ["quantity", "discrete at t_compare"]
         for m in models:
             header += [m, f"Δ {m}"]
         rep.table(header, difference_rows(cmp),
-                  caption="Energy ratios and fronts at the comparison time; Δ: model − "
-                  "discrete (speeds relative); theory speeds at its predicted amplitudes "
-                  "and at the discrete chain's measured ones")
+                  caption=f"Energy ratios, fronts and peaks at the comparison time "
+                  f"t_compare = {cmp.t_compare * 1e3:.4g} ms (one common sample of every "
+                  f"model); speeds fitted over the samples from t_cross = "
+                  f"{cmp.t_cross * 1e3:.4g} ms to t_compare; Δ: model − discrete (speeds "
+                  "relative); theory speeds at its predicted amplitudes and at the "
+                  "discrete chain's measured ones; — : outside its measurement window "
+                  "(why: the JSON's 'unmeasured')")
+    rows = run_rows(cmp)
+    if rows:
+        rep.heading("The discrete run's own numbers")
+        rep.table(["quantity", "value", "measured"], rows,
+                  caption="The discrete run's summary (hertzchain run), each in its own "
+                  "window (hertzchain.measure): the same names, other times than "
+                  "t_compare")
     for path, caption in figs:
         rep.figure(path, caption)  # (a path as save_figures returned it)
     return rep.write(out)

@@ -22,6 +22,7 @@ import numpy as np
 from theory import integrity
 
 from .cache import atomic_path
+from .measure import interfaces
 
 __all__ = ["open_result", "describe", "plot_file", "check_output"]
 
@@ -168,13 +169,15 @@ def plot_file(path: str | Path, out: str | Path | None = None) -> Path:
     has_strain = sim.record.overlap_max is not None
     ncol = 1 + has_grid + has_forces + has_strain
     fig, axes = plt.subplots(1, ncol, figsize=(5.5 * ncol, 4), squeeze=False)
-    n_left = int(np.count_nonzero(sim.chain.section == sim.chain.section[0]))
-    iface = n_left if n_left < sim.chain.n else None
+    ifaces = interfaces(sim.chain)  # (a striker grain is no section: not grain 1)
+    iface = ifaces[0] if ifaces else None
     plot_grain_profile(axes[0, 0], sim.v, interface=iface, ylabel="grain velocity (m/s)")
     axes[0, 0].set_title(f"t = {sim.t * 1e3:.4g} ms")
     if has_grid:
         e = arr["energy_kinetic"] + arr["energy_potential"]
-        plot_spacetime(axes[0, 1], arr["energy_t"], e, interface=iface,
+        coarsen = sim.record.energy_coarsen  # (columns of the grid: blocks of grains)
+        plot_spacetime(axes[0, 1], arr["energy_t"], e,
+                       interface=None if iface is None else iface // coarsen,
                        label="grain energy (J)", cmap="viridis")
     if has_forces:  # what sensors measure (discrete.Recording sensors, wall_forces)
         cols, labels = [], []

@@ -69,25 +69,17 @@ from discrete import diagnostics as D
 from theory import integrity
 
 from . import checkpoint as C
+from . import measure as M
 from .cache import cache_path, canonical_json
-from .runner import build_chain, build_initial_checked, check_size, interfaces, run_simulation
+from .measure import interfaces
+from .runner import build_chain, build_initial_checked, build_law, check_size, run_simulation
 from .scenario import ModelsSpec, Scenario, ScenarioError
 
 __all__ = ["ModelRun", "IncidentWave", "TheoryModel", "Run", "run", "sample_grid",
-           "incident_wave", "strain_from_velocity", "grain_energies", "FRONT_THRESHOLD",
-           "END_FRACTION", "FORMAT"]
+           "incident_wave", "strain_from_velocity", "FORMAT"]
 
 FORMAT = "hertzchain.continuum-samples/2"
 """``format`` attribute of a continuum result file."""
-
-FRONT_THRESHOLD = 0.05
-"""A pulse of grain kinetic energy counts as a wave front if its peak exceeds this
-fraction of the incident wave's peak grain kinetic energy (≈ 22 % in velocity)."""
-
-END_FRACTION = 1e-4
-"""A wave has reached a chain end when the energy of the :data:`END_GRAINS` grains there
-exceeds this fraction of the total (:attr:`ModelRun.valid_until`)."""
-END_GRAINS = 10
 
 _ESTIMATE_MARGIN = 4
 """Sample times are requested up to this many times the estimated run time."""
@@ -181,19 +173,6 @@ class IncidentWave:
     def amplitude(self) -> float:
         """The incident peak dynamic strain (r − δ0)/d: ``peak_strain``, else ``strain``."""
         return self.peak_strain if math.isfinite(self.peak_strain) else self.strain
-
-
-def grain_energies(chain: discrete.Chain, v: np.ndarray, strain: np.ndarray
-                   ) -> tuple[np.ndarray, np.ndarray]:
-    """Kinetic energy per grain and potential energy per contact, J (docs/physics.md §6).
-
-    ``v`` (…, N) m/s and ``strain`` (…, N+1) m (δ − δ0); the potential energy is the
-    contact energy minus the static energy of the same contact,
-    (2/5) k ([δ]_+^{5/2} − δ0^{5/2}) (:func:`theory.wave_contact_energy`).
-    """
-    kin = 0.5 * chain.mass * np.asarray(v) ** 2
-    pot = theory.wave_contact_energy(chain.delta0 + np.asarray(strain), chain.k, chain.delta0)
-    return kin, pot
 
 
 # -- theory --------------------------------------------------------------------------
@@ -451,20 +430,27 @@ def _strain_from_velocity(c_mat: float, xi0: float, c0: float, velocity: float) 
 
 def _left(chain: discrete.Chain, ifaces: list[int]) -> dict[str, float]:
     """Grain and contact parameters of the first section (past a striker)."""
-    s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain
+    s0 = M.first_grain(chain)  # a striker grain
     n_first = ifaces[0] if ifaces else chain.n
     mid = s0 + (n_first - s0) // 2
     return _side(chain, mid, max(mid, 1))
 
 
-def incident_wave(chain: discrete.Chain, init, kind: str, left: dict) -> IncidentWave:
+def incident_wave(chain: discrete.Chain, init, kind: str, left: dict, law=None,
+                  drag: float = 0.0) -> IncidentWave:
     """The incident wave of an initial state (an impact's: estimated, see :func:`run`).
 
-    Position: the peak of the grain kinetic energy (parabola-refined).  Amplitude: the
-    peak grain velocity (an exact wave's own; a cut, settled wave's as measured when it
-    was cut) and the theory's strain for it, :func:`strain_from_velocity` (at δ0 = 0
-    the compacton's peak strain is ~8 % above the exact discrete wave's at the same
-    peak velocity; under precompression they agree to ~1e-3).
+    Position: the peak of the grain kinetic energy (parabola-refined,
+    :func:`hertzchain.measure.incident_peak`).  Amplitude: the peak grain velocity (an
+    exact wave's own; a cut, settled wave's as measured when it was cut) and the
+    theory's strain for it, :func:`strain_from_velocity` (at δ0 = 0 the compacton's
+    peak strain is ~8 % above the exact discrete wave's at the same peak velocity;
+    under precompression they agree to ~1e-3); ``peak_strain``: the wave's own, measured
+    on the state's contacts (:func:`hertzchain.measure.incident_strain`, any law).  An
+    impact's wave forms on the way: 0.68 v0 (v̄max/v0 at δ0 = 0, paper Fig. 2) is only
+    the estimate that places the samples; it is measured on the discrete run
+    (:func:`incident_from_run`).  ``law``, ``drag``: the chain's contact law
+    (:mod:`discrete.laws`, default Hertz) and on-site drag rate, 1/s.
     """
     v = np.asarray(init.v)
     params = init.params or {}
@@ -472,13 +458,36 @@ def incident_wave(chain: discrete.Chain, init, kind: str, left: dict) -> Inciden
         vel = 0.68 * float(np.max(np.abs(v)))  # v̄max/v0 at δ0 = 0 (paper Fig. 2)
         xi = strain_from_velocity(left, vel)
         return IncidentWave(0.0, vel, xi)
-    kin = 0.5 * chain.mass * v**2
-    p = D.leading_pulse(kin, threshold=0.5)
-    x0 = float(p.position) if p is not None else float(np.argmax(kin))
+    x0, _ = M.incident_peak(chain, v)
+    if not math.isfinite(x0):
+        x0 = float(np.argmax(0.5 * chain.mass * v**2))
     vel = float(params["velocity_max"] if kind == "exact_wave" else
                 params.get("v_peak", np.max(np.abs(v))))
-    peak = float(params["amplitude"]) / left["d"] if kind == "exact_wave" else math.nan
-    return IncidentWave(x0, vel, strain_from_velocity(left, vel), peak_strain=peak)
+    r = D.overlaps_from_displacements(init.u, chain.delta0, init.wall_left, init.wall_right)
+    law = discrete.PowerLaw(1.5) if law is None else law
+    return IncidentWave(x0, vel, strain_from_velocity(left, vel),
+                        peak_strain=M.incident_strain(chain, v, r, law, drag))
+
+
+def incident_from_run(sim: discrete.Simulation, left: dict,
+                      strain: float) -> IncidentWave | None:
+    """An impact's incident wave, measured on the discrete run (None if it was not).
+
+    On the snapshot taken when its velocity peak passed
+    :func:`hertzchain.measure.incident_grain` (the middle of section 0): position and
+    peak velocity (:func:`hertzchain.measure.incident_peak`), the theory's strain for
+    that velocity, and ``strain``, the run summary's measured ``incident_strain``.  The
+    same measurement whether or not the run was sampled for a continuum.
+    """
+    label = discrete.WaveAt(M.incident_grain(sim.chain)).label
+    snap = next((s for s in sim.record.snapshots if s.label == label), None)
+    if snap is None:
+        return None
+    x0, vel = M.incident_peak(sim.chain, snap.v)
+    if not (math.isfinite(x0) and vel > 0):
+        return None
+    return IncidentWave(x0, vel, strain_from_velocity(left, vel), float(snap.t),
+                        peak_strain=strain)
 
 
 def _theory(chain: discrete.Chain, init, incident: IncidentWave, ifaces: list[int],
@@ -597,15 +606,9 @@ def _outcome(scenario: Scenario, summary: dict, sim: discrete.Simulation) -> dic
     :func:`hertzchain.runner.run_outcome` for the scenario's own snapshots: the common
     sample times requested past a stop event (:func:`sample_grid`) are not required.
     """
-    from types import SimpleNamespace
-
     from .runner import run_outcome
 
-    user = discrete.Recording(
-        snapshots=[discrete.AtTime(t) for t in scenario.record.snapshot_times]
-        + [discrete.WaveAt(g) for g in scenario.record.snapshot_grains])
-    view = SimpleNamespace(t=sim.t, steps=sim.steps, recording=user, record=sim.record)
-    return run_outcome(scenario, view, summary.get("stopped_by", "t_end"))
+    return run_outcome(scenario, sim, summary.get("stopped_by", "t_end"))
 
 
 def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, force,
@@ -677,32 +680,6 @@ def _ends(scenario: Scenario, init) -> str:
     walls = "free" not in (scenario.chain.left_wall, scenario.chain.right_wall)
     at_rest = not np.any(init.u) and init.wall_left == 0 and init.wall_right == 0
     return "wall" if walls and at_rest else "free"
-
-
-def _valid_until(chain: discrete.Chain, run_: ModelRun, ends: str, walls: tuple[str, str]
-                 ) -> float:
-    """First sample time at which a wave arrives at an end where the models differ.
-
-    An end that is not quiet at the first sample (a wave placed against it) gives that
-    first sample's time: the models differ there from the start.
-    """
-    if ends == "wall" and "free" not in walls:
-        return math.inf
-    kin, pot = grain_energies(chain, run_.v, run_.strain)
-    e = np.abs(kin) + 0.5 * np.abs(pot[:, :-1] + pot[:, 1:])
-    total = e.sum(axis=1)
-    out = math.inf
-    for sl in (slice(0, END_GRAINS), slice(-END_GRAINS, None)):
-        frac = e[:, sl].sum(axis=1) / np.where(total > 0, total, 1.0)
-        quiet = frac < END_FRACTION
-        if quiet.size and not quiet[0]:
-            out = min(out, float(run_.times[0]))
-            continue
-        was_quiet = np.maximum.accumulate(quiet)
-        arrived = np.flatnonzero(was_quiet & ~quiet)
-        if arrived.size:
-            out = min(out, float(run_.times[arrived[0]]))
-    return out
 
 
 def _continuum_key(scenario: Scenario, model: str, times: np.ndarray, t_final: float,
@@ -979,7 +956,7 @@ class Run:
     initial : discrete.Initial
         The shared initial grain state.
     interfaces : list of int
-        First grain of every section after the first (:func:`hertzchain.runner.interfaces`).
+        First grain of every section after the first (:func:`hertzchain.measure.interfaces`).
     incident : IncidentWave
     discrete, continuum : ModelRun or None
     theory : TheoryModel or None
@@ -1025,11 +1002,16 @@ class Run:
             out.setdefault("completed", self.discrete.completed)
             out.setdefault("stopped_by", self.discrete.stopped_by)
         out["models"] = ",".join(self.scenario.models.names)
-        # the incident wave's peak dynamic strain ξ_m/d and, under precompression, ξ_m/δ0
-        # (the amplitude axis of the model-validity map; inf in the sonic vacuum)
+        # the incident wave's peak dynamic strain ξ_m/d, measured on its state
+        # (hertzchain.measure.incident_strain; NaN, with the note, where it was not) and,
+        # under precompression, ξ_m/δ0 (the amplitude axis of the model-validity map;
+        # inf in the sonic vacuum)
         d0 = float(self.scenario.chain.delta0_over_d)
-        strain = float(self.incident.amplitude) if self.incident is not None else math.nan
+        strain = float(self.incident.peak_strain) if self.incident is not None else math.nan
         out["incident_strain"] = strain
+        if not math.isfinite(strain):
+            out["incident_strain_note"] = out.get("incident_strain_note") or (
+                "no discrete run measured the impact's incident wave")
         out["incident_strain_over_delta0"] = strain / d0 if d0 > 0 else math.inf
         if self.continuum is not None:
             c = self.continuum
@@ -1049,32 +1031,6 @@ class Run:
             out["theory_region"] = th.classes()["region"]
         out["wall_time_all"] = self.wall_time
         return out
-
-
-def _measure_impact_wave(run_: ModelRun, chain, iface: int | None, left: dict
-                         ) -> IncidentWave | None:
-    """An impact's incident wave, measured on the discrete samples once it has formed."""
-    kin, _ = grain_energies(chain, run_.v, run_.strain)
-    stop = iface if iface is not None else chain.n
-    best = None
-    for i in range(1, run_.times.size):
-        p = D.leading_pulse(kin[i], lo=0, hi=stop, threshold=0.5)
-        if p is None or p.position > 0.8 * stop:
-            break
-        if p.position > 20:
-            best = (i, p)
-    if best is None:
-        return None
-    i, p = best
-    # the formed wave's peak velocity: the largest (parabola-refined) pulse peak over the
-    # samples since it left the impact (its grain-sampled peak depends on its phase)
-    vel = 0.0
-    for k in range(1, i + 1):
-        q = D.leading_pulse(run_.v[k], lo=0, hi=stop, threshold=0.5)
-        if q is not None and q.position > 20:
-            vel = max(vel, abs(float(q.amplitude)))
-    return IncidentWave(float(p.position), vel, strain_from_velocity(left, vel),
-                        float(run_.times[i]))
 
 
 def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None = None,
@@ -1152,7 +1108,8 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
     left = _left(chain, ifaces)
     # an impact's wave forms on the way: estimated here (only the sample spacing
     # depends on it), measured on the discrete run below
-    incident = incident_wave(chain, init, scenario.initial.kind, left)
+    incident = incident_wave(chain, init, scenario.initial.kind, left,
+                             *build_law(scenario.chain))
     tm = _theory(chain, init, incident, ifaces, left)
     models = scenario.models
     sampled = bool(models.continuum) if samples is None else samples
@@ -1169,7 +1126,8 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         result.discrete, result.simulation = d_run, sim
         t_final = float(d_run.times[-1])  # the last sample (t_end, or the stop event)
         if scenario.initial.kind == "impact":
-            measured = _measure_impact_wave(d_run, chain, result.interface, left)
+            measured = incident_from_run(sim, left, float(d_run.summary.get(
+                "incident_strain", math.nan)))
             if measured is not None:
                 tm.incident = measured
                 result.incident = measured
@@ -1193,8 +1151,8 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
                                discrete_key=key, progress=progress, log=log,
                                strain_ref=strain_ref)
         if d_run is not None and c_run.completed:
-            c_run.valid_until = _valid_until(
-                chain, d_run, c_run.params.get("ends", "free"),
+            c_run.valid_until = M.valid_until(
+                chain, d_run.times, d_run.v, d_run.strain, c_run.params.get("ends", "free"),
                 (scenario.chain.left_wall, scenario.chain.right_wall))
         result.continuum = c_run
     result.wall_time = time.perf_counter() - t0

@@ -13,6 +13,14 @@ event can happen) and names the scenario key in a :class:`ScenarioError`;
 result (:mod:`hertzchain.checkpoint`), and on an instability writes the partial results
 beside the output before re-raising.
 
+Every measured quantity of the summary and its window is :mod:`hertzchain.measure`'s
+(:func:`hertzchain.measure.summarise`): the energy ratios after separation (with the
+dissipated energy ``Ed`` and ``ratios_normalised_to``), the front speeds on the rows
+before a wave reached a chain end, the labels on the final state only if the waves
+separated and no wave reached a chain end, the incident strain measured on the
+incident wave; a quantity outside its window is NaN (a label None) and its ``*_note``
+says why.
+
 Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, ``dt``,
 ``energy_drift``, ``n_grains`` and ``wall_time`` are always finite; ``integrator``,
 ``dt_source`` (``"default"``, ``"explicit"`` or ``"rtol"``), ``rtol`` (None unless
@@ -20,29 +28,17 @@ given) and ``rtol_estimate`` (the estimated relative error of an rtol run, NaN
 otherwise; :mod:`discrete.timestep`; for the total-energy ratios ``Et_*`` of a chain
 with an interface an absolute error in units of the incident energy) say how the step
 was chosen; ``split_estimate`` is the estimated error of the phase-averaged
-kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN unless ``separated``;
+kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN unless they are measured;
 :func:`discrete.diagnostics.phase_averaged_ratios`, docs/physics.md §6) and
-``split_meets_rtol`` whether it is within ``rtol`` (None without rtol or unless
-``separated``; False also when the estimate is NaN: not verified — ``hertzchain run``
-then exits 4); the six energy
-ratios are finite exactly when ``separated`` is True (False: the waves did not leave
-the interface region on the recorded grid, the incident wave was already at the
-interface at t = 0, or the chain has one section); the front speeds are NaN when fewer
-than 5 grains gave an arrival time or the wave never reached the interface,
-``front_speed_tr_over_c0L`` also at δ0 = 0.  Behind and beyond an interface a front
-speed is also NaN when it is no measurement: when it changes by more than
-:data:`FRONT_ROWS_RTOL` on every other row of the energy grid (a dispersive tail or
-drifting grains have no arrival time), and ``front_speed_re`` when the reflected wave
-is classified "none".
+``split_meets_rtol`` whether it is within ``rtol``, ``front_speed_meets_rtol`` whether
+the front speeds are converged to it in the grid's rows (None without rtol or unless
+measured; False: not verified — ``hertzchain run`` then exits 4, docs/guide/exit_status.md).
 
 How the run ended (issue 14): ``stopped_by`` names what ended it (``t_end``,
 ``until_front_at`` or ``max_steps``) and ``completed`` says whether that is what the
 scenario asked for (:func:`run_outcome`; ``incomplete_reason`` says why not).  A
 ``t_end`` or snapshot time that ``max_steps`` cannot reach, and a ``t_end`` shorter than
-one step, are refused before the run (:func:`check_stop`).  Labels mean something only
-once the waves have separated: ``transmitted``, ``reflected`` and
-``n_transmitted_pulses`` are None (JSON null; "" in sweep tables) unless ``separated``;
-"none" is a measured answer (no such wave).
+one step, are refused before the run (:func:`check_stop`).
 """
 
 from __future__ import annotations
@@ -60,16 +56,17 @@ import theory
 from discrete import diagnostics as D
 from discrete.initial import cut_wave, exact_wave, impact
 
+from . import measure as M
 from .cache import canonical_json, remove_stale_temporaries
+from .measure import interfaces
 from .scenario import ChainSpec, Scenario, ScenarioError, SectionSpec
 
-__all__ = ["build_chain", "build_law", "build_section", "build_initial", "interfaces",
+__all__ = ["build_chain", "build_law", "build_section", "build_initial",
            "build_initial_checked",
            "build_simulation", "check_run", "check_stop", "run_outcome", "run_scenario",
-           "run_simulation", "summarise", "incident_amplitude", "partial_path", "STOPPED_BY",
-           "GRID_ROWS_PER_GRAIN", "GRID_ROWS_PER_GRAIN_RTOL", "SEPARATION_FRACTIONS",
-           "split_row_spacing",
-           "MAX_OVERLAP_OVER_D"]
+           "run_simulation", "summarise", "partial_path", "STOPPED_BY",
+           "GRID_ROWS_PER_GRAIN", "GRID_ROWS_PER_GRAIN_RTOL", "GRID_ROWS_DISSIPATIVE",
+           "split_row_spacing", "MAX_OVERLAP_OVER_D"]
 
 GRID_ROWS_PER_GRAIN = 0.5
 """Energy space-time grid: one row per this many grain transits of the incident wave."""
@@ -77,7 +74,7 @@ GRID_ROWS_PER_GRAIN = 0.5
 GRID_ROWS_PER_GRAIN_RTOL = 1.0
 """The same in a run whose step is chosen for ``rtol`` on a chain of one section
 without running maxima (with them, such a run records no grid: its front speed comes
-from the refined peak times, :func:`_front_speed_from_maxima`).
+from the refined peak times, :func:`hertzchain.measure.front_speed_from_maxima`).
 
 There the summary reads only the transmitted front speed from the grid (arrival times
 refined by a parabola through three rows, a straight-line fit over the grains), and
@@ -94,7 +91,22 @@ phase-averaged energy split): their reflected front speed is not
 converged in the row spacing (266, 294 and 279 m/s at 0.25, 0.5 and 2 transits a row
 behind a precompressed interface, δ0/d = 1e-3), so a coarser grid would change a
 reported number by more than rtol (``tests/hertzchain/test_runner.py``); such a speed
-is now NaN (:data:`FRONT_ROWS_RTOL`), and finer rows let more of them converge."""
+is now NaN (:data:`hertzchain.measure.FRONT_ROWS_RTOL`), and finer rows let more of
+them converge."""
+
+GRID_ROWS_DISSIPATIVE = 0.125
+"""Row spacing, in incident transits, of a run with a dissipative law or drag.
+
+A decaying wave slows down along the chain (V ∝ ξ^{1/4}, Eq. 8), and the parabola
+through three rows that refines each grain's arrival time is biased by the pulse's
+changing shape; the bias no longer averages out over the grains as for a steady wave.
+Measured (viscoelastic Hertz, damping time 2e-7 s, 150 grains, impact, dt 2e-9 s,
+transit ~8 µs): the front speed 609.4847, 609.4845, 609.4735, 610.77 and 598.7 m/s
+at rows every 125, 250, 500, 1,000 and 2,000 steps (1/64 … 1/4 transit; the grains
+fitted fixed by the refined peaks, :func:`hertzchain.measure.front_speed`); the
+lossless chain 657.1277 m/s to 2e-7 at all of them.  An eighth of a transit keeps it
+~2e-5 off (inside :data:`hertzchain.measure.FRONT_ROWS_RTOL` and rtol = 1e-4; the
+every-other-row check then passes)."""
 
 def split_row_spacing(chain: discrete.Chain) -> float:
     """Grid row spacing, in incident transits d/V, that lets the split be phase-averaged.
@@ -117,7 +129,7 @@ def split_row_spacing(chain: discrete.Chain) -> float:
     """
     kk = np.asarray(chain.k, dtype=float)
     mm = np.asarray(chain.mass, dtype=float)
-    s0 = int(np.count_nonzero(chain.section < 0))  # (a striker belongs to no section)
+    s0 = M.first_grain(chain)  # (a striker belongs to no section)
     k0, m0 = kk[min(s0 + 1, kk.size - 1)], mm[s0]
     r_max = 1.0
     for i in interfaces(chain):
@@ -126,29 +138,6 @@ def split_row_spacing(chain: discrete.Chain) -> float:
         r_max = max(r_max, max(q ** 0.5, q ** (1 / 3)) * (m0 / mm[i]) ** 0.5)
     return min(GRID_ROWS_PER_GRAIN, 1.0 / (r_max + 1.0))
 
-
-SEPARATION_FRACTIONS = (1e-6, 1e-5, 1e-4, 1e-3)
-"""Energy fractions near the interface tried, strictest first, to call the waves separated."""
-
-def separated_row(activity: np.ndarray, iface: int) -> tuple[int | None, float]:
-    """The grid row where the waves count as separated, and the fraction that was met.
-
-    The first of :data:`SEPARATION_FRACTIONS` (strictest first) for which
-    :func:`discrete.diagnostics.separated_time_index` finds a row, given the interface
-    activity per row (:func:`discrete.diagnostics.interface_activity`, computed once by
-    the caller); (None, NaN) if none is met.  The summary's rule, also Table 2's.
-    """
-    for fraction in SEPARATION_FRACTIONS:
-        i_out = D.separated_time_index(None, iface, fraction=fraction, activity=activity)
-        if i_out is not None:
-            return i_out, fraction
-    return None, math.nan
-
-
-TRANSMITTED_FLOOR = 1e-3
-"""The transmitted wave is classified only if the right section's largest |v| exceeds
-this fraction of the chain's (otherwise "none": the wave has not arrived, and
-classifying round-off dust of 1e-50 m/s can fail)."""
 
 _MAX_GRID = 2e7  # entries of the (rows, columns) energy grid before coarsening
 
@@ -239,17 +228,6 @@ def build_initial(scenario: Scenario, chain: discrete.Chain, *, cache_dir=None):
                         cache_dir=cache_dir)
     return exact_wave(chain, ini.center, velocity_max=ini.velocity_max,
                       strain_max=ini.strain_max, law=build_law(scenario.chain)[0])
-
-
-def interfaces(chain: discrete.Chain) -> list[int]:
-    """First grain of every section after the first: the interfaces of ``chain``.
-
-    The one place the interface position comes from (grain ``i`` right of contact ``i``);
-    a striker grain prepended by :func:`discrete.initial.impact` (section -1) is not a
-    section.  Empty for a monodisperse chain.
-    """
-    slices = [s for s in chain.section_slices() if chain.section[s.start] >= 0]
-    return [s.start for s in slices[1:]]
 
 
 def _wave_speed_estimate(chain: discrete.Chain, v: np.ndarray) -> float:
@@ -527,9 +505,12 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     maxima_front = (rtol_one_section and rec.running_max
                     and not (law.dissipative or drag > 0))
     if energy_grid and rec.energy_grid and every is None and not maxima_front:
-        # (two sections: rows dense enough that the energy ratios' split does not alias)
+        # (two sections: rows dense enough that the energy ratios' split does not alias;
+        # a decaying wave: dense enough for its front speed, GRID_ROWS_DISSIPATIVE)
         per = (split_row_spacing(init.chain) if ifaces else GRID_ROWS_PER_GRAIN_RTOL
                if rtol_one_section else GRID_ROWS_PER_GRAIN)
+        if law.dissipative or drag > 0:
+            per = min(per, GRID_ROWS_DISSIPATIVE)
         every = max(1, int(per * d / (speed * dt)))
     if every:
         # (never beyond max_steps: t_end = 1e300 with max_steps = 10 is refused by
@@ -538,9 +519,13 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
         rows = t_est / (every * dt)
         while rows * init.chain.n / coarsen > _MAX_GRID and coarsen < init.chain.n:
             coarsen *= 2
+    # an impact's incident wave forms on the way: measured (incident strain, position,
+    # peak velocity) when its velocity peak passes the middle of section 0
+    measuring = ([discrete.WaveAt(M.incident_grain(init.chain))]
+                 if scenario.initial.kind == "impact" else [])
     recording = discrete.Recording(
         snapshots=[discrete.AtTime(t) for t in rec.snapshot_times]
-        + [discrete.WaveAt(g) for g in rec.snapshot_grains],
+        + [discrete.WaveAt(g) for g in rec.snapshot_grains] + measuring,
         series_grains=list(rec.time_series_grains), series_every=rec.series_every,
         maxima=rec.running_max, energy_every=every, energy_coarsen=coarsen,
         # asked for, not left to Simulation's default: the front speed depends on them
@@ -562,7 +547,7 @@ def _check_given_initial(chain: discrete.Chain, init) -> None:
     contact) are compared exactly (both are built from the same scenario keys).
     """
     c = init.chain
-    s0 = int(np.count_nonzero(c.section < 0))  # a prepended striker grain
+    s0 = M.first_grain(c)  # a prepended striker grain
     c0 = s0 + 1 if s0 else 0  # first contact of ``c`` that is one of ``chain``'s
     q0 = 1 if s0 else 0
     if not (c.n == chain.n + s0 and np.array_equal(c.mass[s0:], chain.mass)
@@ -573,273 +558,32 @@ def _check_given_initial(chain: discrete.Chain, init) -> None:
                          "masses, contact constants or static overlaps)")
 
 
-def _column_argmax(e: np.ndarray, block: int = 64) -> np.ndarray:
-    """``e.argmax(axis=0)`` (first maximum of each column), by blocks of rows.
-
-    NumPy's argmax along the first axis of a C-ordered grid transposes the whole grid
-    (~30 ms for 8,000 × 625 rows); blocks of 64 rows stay in cache (~5 ms).
-    """
-    best = e[0].copy()
-    idx = np.zeros(e.shape[1], dtype=np.int64)
-    for s in range(1, e.shape[0], block):
-        blk = e[s:s + block]
-        m = blk.max(axis=0)
-        better = m > best
-        if better.any():
-            cols = np.flatnonzero(better)
-            idx[cols] = s + blk[:, cols].argmax(axis=0)
-            best[cols] = m[cols]
-    return idx
-
-
-FRONT_ROWS_RTOL = 1e-3
-"""Largest relative change of the reflected front speed when every other grid row is
-dropped for it to be reported (else NaN, :func:`_front_speed` with ``check_rows``).
-
-The reflected wave is often no travelling pulse at all: at δ0 = 0 an expansive
-"reflection" is grains drifting apart, and behind many interfaces the reflected energy
-is a dispersive tail.  Its energy peak per grain is then no arrival time, and the fitted
-"speed" depended on the grid: measured on 300 | 300-grain chains (``until_front_at``
-500, rows every 25 … 400 steps), point b (δ0/d = 1e-3) 885.59 at 25-100 steps, 869 at
-200 and 672 at 400; point b at δ0 = 0 550, 576, 438, 404 m/s; points c and d gave
-389 and 897 m/s at 400 steps and none at finer rows.  Where the reflected wave is a
-pulse the speed is converged in the rows: point N 898.19-898.45 m/s (δ0/d = 1e-3,
-25-200 steps), 523.66-523.76 (δ0 = 0), a change of <= 3e-4 per halving of the rows,
-inside this tolerance; the transmitted front speed changes by <= 4e-4 between 200 and
-400 steps (point a) and is not checked."""
-
-
-def _arrival_fit(e: np.ndarray, tt: np.ndarray, x: np.ndarray, skip: int,
-                 floor_after_skip: bool) -> float:
-    """Grains per second from the energy peaks of the columns of ``e`` (rows at ``tt``)."""
-    if e.shape[0] < 3:
-        return math.nan
-    i = _column_argmax(e)
-    peak = np.take_along_axis(e, i[None, :], axis=0)[0]  # = e.max(axis=0)
-    # the floor is a fraction of the largest peak: of every grain's, or (reflected
-    # front) of the fitted grains' only: the grains next to the interface still hold the
-    # incident wave's tail, which would put every reflected peak below the floor
-    top = peak[skip:].max(initial=0.0) if floor_after_skip else peak.max()
-    ok = (i > 0) & (i < e.shape[0] - 1) & (peak > 0.2 * top)
-    ok[:skip] = False
-    cols = np.flatnonzero(ok)
-    if cols.size < 5:
-        return math.nan
-    y0, y1, y2 = e[i[cols] - 1, cols], e[i[cols], cols], e[i[cols] + 1, cols]
-    den = y0 - 2 * y1 + y2
-    frac = np.where(den != 0, 0.5 * (y0 - y2) / np.where(den != 0, den, 1), 0.0)
-    dt_row = tt[1] - tt[0]
-    arrival = tt[i[cols]] + frac * dt_row
-    return float(np.polyfit(arrival, x[cols], 1)[0])
-
-
-def _front_speed(t, energy, grains: range, i_start: int, d: float, *, skip: int = 10,
-                 check_rows: bool = False, floor_after_skip: bool = False) -> float:
-    """Front speed (m/s) from arrival times of the energy peak at ``grains`` (in order).
-
-    For each grain the row of its largest energy after ``i_start`` is refined by a
-    parabola through the neighbouring rows; a straight-line fit of grain position against
-    arrival time over the grains from ``skip`` past the start to the last grain the peak
-    reached gives the speed (Fig. 6).  NaN if fewer than 5 grains qualify.  ``grains``
-    is a range of columns (step ±1): the grid is read through a view, never copied.
-
-    ``floor_after_skip`` (the reflected front): the peaks count from 0.2 of the largest
-    one past ``skip``, not of all (the grains next to the interface still hold the
-    incident wave's tail).  ``check_rows`` (the fronts behind and beyond an interface):
-    the speed is measured again on every other row, and is NaN unless both exist and
-    agree within :data:`FRONT_ROWS_RTOL` (a number that depends on the grid is not a
-    front speed).
-    """
-    stop = None if grains.stop < 0 else grains.stop
-    e = np.asarray(energy)[i_start:, slice(grains.start, stop, grains.step)]
-    tt = np.asarray(t)[i_start:]
-    if len(grains) < skip + 5:
-        return math.nan
-    x = np.asarray(grains)
-    slope = _arrival_fit(e, tt, x, skip, floor_after_skip)
-    if check_rows and math.isfinite(slope) and slope != 0:
-        half = _arrival_fit(e[::2], tt[::2], x, skip, floor_after_skip)
-        if not (math.isfinite(half) and abs(half / slope - 1) <= FRONT_ROWS_RTOL):
-            return math.nan
-    return abs(slope) * d
-
-
-def _front_speed_from_maxima(vmax, vmax_time, v, d: float, *, skip: int = 10) -> float:
-    """Front speed (m/s) from the times of every grain's refined velocity peak.
-
-    The same estimator as :func:`_front_speed` on the kinetic-energy grid (a grain's
-    kinetic energy peaks when its speed does), with the peak times the kernel found
-    between the steps (``record.vmax_time``: cubic Hermite, O(h⁴); the grid's are a
-    parabola through rows half a transit apart): a straight-line fit
-    (:func:`discrete.diagnostics.fit_speed`) of grain index against peak time over the
-    grains from ``skip`` on whose peak has passed (v below half of it, as the rtol probe
-    counts a maximum, ``discrete.timestep``) and is above 0.2 of the largest, times the
-    grain diameter ``d`` (m).  NaN if fewer than 5 grains qualify.
-    """
-    vmax, tpk, v = (np.asarray(a, dtype=float) for a in (vmax, vmax_time, v))
-    done = (v < 0.5 * vmax) & np.isfinite(tpk) & (vmax > 0)
-    if not done.any():
-        return math.nan
-    ok = done & (vmax > 0.2 * vmax[done].max())
-    ok[:skip] = False
-    cols = np.flatnonzero(ok)
-    if cols.size < 5:
-        return math.nan
-    return abs(D.fit_speed(cols, tpk[cols]).speed) * d
-
-
-def incident_amplitude(chain: discrete.Chain, u, v, wall_left: float = 0.0,
-                       wall_right: float = 0.0) -> float:
-    """Amplitude of the incident wave: max dynamic strain (r - δ0)/δ0, or max |v| at δ0 = 0."""
-    if np.any(chain.delta0 > 0):
-        r = D.overlaps_from_displacements(u, chain.delta0, wall_left, wall_right)
-        ok = chain.delta0 > 0
-        return float(np.max(np.abs(r[ok] - chain.delta0[ok]) / chain.delta0[ok]))
-    return float(np.max(np.abs(v)))
-
-
-ACTIVITY_ROWS = 256
-"""Grid rows per block in :func:`total_energy_rows` (256 × 1,000 grains: 2 MiB)."""
-
-
-def total_energy_rows(ek: np.ndarray, ep: np.ndarray, fn):
-    """``fn`` of the total energy grid e = ek + ep (J, (T, Nc)), row block by row block.
-
-    ``fn(e_block)`` returns one array, or a tuple of arrays, with one value per row of
-    the block (it may overwrite the block, and must not return a view of it: one block
-    buffer serves every block); the blocks' results are joined.  The same values, bit
-    for bit, as ``fn`` of the whole e for any row-wise ``fn`` (each row's reductions do
-    not depend on the other rows; a block is C-contiguous like a fresh array), with
-    neither e nor |e| held whole (issue 13: Fig. 8's point Q held four 37 MiB grids at
-    once, ek, ep, e and |e|; now two and a block of :data:`ACTIVITY_ROWS` rows).  The
-    buffer is allocated once: a fresh 2-4 MB block per block was mapped and faulted in
-    anew (:func:`hertzchain.reproduce.common.map_large_arrays`); measured on a Fig. 7
-    point's 1,509 × 1,900 grid (AMD EPYC Zen 4): the interface activity 24 → 4.5 ms.
-    """
-    rows = ek.shape[0]
-    buf = np.empty((min(ACTIVITY_ROWS, rows), *ek.shape[1:]),
-                   dtype=np.result_type(ek, ep))
-    parts = []
-    for i in range(0, max(rows, 1), ACTIVITY_ROWS):
-        block = buf[:min(ACTIVITY_ROWS, rows - i)]
-        np.add(ek[i:i + ACTIVITY_ROWS], ep[i:i + ACTIVITY_ROWS], out=block)
-        parts.append(fn(block))
-    if isinstance(parts[0], tuple):
-        return tuple(np.concatenate(col) for col in zip(*parts, strict=True))
-    return np.concatenate(parts)
-
-
-def _interface_activity(ek: np.ndarray, ep: np.ndarray, iface: int) -> np.ndarray:
-    """:func:`discrete.diagnostics.interface_activity` of e = ek + ep, by row blocks.
-
-    (:func:`total_energy_rows`: bit for bit the whole grid's; |e| taken in the block.)
-    """
-    return total_energy_rows(ek, ep,
-                             lambda e: D.interface_activity(e, iface, overwrite=True))
-
-
 def summarise(chain: discrete.Chain, sim: discrete.Simulation,
-              incident: float | None = None) -> dict:
-    """Flat summary of a finished two-section run (see module docstring).
+              incident: float | None = None, *, rtol: float | None = None) -> dict:
+    """The measured quantities of a finished run: :func:`hertzchain.measure.summarise`."""
+    return M.summarise(chain, sim, incident, rtol=rtol)
 
-    ``incident`` is the incident amplitude (:func:`incident_amplitude`); reflected waves
-    below 5 % of it are classified ``"none"``, and so is a transmitted wave whose peak
-    velocity is below :data:`TRANSMITTED_FLOOR` of the chain's.
 
-    The labels (``transmitted``, ``reflected``, ``n_transmitted_pulses``) are None
-    unless the waves separated, and the front speeds NaN if the wave never reached the
-    interface (module docstring).
+def _incident_strain(scenario: Scenario, sim: discrete.Simulation, strain0: float) -> dict:
+    """``incident_strain`` and ``incident_strain_note`` of a finished run.
 
-    For a chain with one section only the drift, cost and front speed are filled; the
-    energy ratios and classifications need an interface (section 0 | section 1).  A
-    striker grain prepended by :func:`discrete.initial.impact` (section -1) belongs to
-    neither section.
+    The peak dynamic strain of the incident wave (:func:`hertzchain.measure.incident_strain`):
+    of the initial state (``strain0``) for a placed wave, of the snapshot taken when an
+    impact's wave passed :func:`hertzchain.measure.incident_grain`.
     """
-    out: dict = {"steps": int(sim.steps), "t": float(sim.t), "dt": float(sim.dt),
-                 "energy_drift": float(sim.energy_drift), "n_grains": int(chain.n)}
-    keys = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
-    out.update(dict.fromkeys(keys, math.nan))
-    out.update(front_speed_tr=math.nan, front_speed_re=math.nan,
-               front_speed_tr_over_c0L=math.nan, transmitted=None, reflected=None,
-               n_transmitted_pulses=None, separated=False, separation_fraction=math.nan,
-               split_estimate=math.nan)
-    rec = sim.record
-    s0 = int(np.count_nonzero(chain.section < 0))  # a striker grain, if any
-    d = float(chain.diameter[s0])
-    ifaces = interfaces(chain)
-    if not len(rec.energy):
-        if not ifaces and rec.vmax_time is not None:  # an rtol run's maxima
-            out["front_speed_tr"] = _front_speed_from_maxima(
-                rec.vmax_refined, rec.vmax_time, sim.v, d)
-        return out
-    t, ek, ep = rec.energy_grids()  # (views of the record's grid, no copy)
-    coarsen = rec.energy_coarsen
-    n_left = ifaces[0] if ifaces else chain.n
-    two = bool(ifaces)
-    block_section = chain.section[::coarsen][: ek.shape[1]]
-    if not two:
-        out["front_speed_tr"] = _front_speed(t, ek, range(ek.shape[1]), 0, d * coarsen)
-        return out
-    iface = n_left // coarsen
-    act = _interface_activity(ek, ep, iface)  # (once for the fractions below)
-    try:
-        i_in = D.incident_time_index(None, iface, activity=act)
-    except ValueError:
-        i_in = None
-    # "Separated": the energy within 5 grains of the interface stays below a fraction of
-    # the total.  A cut impact wave drags a weak dispersive tail (~1e-5 of the energy)
-    # across the interface for a long time, so the strictest fraction that is met is used
-    # and reported (docs/physics.md §6: the attribution of the interface contact then changes
-    # the ratios by less than that fraction).
-    i_out, used = separated_row(act, iface)
-    if i_in is not None and i_out is not None:
-        # the kinetic/potential split averaged over the lattice phase in windows of
-        # SPLIT_WINDOW_TRANSITS incident transits before i_in and after i_out (a single
-        # row's split depends on its phase, which moves with dt: docs/physics.md §6)
-        r, split_est = D.phase_averaged_ratios(t, ek, ep, block_section, i_in, i_out,
-                                               coarsen=coarsen)
-        ratios = {k: float(v) for k, v in r.as_dict().items() if k in keys}
-        if all(math.isfinite(v) for v in ratios.values()):
-            out.update(ratios, separated=True, separation_fraction=used,
-                       split_estimate=split_est)
-    # the wave reached the interface: its energy there passed 1e-6 of the total on the
-    # grid (incident_time_index is the last row before), or it started there
-    if i_in is not None and i_in >= ek.shape[0] - 1:
-        return out  # no transmitted or reflected wave yet: no speeds, no labels
-    # arrival times after the incident peak has reached the interface
-    i_hit = int(np.argmax(ek[:, max(iface - 1, 0)]))
-    vtr = _front_speed(t, ek, range(iface, ek.shape[1]), i_hit, d * coarsen,
-                       check_rows=True)
-    vre = _front_speed(t, ek, range(iface - 1, -1, -1), i_hit + 1, d * coarsen,
-                       check_rows=True, floor_after_skip=True)
-    out["front_speed_tr"], out["front_speed_re"] = vtr, vre
-    precompressed = chain.delta0[s0 + 1] > 0
-    if precompressed:
-        c0l = float(theory.c0(chain.k[s0 + 1], chain.mass[s0], d, chain.delta0[s0 + 1]))
-        out["front_speed_tr_over_c0L"] = vtr / c0l
-    # classification on the final state (Fig. 7), only once the waves have separated:
-    # before, the left section still holds (part of) the incident wave and the right one
-    # a transmitted wave still forming, and a label would describe neither
-    if not out["separated"]:
-        return out
-    # (ranges of fewer than 3 grains are left "none")
-    out.update(transmitted="none", reflected="none", n_transmitted_pulses=0)
-    v_tr = float(np.max(np.abs(sim.v[n_left:])))
-    if chain.n - 1 - n_left >= 2 and v_tr > TRANSMITTED_FLOOR * float(np.max(np.abs(sim.v))):
-        ctr = D.classify_transmitted(sim.v, lo=n_left, hi=chain.n - 1, direction=1)
-        out["transmitted"], out["n_transmitted_pulses"] = ctr.label, int(ctr.n_pulses)
-    lo = s0 + 1 if precompressed else s0
-    if n_left - 1 - lo >= 2:
-        if precompressed:
-            cre = D.classify_reflected(overlaps=sim.overlaps(), delta0=chain.delta0,
-                                       lo=lo, hi=n_left - 1, reference=incident)
-        else:
-            cre = D.classify_reflected(velocity=sim.v, lo=lo, hi=n_left - 1,
-                                       reference=incident)
-        out["reflected"] = cre.label
-    if out["reflected"] == "none":  # measured: no reflected wave, so no front to time
-        out["front_speed_re"] = math.nan
-    return out
+    if scenario.initial.kind != "impact":
+        return {"incident_strain": strain0, "incident_strain_note": ""}
+    g = M.incident_grain(sim.chain)
+    snap = next((s for s in sim.record.snapshots
+                 if s.label == discrete.WaveAt(g).label), None)
+    if snap is None:
+        return {"incident_strain": math.nan, "incident_strain_note":
+                f"the impact's wave had not reached grain {g} (the middle of section 0, "
+                "where it is measured) by the end of the run"}
+    law, drag = build_law(scenario.chain)
+    return {"incident_strain": M.incident_strain(sim.chain, snap.v, snap.overlaps, law, drag,
+                                                 at=g),
+            "incident_strain_note": ""}
 
 
 def partial_path(out: str | Path) -> Path:
@@ -939,8 +683,10 @@ def run_outcome(scenario: Scenario, sim: discrete.Simulation, stopped_by: str) -
                    f"before {goal}")
     from collections import Counter
 
-    missing = Counter(e.label for e in sim.recording.events()) \
-        - Counter(s.label for s in sim.record.snapshots)
+    # the scenario's own snapshots (not the measurement's, hertzchain.measure)
+    wanted = [discrete.AtTime(t).label for t in scenario.record.snapshot_times] \
+        + [discrete.WaveAt(g).label for g in scenario.record.snapshot_grains]
+    missing = Counter(wanted) - Counter(s.label for s in sim.record.snapshots)
     if missing:
         why.append(f"the snapshots {sorted(missing.elements())} were never taken")
     return {"stopped_by": key, "completed": not why, "incomplete_reason": "; ".join(why)}
@@ -1070,19 +816,25 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
     if resumed is not None:
         sim, extra = resumed
         chain, amp, elapsed = sim.chain, extra["incident_amplitude"], extra["wall_time"]
+        strain0 = extra.get("incident_strain", math.nan)
         say(f"resuming from {ckpt}: t = {sim.t:.6g} s, step {sim.steps}")
     else:
         chain, init, sim = build_simulation(scenario, threads=threads, check=check,
                                             cache_dir=cache_dir, init=init)
         check_stop(scenario, sim.dt)
-        amp = incident_amplitude(chain, init.u, init.v, init.wall_left, init.wall_right)
+        amp = M.classification_amplitude(chain, init.u, init.v, init.wall_left,
+                                         init.wall_right)
+        strain0 = math.nan if scenario.initial.kind == "impact" else M.incident_strain(
+            chain, init.v, D.overlaps_from_displacements(init.u, chain.delta0,
+                                                          init.wall_left, init.wall_right),
+            *build_law(scenario.chain))
         elapsed = 0.0
     until = None
     if scenario.run.until_front_at is not None:
         until = discrete.WaveAt(scenario.run.until_front_at)
 
     def extra_state() -> dict:
-        return {"incident_amplitude": amp,
+        return {"incident_amplitude": amp, "incident_strain": strain0,
                 "wall_time": elapsed + time.perf_counter() - start,
                 "scenario": scenario.to_dict()}
 
@@ -1101,12 +853,15 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
             if ckpt is not None and ckpt.exists():
                 text += f"; the last checkpoint {ckpt} is kept"
             raise discrete.InstabilityError(text) from exc
-        summary = {**run_outcome(scenario, sim, stopped_by), **summarise(chain, sim, amp)}
         ts = sim.time_step  # how dt was chosen, and the accuracy estimate of an rtol run
+        summary = {**run_outcome(scenario, sim, stopped_by),
+                   **M.summarise(chain, sim, amp, rtol=ts.rtol),
+                   **_incident_strain(scenario, sim, strain0)}
         summary.update(integrator=sim.integrator, dt_source=ts.source,
                        rtol=ts.rtol, rtol_estimate=ts.error_estimate)
         # the split's own estimate against rtol (NaN: not verified, so not met)
-        summary["split_meets_rtol"] = (None if ts.rtol is None or not summary["separated"]
+        summary["split_meets_rtol"] = (None if ts.rtol is None
+                                       or not math.isfinite(summary["Ek_tr"])
                                        else bool(summary["split_estimate"] <= ts.rtol))
         summary["wall_time"] = elapsed + time.perf_counter() - start
         if out is not None and save:

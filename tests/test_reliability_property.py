@@ -46,7 +46,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from hertzchain.runner import SEPARATION_FRACTIONS, build_simulation, run_scenario
+from hertzchain.measure import SEPARATION_FRACTIONS
+from hertzchain.runner import build_simulation, run_scenario
 from hertzchain.scenario import ScenarioError, parse_scenario
 
 RATIOS = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
@@ -55,7 +56,12 @@ KEYS = {*RATIOS, "front_speed_tr", "front_speed_re", "front_speed_tr_over_c0L",
         "separation_fraction", "split_estimate", "split_meets_rtol", "energy_drift", "steps",
         "t", "dt", "n_grains", "wall_time",
         "stopped_by", "completed", "incomplete_reason",
-        "integrator", "dt_source", "rtol", "rtol_estimate"}  # how dt was chosen (issue 17)
+        "integrator", "dt_source", "rtol", "rtol_estimate",  # how dt was chosen (issue 17)
+        # the windows and notes of hertzchain.measure
+        "front_speed_meets_rtol", "t_incident", "t_separated", "t_end_reached",
+        "end_reached", "Ed", "dissipated", "ratios_normalised_to", "ratios_note",
+        "labels_note", "front_speed_tr_note", "front_speed_re_note", "incident_strain",
+        "incident_strain_note"}
 MAX_STEPS = 100_000
 DRIFT_BOUND = 1e-4
 
@@ -173,22 +179,32 @@ def _check(summary: dict, data: dict, bound: float) -> None:
     assert summary["completed"] == (by == wanted and snapshots_due), summary
     assert bool(summary["incomplete_reason"]) == (not summary["completed"])
     ratios = [summary[k] for k in RATIOS]
+    totals = [summary["Et_tr"], summary["Et_re"], summary["Ed"]]
     if summary["separated"]:
-        assert all(math.isfinite(r) for r in ratios), summary
+        assert all(math.isfinite(r) for r in totals), summary
         assert summary["separation_fraction"] in SEPARATION_FRACTIONS
+        assert all(math.isfinite(r) for r in ratios), summary
+        assert summary["ratios_normalised_to"].startswith("E_in = ")
     else:
-        assert all(math.isnan(r) for r in ratios), summary
+        assert all(math.isnan(r) for r in ratios + totals), summary
         assert math.isnan(summary["separation_fraction"])
+        assert summary["ratios_note"], summary
     for key in ("front_speed_tr", "front_speed_re", "front_speed_tr_over_c0L"):
         assert not math.isinf(summary[key]), key
-    # labels only where they mean something: once the waves have separated
-    if summary["separated"]:
+    for key in ("front_speed_tr", "front_speed_re"):  # a NaN says why, a number does not
+        assert math.isnan(summary[key]) == bool(summary[f"{key}_note"]), summary
+    assert math.isfinite(summary["incident_strain"]) != bool(summary["incident_strain_note"])
+    # labels only where they mean something: once the waves have separated and before
+    # any wave reached a chain end (hertzchain.measure)
+    if summary["separated"] and not summary["end_reached"]:
         assert summary["transmitted"] in ("fracture", "squeeze", "none")
         assert summary["reflected"] in ("compressive", "expansive", "none")
         assert summary["n_transmitted_pulses"] >= (summary["transmitted"] != "none")
+        assert not summary["labels_note"]
     else:
         assert summary["transmitted"] is summary["reflected"] is None
         assert summary["n_transmitted_pulses"] is None
+        assert summary["labels_note"], summary
 
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])

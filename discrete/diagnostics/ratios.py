@@ -13,7 +13,7 @@ energy minus the static precompression energy, see :mod:`.energies`) and total e
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -67,6 +67,10 @@ class EnergyRatios:
         per-grain energies only).
     interface : str
         Attribution of the interface contact used.
+    windows : tuple
+        ((start, stop), (start, stop)) in s: the spans over which the incident and the
+        final energies were averaged (:func:`phase_averaged_ratios`; one row's time
+        twice when a single row was read); () when not known.
     """
 
     Ek_tr: float
@@ -80,6 +84,7 @@ class EnergyRatios:
     incident_linear: float
     incident_quadratic: float
     interface: str
+    windows: tuple = ()
 
     KEYS = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re")
 
@@ -373,10 +378,11 @@ def phase_averaged_ratios(
         sec = np.asarray(section)
         n_left = int(np.flatnonzero(sec == left)[-1]) + 1 if np.any(sec == left) else 0
         transit = _incident_transit(ek, ep, t, i_incident, n_left) / coarsen
+    rows_only = ((float(t[i_incident]),) * 2, (float(t[i_final]),) * 2)
     if not (transit is not None and np.isfinite(transit) and transit > 0):
         r = energy_ratios_from_grid(ek, ep, section, i_incident, i_final, left=left,
                                     right=right)
-        return r, float("nan")
+        return replace(r, windows=rows_only), float("nan")
 
     # windows: [t_in - W, t_in] and [t_out, t_out + W], cut to the grid; the estimate's
     # windows have 3/4 of their length and the same centres (a linear drift of the
@@ -405,10 +411,10 @@ def phase_averaged_ratios(
     if full is None or short is None:  # fewer than 3 rows in a window: the single rows
         r = energy_ratios_from_grid(ek, ep, section, i_incident, i_final, left=left,
                                     right=right)
-        return r, float("nan")
+        return replace(r, windows=rows_only), float("nan")
     est = max(abs(getattr(full, k) - getattr(short, k))
               for k in ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re"))
-    return full, float(est)
+    return replace(full, windows=tuple((float(a), float(b)) for a, b in spans)), float(est)
 
 
 def interface_activity(energy: ArrayLike, interface: int, halfwidth: int = 5, *,

@@ -139,7 +139,7 @@ Memory (issue 13): Fig. 8's largest point run (Q, 4,879 × 1,000-grain energy gr
 37 MiB per kind) needs three grids on top of what the process holds already (the two
 kinds, stored once in ``discrete.recording.EnergyGrid``, and one grid-sized map at a
 time in :func:`.fig8.maps_from_grid`; :func:`.table2._reduce` works by row blocks,
-``hertzchain.runner.total_energy_rows``).  Measured, AMD EPYC Zen 4, warm, one process
+``hertzchain.measure.total_energy_rows``).  Measured, AMD EPYC Zen 4, warm, one process
 (ru_maxrss after each item, 2026-11-27, load 3-5): Fig. 8 first 340 MiB (main: 342),
 after Fig. 3 375 MiB (410 before the row blocks), Fig. 7 in report order after the
 rest 380 MiB (main: 394).  The numbers are the same, bit for bit (the items share only

@@ -115,7 +115,7 @@ def _case(ctx: Context, item: str, alpha: float, s: dict) -> CaseResult:
     p = _params(item, alpha, s)
     r = run_models(ctx, item, scenario(item, alpha, s))
     sim, path = r.simulation, r.discrete.path
-    n_left = p["n_left"]
+    n_left = r.interface  # (hertzchain.measure.interfaces: the scenario's p["n_left"])
     arr = sim.record.arrays()
     t, ser = arr["series_t"], arr["series"]
     umax = np.asarray(sim.record.umax)

@@ -158,7 +158,7 @@ def _case(ctx: Context, case: str, s: dict) -> CaseResult:
     with claim(ctx, f"fig5-{case}"):  # (the other lane may be running it: run_spare)
         r = _run_case(ctx, case, s)
     sim, path = r.simulation, r.discrete.path
-    n_left = p["interface"]
+    n_left = r.interface  # (hertzchain.measure.interfaces: the scenario's p["interface"])
     chain = sim.chain
     v = np.asarray(sim.v)
     # incident peak velocity: the running maximum on left grains passed before the interface

@@ -53,8 +53,8 @@ from discrete import diagnostics as D
 from theory import integrity
 
 from ..cache import cache_path, canonical_json
+from ..measure import end_arrival_row, interfaces, separated_row, total_energy_rows
 from ..paper import TABLE2, TABLE2_KEYS
-from ..runner import separated_row, total_energy_rows
 from .common import Context, replace_by_reduced, run_models, trim_heap
 
 __all__ = ["QUICK", "FULL", "POINTS", "RUN_ORDER", "in_run_order", "DISTANCES",
@@ -76,6 +76,11 @@ def in_run_order(points) -> list[str]:
     return sorted(points, key=lambda p: RUN_ORDER.index(p) if p in RUN_ORDER
                   else len(RUN_ORDER))
 
+
+WALL_GRAINS, WALL_FRACTION = 5, 1e-3
+"""The reflected wave has reached the left wall when the energy of the first 5 grains
+exceeds 1e-3 of the chain's (:func:`hertzchain.measure.end_arrival_row`): its echo
+would change E_R, so the drift rows stop there."""
 
 DISTANCES = (10, 30, 50, 100, 150, 200)
 """Grains past the interface at which the drift of the ratios is tabulated."""
@@ -199,23 +204,24 @@ def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
 
     chain = grids.chain
     ek, ep, t = grids.ek, grids.ep, grids.t
-    iface = s["n_left"]
+    iface = interfaces(chain)[0]
 
     def per_row(e):  # (a block of rows of e = ek + ep; overwritten with |e|)
         front = _front(e, iface)  # (of the signed e: before |e| is taken in place)
         act = D.interface_activity(e, iface, overwrite=True)  # e is |e| from here
-        return act, front, e.sum(axis=1), e[:, :5].sum(axis=1)
+        return act, front, e.sum(axis=1), e[:, :WALL_GRAINS].sum(axis=1)
 
     # the interface activity (once: the row rules below read it), the transmitted front
     # and the energy near the left wall, per row, by row blocks (bit for bit the whole
-    # grid's, without holding e and |e|: runner.total_energy_rows)
+    # grid's, without holding e and |e|: hertzchain.measure.total_energy_rows)
     activity, front, tot, near_wall = total_energy_rows(ek, ep, per_row)
     i_in = D.incident_time_index(None, iface, activity=activity)
     i_out, _ = separated_row(activity, iface)  # the runner's rule
     ratios = {k: float(summary[k]) for k in TABLE2_KEYS}
     # rows before the reflected wave reaches the left wall (its echo would change Re)
-    at_wall = np.flatnonzero(near_wall > 1e-3 * tot)
-    last = int(at_wall[0]) if at_wall.size else ek.shape[0]
+    at_wall = end_arrival_row(near_wall / np.where(tot > 0, tot, 1.0),
+                              fraction=WALL_FRACTION, active_start="arrived")
+    last = ek.shape[0] if at_wall is None else at_wall
     drift = {}
     for dist in DISTANCES:
         rows = np.flatnonzero(front[:last] >= dist)

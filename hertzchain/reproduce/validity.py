@@ -61,7 +61,7 @@ SONIC_STRAIN = 1e-3
 the chain has no scale; 1e-3 is the paper's v0 = 1 m/s wave, 0.95e-3)."""
 FIT_GRAINS = 100
 """Grains (at the incident speed) the run goes on past the crossing: the transmitted
-front speed is fitted over them (≥ 3 samples, compare.FIT_FROM past the interface)."""
+front speed is fitted over them (≥ 3 samples, hertzchain.measure.FIT_FROM past the interface)."""
 SPEED_RATIO = 4.0
 """Largest transmitted over incident wave speed on the map's (α_ρ, α_kn) ∈ [1/4, 4]²
 (γ_c0 ≤ 2·4^{1/3} = 3.17 under precompression; c_mat ratio (α_kn/α_ρ)^{1/2} ≤ 4 times
@@ -84,10 +84,10 @@ def amplitude_row(strain_over_delta0: float, delta0_over_d: float) -> dict:
       solver resolved it) in the left section, n_dom/2 + 5 grains before the interface
       (the exact wave's placement refuses tails above 1e-12 of the peak outside its
       section);
-    * it has crossed the interface (:data:`hertzchain.compare.SEPARATION` of its energy
-      left, :func:`hertzchain.compare.incident_extent`) L = ln(1/SEPARATION)/q grains
+    * it has crossed the interface (:data:`hertzchain.measure.SEPARATION` of its energy
+      left, :func:`hertzchain.measure.incident_extent`) L = ln(1/SEPARATION)/q grains
       after its peak (the linear potential energy F0 ξ ∝ the strain dominates the tail;
-      at least :data:`~hertzchain.compare.CROSSING_GRAINS`);
+      at least :data:`~hertzchain.measure.CROSSING_GRAINS`);
     * the run ends :data:`FIT_GRAINS` (or L, if more) grains later, at
       t_end = (n_dom/2 + 5 + L + max(FIT_GRAINS, L)) d / V;
     * the chain ends stay quiet: nothing that leaves the wave to the left at t = 0
@@ -97,7 +97,7 @@ def amplitude_row(strain_over_delta0: float, delta0_over_d: float) -> dict:
       n_dom/2 + 5 + L + max(FIT_GRAINS, L) + 20 —, nor does the reflected wave; the
       right section holds :data:`SPEED_RATIO` × (L + max(FIT_GRAINS, L) + T) + 20
       grains, T = ln(1/END_FRACTION)/q (≥ 10) grains of the transmitted wave's tail
-      (energy of the last ten grains below :data:`hertzchain.models.END_FRACTION` of
+      (energy of the last ten grains below :data:`hertzchain.measure.END_FRACTION` of
       the total).
 
     In the sonic vacuum the tail is doubly exponential (no q): L = CROSSING_GRAINS, T = 10.
@@ -113,8 +113,7 @@ def amplitude_row(strain_over_delta0: float, delta0_over_d: float) -> dict:
 
     import theory
 
-    from ..compare import CROSSING_GRAINS, SEPARATION
-    from ..models import END_FRACTION
+    from ..measure import CROSSING_GRAINS, END_FRACTION, SEPARATION
 
     mat, d = theory.PAPER_MATERIAL, theory.PAPER_DIAMETER
     k, m = theory.hertz_constant(d, mat), theory.grain_mass(d, mat.density)

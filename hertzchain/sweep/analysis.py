@@ -73,7 +73,8 @@ class Agreement:
     Attributes
     ----------
     n_classified : int
-        Points with status "ok" and finite (α_ρ, α_kn).
+        Points with status "ok" (not "unverified", docs/guide/exit_status.md) and
+        finite (α_ρ, α_kn).
     fraction_agree, fraction_agree_transmitted, fraction_agree_reflected : float
         Fractions of those points (off the lines, unless ``strict_lines``) whose both /
         transmitted / reflected labels agree.

@@ -113,6 +113,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         print(f"{outcome.n_incomplete} point(s) ended before their stop condition "
               "(column 'completed' false, the reason in 'incomplete_reason'): raise "
               "[run] max_steps or t_end in the sweep's base scenario", file=sys.stderr)
+    if getattr(outcome, "n_unverified", 0):
+        print(f"{outcome.n_unverified} point(s) are not verified to the rtol asked for "
+              "(status 'unverified'; see the 'error' column)", file=sys.stderr)
     status = exit_status(outcome)
     if status == EXIT_ALL_FAILED and not full:
         print(f"hertzchain: error: every point of the sweep failed (table {outcome.table})",
@@ -136,7 +139,11 @@ def exit_status(outcome) -> int:
         return EXIT_PENDING
     if outcome.n_points and outcome.n_failed == outcome.n_points:
         return EXIT_ALL_FAILED
-    return EXIT_SOME_BAD if outcome.n_failed or outcome.n_incomplete else 0
+    if outcome.n_failed or outcome.n_incomplete:
+        return EXIT_SOME_BAD
+    from ..measure import EXIT_NOT_VERIFIED  # (the one contract: docs/guide/exit_status.md)
+
+    return EXIT_NOT_VERIFIED if getattr(outcome, "n_unverified", 0) else 0
 
 
 def cmd_plot_sweep(args: argparse.Namespace) -> int:

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..cache import atomic_path
+from ..measure import unverified
 from ..scenario import Scenario, ScenarioError, parse_scenario
 from .spec import Point, SweepError, SweepSpec, load_sweep_spec, parse_sweep_spec
 from .store import SUMMARY_FIELDS, RecordStore, records_from_table, write_table
@@ -92,7 +93,7 @@ class SweepOutcome:
     n_ok, n_failed, n_pending : int
         Status counts of the whole table after this call.
     n_incomplete : int
-        Points with status "ok" whose run ended before its stop condition
+        Points with status "ok" or "unverified" whose run ended before its stop condition
         (``completed`` false in the summary; the reason is in ``incomplete_reason``).
     elapsed : float
         Wall time of this call, s.
@@ -101,6 +102,9 @@ class SweepOutcome:
     n_lost : int
         Points whose worker died (``KilledWorker``) in this call: left pending, retried
         by a plain rerun.
+    n_unverified : int
+        Points that ran but whose summary is not verified to the rtol asked for (status
+        "unverified", :func:`hertzchain.measure.unverified`).
     """
 
     directory: Path
@@ -115,6 +119,7 @@ class SweepOutcome:
     interrupted: bool = False
     n_incomplete: int = 0
     n_lost: int = 0
+    n_unverified: int = 0
 
     def to_dict(self) -> dict:
         """JSON-able dict (paths as strings)."""
@@ -211,9 +216,12 @@ def run_point(point_function: PointFunction, scenario: Scenario, point_id: str,
               values: Mapping[str, Any], out: str | None = None) -> dict[str, Any]:
     """Run one point and return its record; any ``Exception`` becomes a failed record.
 
-    This is the Dask task.  The record has ``id``, ``values``, ``status`` ("ok" or
-    "failed"), ``error`` (``"Type: message"``), ``traceback``, ``summary``,
-    ``point_wall_time`` (s), ``worker`` ("host:pid") and ``full_output``.
+    This is the Dask task.  The record has ``id``, ``values``, ``status`` ("ok",
+    "unverified" — it ran, but a ``*_meets_rtol`` key of its summary is false
+    (:func:`hertzchain.measure.unverified`): its numbers are kept, flagged — or
+    "failed"), ``error`` (``"Type: message"``, or which keys did not verify),
+    ``traceback``, ``summary``, ``point_wall_time`` (s), ``worker`` ("host:pid") and
+    ``full_output``.
     """
     t0 = time.perf_counter()
     rec: dict[str, Any] = {"id": point_id, "values": dict(values),
@@ -222,7 +230,11 @@ def run_point(point_function: PointFunction, scenario: Scenario, point_id: str,
     try:
         summary = point_function(scenario, out=None if out is None else Path(out),
                                  progress=False)
-        rec.update(status="ok", error="", summary=_check_summary(summary))
+        summary = _check_summary(summary)
+        bad = unverified(summary)  # not verified to rtol: reported, but not "ok"
+        rec.update(status="unverified" if bad else "ok",
+                   error=f"not verified to rtol: {', '.join(bad)} false" if bad else "",
+                   summary=summary)
         if out is not None and Path(out).exists():
             rec["full_output"] = str(out)
     except Exception as exc:  # noqa: BLE001 - a failed point must not stop the sweep
@@ -412,14 +424,15 @@ def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
                 consolidate_every=consolidate_every, on_result=on_result,
                 n_skipped=n_skipped)
     statuses = [records[p.id]["status"] if p.id in records else "pending" for p in points]
-    incomplete = sum(1 for p in points if p.id in records and records[p.id]["status"] == "ok"
+    incomplete = sum(1 for p in points if p.id in records
+                     and records[p.id]["status"] in ("ok", "unverified")
                      and (records[p.id].get("summary") or {}).get("completed") is False)
     return SweepOutcome(
         directory=directory, table=table_path, n_points=len(points), n_skipped=n_skipped,
         n_run=n_run, n_ok=statuses.count("ok"), n_failed=statuses.count("failed"),
         n_pending=statuses.count("pending"), elapsed=time.perf_counter() - t_start,
         interrupted=interrupted or statuses.count("pending") > 0, n_incomplete=incomplete,
-        n_lost=n_lost)
+        n_lost=n_lost, n_unverified=statuses.count("unverified"))
 
 
 def _worker_lost(exc: BaseException) -> bool:

@@ -18,8 +18,8 @@ at most the line being written, and an atomic rename never exposes a partial tab
 
 ``results.h5`` holds one group ``/table`` with one 1-D dataset per column, one row per
 point of the sweep in the sweep's order (see :func:`write_table` for the columns); the
-file attributes carry the format name and version and the counts of ok, failed and
-pending points, and the scalar string dataset ``/spec_json`` the sweep specification.
+file attributes carry the format name and version and the counts of ok, unverified,
+failed and pending points, and the scalar string dataset ``/spec_json`` the sweep specification.
 """
 
 from __future__ import annotations
@@ -290,7 +290,8 @@ def write_table(path: str | os.PathLike, spec: SweepSpec, points: Sequence[Point
     -----
     Columns of ``/table``: ``id`` (12-hex param_hash of the point's scenario), ``index``
     (position in the sweep), one column per axis (its ``name``; attribute ``path``), the
-    derived interface columns of :func:`derived_columns`, ``status`` ("ok", "failed" or
+    derived interface columns of :func:`derived_columns`, ``status`` ("ok", "unverified"
+    — ran, but not verified to its rtol, docs/guide/exit_status.md —, "failed" or
     "pending"), ``error``, ``point_wall_time`` (s, measured around the point function),
     ``worker``, ``full_output`` (path of the per-run file or ""), ``point_function``
     (``module:name`` of the function that made the record), then the run summary's
@@ -300,7 +301,8 @@ def write_table(path: str | os.PathLike, spec: SweepSpec, points: Sequence[Point
     path = Path(path)
     arrays, attrs = build_columns(points, records)
     status = arrays["status"]
-    counts = {s: int(np.count_nonzero(status == s)) for s in ("ok", "failed", "pending")}
+    counts = {s: int(np.count_nonzero(status == s))
+              for s in ("ok", "unverified", "failed", "pending")}
     axis_paths = {a.name: a.path for a in spec.axes}
     with integrity.sealed_hdf5(path, in_memory=True) as fh:  # a full disk: clean OSError
         fh.attrs["format"] = FORMAT
@@ -454,7 +456,7 @@ def records_from_table(path: str | os.PathLike) -> dict[str, dict]:
 
     for i in range(n):
         status = cols["status"][i]
-        if status not in ("ok", "failed"):
+        if status not in ("ok", "unverified", "failed"):
             continue
         rec = {"id": cols["id"][i], "values": {a: cols[a][i] for a in axes},
                "status": status, "error": cols["error"][i],
@@ -462,7 +464,7 @@ def records_from_table(path: str | os.PathLike) -> dict[str, dict]:
                "worker": cols["worker"][i], "full_output": cols["full_output"][i],
                "point_function": cols["point_function"][i],
                "restored_from": str(path), "summary": {}}
-        if status == "ok":
+        if status in ("ok", "unverified"):
             for name in names:
                 if str(info[name].get("kind", "")) == "summary":
                     key = name.removeprefix("summary.")

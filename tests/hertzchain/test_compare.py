@@ -175,7 +175,7 @@ def test_incident_extent_is_the_wave_tail(strain_over_delta0):
     # all but SEPARATION of it lies within ln(1/SEPARATION)/q grains behind the peak
     # (21.9 grains at strain/δ0 = 0.09, 65.2 at 0.01) — to the grain, the sampling step.
     from discrete import diagnostics as D
-    from hertzchain.compare import SEPARATION, incident_extent
+    from hertzchain.measure import SEPARATION, incident_extent
     from hertzchain.reproduce.validity import amplitude_row
     from hertzchain.runner import build_chain, build_initial_checked
 
@@ -212,7 +212,7 @@ def test_a_wave_that_has_not_crossed_is_not_compared():
 
 def test_an_end_not_quiet_at_the_start_leaves_nothing_to_compare():
     # a wave against a free continuum end from t = 0: the models differ there at once
-    from hertzchain.models import END_GRAINS, ModelRun, _valid_until
+    from hertzchain.measure import END_GRAINS, valid_until
     from hertzchain.runner import build_chain
 
     sc = _paper_wave()
@@ -221,10 +221,10 @@ def test_an_end_not_quiet_at_the_start_leaves_nothing_to_compare():
     v = np.zeros((5, ch.n))
     v[:, 3] = 0.05  # energy at the left end in every sample
     v[:, 100] = 0.05
-    mrun = ModelRun("discrete", "d", t, v, np.zeros((5, ch.n + 1)), float(t[-1]))
-    assert _valid_until(ch, mrun, "free", ("paper", "paper")) == 0.0
+    strain = np.zeros((5, ch.n + 1))
+    assert valid_until(ch, t, v, strain, "free", ("paper", "paper")) == 0.0
     v[0, 3] = 0.0  # quiet at first, then a wave arrives: that sample's time
-    assert _valid_until(ch, mrun, "free", ("paper", "paper")) == t[1]
+    assert valid_until(ch, t, v, strain, "free", ("paper", "paper")) == t[1]
     assert END_GRAINS == 10
 
 
