@@ -66,6 +66,7 @@ from .precompression import (
 from .profiles import (
     ChainState,
     DiscreteSolitaryWave,
+    SonicVacuumWave,
     compacton_motion,
     compacton_strain,
     compacton_width,
@@ -74,6 +75,7 @@ from .profiles import (
     kdv_soliton_motion,
     kdv_soliton_strain,
     kdv_soliton_width,
+    sonic_vacuum_wave_constants,
 )
 from .speeds import (
     c0,
@@ -112,6 +114,8 @@ __all__ = [
     "compacton_strain",
     "discrete_solitary_wave",
     "discrete_speed_constant",
+    "SonicVacuumWave",
+    "sonic_vacuum_wave_constants",
     "kdv_soliton_motion",
     "kdv_soliton_strain",
     "kdv_soliton_width",

@@ -148,7 +148,7 @@ def test_drag_wave_decay(beta, v0):
     g = np.array([150, 250, 350, 450, 550, 600])
     np.testing.assert_allclose(sim.record.vmax[g],
                                Ds.drag_wave_decay(g - 100, v0, K, M, beta), rtol=1e-3)
-    c = theory.tapers.sonic_vacuum_wave_constants()
+    c = theory.sonic_vacuum_wave_constants()
     s0 = c.rate * np.sqrt(K / M) * (v0 * np.sqrt(M / K)) ** 0.2
     assert Ds.drag_wave_decay(9 * s0 / beta, v0, K, M, beta) == 0.0
 
