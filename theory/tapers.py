@@ -23,7 +23,7 @@ The published comparisons (Harbola et al. 2009: the BCA pulse velocity "quantita
 accurate"; Machado, Rosas & Lindenberg, Eur. Phys. J. E (2013), arXiv:1307.1191: the BCA
 captures the trends of the momentum and energy along tapered chains, not their values)
 give no numerical tolerance; the measured agreement with the discrete chain is in
-docs/physics.md §14.
+docs/physics.md §12.
 
 The adiabatic wave scales the exact lattice wave at δ0 = 0 with its dimensionless
 constants (energy, momentum, amplitude and speed per peak velocity:
@@ -162,7 +162,7 @@ def bca_arrival_times(masses, k_contacts, v0: float, *, exponent: float = 1.5) -
     reaches grain i when it moves together with grain i-1 (the largest overlap).  On a
     uniform Hertz chain the BCA speed is d/t_max = 0.8201 c^{4/5} v0^{1/5}
     (c² = k d^{5/2}/m), 2.4 % below the speed 0.8405 c^{4/5} v0^{1/5} of the solitary wave
-    an impact at v0 forms (v_max = 0.6816 v0; docs/physics.md §14).
+    an impact at v0 forms (v_max = 0.6816 v0; docs/physics.md §12).
 
     Parameters
     ----------
@@ -278,7 +278,7 @@ def adiabatic_taper_wave(masses, k_contacts, diameters, energy: float, *,
     (v_i √(m_i/k_i))^{(n-1)/(n+1)}, and the wave passes grain i at
     t_i = Σ_{j=start+1}^{i} ½(d_{j-1} + d_j)/(½(V_{j-1} + V_j)).  Energy conservation
     holds to leading order in the slow variation; the wave also sheds a tail (a
-    first-order loss, measured in docs/physics.md §14).
+    first-order loss, measured in docs/physics.md §12).
 
     Parameters
     ----------
