@@ -13,7 +13,7 @@ elastic energy :math:`U(\delta) = k\delta^{n+1}/(n+1)` (J; for Hertz (2/5) k δ^
 
 .. math:: \hat\delta_j = U^{-1}\big(U([r_j]_+) + E_1\big)
 
-(:meth:`ContactLaw.overlap_with_energy <discrete.laws.ContactLaw.overlap_with_energy>`).
+(:meth:`ContactLaw.overlap_with_energy <theory.laws.ContactLaw.overlap_with_energy>`).
 For a vertical chain (gravity) the present overlap is taken at least at the force of
 twice the static weight, :math:`2^{1/n}\delta_0` (a chain released uncompressed falls
 onto its static overlaps and overshoots them).
@@ -41,7 +41,7 @@ error 7e-5) and for smooth solitary waves (cut or exact waves: energy conserved 
 ~1e-11 at f = 0.01) much larger steps would do.  For the paper's steel grains
 (d = 5 mm, v0 = 1 m/s) f = 0.002 gives dt ≈ 4.4e-8 s, ~40× the paper's dt = 1e-9 s.
 
-Velocity-dependent forces (:class:`~discrete.laws.ViscoelasticHertz`, drag) add no
+Velocity-dependent forces (:class:`~theory.laws.ViscoelasticHertz`, drag) add no
 bound: the kernels solve them exactly in dissipative sub-steps that never increase the
 kinetic energy, for any step (:mod:`discrete.kernels`, "Dissipation"); the elastic part
 keeps the bound above, and the run-time energy-balance monitor catches what it misses.

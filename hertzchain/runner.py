@@ -182,7 +182,7 @@ def build_section(spec: SectionSpec, base: theory.Material, diameter: float
 
 
 def build_law(spec: ChainSpec) -> tuple[discrete.ContactLaw, float]:
-    """The contact law (:mod:`discrete.laws`) and on-site drag rate (1/s) of a chain spec."""
+    """The contact law (:mod:`theory.laws`) and on-site drag rate (1/s) of a chain spec."""
     if spec.law == "viscoelastic_hertz":
         return discrete.ViscoelasticHertz(spec.damping_time), spec.drag
     return discrete.PowerLaw(spec.exponent), spec.drag

@@ -6,8 +6,21 @@ viscoelastic Hertz, with their long-wave coefficients), materials and Hertz cons
 speeds (:mod:`theory.speeds`), linear-acoustic interface predictions
 (:mod:`theory.interface`), solitary-wave profiles (:mod:`theory.profiles`) and the table
 of symplectic splitting methods the solvers step with (:mod:`theory.splitting`).
+
+Chains beyond the paper (docs/physics.md §14): vertical chains under gravity
+(:mod:`theory.gravity`), tapered chains (:mod:`theory.tapers`), dimers and trimers
+(:mod:`theory.dimers`), dissipative chains (:mod:`theory.dissipation`) and a heavy
+striker's wave train (:mod:`theory.striker`).  Their public names are exported here too,
+loaded on first use (these modules import SciPy, which ``import theory`` does not), except
+the long-wave wave's energy and its inverse, whose names do not say which wave they
+describe: use them as ``theory.gravity.solitary_wave_energy`` and
+``theory.gravity.solitary_wave_amplitude`` (module access works for every name, e.g.
+``theory.tapers.binary_collision``).
+
 Depends on nothing else of hertzchain.
 """
+
+import importlib
 
 from .interface import (
     MAX_SOLITON_COUNT,
@@ -66,6 +79,7 @@ from .precompression import (
 from .profiles import (
     ChainState,
     DiscreteSolitaryWave,
+    SonicVacuumWave,
     compacton_motion,
     compacton_strain,
     compacton_width,
@@ -74,6 +88,7 @@ from .profiles import (
     kdv_soliton_motion,
     kdv_soliton_strain,
     kdv_soliton_width,
+    sonic_vacuum_wave_constants,
 )
 from .speeds import (
     c0,
@@ -112,6 +127,8 @@ __all__ = [
     "compacton_strain",
     "discrete_solitary_wave",
     "discrete_speed_constant",
+    "SonicVacuumWave",
+    "sonic_vacuum_wave_constants",
     "kdv_soliton_motion",
     "kdv_soliton_strain",
     "kdv_soliton_width",
@@ -160,3 +177,40 @@ __all__ = [
     "velocity_transmission",
     "wave_contact_energy",
 ]
+
+# -- chains beyond the paper: exported lazily (module docstring) --------------------------
+# each module's __all__ but theory.gravity's solitary_wave_energy/solitary_wave_amplitude
+# (module access only: generic names)
+_CHAIN_MODULES: dict[str, tuple[str, ...]] = {
+    "gravity": ("static_forces_under_gravity", "static_overlaps_under_gravity",
+                "DepthExponents", "weak_wave_depth_exponents", "VerticalWave",
+                "solitary_wave_descent", "weak_pulse_arrival_times"),
+    "tapers": ("bca_velocities", "BinaryCollision", "binary_collision", "bca_arrival_times",
+               "wall_impact_force", "TaperRatios", "geometric_taper_ratios",
+               "AdiabaticTaperWave", "adiabatic_taper_wave"),
+    "dimers": ("FIRST_ANTIRESONANCE_HERTZ", "HomogenisedCell", "homogenise_cell",
+               "cell_sound_speed", "cell_solitary_speed", "antiresonance_mass_ratios"),
+    "dissipation": ("kuwabara_kono_damping", "shock_from_piston", "critical_viscosity",
+                    "ShockTail", "shock_tail_modes", "critical_viscosity_lattice",
+                    "drag_wave_decay", "kuwabara_kono_wave_decay", "RESTITUTION_C1",
+                    "RESTITUTION_C2", "restitution_series", "restitution_coefficient"),
+    "striker": ("StrikerTrain", "striker_train"),
+}
+_LAZY = {name: module for module, names in _CHAIN_MODULES.items() for name in names}
+__all__ += list(_LAZY)
+
+
+def __getattr__(name: str):
+    """Load a chain module, or one of its exported names, on first use (PEP 562)."""
+    if name in _CHAIN_MODULES:
+        return importlib.import_module(f"{__name__}.{name}")
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY) | set(_CHAIN_MODULES))

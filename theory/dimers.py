@@ -11,14 +11,14 @@ through all its contacts; their overlaps add up to the cell's compression
 
 an effective monoatomic chain of grains M, spacing L, contact k_eff
 (:func:`homogenise_cell`).  Its long-wave solitary wave has Nesterenko's speed
-(:func:`theory.gravity.solitary_wave_speed` with k_eff, M, L; :func:`cell_solitary_speed`),
+(:func:`theory.speeds.nesterenko_speed` with k_eff, M, L; :func:`cell_solitary_speed`),
 which does not involve the dispersion.  The width does: the acoustic branch of the
 linearised cell, ω² = c0² q² (1 - γ q² + O(q⁴)), gives the long-wave dispersion γ
 (:attr:`HomogenisedCell.dispersion`; for a dimer with equal contacts
 γ = (L²/4)(1/3 - m_1 m_2/(m_1 + m_2)²)), right for waves many cells wide (the KdV regime
 of a precompressed chain).  A sonic-vacuum wave is about two cells wide, and there the
 long-wave width fails: with γ in place of the monoatomic d²/12, Nesterenko's compacton
-(:func:`theory.gravity.compacton_width`) is 27 % narrower than the discrete dimer's wave
+(:func:`theory.profiles.compacton_width`) is 27 % narrower than the discrete dimer's wave
 at ε = 0.3428 (its FWHM 1.62 L against 1.19 L; measured in docs/physics.md §14), so no
 dimer width is offered.
 
@@ -44,8 +44,8 @@ from scipy.interpolate import CubicSpline
 from scipy.linalg import eigh
 
 from ._validate import check_nonnegative, check_positive, check_range
-from .gravity import solitary_wave_speed
 from .profiles import discrete_solitary_wave
+from .speeds import c_mat, nesterenko_speed
 
 __all__ = [
     "FIRST_ANTIRESONANCE_HERTZ",
@@ -178,7 +178,7 @@ def cell_sound_speed(cell: HomogenisedCell, static_force: float) -> float:
     """Long-wave sound speed of a precompressed periodic chain, c0 = L √(K_eff/M), m/s.
 
     K_eff = 1/Σ_j 1/K_j with K_j = n k_j δ_j^{n-1}, δ_j = (F0/k_j)^{1/n}: springs in
-    series; equal to :func:`theory.gravity.local_sound_speed` of the effective chain at
+    series; equal to :func:`theory.speeds.c0` of the effective chain at
     its compression (F0/k_eff)^{1/n}.
 
     Parameters
@@ -199,7 +199,7 @@ def cell_solitary_speed(cell: HomogenisedCell, force_max, static_force: float = 
 
     The effective chain (M, L, k_eff) at static compression Δ0 = (F0/k_eff)^{1/n} carrying
     a wave of peak compression Δ_m = (F_m/k_eff)^{1/n}: Nesterenko's speed
-    (:func:`theory.gravity.solitary_wave_speed`).  At δ0 = 0,
+    (:func:`theory.speeds.nesterenko_speed` at ξ0 = Δ0/L, ξ_max = (Δ_m - Δ0)/L).  At δ0 = 0,
     V = √(2/(n+1)) L √(k_eff/M) Δ_m^{(n-1)/2}; for a dimer with equal contacts this is
     the monoatomic speed of grains of the mean mass (m_1 + m_2)/2 and the mean spacing at
     the same force.  Measured against the discrete chain: docs/physics.md §14.
@@ -218,8 +218,9 @@ def cell_solitary_speed(cell: HomogenisedCell, force_max, static_force: float = 
         raise ValueError(f"force_max must exceed static_force = {f0!r} N")
     d0 = cell.static_compression(f0)
     dm = np.asarray(cell.static_compression(fm))
-    return solitary_wave_speed(cell.k_eff, cell.mass, cell.length, d0, dm - d0,
-                               exponent=cell.exponent)
+    n, length = cell.exponent, cell.length
+    return nesterenko_speed(c_mat(cell.k_eff, cell.mass, length, n), d0 / length,
+                            (dm - d0) / length, n)
 
 
 # ------------------------------------------------------------------ anti-resonances

@@ -32,7 +32,7 @@ docs/physics.md §14.
 lossless exact wave (docs/physics.md §7) of slowly falling amplitude; its energy E = C m v²
 falls at the power the damping dissipates in it (:mod:`discrete.waves` integrates that
 numerically).  Closed forms, at δ0 = 0, with the constants of
-:func:`theory.tapers.sonic_vacuum_wave_constants`:
+:func:`theory.profiles.sonic_vacuum_wave_constants`:
 
 * on-site drag: the power is 2β E_kin and E_kin = (n+1)/(n+3) E (virial), so
   v_max ∝ e^{-β(n+1)t/(n+3)}; with the speed ∝ v_max^{(n-1)/(n+1)} the wave stops after
@@ -60,7 +60,7 @@ from scipy.optimize import brentq
 from scipy.special import gamma
 
 from ._validate import check_nonnegative, check_positive, check_range
-from .tapers import sonic_vacuum_wave_constants
+from .profiles import sonic_vacuum_wave_constants
 
 __all__ = [
     "kuwabara_kono_damping",
@@ -318,7 +318,7 @@ def drag_wave_decay(grains, velocity_max: float, k: float, mass: float, drag: fl
 
     First order in β (module docstring): dE/dt = -2β E_kin = -2β (n+1)/(n+3) E, so
     v_max = v0 e^{-a t}, a = β(n+1)/(n+3), and with the grain rate s = s0 (v/v0)^p,
-    p = (n-1)/(n+1) (:class:`theory.tapers.SonicVacuumWave`), j = s0 (1 - e^{-a p t})/(a p):
+    p = (n-1)/(n+1) (:class:`theory.profiles.SonicVacuumWave`), j = s0 (1 - e^{-a p t})/(a p):
 
     .. math:: v_{max}(j) = v_0\,(1 - j/j_d)^{1/p}, \qquad j_d = \frac{s_0 (n+3)}{β (n-1)}
 

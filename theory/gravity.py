@@ -11,26 +11,29 @@ A wave launched downward meets a precompression that grows with depth.  Two regi
 
 * **Solitary wave** (an impact strong enough that the pulse is a solitary wave on the
   local load): the local speed is Nesterenko's long-wave speed for exponent n at the
-  local δ0 and the local amplitude (:func:`solitary_wave_speed`); the amplitude follows
-  adiabatically from the conservation of the wave's energy (:func:`solitary_wave_energy`,
-  :func:`solitary_wave_descent`).  The energy conserved is that of the disturbance,
-  :math:`E = \sum_i \tfrac12 m v_i^2 + \sum_j [U(r_j) - U(\delta_{0,j}) - F_j (r_j -
-  \delta_{0,j})]` with U(r) = k r^{n+1}/(n+1): with m ü_i = F(r_i) - F(r_{i+1}) + m g and
-  F_{j+1} - F_j = m g its time derivative vanishes exactly (the work of gravity on the
-  displaced grains is the linear term), so E is an exact invariant of the chain and, to
-  leading order in the slow variation, of the solitary wave.
+  local δ0 and the local amplitude (:func:`theory.speeds.nesterenko_speed`); the
+  amplitude follows adiabatically from the conservation of the wave's energy
+  (:func:`solitary_wave_energy`, :func:`solitary_wave_descent`).  The energy conserved
+  is that of the disturbance, :math:`E = \sum_i \tfrac12 m v_i^2 + \sum_j [U(r_j) -
+  U(\delta_{0,j}) - F_j (r_j - \delta_{0,j})]` with U(r) = k r^{n+1}/(n+1): with
+  m ü_i = F(r_i) - F(r_{i+1}) + m g and F_{j+1} - F_j = m g its time derivative vanishes
+  exactly (the work of gravity on the displaced grains is the linear term), so E is an
+  exact invariant of the chain and, to leading order in the slow variation, of the
+  solitary wave.
 * **Weak pulse** (ξ_max ≪ ξ0 from the start): the pulse is a linear dispersive front
   whose amplitude falls as a power of the depth (Hong, Ji & Kim, Phys. Rev. Lett. 82
   (1999) 3058: phase speed ∝ h^{(1-1/n)/2}, grain velocity ∝ h^{-(1/3+1/n)/4},
   :func:`weak_wave_depth_exponents`); its leading peak trails the sound-speed travel
   time by the Airy delay of the lattice dispersion (:func:`weak_pulse_arrival_times`).
 
-For Hertz (n = 3/2) the local sound speed grows as depth^{1/6} (Sinkovits & Sen 1995;
-Hong et al. 1999).  Arrival times against the discrete chain: docs/physics.md §14.
+The local sound speed is :func:`theory.speeds.c0` at the local δ0: with F_top = 0,
+δ0 ∝ depth^{1/n}, so c0 ∝ depth^{(n-1)/(2n)}, depth^{1/6} for Hertz (Sinkovits & Sen
+1995; Hong et al. 1999).  Arrival times against the discrete chain: docs/physics.md §14.
 
-The long-wave solitary-wave relations for exponent n (:func:`solitary_wave_speed`,
-:func:`solitary_wave_energy`, :func:`solitary_wave_amplitude`) do not depend on gravity;
-the dimer theory (:mod:`theory.dimers`) uses them for its homogenised chain.
+The long-wave relations for exponent n live in :mod:`theory.speeds` (speeds) and
+:mod:`theory.profiles` (the compacton's width); this module adds the wave's energy
+(:func:`solitary_wave_energy`, :func:`solitary_wave_amplitude`), which does not depend on
+gravity either.
 """
 
 from __future__ import annotations
@@ -43,16 +46,16 @@ from scipy.interpolate import CubicSpline
 from scipy.special import ai_zeros, binom
 from scipy.special import beta as beta_fn
 
+from ._numerics import power_remainder
 from ._validate import check_nonnegative, check_positive, check_range
+from .precompression import static_overlap
+from .speeds import c0, c_mat, nesterenko_speed
 
 __all__ = [
     "static_forces_under_gravity",
     "static_overlaps_under_gravity",
-    "local_sound_speed",
-    "solitary_wave_speed",
     "solitary_wave_energy",
     "solitary_wave_amplitude",
-    "compacton_width",
     "DepthExponents",
     "weak_wave_depth_exponents",
     "VerticalWave",
@@ -111,128 +114,8 @@ def static_overlaps_under_gravity(n_grains: int, mass: float, k: float, g: float
     F_j from :func:`static_forces_under_gravity`; k in N/m^n (> 0), the same at every
     contact (a floor of another constant: rescale its entry).
     """
-    n = _exponent(exponent)
-    k = float(check_positive("k", k))
-    return (static_forces_under_gravity(n_grains, mass, g, top_force=top_force) / k) ** (1 / n)
-
-
-def local_sound_speed(k, mass, d, delta0, *, exponent: float = 1.5):
-    """Sound speed of a chain at static overlap δ0, c0 = d √(n k δ0^{n-1}/m), m/s.
-
-    The linearised stiffness of F = k δ^n is K = n k δ0^{n-1} (N/m); a mass-spring lattice
-    of spacing d has c0 = d √(K/m) (paper Eq. 4 for n = 3/2).  Under gravity with F_top
-    = 0, δ0 ∝ depth^{1/n}, so c0 ∝ depth^{(n-1)/(2n)}: depth^{1/6} for Hertz (Sinkovits &
-    Sen 1995; Hong, Ji & Kim 1999).
-
-    Parameters
-    ----------
-    k : float or array
-        Contact constant, N/m^n (> 0).
-    mass, d : float or array
-        Grain mass (kg) and spacing (m), > 0.
-    delta0 : float or array
-        Static overlap, m (> 0).
-    exponent : float
-        n of F = k δ^n, in (1, 10].
-    """
-    n = _exponent(exponent)
-    k, mass, d, delta0 = (check_positive(a, b) for a, b in
-                          (("k", k), ("mass", mass), ("d", d), ("delta0", delta0)))
-    return _ret(d * np.sqrt(n * k * delta0 ** (n - 1) / mass))
-
-
-# ------------------------------------------------------------------ long-wave solitary wave
-# Duplicate of theory.speeds (long-wave speed relations for exponent n, being added there)
-# until merged: Nesterenko's precompressed speed for any n.  The lead dedupes.
-def _h(y, n):
-    """h(y) = ((1+y)^{n+1} - 1)/(n+1) - y, without cancellation for small |y|."""
-    y = np.asarray(y, dtype=float)
-    small = np.abs(y) < 1e-3
-    ys = np.where(small, y, 0.0)
-    series = ys**2 * (n / 2 + ys * (n * (n - 1) / 6 + ys * (n * (n - 1) * (n - 2) / 24
-                                                            + ys * n * (n - 1) * (n - 2)
-                                                            * (n - 3) / 120)))
-    yl = np.where(small, 1.0, y)
-    return np.where(small, series, np.expm1((n + 1) * np.log1p(yl)) / (n + 1) - yl)
-
-
-def solitary_wave_speed(k, mass, d, delta0, amplitude, *, exponent: float = 1.5):
-    r"""Nesterenko's long-wave solitary-wave speed for F = k δ^n at any precompression, m/s.
-
-    Nesterenko's long-wave equation for F ∝ δ^n (Nesterenko, *Dynamics of Heterogeneous
-    Materials*, 2001, ch. 1; paper Eq. 7 corrected for n = 3/2, where the coefficient is
-    d²/10: docs/physics.md §3), in the strain ξ = δ/d,
-
-    .. math:: \xi_{tt} = c^2\Big[\xi^n + \frac{n d^2}{6(n+1)}\,\xi^{(n-1)/2}
-              \big(\xi^{(n+1)/2}\big)_{xx}\Big]_{xx}, \qquad c^2 = \frac{k d^{n+1}}{m},
-
-    has travelling waves ξ(x - Vt) → ξ0 whose peak ξ_m obeys (integrate twice, multiply by
-    (ξ^{(n+1)/2})′, integrate once more; Nesterenko 2001 Eq. 1.4.28 for n = 3/2)
-
-    .. math:: \frac{V^2}{2}(\xi_m-\xi_0)^2 = c^2\Big[\frac{\xi_m^{n+1}-\xi_0^{n+1}}{n+1}
-              - \xi_0^n(\xi_m - \xi_0)\Big],
-
-    i.e. V = d √(k δ0^{n-1}/m) √(2h(a))/a with a = A/δ0 (A the dynamic overlap) and
-    h(a) = ((1+a)^{n+1} - 1)/(n+1) - a.  At δ0 = 0: V = √(2/(n+1)) d √(k/m) A^{(n-1)/2}
-    (V ∝ v_max^{(n-1)/(n+1)}; paper Eq. 8 for n = 3/2); as a → 0, V → c0
-    (:func:`local_sound_speed`).  Against the exact lattice wave (docs/physics.md §7):
-    1.2 % slow at δ0 = 0 for Hertz, 3.5 % for n = 2, exact as A/δ0 → 0.
-
-    Parameters
-    ----------
-    k : float or array
-        Contact constant, N/m^n (> 0).
-    mass, d : float or array
-        Grain mass (kg) and spacing (m), > 0.
-    delta0 : float or array
-        Static overlap, m (>= 0).
-    amplitude : float or array
-        Dynamic overlap A = r_max - δ0 at the peak, m (> 0).
-    exponent : float
-        n, in (1, 10].
-    """
-    n = _exponent(exponent)
-    k, mass, d, amp = (check_positive(a, b) for a, b in
-                       (("k", k), ("mass", mass), ("d", d), ("amplitude", amplitude)))
-    delta0 = check_nonnegative("delta0", delta0)
-    k, mass, d, delta0, amp = np.broadcast_arrays(k, mass, d, delta0, amp)
-    pre = delta0 > 0
-    d0 = np.where(pre, delta0, 1.0)
-    a = amp / d0
-    with np.errstate(over="ignore", invalid="ignore"):
-        v2_pre = k * d0 ** (n - 1) * 2 * _h(a, n) / a**2
-    v2_vac = 2.0 / (n + 1) * k * amp ** (n - 1)
-    # δ0 so small that (1+a)^{n+1} overflows: the δ0 → 0 limit
-    v2 = np.where(pre & np.isfinite(v2_pre), v2_pre, v2_vac)
-    return _ret(d * np.sqrt(v2 / mass))
-
-
-def compacton_width(d, *, exponent: float = 1.5):
-    r"""Support width of Nesterenko's sonic-vacuum solitary wave for F = k δ^n, m.
-
-    At δ0 = 0 the equation of :func:`solitary_wave_speed` has the compacton
-    ξ = ξ_m cos^{2/(n-1)}(κ x) on |κ x| ≤ π/2 with κ = (n-1)√(6/(n(n+1)))/d (substitute
-    y = ξ^{(n+1)/2}: β y″ + y = (V/c)² y^{(3-n)/(n+1)}, β = n d²/(6(n+1)), solved by
-    cos^{(n+1)/(n-1)}; Nesterenko 2001, ch. 1; cos⁴(√10 x/(5d)) for Hertz, docs/physics.md
-    §3), so
-
-    .. math:: W = \frac{\pi}{\kappa} = \frac{\pi d}{n-1}\sqrt{\frac{n(n+1)}{6}},
-
-    independent of the amplitude: 5πd/√10 = 4.967 d for Hertz, π d for n = 2.  Its
-    half-maximum width, 2 arccos(2^{-(n-1)/2})/κ (1.808 d for Hertz), is 4.8 % above the
-    exact lattice wave's (1.726 d; docs/physics.md §7); 9.0 % for n = 2, 16 % for n = 3:
-    the wave narrows to a few grains as n grows and the long-wave expansion degrades.
-
-    Parameters
-    ----------
-    d : float or array
-        Grain diameter (spacing), m (> 0).
-    exponent : float
-        n, in (1, 10].
-    """
-    n = _exponent(exponent)
-    d = check_positive("d", d)
-    return _ret(np.pi * d / (n - 1) * np.sqrt(n * (n + 1) / 6.0))
+    forces = static_forces_under_gravity(n_grains, mass, g, top_force=top_force)
+    return static_overlap(forces, float(check_positive("k", k)), exponent=_exponent(exponent))
 
 
 _N_NODES = 96
@@ -244,9 +127,14 @@ _W_PHI = _GL_W * np.pi / 4.0
 def _energy_integral(a: np.ndarray, n: float) -> np.ndarray:
     r"""ε(a) = E/(k δ0^{n+1}) of the long-wave solitary wave of amplitude a = A/δ0 > 0.
 
-    With ξ = ξ0(1 + a x), x ∈ [0, 1], H = ξ0^{n+1} h(ax), G = ξ0^{n+1} g(x),
-    g(x) = h(a) x² - h(ax) (g(1) = 0 is the speed relation), the profile of
-    :func:`solitary_wave_speed`'s equation has ξ′² = 24 G ξ^{1-n}/(n d²) and the energy
+    Nesterenko's long-wave equation for F ∝ δ^n in the strain ξ = δ/d (Nesterenko,
+    *Dynamics of Heterogeneous Materials*, 2001, ch. 1; docs/physics.md §15),
+    ξ_tt = c²[ξ^n + (n d²/(6(n+1))) ξ^{(n-1)/2}(ξ^{(n+1)/2})_xx]_xx, c² = k d^{n+1}/m,
+    has travelling waves ξ(x - Vt) → ξ0 with V² = 2 c² ξ0^{n-1} h(a)/a²,
+    h(y) = ((1+y)^{n+1} - 1)/(n+1) - y (:func:`theory.speeds.nesterenko_speed`; h without
+    cancellation by :func:`theory._numerics.power_remainder`).  With ξ = ξ0(1 + a x), x ∈ [0, 1],
+    H = ξ0^{n+1} h(ax), G = ξ0^{n+1} g(x), g(x) = h(a) x² - h(ax) (g(1) = 0 is the speed
+    relation), the profile has ξ′² = 24 G ξ^{1-n}/(n d²) and the energy
     density per grain is m c² (G + 2H) (kinetic ½ m V² (ξ-ξ0)² = m c²(G + H), potential
     m c² H), so
 
@@ -259,7 +147,7 @@ def _energy_integral(a: np.ndarray, n: float) -> np.ndarray:
     a = np.atleast_1d(np.asarray(a, dtype=float))[:, None]
     x = np.sin(_PHI) ** 2
     one_m_x = np.cos(_PHI) ** 2
-    hax = _h(a * x, n)
+    hax = power_remainder(a * x, n + 1.0) / (n + 1.0)  # h(ax)
     # q = g / (1 - x): direct for a >= 1/2, series Σ_j c_j a^j x² (1 - x^{j-2})/(1 - x)
     # (c_j = C(n+1, j)/(n+1), the Taylor coefficients of h) below
     j = np.arange(3, 64)
@@ -267,7 +155,7 @@ def _energy_integral(a: np.ndarray, n: float) -> np.ndarray:
     geo = -np.expm1((j - 2) * np.log(x)[:, None]) / one_m_x[:, None]  # (nodes, terms)
     asmall = np.minimum(a, 0.5)
     q_ser = (asmall[..., None] ** j * cj * geo).sum(axis=-1) * x**2
-    q_dir = (_h(a, n) * x**2 - hax) / one_m_x
+    q_dir = (power_remainder(a, n + 1.0) / (n + 1.0) * x**2 - hax) / one_m_x
     q = np.where(a < 0.5, q_ser, q_dir)
     f = (q * one_m_x + 2.0 * hax) * (1.0 + a * x) ** ((n - 1) / 2)
     integral = np.sum(f * 2.0 * np.sin(_PHI) / np.sqrt(q) * _W_PHI, axis=1)
@@ -298,7 +186,7 @@ def solitary_wave_energy(k, delta0, amplitude, *, exponent: float = 1.5):
 
     The disturbance energy Σ ½ m v² + Σ [U(r) - U(δ0) - F0 (r - δ0)] (U = k r^{n+1}/(n+1),
     the linear term subtracted: the part paid by the walls or by gravity) of the
-    travelling wave of :func:`solitary_wave_speed`, integrated over its profile
+    travelling wave of :func:`theory.speeds.nesterenko_speed`, integrated over its profile
     (:func:`_energy_integral`):
 
     .. math:: E = k\,\delta_0^{n+1}\,ε_n(A/\delta_0), \qquad
@@ -403,7 +291,7 @@ def weak_wave_depth_exponents(exponent: float = 1.5) -> DepthExponents:
     linearised chain under gravity with F = k δ^p: phase velocity ∝ h^{(1-1/p)/2},
     displacement ∝ h^{-(1-1/p)/4}, grain velocity ∝ h^{-(1/3+1/p)/4} (measured on the
     leading peak, 0.250 for Hertz: arXiv:patt-sol/9808008).  The phase-speed
-    law is that of :func:`local_sound_speed` with δ0 ∝ h^{1/n}.
+    law is that of :func:`theory.speeds.c0` with δ0 ∝ h^{1/n}.
 
     Parameters
     ----------
@@ -462,7 +350,8 @@ def solitary_wave_descent(n_grains: int, mass: float, k: float, d: float, g: flo
     At contact j the wave is the long-wave solitary wave of the local static overlap
     δ0_j (:func:`static_overlaps_under_gravity`) carrying the conserved energy E
     (module docstring): A_j = :func:`solitary_wave_amplitude` (E, k, δ0_j), speed
-    V_j = :func:`solitary_wave_speed`.  It passes grain i at
+    V_j = :func:`theory.speeds.nesterenko_speed` (at ξ0 = δ0_j/d, ξ_max = A_j/d).  It
+    passes grain i at
 
     .. math:: t_i = \sum_{j=1}^{i} d / V_j
 
@@ -494,7 +383,8 @@ def solitary_wave_descent(n_grains: int, mass: float, k: float, d: float, g: flo
     n, mass, k, d, delta0 = _vertical(n_grains, mass, k, d, g, top_force, exponent)
     energy = float(check_positive("energy", energy))
     amp = np.asarray(solitary_wave_amplitude(energy, k, delta0, exponent=n), dtype=float)
-    speed = np.asarray(solitary_wave_speed(k, mass, d, delta0, amp, exponent=n), dtype=float)
+    speed = np.asarray(nesterenko_speed(c_mat(k, mass, d, n), delta0 / d, amp / d, n),
+                       dtype=float)
     arrival = np.r_[0.0, np.cumsum(d / speed)]
     return VerticalWave(delta0=delta0, amplitude=amp, speed=speed,
                         velocity_max=speed * amp / d, arrival_time=arrival)
@@ -505,7 +395,7 @@ def weak_pulse_arrival_times(n_grains: int, mass: float, k: float, d: float, g: 
     r"""Arrival time of a weak pulse's leading velocity peak at each grain, s.
 
     Linearised about the local load, the chain has ω = c0 q (1 - q²d²/24 + …) with c0
-    from :func:`local_sound_speed`, i.e. q(ω) = ω/c0 + ω³d²/(24 c0³).  A short pulse
+    from :func:`theory.speeds.c0`, i.e. q(ω) = ω/c0 + ω³d²/(24 c0³).  A short pulse
     launched at the top (an impact of grain 0: v_i = v0 J_{2i}(ω_max t) on a uniform
     chain, whose front is an Airy function) accumulates, in the WKB approximation for a
     slowly varying c0, the phase ω τ_i + ω³ Λ_i with
@@ -538,7 +428,7 @@ def weak_pulse_arrival_times(n_grains: int, mass: float, k: float, d: float, g: 
         t_i, s (t_0 = 0).
     """
     n, mass, k, d, delta0 = _vertical(n_grains, mass, k, d, g, top_force, exponent)
-    c0 = np.asarray(local_sound_speed(k, mass, d, delta0, exponent=n), dtype=float)
-    tau = np.r_[0.0, np.cumsum(d / c0)]
-    lam = np.r_[0.0, np.cumsum(d**3 / (24.0 * c0**3))]
+    c = np.asarray(c0(k, mass, d, delta0, n), dtype=float)
+    tau = np.r_[0.0, np.cumsum(d / c)]
+    lam = np.r_[0.0, np.cumsum(d**3 / (24.0 * c**3))]
     return tau + AIRY_PEAK * np.cbrt(3.0 * lam)

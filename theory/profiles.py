@@ -10,7 +10,8 @@ shift) behind it.
   and its cos^{2/(n-1)} generalisation for F = k δ^n (``exponent``).
 * :func:`discrete_solitary_wave` — exact travelling wave of the lattice (Eq. 2), δ0 >= 0,
   any F = k δ^n, by Petviashvili iteration (docs/physics.md §7); ``.sample`` gives a DEM
-  initial condition.
+  initial condition; :func:`sonic_vacuum_wave_constants`, the dimensionless constants of
+  its self-similar δ0 = 0 form (energy, momentum, amplitude, speed per peak velocity).
 """
 
 from __future__ import annotations
@@ -35,7 +36,8 @@ from .speeds import kdv_speed_exact, nesterenko_speed, sonic_vacuum_speed
 __all__ = [
     "kdv_soliton_strain", "kdv_soliton_width", "kdv_soliton_motion", "compacton_strain",
     "compacton_motion", "compacton_width", "ChainState", "DiscreteSolitaryWave",
-    "discrete_solitary_wave", "discrete_speed_constant",
+    "discrete_solitary_wave", "discrete_speed_constant", "SonicVacuumWave",
+    "sonic_vacuum_wave_constants",
 ]  # fmt: skip
 
 
@@ -639,3 +641,74 @@ def discrete_speed_constant(points_per_grain: int = 32, exponent: float = 1.5) -
     """
     return discrete_solitary_wave(1, 1, 1, amplitude=1, points_per_grain=points_per_grain,
                                   exponent=exponent).speed_constant
+
+
+@dataclass(frozen=True)
+class SonicVacuumWave:
+    """Dimensionless constants of the exact lattice solitary wave at δ0 = 0, F = k r^n.
+
+    For grains of mass m (kg) and spacing d (m), contact constant k (N/m^n), and a wave of
+    peak grain velocity v (m/s), with u = v √(m/k) (m^{(n+1)/2}):
+
+    * energy E = ``energy`` · m v² (J), momentum P = ``momentum`` · m v (kg m/s);
+    * peak dynamic overlap A = ``amplitude`` · u^{2/(n+1)} (m), peak force k A^n (N);
+    * speed V = ``rate`` · d √(k/m) u^{(n-1)/(n+1)} (m/s);
+    * phase-averaged kinetic energy = ``kinetic_fraction`` · E;
+    * ``kk_integral`` = ∫ R^{1/2} R′² dz and ``dashpot_integral`` = ∫ R′² dz over the
+      profile R(z) (m^{5/2} and m²; z in grains) of the wave with k = m = 1, v = 1:
+      the power dissipated by a Kuwabara–Kono or a linear dashpot in the wave
+      (:mod:`theory.dissipation`).
+
+    Attributes
+    ----------
+    exponent, energy, momentum, amplitude, rate, kinetic_fraction, kk_integral,
+    dashpot_integral : float
+    """
+
+    exponent: float
+    energy: float
+    momentum: float
+    amplitude: float
+    rate: float
+    kinetic_fraction: float
+    kk_integral: float
+    dashpot_integral: float
+
+
+@lru_cache(maxsize=16)
+def sonic_vacuum_wave_constants(exponent: float = 1.5) -> SonicVacuumWave:
+    """Constants of the exact lattice wave at δ0 = 0 (:class:`SonicVacuumWave`).
+
+    Computed once per exponent from :func:`discrete_solitary_wave` with k = m = d = 1
+    and v_max = 1 (the wave is self-similar: r = λρ, s ∝ λ^{(n-1)/2}, v ∝ λ^{(n+1)/2};
+    Nesterenko 2001 §1.1; English & Pego 2005), energy and momentum by
+    :meth:`DiscreteSolitaryWave.energy` / ``momentum``, the kinetic energy averaged
+    over 16 phases between two grains, the integrals spectrally on the profile's grid.
+    For Hertz: energy 1.0693, momentum 1.6700.  The kinetic fraction is (n+1)/(n+3)
+    (5/9 for Hertz): the virial theorem for a homogeneous potential of degree n+1,
+    2⟨K⟩ = (n+1)⟨U⟩ averaged over the passage of a grain (Landau & Lifshitz, *Mechanics*,
+    §10), which the computed wave satisfies to 1e-14.  ``rate``/``amplitude``^{(n-1)/2} is
+    :func:`discrete_speed_constant`.  Used by the adiabatic taper wave, the striker's
+    train and the damped waves (:mod:`theory.tapers`, :mod:`theory.striker`,
+    :mod:`theory.dissipation`).
+
+    Parameters
+    ----------
+    exponent : float
+        n of F = k r^n, in (1, 10].
+    """
+    n = check_exponent(exponent, closed_low=False)
+    w = discrete_solitary_wave(1.0, 1.0, 1.0, velocity_max=1.0, exponent=n)
+    kin = np.mean([0.5 * np.sum(w.sample(w.z.size // w.points_per_grain,
+                                         w.z.size // (2 * w.points_per_grain) + ph).velocity**2)
+                   for ph in np.arange(16) / 16])
+    energy = w.energy()
+    r = np.maximum(w.overlap, 0.0)
+    q = 2 * np.pi * rfftfreq(r.size, d=1.0 / w.points_per_grain)
+    dr = irfft(1j * q * rfft(r), n=r.size)
+    dz = 1.0 / w.points_per_grain
+    return SonicVacuumWave(exponent=n, energy=float(energy), momentum=float(w.momentum()),
+                           amplitude=float(w.amplitude), rate=float(w.grain_rate),
+                           kinetic_fraction=float(kin / energy),
+                           kk_integral=float(np.sum(np.sqrt(r) * dr**2) * dz),
+                           dashpot_integral=float(np.sum(dr**2) * dz))

@@ -172,7 +172,9 @@ def nesterenko_speed(c_mat_, xi0, xi_max, exponent=1.5):
     Eq. 14) :math:`V_s = \frac{c_0}{\xi_r - 1}\sqrt{\tfrac{4}{15}(3 + 2\xi_r^{5/2} -
     5\xi_r)}`, evaluated in that printed form (and its series for ξr - 1 < 1e-3);
     other n without cancellation (:func:`theory._numerics.power_remainder`).
-    ``xi0 = 0`` returns the compacton's :func:`sonic_vacuum_speed` (Eq. 8);
+    ``xi0 = 0`` returns the compacton's :func:`sonic_vacuum_speed` (Eq. 8), and so does
+    ξ_max/ξ0 > 1e18: there V_s/V_vac = 1 + (n+1)ξ0/(2ξ_max) + … equals 1 to rounding,
+    and the formula would overflow ((1 + ξ_max/ξ0)^{n+1}) as ξ0 → 0;
     ``xi_max → 0`` gives c0, to first order :math:`c_0(1 + (n-1)\xi_{max}/(6\xi_0))`
     (paper Eq. 5 for Hertz).
 
@@ -198,9 +200,13 @@ def nesterenko_speed(c_mat_, xi0, xi_max, exponent=1.5):
     vac = xi0 == 0
     out[vac] = vac_coef * c_mat_[vac] * xi_max[vac] ** half
     pre = ~vac
+    with np.errstate(divide="ignore", over="ignore"):
+        eps = xi_max[pre] / xi0[pre]  # inf for a subnormal ξ0
+    # the δ0 → 0 limit: beyond ε = 1e18 the compacton's speed to rounding (docstring)
+    far = eps > 1e18
+    eps = np.where(far, 1.0, eps)
     cc0 = np.sqrt(n) * c_mat_[pre] * xi0[pre] ** half
-    eps = xi_max[pre] / xi0[pre]
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):
         if n == 1.5:
             # Nesterenko's printed form and its series below eps = 1e-3 (the closed form
             # cancels there: ≲ 5e-11 relative at eps = 1e-3), kept bit for bit: the
@@ -214,10 +220,7 @@ def nesterenko_speed(c_mat_, xi0, xi_max, exponent=1.5):
             # (2/(n(n+1))) [(1+eps)^{n+1} - 1 - (n+1) eps]/eps², free of cancellation
             ratio = np.where(eps > 0, np.sqrt(2.0 / (n * (n + 1.0))
                                               * power_remainder(eps, n + 1.0)) / eps, 1.0)
-    # fr^{n+1} overflows for eps ≳ 1e123 (δ0/d ≲ 1e-120): the ratio is inf or NaN there
-    # and V_s its δ0 → 0 limit, the compacton's
-    out[pre] = np.where(np.isfinite(ratio), cc0 * ratio,
-                        vac_coef * c_mat_[pre] * xi_max[pre] ** half)
+    out[pre] = np.where(far, vac_coef * c_mat_[pre] * xi_max[pre] ** half, cc0 * ratio)
     return _ret(out)
 
 

@@ -12,8 +12,9 @@ amplitude or the number of waves as functions of M/m was found in these sources.
 The model here (derived for this package; tested against the discrete chain).  Assume a
 geometric train, peak velocities v_j = v_1 ρ^{j-1}, and that the striker ends at rest
 (measured: ≤ 0.3 % of its velocity for M/m ≤ 32).  Each wave is the exact lattice wave,
-with energy C_E m v_j² and momentum C_P m v_j (:func:`theory.tapers.sonic_vacuum_wave_constants`:
-C_E = 1.0693, C_P = 1.6700 for Hertz).  Energy and momentum conservation,
+with energy C_E m v_j² and momentum C_P m v_j
+(:func:`theory.profiles.sonic_vacuum_wave_constants`: C_E = 1.0693, C_P = 1.6700 for
+Hertz).  Energy and momentum conservation,
 Σ C_E m v_j² = ½ M v0² and Σ C_P m v_j = M v0, fix both unknowns:
 
 .. math:: \frac{1-\rho}{1+\rho} = \frac{C_P^2}{2 C_E\, r}, \qquad
@@ -34,7 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._validate import check_positive, check_range
-from .tapers import sonic_vacuum_wave_constants
+from .profiles import sonic_vacuum_wave_constants
 
 __all__ = ["StrikerTrain", "striker_train"]
 

@@ -23,29 +23,25 @@ The published comparisons (Harbola et al. 2009: the BCA pulse velocity "quantita
 accurate"; Machado, Rosas & Lindenberg, Eur. Phys. J. E (2013), arXiv:1307.1191: the BCA
 captures the trends of the momentum and energy along tapered chains, not their values)
 give no numerical tolerance; the measured agreement with the discrete chain is in
-docs/physics.md §14.
+docs/physics.md §12.
 
-:func:`sonic_vacuum_wave_constants` collects the dimensionless constants of the exact
-lattice wave at δ0 = 0 (energy, momentum, amplitude and speed per peak velocity, kinetic
-fraction, dissipation integrals) that this module, :mod:`theory.striker` and
-:mod:`theory.dissipation` use.
+The adiabatic wave scales the exact lattice wave at δ0 = 0 with its dimensionless
+constants (energy, momentum, amplitude and speed per peak velocity:
+:func:`theory.profiles.sonic_vacuum_wave_constants`, which :mod:`theory.striker` and
+:mod:`theory.dissipation` use too).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
-from numpy.fft import irfft, rfft, rfftfreq
 from scipy.special import gamma
 
 from ._validate import check_positive, check_range
-from .profiles import discrete_solitary_wave
+from .profiles import sonic_vacuum_wave_constants
 
 __all__ = [
-    "SonicVacuumWave",
-    "sonic_vacuum_wave_constants",
     "bca_velocities",
     "BinaryCollision",
     "binary_collision",
@@ -65,75 +61,6 @@ def _ret(x):
 
 def _exponent(exponent) -> float:
     return float(check_range("exponent", exponent, 1.0, 10.0, closed=(False, True)))
-
-
-# ------------------------------------------------------------------ the exact wave's constants
-@dataclass(frozen=True)
-class SonicVacuumWave:
-    """Dimensionless constants of the exact lattice solitary wave at δ0 = 0, F = k r^n.
-
-    For grains of mass m (kg) and spacing d (m), contact constant k (N/m^n), and a wave of
-    peak grain velocity v (m/s), with u = v √(m/k) (m^{(n+1)/2}):
-
-    * energy E = ``energy`` · m v² (J), momentum P = ``momentum`` · m v (kg m/s);
-    * peak dynamic overlap A = ``amplitude`` · u^{2/(n+1)} (m), peak force k A^n (N);
-    * speed V = ``rate`` · d √(k/m) u^{(n-1)/(n+1)} (m/s);
-    * phase-averaged kinetic energy = ``kinetic_fraction`` · E;
-    * ``kk_integral`` = ∫ R^{1/2} R′² dz and ``dashpot_integral`` = ∫ R′² dz over the
-      profile R(z) (m^{5/2} and m²; z in grains) of the wave with k = m = 1, v = 1:
-      the power dissipated by a Kuwabara–Kono or a linear dashpot in the wave
-      (:mod:`theory.dissipation`).
-
-    Attributes
-    ----------
-    exponent, energy, momentum, amplitude, rate, kinetic_fraction, kk_integral,
-    dashpot_integral : float
-    """
-
-    exponent: float
-    energy: float
-    momentum: float
-    amplitude: float
-    rate: float
-    kinetic_fraction: float
-    kk_integral: float
-    dashpot_integral: float
-
-
-@lru_cache(maxsize=16)
-def sonic_vacuum_wave_constants(exponent: float = 1.5) -> SonicVacuumWave:
-    """Constants of the exact lattice wave at δ0 = 0 (:class:`SonicVacuumWave`).
-
-    Computed once per exponent from :func:`theory.discrete_solitary_wave` with k = m = d = 1
-    and v_max = 1 (the wave is self-similar: r = λρ, s ∝ λ^{(n-1)/2}, v ∝ λ^{(n+1)/2};
-    Nesterenko 2001 §1.1; English & Pego 2005), energy and momentum by
-    :meth:`~theory.DiscreteSolitaryWave.energy` / ``momentum``, the kinetic energy averaged
-    over 16 phases between two grains, the integrals spectrally on the profile's grid.
-    For Hertz: energy 1.0693, momentum 1.6700.  The kinetic fraction is (n+1)/(n+3)
-    (5/9 for Hertz): the virial theorem for a homogeneous potential of degree n+1,
-    2⟨K⟩ = (n+1)⟨U⟩ averaged over the passage of a grain (Landau & Lifshitz, *Mechanics*,
-    §10), which the computed wave satisfies to 1e-14.
-
-    Parameters
-    ----------
-    exponent : float
-        n of F = k r^n, in (1, 10].
-    """
-    n = _exponent(exponent)
-    w = discrete_solitary_wave(1.0, 1.0, 1.0, velocity_max=1.0, exponent=n)
-    kin = np.mean([0.5 * np.sum(w.sample(w.z.size // w.points_per_grain,
-                                         w.z.size // (2 * w.points_per_grain) + ph).velocity**2)
-                   for ph in np.arange(16) / 16])
-    energy = w.energy()
-    r = np.maximum(w.overlap, 0.0)
-    q = 2 * np.pi * rfftfreq(r.size, d=1.0 / w.points_per_grain)
-    dr = irfft(1j * q * rfft(r), n=r.size)
-    dz = 1.0 / w.points_per_grain
-    return SonicVacuumWave(exponent=n, energy=float(energy), momentum=float(w.momentum()),
-                           amplitude=float(w.amplitude), rate=float(w.grain_rate),
-                           kinetic_fraction=float(kin / energy),
-                           kk_integral=float(np.sum(np.sqrt(r) * dr**2) * dz),
-                           dashpot_integral=float(np.sum(dr**2) * dz))
 
 
 # ------------------------------------------------------------------ binary collisions
@@ -235,7 +162,7 @@ def bca_arrival_times(masses, k_contacts, v0: float, *, exponent: float = 1.5) -
     reaches grain i when it moves together with grain i-1 (the largest overlap).  On a
     uniform Hertz chain the BCA speed is d/t_max = 0.8201 c^{4/5} v0^{1/5}
     (c² = k d^{5/2}/m), 2.4 % below the speed 0.8405 c^{4/5} v0^{1/5} of the solitary wave
-    an impact at v0 forms (v_max = 0.6816 v0; docs/physics.md §14).
+    an impact at v0 forms (v_max = 0.6816 v0; docs/physics.md §12).
 
     Parameters
     ----------
@@ -298,7 +225,8 @@ def geometric_taper_ratios(q: float, *, exponent: float = 1.5) -> TaperRatios:
     BCA from :func:`bca_velocities`; adiabatic from the exact wave at constant energy,
     E = C m v², P = C′ m v, peak force k A^n with A ∝ (v √(m/k))^{2/(n+1)}, i.e.
     F ∝ k^{1/(n+1)} E^{n/(n+1)}, and V = d s ∝ d k^{1/(n+1)} m^{-1/2} E^{(n-1)/(2(n+1))}
-    (:class:`SonicVacuumWave`).  Both velocity factors agree to first order in 1 - q.
+    (:class:`theory.profiles.SonicVacuumWave`).  Both velocity factors agree to first
+    order in 1 - q.
 
     Parameters
     ----------
@@ -345,12 +273,12 @@ def adiabatic_taper_wave(masses, k_contacts, diameters, energy: float, *,
 
     At grain i the wave is the exact lattice wave (δ0 = 0) of a uniform chain of grains
     m_i, contacts k_i (the contact before grain i; k_1 for grain 0) and spacing d_i,
-    carrying the energy E (:class:`SonicVacuumWave`): v_i = √(E/(C m_i)),
+    carrying the energy E (:class:`theory.profiles.SonicVacuumWave`): v_i = √(E/(C m_i)),
     A_i = a (v_i √(m_i/k_i))^{2/(n+1)}, F_i = k_i A_i^n, V_i = s d_i √(k_i/m_i)
     (v_i √(m_i/k_i))^{(n-1)/(n+1)}, and the wave passes grain i at
     t_i = Σ_{j=start+1}^{i} ½(d_{j-1} + d_j)/(½(V_{j-1} + V_j)).  Energy conservation
     holds to leading order in the slow variation; the wave also sheds a tail (a
-    first-order loss, measured in docs/physics.md §14).
+    first-order loss, measured in docs/physics.md §12).
 
     Parameters
     ----------

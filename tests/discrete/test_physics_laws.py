@@ -6,14 +6,14 @@
   ω = 2√(k/m)|sin(q/2)|, Bessel Green's function, no solitary wave);
 * viscoelastic Hertz: the coefficient of restitution of two spheres against the series
   of Schwager & Pöschel (1998) / Ramírez et al. (1999), and the law built from a given
-  restitution (ViscoelasticHertz.from_restitution) at large damping; a damped solitary
-  wave's decay against the first-order estimate of discrete.waves.
+  restitution (ViscoelasticHertz.from_restitution) at large damping (a damped solitary
+  wave's decay against its first-order estimate: tests/theory/test_dissipation.py).
 """
 
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
-from scipy.special import gamma, jv
+from scipy.special import jv
 
 import theory
 from discrete import (
@@ -27,7 +27,8 @@ from discrete import (
     default_dt,
 )
 from discrete.initial import exact_wave, impact
-from discrete.waves import damped_wave_decay
+from theory.dissipation import RESTITUTION_C1 as C1
+from theory.dissipation import RESTITUTION_C2 as C2
 
 STEEL, D = theory.PAPER_MATERIAL, theory.PAPER_DIAMETER
 
@@ -138,10 +139,6 @@ def test_linear_law_disperses_an_impulse_like_bessel():
 
 
 # ------------------------------------------------------------------ dissipation
-C1 = gamma(0.6) * np.sqrt(np.pi) / (2**0.2 * 5**0.4 * gamma(2.1))  # = 1.15344...
-C2 = 0.6 * C1**2  # = 0.79826
-
-
 def _two_spheres():
     return Chain.from_sections([Section(2, D, STEEL)], left_wall=None, right_wall=None)
 
@@ -168,9 +165,10 @@ def test_restitution_of_two_viscoelastic_spheres():
     # with ρ = k/μ.  Schwager & Pöschel, Phys. Rev. E 57 (1998) 650 and Ramírez,
     # Pöschel, Brilliantov & Schwager, Phys. Rev. E 60 (1999) 4465:
     #     ε = 1 - C1 β + C2 β² ∓ …,  β = A ρ^{2/5} g^{1/5},
-    #     C1 = Γ(3/5)√π / (2^{1/5} 5^{2/5} Γ(21/10)) = 1.15344,  C2 = (3/5) C1² = 0.79826.
-    # (C1 is the first-order dissipation ∫ kA ξ^{1/2} ξ̇² dt over the elastic Hertz
-    # collision divided by μg², computed here; the clip adds O(β^{5/2}).)
+    #     C1 = Γ(3/5)√π / (2^{1/5} 5^{2/5} Γ(21/10)) = 1.15344,  C2 = (3/5) C1² = 0.79826
+    # (theory.dissipation.RESTITUTION_C1/C2).  (C1 is the first-order dissipation
+    # ∫ kA ξ^{1/2} ξ̇² dt over the elastic Hertz collision divided by μg²; the clip adds
+    # O(β^{5/2}).)
     # Measured |ε - series| = 7.7e-6 … 2.0e-4 for β = 0.013 … 0.085, i.e. 0.1-0.4 β^{5/2};
     # tolerance 0.5 β^{5/2}.  Against an accurate ODE solution (scipy, rtol 1e-12) of the
     # same model: 3.9e-6 … 1.9e-5 at the default dt (tolerance 3e-5), converging at
@@ -243,30 +241,6 @@ def test_precompressed_exact_wave_of_a_power_law_travels_unchanged(n):
     shift = (i * sim.v**2).sum() / (sim.v**2).sum() - (i * exact**2).sum() / (exact**2).sum()
     assert abs(shift) / (w.grain_rate * sim.t) < 2e-6
     assert sim.energy_drift < 1e-7
-
-
-def test_damped_solitary_wave_decays_as_the_first_order_estimate():
-    # The exact lossless Hertz wave (v_max = 0.5 m/s, steel, δ0 = 0) launched into a chain
-    # with the viscoelastic law, A = 5 ns (weak: 12 % of v_max lost over 500 grains),
-    # against discrete.waves.damped_wave_decay (dE/dt = -P of the exact wave, E = c v²).
-    # Measured: peak velocities within 6.2e-4 relative of the estimate at grains
-    # 150-600 (the wave first sheds a small tail while it takes the damped shape);
-    # the decay from grain 250 to 600, ln(v600/v250), -0.08858 vs -0.08877 (0.2 %).
-    # Tolerances 1.5e-3 and 1 %.  The energy balance holds to 6.5e-6 of E(0).
-    law = ViscoelasticHertz(5e-9)
-    n = 700
-    ch = Chain.from_sections([Section(n, D, STEEL)], right_wall=None)
-    sim = exact_wave(ch, 100.0, velocity_max=0.5).simulation(
-        law=law, record=Recording(monitor_every=10**6))
-    sim.run(until=WaveAt(650), progress=False)
-    grains = np.array([150, 250, 350, 450, 550, 600])
-    pred = damped_wave_decay(ch.k[5], ch.mass[5], D, law, 0.5, grains - 100)
-    dem = sim.record.vmax[grains]
-    assert np.all(np.abs(dem / pred - 1) < 1.5e-3)
-    assert 1 - pred[-1] / 0.5 > 0.1  # the decay is large enough to measure
-    d_dem, d_pred = np.log(dem[-1] / dem[1]), np.log(pred[-1] / pred[1])
-    assert abs(d_dem / d_pred - 1) < 0.01
-    assert sim.energy_drift < 5e-5
 
 
 def test_exact_wave_energy_and_momentum():

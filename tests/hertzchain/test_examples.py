@@ -20,6 +20,7 @@ import theory
 from hertzchain import models as M
 from hertzchain.runner import run_simulation
 from hertzchain.scenario import ScenarioError, load_scenario, parse_scenario, shipped_scenarios
+from theory import tapers
 
 P, D = theory.PAPER_MATERIAL, 5e-3
 EXAMPLES = {stem: path for stem, path in shipped_scenarios().items()
@@ -238,24 +239,6 @@ def test_wall_force_example_impulse_is_twice_the_momentum():
     assert abs(imp[0]) < 1e-6 * imp[1]
 
 
-def _binary_collision_estimate(chain, v0):
-    """Binary-collision approximation of a pulse struck into grain 0 at v0 (m/s).
-
-    Harbola, Rosas, Esposito & Lindenberg, Phys. Rev. E 80 (2009) 031303: the pulse
-    passes from grain to grain in isolated two-body elastic collisions, grain k at rest
-    when struck, so momentum and energy conservation give
-    v_k = 2 m_{k-1} v_{k-1} / (m_{k-1} + m_k) (m/s).  The last grain then hits the rigid
-    wall (reduced mass m_{N-1}, contact constant k_w) as a Hertz impact: the energy
-    ½ m g² = (2/5) k_w δ_m^{5/2} at the largest overlap δ_m gives the peak force
-    F = k_w δ_m^{3/2} = k_w (5 m g² / (4 k_w))^{3/5} (N; Johnson, *Contact Mechanics*,
-    1985, §11.4).  Returns (v_k, F).
-    """
-    m = chain.mass
-    v = v0 * np.cumprod(np.r_[1.0, 2 * m[:-1] / (m[:-1] + m[1:])])
-    kw = chain.k[-1]
-    return v, kw * (5 * m[-1] * v[-1] ** 2 / (4 * kw)) ** 0.6
-
-
 def _tapered_bca_run(q):
     """chain_tapered_bca.toml with mass_ratio q (1: the untapered chain), run from TOML."""
     import tomllib
@@ -278,8 +261,9 @@ def test_tapered_chain_against_the_binary_collision_approximation():
     # masses × q per grain), free left end, no precompression, grain 0 struck at 1 m/s,
     # a rigid Hertz wall after the smallest grain.  The published estimate: the binary-
     # collision approximation of Harbola, Rosas, Esposito & Lindenberg, Phys. Rev. E 80
-    # (2009) 031303 (_binary_collision_estimate), whose velocity recursion gives the
-    # leading pulse a growth of 2/(1+q) per grain along the taper.
+    # (2009) 031303 (theory.tapers: bca_velocities, then the last grain's Hertz impact on
+    # the wall, wall_impact_force), whose velocity recursion gives the leading pulse a
+    # growth of 2/(1+q) per grain along the taper.
     # Measured (docs/physics.md §12):
     # * growth of the peak grain velocity per grain over grains 40-65 (least squares on
     #   ln v_max): 1.002505, 1.005019, 1.010076 against 2/(1+q) = 1.002506, 1.005025,
@@ -297,7 +281,9 @@ def test_tapered_chain_against_the_binary_collision_approximation():
     sc = load_scenario(EXAMPLES["chain_tapered_bca"])
     _, sims[0.98] = run_simulation(sc)
     force = {q: s.record.arrays()["wall_force"][:, 1].max() for q, s in sims.items()}
-    bca = {q: _binary_collision_estimate(s.chain, 1.0)[1] for q, s in sims.items()}
+    bca = {q: tapers.wall_impact_force(s.chain.mass[-1], s.chain.k[-1],
+                                       tapers.bca_velocities(s.chain.mass, 1.0)[-1],
+                                       exponent=s.chain.exponent) for q, s in sims.items()}
     assert force[1] / bca[1] == pytest.approx(0.8261, abs=0.005)
     k = np.arange(40, 66)
     for q in (0.995, 0.99, 0.98):

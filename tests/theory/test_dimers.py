@@ -13,7 +13,6 @@ from discrete.initial import impact
 from hertzchain.runner import build_chain
 from hertzchain.scenario import parse_scenario, shipped_scenarios
 from theory import dimers as Dm
-from theory import gravity as G
 
 EXAMPLES = shipped_scenarios()
 
@@ -50,7 +49,8 @@ def test_homogenised_cell_closed_forms():
     # with equal contacts moves as grains of the mean mass and spacing at the same force
     di = Dm.homogenise_cell([1e-3, 0.5e-3], [1e10, 1e10], 10e-3)
     fm = 50.0
-    mono = G.solitary_wave_speed(1e10, 0.75e-3, 5e-3, 0.0, (fm / 1e10) ** (2 / 3))
+    mono = theory.nesterenko_speed(theory.c_mat(1e10, 0.75e-3, 5e-3), 0.0,
+                                   (fm / 1e10) ** (2 / 3) / 5e-3)
     assert Dm.cell_solitary_speed(di, fm) == pytest.approx(mono, rel=1e-13)
 
 

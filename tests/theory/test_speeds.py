@@ -1,5 +1,7 @@
 """Wave speeds: paper Eqs. 4, 5, 7, 8 and Nesterenko's general relation."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -60,6 +62,36 @@ def test_nesterenko_tends_to_eq8_large_amplitude():
     # relative difference falls monotonically towards 0 as the precompression vanishes
     assert rels[0] > rels[1] > rels[2]
     assert rels[2] < 1e-2
+
+
+@pytest.mark.parametrize("n", [1.5, 2.0, 4.0, 10.0])
+def test_nesterenko_speed_as_the_precompression_vanishes(n):
+    # δ0 → 0 down to the smallest subnormal ξ0: finite, no floating-point warning (the
+    # suite raises on them), and the compacton's speed.  With ε = ξ_max/ξ0,
+    # (V/V_vac)² = R(ε)/ε^{n+1} = (1 + 1/ε)^{n+1} - (n+1) ε^{-n} - ε^{-n-1}
+    # (R(ε) = (1+ε)^{n+1} - 1 - (n+1)ε), evaluated here in that form, cancellation-free:
+    # at ε = 1e4 … 1e8 to 1e-4 of V/V_vac - 1 (the rounding of V/V_vac, ~1e-14, is ≤ 1e-6
+    # of it).  Beyond ε = 1e18 (where V/V_vac - 1 ≈ (n+1)/(2ε) < 1e-17) the function
+    # returns V_vac itself, continuous at the switch to the formula's rounding (measured
+    # ≤ 2.2e-14; tolerance 1e-13).
+    c, xm = 300.0, 1e-4
+    v_vac = theory.sonic_vacuum_speed(c, xm, exponent=n)
+    xi0 = np.r_[10.0 ** -np.arange(6.0, 309.0, 3.0), 1e-310, 5e-324]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        v = theory.nesterenko_speed(c, xi0, xm, exponent=n)
+        v_far = theory.nesterenko_speed(c, xi0 * 1e-5, 1.0, exponent=n)
+    assert np.all(np.isfinite(v)) and np.all(np.isfinite(v_far))
+    assert np.all(v[xi0 * 1e18 < xm] == v_vac)
+    # falls onto V_vac (monotonic up to the formula's rounding, 1e-15 relative)
+    assert np.all(np.diff(v) <= 1e-14 * v_vac) and np.all(v >= v_vac * (1 - 1e-14))
+    for eps in (1e4, 1e6, 1e8):
+        x = np.expm1((n + 1) * np.log1p(1 / eps)) - (n + 1) * eps**-n - eps ** -(n + 1)
+        rel = theory.nesterenko_speed(c, xm / eps, xm, exponent=n) / v_vac - 1
+        assert rel == pytest.approx(x / (1 + np.sqrt(1 + x)), rel=1e-4)
+    lo, hi = (theory.nesterenko_speed(c, xm / e, xm, exponent=n) for e in
+              (1e18 * (1 - 1e-12), 1e18 * (1 + 1e-12)))
+    assert abs(hi / lo - 1) < 1e-13
 
 
 def test_kdv_exact_vs_eq5():

@@ -16,7 +16,7 @@ def test_model_obeys_both_conservation_laws():
     # Σ C_E m v_j² = ½ M v0² and Σ C_P m v_j = M v0 for the infinite geometric train, to
     # rounding; r = C_P²/(2 C_E) is the one-wave limit (ρ = 0), where v_1 =
     # √(r/(2 C_E)) v0 = v0 r/C_P; as r → ∞, v_1 → (C_P/C_E) v0.
-    c = theory.tapers.sonic_vacuum_wave_constants()
+    c = theory.sonic_vacuum_wave_constants()
     for r in (2.0, 8.0, 100.0):
         t = St.striker_train(r, 0.7)
         v = t.velocities(4000)

@@ -47,15 +47,17 @@ def test_binary_collision_is_the_two_body_problem(m1, m2, n):
 
 
 def test_sonic_vacuum_constants_scale_and_obey_the_virial_theorem():
-    # The constants of the exact wave (k = m = d = v = 1) rescale to any grains and
-    # amplitude (self-similarity of the δ0 = 0 wave): against a wave computed directly
-    # for steel grains at 0.3 m/s, energy, momentum, amplitude and speed to 1e-9.  The
-    # phase-averaged kinetic energy is (n+1)/(n+3) of the total (virial theorem,
-    # 2⟨K⟩ = (n+1)⟨U⟩): measured to 1e-14, tolerance 1e-10.
+    # The constants of the exact wave (k = m = d = v = 1; theory.profiles, which the
+    # adiabatic taper wave scales) rescale to any grains and amplitude (self-similarity
+    # of the δ0 = 0 wave): against a wave computed directly for steel grains at 0.3 m/s,
+    # energy, momentum, amplitude and speed to 1e-9.  The phase-averaged kinetic energy is
+    # (n+1)/(n+3) of the total (virial theorem, 2⟨K⟩ = (n+1)⟨U⟩): measured to 1e-14,
+    # tolerance 1e-10.  rate/amplitude^{(n-1)/2} is the speed constant V/(c ξ^{(n-1)/2})
+    # of theory.discrete_speed_constant (measured 1e-15; tolerance 1e-12).
     mat, d = theory.PAPER_MATERIAL, 3e-3
     m, k = theory.grain_mass(d, mat.density), theory.hertz_constant(d, mat)
     for n in (1.5, 2.0, 3.0):
-        c = T.sonic_vacuum_wave_constants(n)
+        c = theory.sonic_vacuum_wave_constants(n)
         w = theory.discrete_solitary_wave(k, m, d, velocity_max=0.3, exponent=n)
         u = 0.3 * np.sqrt(m / k)
         assert w.energy() == pytest.approx(c.energy * m * 0.09, rel=1e-9)
@@ -64,6 +66,8 @@ def test_sonic_vacuum_constants_scale_and_obey_the_virial_theorem():
         assert w.speed == pytest.approx(
             c.rate * d * np.sqrt(k / m) * u ** ((n - 1) / (n + 1)), rel=1e-9)
         assert c.kinetic_fraction == pytest.approx((n + 1) / (n + 3), rel=1e-10)
+        assert c.rate / c.amplitude ** ((n - 1) / 2) == pytest.approx(
+            theory.discrete_speed_constant(exponent=n), rel=1e-12)
 
 
 def _tapered(stem, q=None):
@@ -111,7 +115,7 @@ def test_bca_speed_on_a_uniform_chain():
     t = T.bca_arrival_times(np.full(11, m), np.full(10, k), 0.5)
     speed = 10 * d / t[-1]
     assert speed / (c**0.8 * 0.5**0.2) == pytest.approx(0.8201, abs=1e-4)
-    cw = T.sonic_vacuum_wave_constants()
+    cw = theory.sonic_vacuum_wave_constants()
     assert cw.rate * 0.6816**0.2 == pytest.approx(0.8405, abs=1e-4)
 
 
@@ -154,7 +158,7 @@ def test_tapered_chain_against_bca_and_adiabatic_wave(stem, q, growth_tol, adiab
     growth = np.exp(np.polyfit(k, np.log(vmax[k]), 1)[0])
     r = T.geometric_taper_ratios(qq)
     assert growth == pytest.approx(r.bca_velocity, rel=growth_tol)
-    e = T.sonic_vacuum_wave_constants().energy * ch.mass[ref] * vmax[ref] ** 2
+    e = theory.sonic_vacuum_wave_constants().energy * ch.mass[ref] * vmax[ref] ** 2
     wave = T.adiabatic_taper_wave(ch.mass, ch.k[1:-1], ch.diameter, e, start=ref)
     tb = T.bca_arrival_times(ch.mass, ch.k[1:-1], 1.0)
     i = np.arange(max(first + 3, ref + 1), ch.n - 4)
