@@ -122,11 +122,11 @@ def test_fmt():
 def _outs(tmp_path: Path):
     """(working directory, --out) pairs: relative with a space, absolute, relative with
     '..' from another working directory."""
-    work, other = tmp_path / "work", tmp_path / "other" / "deeper"
+    work, other = tmp_path / "here", tmp_path / "other" / "deeper"
     work.mkdir()
     other.mkdir(parents=True)
     return [(work, "out rel"), (work, str(tmp_path / "out abs")),
-            (other, "../../work/nested/out")]
+            (other, "../../here/nested/out")]
 
 
 def test_reproduce_report_shows_its_figures(tmp_path, monkeypatch, capsys):
