@@ -164,7 +164,8 @@ from .interpolation import hermite_max_from  # noqa: E402
 
 jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
 
-__all__ = ["Kernels", "make_kernels", "kernel_params", "chain_runs", "active_window",
+__all__ = ["Kernels", "make_kernels", "batch_kernel", "kernel_params", "chain_runs",
+           "active_window",
            "UMAX_EVERY", "RUNS_MIN_LENGTH", "PEAK_ROWS"]
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
@@ -1455,3 +1456,189 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     return Kernels(law, DRAG, RMAX, refined, VD, run_steps, run_blocked, accelerations,
                    entry(contact_energies), entry(grain_energies), entry(shadow_correction),
                    entry(static_forces), entry(dissipation_rate), entry(grid_row))
+
+
+
+# ------------------------------------------------------------------ ensembles
+_BATCH: dict[tuple, object] = {}
+
+
+def batch_kernel(law: ContactLaw | None = None):
+    r"""The ensemble kernel of a conservative ``law``: R chains of N grains in one loop.
+
+    Many realisations of a small chain (a disorder ensemble) are integrated together on
+    arrays of shape (N, R) — grain first, realisation last and contiguous — so that
+    the innermost loop runs over the realisations: it has no loop-carried dependence
+    (the fused pass's force carried from grain to grain is a per-realisation scalar)
+    and vectorises across the realisations, while the per-step bookkeeping (the window,
+    the event tests, the chunk calls of :attr:`Kernels.run_steps`) that dominates a
+    200-grain chain's step is paid once per batch.
+
+    Each realisation's arithmetic is the per-step pass of the single-chain kernels
+    (module docstring, "Passes"): the drift ``u + a_s h v`` of grain i+1, the overlap
+    ``δ0 + (u_i - u_{i+1})`` (walls not drifted), φ = F(r) - f0, the kick
+    ``v = (v + c1 a) + c2 a`` with the closing and the next opening kick fused, the
+    running maximum on the synchronous velocity ``v + c1 a``; a run's last step closes
+    with c2 = 0 and its acceleration is recomputed as ``accelerations`` does.  The
+    whole chain is integrated (no window): a grain at rest in equilibrium has
+    exactly zero force, so its state stays exact (module docstring), and every
+    realisation ends bit for bit where :meth:`discrete.Simulation.run` ends it
+    (``tests/discrete/test_ensemble.py``).  Each realisation has its own time step
+    and step count; the caller orders them by decreasing step count, so that at step
+    s the realisations still running are a prefix ``0 .. m-1`` of the batch.
+
+    Besides the running maximum ``vmax`` of the synchronous velocity (the transmitted
+    amplitude at every grain, paper Fig. 2) it keeps the time ``tmax`` at which that
+    maximum was reached, ``t0 + s h`` at the end of the step s that raised it (the
+    arrival time of the wave's peak, resolved to one step).
+
+    Parameters of the returned function ``run_batch(st, con, p, walls, coef, steps)``:
+
+    st : tuple of (N, R) float arrays
+        ``(u, v, a, vmax, tmax)``: displacements (m), velocities (m/s), accelerations
+        (m/s², overwritten: computed from u at the start and at the end), running
+        maxima of v (m/s) and their times (s); updated in place.
+    con : tuple of arrays
+        ``(inv_m, k, d0, f0)``: 1/m (N, R) in 1/kg, and per contact (N+1, R) the
+        constants k (N/m^n), the static overlaps δ0 (m) and the static forces
+        F(δ0) (N, computed with the kernels' arithmetic: ``Kernels.static_forces``).
+    p : (P,) float array
+        The law's runtime parameters (:func:`kernel_params`).
+    walls : tuple of (R,) float arrays
+        ``(w_L, w_R)`` wall displacements, m.
+    coef : tuple
+        ``(drift, kick, t0, dt)``: the method's coefficients per realisation, drift
+        (S, R) = a_s h and kick (S+1, R) = b_s h (s), the start time t0 (R,) and the
+        step h (R,) in s.
+    steps : (R,) int64 array
+        Steps of each realisation, in decreasing order.
+
+    The batch kernel is compiled on its first call (or loaded from the disk cache),
+    apart from the single-chain kernels: a sweep of small chains compiles only it.
+    """
+    law = as_law(law)
+    if law.dissipative:
+        raise ValueError(f"law must be conservative for the ensemble kernel (got the "
+                         f"{law.describe()}): velocity-dependent forces need the split "
+                         "dissipative step of the single-chain kernels")
+    key = law.key()
+    if key not in _BATCH:
+        _BATCH[key] = _build_batch(law)
+    return _BATCH[key]
+
+
+def _build_batch(law: ContactLaw):
+    """Close the ensemble pass over the law's compiled force (:func:`batch_kernel`)."""
+    force = law.make_force()
+    ckey = f"batch|{law.key()!r}|{_source_digest(law)}"
+    tag = "B" + hashlib.sha256(repr(law.key()).encode()).hexdigest()[:12]
+
+    @numba.njit(**_INLINE)
+    def contact(r, kj, f0j, p):
+        """φ = F(r) - f0 of one contact (conservative: the overlap rate is not read), N."""
+        return force(r, 0.0, kj, p) - f0j
+
+    @numba.njit(**_INLINE)
+    def accelerations(u, a, con, p, wl, wr, m):
+        """Set a = (φ_i - φ_{i+1})/m_i of realisations 0..m-1 (``accelerations``' arithmetic)."""
+        inv_m, k, d0, f0 = con
+        n = u.shape[0]
+        phl = np.empty(m)
+        for r in range(m):
+            phl[r] = contact(d0[0, r] + (wl[r] - u[0, r]), k[0, r], f0[0, r], p)
+        for i in range(n):
+            for r in range(m):
+                ur = wr[r] if i == n - 1 else u[i + 1, r]
+                phr = contact(d0[i + 1, r] + (u[i, r] - ur), k[i + 1, r], f0[i + 1, r], p)
+                a[i, r] = (phl[r] - phr) * inv_m[i, r]
+                phl[r] = phr
+
+    @numba.njit(**_INLINE)
+    def substep(st, con, p, wl, wr, dc, c1, c2, tn, m, track, un, phl):
+        """One fused pass (drift, force, kick) over all grains of realisations 0..m-1."""
+        u, v, vmax, tmax = st[0], st[1], st[3], st[4]
+        inv_m, k, d0, f0 = con
+        n = u.shape[0]
+        u0 = u[0]
+        v0 = v[0]
+        for r in range(m):
+            x = u0[r] + dc[r] * v0[r]
+            u0[r] = x
+            un[r] = x
+            phl[r] = contact(d0[0, r] + (wl[r] - x), k[0, r], f0[0, r], p)
+        for i in range(n):
+            vi_, vmi, tmi, imi = v[i], vmax[i], tmax[i], inv_m[i]
+            kr, dr, fr = k[i + 1], d0[i + 1], f0[i + 1]
+            if i < n - 1:
+                un1, vn1 = u[i + 1], v[i + 1]
+                for r in range(m):
+                    unr = un1[r] + dc[r] * vn1[r]
+                    un1[r] = unr
+                    phr = contact(dr[r] + (un[r] - unr), kr[r], fr[r], p)
+                    un[r] = unr
+                    ai = (phl[r] - phr) * imi[r]
+                    x = vi_[r] + c1[r] * ai
+                    if track:
+                        g = _opaque(vmi[r])
+                        tt = _opaque(tmi[r])
+                        up = x > g
+                        vmi[r] = x if up else g
+                        tmi[r] = tn[r] if up else tt
+                    vi_[r] = x + c2[r] * ai
+                    phl[r] = phr
+            else:
+                for r in range(m):
+                    phr = contact(dr[r] + (un[r] - wr[r]), kr[r], fr[r], p)
+                    ai = (phl[r] - phr) * imi[r]
+                    x = vi_[r] + c1[r] * ai
+                    if track:
+                        g = _opaque(vmi[r])
+                        tt = _opaque(tmi[r])
+                        up = x > g
+                        vmi[r] = x if up else g
+                        tmi[r] = tn[r] if up else tt
+                    vi_[r] = x + c2[r] * ai
+                    phl[r] = phr
+
+    def run_batch(st, con, p, walls, coef, steps):
+        """Advance every realisation by its ``steps`` (see :func:`batch_kernel`)."""
+        u, v, a = st[0], st[1], st[2]
+        wl, wr = walls
+        drift, kick, t0, dt = coef
+        nr = u.shape[1]
+        ns = drift.shape[0]
+        for r in range(1, nr):
+            if steps[r] > steps[r - 1]:
+                raise ValueError("steps must be in decreasing order")
+        dc = np.empty(nr)
+        c1 = np.empty(nr)
+        c2 = np.empty(nr)
+        tn = np.empty(nr)
+        un = np.empty(nr)
+        phl = np.empty(nr)
+        m = nr
+        while m > 0 and steps[m - 1] <= 0:
+            m -= 1
+        accelerations(u, a, con, p, wl, wr, nr)
+        for i in range(u.shape[0]):  # the opening kick of the first step
+            for r in range(m):
+                v[i, r] = v[i, r] + kick[0, r] * a[i, r]
+        s = 0
+        while m > 0:
+            for q in range(ns):
+                final = q == ns - 1
+                for r in range(m):
+                    dc[r] = drift[q, r]
+                    c1[r] = kick[q + 1, r]
+                    # the closing kick and the next step's opening one; the last step
+                    # of a realisation stops at the synchronous velocity
+                    c2[r] = kick[0, r] if final and s + 1 < steps[r] else 0.0
+                    tn[r] = t0[r] + (s + 1) * dt[r]
+                substep(st, con, p, wl, wr, dc, c1, c2, tn, m, final, un, phl)
+            s += 1
+            while m > 0 and steps[m - 1] <= s:
+                m -= 1
+        accelerations(u, a, con, p, wl, wr, nr)
+
+    run_batch.__qualname__ = f"run_batch_{tag}"
+    return _entry(run_batch, ckey)
