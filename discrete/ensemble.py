@@ -246,17 +246,19 @@ def reference_ensemble(sims: Sequence[Simulation], t_end: float) -> EnsembleResu
 
 # ------------------------------------------------------------------ reductions
 def amplitude_decay(vmax, first: int, last: int | None = None) -> tuple[np.ndarray, np.ndarray]:
-    r"""Decay length ξ (grains) and amplitude A_0 of each realisation's transmitted amplitude.
+    r"""Exponential decay rate γ (1/grain) of each realisation's transmitted amplitude.
 
     A disordered chain scatters the travelling pulse, and its amplitude — the running
     maximum of the grain velocity, :math:`A_i = \max_t v_i(t)` — decays with the
     distance i travelled; over the range where the decay is exponential,
-    :math:`A_i \simeq A_0 e^{-(i - i_0)/\xi}` (Martínez, Kevrekidis & Porter, Phys.
-    Rev. E 93 (2016) 022902; Kekić & Van Gorder, Physica D (2018); docs/physics.md
-    §16).  Per realisation, the least-squares line through :math:`(i, \ln A_i)` for
-    grains ``first .. last`` gives the slope :math:`-1/\xi`; ξ = inf where the
-    amplitude does not decay (slope >= 0), NaN where a grain of the range was never
-    reached (A_i <= 0).
+    :math:`A_i \simeq A_0 e^{-\gamma (i - i_0)}`, with the localisation length
+    :math:`\xi = 1/\gamma` in grains (Martínez, Kevrekidis & Porter, Phys. Rev. E 93
+    (2016) 022902; Kekić & Van Gorder, Physica D (2018); docs/physics.md §16).  Per
+    realisation, the least-squares line through :math:`(i, \ln A_i)` for grains
+    ``first .. last`` has the slope -γ (γ < 0: the amplitude grows); NaN where a grain
+    of the range was never reached (A_i <= 0).  γ, unlike ξ, is finite for every
+    realisation and its ensemble mean is the slope of the mean log amplitude (the
+    fit is linear in ln A).
 
     Parameters
     ----------
@@ -268,8 +270,8 @@ def amplitude_decay(vmax, first: int, last: int | None = None) -> tuple[np.ndarr
 
     Returns
     -------
-    xi, a0 : (R,) arrays
-        Decay length in grains and the fitted amplitude at grain ``first`` (m/s).
+    gamma, a0 : (R,) arrays
+        Decay rate in 1/grain and the fitted amplitude at grain ``first`` (m/s).
     """
     a = np.atleast_2d(np.asarray(vmax, float))
     n = a.shape[1]
@@ -280,13 +282,11 @@ def amplitude_decay(vmax, first: int, last: int | None = None) -> tuple[np.ndarr
     x = np.arange(int(first), last + 1, dtype=float)
     y = a[:, int(first):last + 1]
     ok = np.all(y > 0, axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ly = np.log(np.where(y > 0, y, 1.0))
-        xc = x - x.mean()
-        slope = (ly - ly.mean(axis=1, keepdims=True)) @ xc / (xc @ xc)
-        intercept = ly.mean(axis=1) + slope * (x[0] - x.mean())
-        xi = np.where(slope < 0, -1.0 / slope, np.inf)
-    return np.where(ok, xi, np.nan), np.where(ok, np.exp(intercept), np.nan)
+    ly = np.log(np.where(y > 0, y, 1.0))
+    xc = x - x.mean()
+    slope = (ly - ly.mean(axis=1, keepdims=True)) @ xc / (xc @ xc)
+    intercept = ly.mean(axis=1) + slope * (x[0] - x.mean())
+    return np.where(ok, -slope, np.nan), np.where(ok, np.exp(intercept), np.nan)
 
 
 QUANTILES = (0.05, 0.25, 0.5, 0.75, 0.95)

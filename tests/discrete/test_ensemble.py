@@ -113,12 +113,13 @@ def test_bad_input():
 
 
 def test_amplitude_decay_exact():
-    """An exactly exponential profile gives its decay length; no decay gives inf."""
+    """An exactly exponential profile gives its rate; none gives 0, an unreached grain NaN."""
     i = np.arange(50)
     a = np.stack([2.0 * np.exp(-(i - 5) / 17.0), np.ones(50), np.r_[np.ones(49), 0.0]])
-    xi, a0 = amplitude_decay(a, 5)
-    assert xi[0] == pytest.approx(17.0, rel=1e-12) and a0[0] == pytest.approx(2.0, rel=1e-12)
-    assert xi[1] == np.inf and np.isnan(xi[2])
+    rate, a0 = amplitude_decay(a, 5)
+    assert rate[0] == pytest.approx(1 / 17.0, rel=1e-12)
+    assert a0[0] == pytest.approx(2.0, rel=1e-12)
+    assert rate[1] == 0.0 and np.isnan(rate[2])
     with pytest.raises(ValueError, match="first"):
         amplitude_decay(a, 49, 49)
 
