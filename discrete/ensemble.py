@@ -284,8 +284,12 @@ def amplitude_decay(vmax, first: int, last: int | None = None) -> tuple[np.ndarr
     ok = np.all(y > 0, axis=1)
     ly = np.log(np.where(y > 0, y, 1.0))
     xc = x - x.mean()
-    slope = (ly - ly.mean(axis=1, keepdims=True)) @ xc / (xc @ xc)
-    intercept = ly.mean(axis=1) + slope * (x[0] - x.mean())
+    sxx = float(np.dot(xc, xc))
+    slope, intercept = np.empty(a.shape[0]), np.empty(a.shape[0])
+    for q in range(a.shape[0]):  # row by row: a realisation's fit does not depend on R
+        mean = ly[q].mean()
+        slope[q] = np.dot(ly[q] - mean, xc) / sxx
+        intercept[q] = mean + slope[q] * (x[0] - x.mean())
     return np.where(ok, -slope, np.nan), np.where(ok, np.exp(intercept), np.nan)
 
 
