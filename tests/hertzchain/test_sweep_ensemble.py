@@ -90,6 +90,13 @@ def test_ensemble_sweep_equals_one_by_one(tmp_path):
         if rate > 0:
             assert ens["localisation_length"][g] == pytest.approx(1 / rate, rel=1e-13)
     assert np.array_equal(ens["profile_grains"], np.arange(30))
+    # the plot: one curve (mean log amplitude) per value of sigma
+    from matplotlib.figure import Figure
+
+    from hertzchain.sweep_plot import plot_ensemble
+
+    ax = Figure().add_subplot()
+    assert plot_ensemble(ax, res) and len(ax.get_lines()) == 2
     # a rerun finds every realisation done
     again = run_sweep(spec, out=tmp_path / "s", workers=1, processes=False, progress=False)
     assert again.n_run == 0 and again.n_skipped == 10
