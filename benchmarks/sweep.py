@@ -2,6 +2,7 @@
 
     python benchmarks/sweep.py                 # synthetic CPU-bound points (numba kernel)
     python benchmarks/sweep.py --real          # the real runner on the fig7_map.toml chain
+    python benchmarks/sweep.py --ensemble      # random chains: ensemble vs one by one
 
 Each worker count gets its own LocalCluster (processes, 1 thread each), warmed up
 first, so the timing is the steady-state throughput of ``run_sweep`` (submission,
@@ -52,6 +53,68 @@ def real_spec(n_points: int, offset: int):
         {"path": "chain.sections.1.alpha_rho",
          "logspace": [0.2 + 1e-3 * offset, 5.0, n_points]}]}}
     return parse_sweep_spec(d)
+
+
+def ensemble_spec(n_points: int, offset: int, grains: int, ensemble: bool):
+    """Random chains of ``grains`` grains (disorder_mass 0.08 and 0.1, a seed axis, an
+    impact): ``n_points`` realisations, as an ``[ensemble]`` or as a plain seed axis."""
+    base = {"chain": {"delta0_over_d": 1e-3,
+                      "sections": [{"n": grains, "disorder_mass": 0.08}]},
+            "initial": {"kind": "impact", "v0": 0.1},
+            "run": {"t_end": 5e-6 * grains}, "models": {"theory": False}}
+    seeds = n_points // 2
+    axes = [{"path": "chain.sections.0.disorder_mass", "name": "disorder_mass",
+             "values": [0.08, 0.1]}]
+    first = 10_000 * (offset + 1)  # new seeds (new ids) in every measurement
+    if ensemble:
+        return parse_sweep_spec({"name": f"ens{offset}", "base": base,
+                                 "sweep": {"axes": axes},
+                                 "ensemble": {"seeds": seeds, "first_seed": first}})
+    axes.append({"path": "chain.sections.0.seed", "name": "seed",
+                 "values": list(range(first, first + seeds))})
+    return parse_sweep_spec({"name": f"one{offset}", "base": base, "sweep": {"axes": axes}})
+
+
+def kernel_rates(grains: int, realisations: int = 64) -> dict:
+    """Grain-updates per CPU second: the ensemble kernel, the single-chain kernel on the
+    same chains (one Simulation each, maxima only) and on a 10,000-grain chain."""
+    import numpy as np
+
+    import theory
+    from discrete import Chain, Disorder, Recording, Section
+    from discrete.ensemble import run_ensemble
+    from discrete.initial import impact
+
+    def sims(r, n, seed0=0):
+        out = []
+        for s in range(r):
+            c = Chain.from_sections([Section(n, 5e-3, theory.PAPER_MATERIAL,
+                                             disorder=Disorder(mass=0.09, seed=seed0 + s))],
+                                    delta0=5e-6)
+            init = impact(c, 0.1)
+            init.v[:] += 1e-3 * np.sin(np.arange(n))  # every grain moves: whole window
+            out.append(init.simulation(record=Recording(maxima=True), threads=1))
+        return out
+
+    steps = 2000
+    ens = sims(realisations, grains)
+    t_end = steps * min(s.dt for s in ens)
+    run_ensemble(ens[:2], t_end)  # compiled / loaded
+    t = time.process_time()
+    res = run_ensemble(ens, t_end)
+    batch = res.steps.sum() * grains / (time.process_time() - t)
+    one = sims(8, grains)
+    one[0].run(10 * one[0].dt, progress=False)
+    one = sims(8, grains)
+    t = time.process_time()
+    for s in one:
+        s.run(t_end, progress=False)
+    single = sum(s.steps for s in one) * grains / (time.process_time() - t)
+    big = sims(1, 10_000)[0]
+    t = time.process_time()
+    big.run(300 * big.dt, progress=False)
+    large = big.steps * 10_000 / (time.process_time() - t)
+    return {"ensemble": batch, "single": single, "single_1e4": large}
 
 
 def measure(workers: int, spec, fn) -> tuple[float, float]:
@@ -106,11 +169,18 @@ def main(argv=None) -> int:
     parser.add_argument("--real", action="store_true",
                         help=f"use the real runner ({DEFAULT_POINT_FUNCTION}) on the Fig. 7 "
                         "map's chain")
+    parser.add_argument("--ensemble", action="store_true",
+                        help="random chains: an [ensemble] sweep against the same points "
+                        "one by one (the default runner), one worker")
+    parser.add_argument("--grains", type=int, default=200,
+                        help="--ensemble: grains per chain (default 200)")
     parser.add_argument("--repeat", type=int, default=2,
                         help="repetitions; the best rate is reported (default 2)")
     parser.add_argument("--no-baseline", dest="baseline", action="store_false",
                         help="skip the same calls in bare processes (machine baseline)")
     args = parser.parse_args(argv)
+    if args.ensemble:
+        return ensemble_main(args)
     if args.real:
         fn = resolve_point_function(None)
         make, n, what = real_spec, args.points or 16, "real runner, fig7_map.toml chain"
@@ -143,6 +213,35 @@ def main(argv=None) -> int:
                 if base:
                     text += f"; bare processes on this machine now: {base[w] / base[1]:.2f}x"
                 print(text + ")")
+    return 0
+
+
+def ensemble_main(args) -> int:
+    """``--ensemble``: points/s of an ensemble sweep against one by one, and kernel rates."""
+    from hertzchain.sweep.ensemble import ENSEMBLE_POINT_FUNCTION
+
+    n = args.points or 256
+    print(f"ensemble benchmark: {n} random {args.grains}-grain chains (disorder_mass 0.08, "
+          f"0.1; a seed axis; impact), 1 worker; load average {os.getloadavg()[0]:.2f}")
+    one_fn = resolve_point_function(DEFAULT_POINT_FUNCTION)
+    ens_fn = resolve_point_function(ENSEMBLE_POINT_FUNCTION)
+    rates: dict[str, list] = {"one by one": [], "ensemble": []}
+    for r in range(args.repeat):  # interleaved: both see the same machine load
+        rates["one by one"].append(measure(1, ensemble_spec(n, 2 * r, args.grains, False),
+                                           one_fn))
+        rates["ensemble"].append(measure(1, ensemble_spec(n, 2 * r + 1, args.grains, True),
+                                         ens_fn))
+    best = {k: max(v) for k, v in rates.items()}
+    for k, (rate, per_point) in best.items():
+        print(f"  {k:10s}: {rate:8.1f} points/s ({1e3 / rate:6.1f} ms a point; mean "
+              f"recorded point wall time {1e3 * per_point:.1f} ms)")
+    print(f"  ensemble / one by one: {best['ensemble'][0] / best['one by one'][0]:.1f}x "
+          "points/s")
+    k = kernel_rates(args.grains)
+    print(f"  kernel, grain-updates per CPU second: ensemble {k['ensemble']:.3g}; "
+          f"single chain on the same chains {k['single']:.3g} "
+          f"(ensemble/single {k['ensemble'] / k['single']:.2f}x); single chain of 10,000 "
+          f"grains {k['single_1e4']:.3g} (ensemble/that {k['ensemble'] / k['single_1e4']:.2f}x)")
     return 0
 
 

@@ -164,7 +164,8 @@ from .interpolation import hermite_max_from  # noqa: E402
 
 jitcache.configure()  # compiled kernels cached outside the package (theory/jitcache.py)
 
-__all__ = ["Kernels", "make_kernels", "kernel_params", "chain_runs", "active_window",
+__all__ = ["Kernels", "make_kernels", "batch_kernel", "kernel_params", "chain_runs",
+           "active_window",
            "UMAX_EVERY", "RUNS_MIN_LENGTH", "PEAK_ROWS"]
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
@@ -1455,3 +1456,170 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     return Kernels(law, DRAG, RMAX, refined, VD, run_steps, run_blocked, accelerations,
                    entry(contact_energies), entry(grain_energies), entry(shadow_correction),
                    entry(static_forces), entry(dissipation_rate), entry(grid_row))
+
+
+
+# ------------------------------------------------------------------ ensembles
+_BATCH: dict[tuple, object] = {}
+
+
+def batch_kernel(law: ContactLaw | None = None):
+    r"""The ensemble kernel of a conservative ``law``: R chains of N grains in one call.
+
+    Many realisations of a small chain (a disorder ensemble) are integrated in one
+    compiled loop over the realisations, each on its own rows of (R, N) arrays
+    (realisation first): a realisation's state and constants (u, v, the maxima and
+    their times, 1/m, k, δ0, f0: 64 bytes a grain) stay in the L1/L2 cache through all
+    its steps, and none of the per-step bookkeeping of :attr:`Kernels.run_steps` (the
+    active window, the event tests, the special grains, the chunk calls) that
+    dominates a 200-grain chain's step is done.
+
+    Each realisation's arithmetic is the per-step pass of the single-chain kernels
+    (module docstring, "Passes"): the drift ``u + a_s h v`` of grain i+1, the overlap
+    ``δ0 + (u_i - u_{i+1})`` (walls not drifted), φ = F(r) - f0, the kick
+    ``v = (v + c1 a) + c2 a`` with the closing and the next opening kick fused, the
+    running maximum on the synchronous velocity ``v + c1 a``; a run's last step closes
+    with c2 = 0 and its acceleration is recomputed as ``accelerations`` does.  The
+    whole chain is integrated (no window): a grain at rest in equilibrium has
+    exactly zero force, so its state stays exact (module docstring), and every
+    realisation ends bit for bit where :meth:`discrete.Simulation.run` ends it
+    (``tests/discrete/test_ensemble.py``).  Each realisation has its own time step
+    and step count.
+
+    Besides the running maximum ``vmax`` of the synchronous velocity (the transmitted
+    amplitude at every grain, paper Fig. 2) it keeps the time ``tmax`` at which that
+    maximum was reached, ``t0 + s h`` at the end of the step s that raised it (the
+    arrival time of the wave's peak, resolved to one step).
+
+    Parameters of the returned function ``run_batch(st, con, p, walls, coef, steps)``:
+
+    st : tuple of (R, N) float arrays
+        ``(u, v, a, vmax, tmax)``: displacements (m), velocities (m/s), accelerations
+        (m/s², overwritten: computed from u at the start and at the end), running
+        maxima of v (m/s) and their times (s); updated in place.
+    con : tuple of arrays
+        ``(inv_m, k, d0, f0)``: 1/m (R, N) in 1/kg, and per contact (R, N+1) the
+        constants k (N/m^n), the static overlaps δ0 (m) and the static forces
+        F(δ0) (N, computed with the kernels' arithmetic: ``Kernels.static_forces``).
+    p : (P,) float array
+        The law's runtime parameters (:func:`kernel_params`).
+    walls : tuple of (R,) float arrays
+        ``(w_L, w_R)`` wall displacements, m.
+    coef : tuple
+        ``(drift, kick, t0, dt)``: the method's coefficients per realisation, drift
+        (R, S) = a_s h and kick (R, S+1) = b_s h (s), the start time t0 (R,) and the
+        step h (R,) in s.
+    steps : (R,) int64 array
+        Steps of each realisation.
+
+    The batch kernel is compiled on its first call (or loaded from the disk cache),
+    apart from the single-chain kernels: a sweep of small chains compiles only it.
+    """
+    law = as_law(law)
+    if law.dissipative:
+        raise ValueError(f"law must be conservative for the ensemble kernel (got the "
+                         f"{law.describe()}): velocity-dependent forces need the split "
+                         "dissipative step of the single-chain kernels")
+    key = law.key()
+    if key not in _BATCH:
+        _BATCH[key] = _build_batch(law)
+    return _BATCH[key]
+
+
+def _build_batch(law: ContactLaw):
+    """Close the ensemble pass over the law's compiled force (:func:`batch_kernel`)."""
+    force = law.make_force()
+    ckey = f"batch|{law.key()!r}|{_source_digest(law)}"
+    tag = "B" + hashlib.sha256(repr(law.key()).encode()).hexdigest()[:12]
+
+    @numba.njit(**_INLINE)
+    def contact(r, kj, f0j, p):
+        """φ = F(r) - f0 of one contact (conservative: the overlap rate is not read), N."""
+        return force(r, 0.0, kj, p) - f0j
+
+    @numba.njit(**_INLINE)
+    def accelerations(u, a, inv_m, k, d0, f0, p, wl, wr):
+        """Set a = (φ_i - φ_{i+1})/m_i of one chain (``accelerations``' arithmetic)."""
+        n = u.size
+        phl = contact(d0[0] + (wl - u[0]), k[0], f0[0], p)
+        for i in range(n):
+            ur = wr if i == n - 1 else u[i + 1]
+            phr = contact(d0[i + 1] + (u[i] - ur), k[i + 1], f0[i + 1], p)
+            a[i] = (phl - phr) * inv_m[i]
+            phl = phr
+
+    @numba.njit(**_INLINE)
+    def substep(u, v, vm, tm, inv_m, k, d0, f0, p, wl, wr, dc, c1, c2, tn, track):
+        """One fused pass (drift, force, kick) over the grains of one chain (see "Passes").
+
+        Views from grain 0 and grain 1 (``uw[i]`` is grain i, ``u1[i]`` grain i+1) let
+        LLVM see the distance-1 dependence of the drifted neighbour and vectorise.
+        """
+        n = u.size
+        un = u[0] + dc * v[0]
+        u[0] = un
+        phl = contact(d0[0] + (wl - un), k[0], f0[0], p)
+        m = n - 1
+        u1, v1, k1, d1, f1 = u[1:], v[1:], k[1:], d0[1:], f0[1:]
+        if track:
+            for i in range(m):
+                unr = u1[i] + dc * v1[i]
+                u1[i] = unr
+                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                ai = (phl - phr) * inv_m[i]
+                x = v[i] + c1 * ai
+                g = _opaque(vm[i])
+                tt = _opaque(tm[i])
+                up = x > g
+                vm[i] = x if up else g
+                tm[i] = tn if up else tt
+                v[i] = x + c2 * ai
+                phl = phr
+                un = unr
+        else:
+            for i in range(m):
+                unr = u1[i] + dc * v1[i]
+                u1[i] = unr
+                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                ai = (phl - phr) * inv_m[i]
+                v[i] = (v[i] + c1 * ai) + c2 * ai
+                phl = phr
+                un = unr
+        phr = contact(d0[n] + (un - wr), k[n], f0[n], p)
+        ai = (phl - phr) * inv_m[m]
+        x = v[m] + c1 * ai
+        if track and x > vm[m]:
+            vm[m] = x
+            tm[m] = tn
+        v[m] = x + c2 * ai
+
+    def run_batch(st, con, p, walls, coef, steps):
+        """Advance every realisation by its ``steps`` (see :func:`batch_kernel`)."""
+        u, v, a, vmax, tmax = st
+        inv_m, k, d0, f0 = con
+        wl, wr = walls
+        drift, kick, t0, dt = coef
+        nr = u.shape[0]
+        ns = drift.shape[1]
+        for r in range(nr):
+            ur, vr, ar = u[r], v[r], a[r]
+            imr, kr, dr, fr = inv_m[r], k[r], d0[r], f0[r]
+            accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
+            nsteps = steps[r]
+            if nsteps <= 0:
+                continue
+            for i in range(ur.size):  # the opening kick of the first step
+                vr[i] = vr[i] + kick[r, 0] * ar[i]
+            for s in range(nsteps):
+                # the closing kick and the next step's opening one; the last step stops
+                # at the synchronous velocity
+                c2 = kick[r, 0] if s + 1 < nsteps else 0.0
+                tn = t0[r] + (s + 1) * dt[r]
+                for q in range(ns):
+                    final = q == ns - 1
+                    substep(ur, vr, vmax[r], tmax[r], imr, kr, dr, fr, p, wl[r], wr[r],
+                            drift[r, q], kick[r, q + 1], c2 if final else 0.0, tn, final)
+            accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
+
+    run_batch.__qualname__ = f"run_batch_{tag}"
+    return _entry(run_batch, ckey)

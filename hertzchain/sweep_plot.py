@@ -34,6 +34,7 @@ __all__ = [
     "plot_validity_map",
     "plot_validity_amplitude",
     "validity_figure",
+    "plot_ensemble",
 ]
 
 CLASSES: tuple[tuple[str, str], ...] = (
@@ -346,7 +347,8 @@ def save_sweep_figures(results: SweepResults | str | Path, out: str | Path | Non
     -------
     list of pathlib.Path
         The PNG files written (the cuts only when α_ρ/α_kn vary; ``validity_map.png``
-        when the points ran every model, :func:`validity_figure`).
+        when the points ran every model, :func:`validity_figure`; ``ensemble_decay.png``
+        for an ensemble sweep, :func:`plot_ensemble`).
     """
     if not isinstance(results, SweepResults):
         results = read_results(results)
@@ -367,6 +369,10 @@ def save_sweep_figures(results: SweepResults | str | Path, out: str | Path | Non
     figures = [(out, phase_map_figure(results, x=x, y=y, energy=energy))]
     if any(f"{m}_error" in results for m in VALIDITY_MODELS):
         figures.append((out.with_name("validity_map.png"), validity_figure(results)))
+    if results.ensemble:  # the amplitude decay of an ensemble sweep
+        fig = Figure(figsize=(7, 4.5))
+        if plot_ensemble(fig.add_subplot(), results):
+            figures.append((out.with_name("ensemble_decay.png"), fig))
     if varies:
         figures.append((out.with_name(out.stem + "-cuts.png"),
                         cuts_figure(results, energy=tuple(dict.fromkeys((energy, "Et_re"))))))
@@ -610,3 +616,40 @@ def validity_figure(results: SweepResults) -> Figure:
     fig.suptitle(_title(results) + " — error against the discrete chain, in % (1 % and "
                  "10 % thresholds)", fontsize="small")
     return fig
+
+
+def plot_ensemble(ax, results: SweepResults, *, log: bool = True) -> bool:
+    r"""Transmitted amplitude against distance of an ensemble sweep, one curve per point.
+
+    For every row of the ``/ensemble`` table (a point of the other axes): the mean over
+    its realisations of :math:`\ln A_i` (A the running maximum of v, m/s) at the
+    profile grains, with a band of ±1 standard error, and the fitted decay
+    :math:`e^{-(i - i_0)/\xi}` of the localisation length ξ (legend: ξ ± its error,
+    grains; docs/physics.md §18).  ``log``: a logarithmic amplitude axis.  Returns False
+    (nothing drawn) if the sweep has no ensemble statistics.
+    """
+    ens = results.ensemble
+    if not ens or "log_profile_mean" not in ens or not ens["profile_grains"].size:
+        return False
+    grains = np.asarray(ens["profile_grains"], float)
+    axes = [a for a in results.axes if a != "seed" and a in ens]
+    for g in range(len(ens["n_realisations"])):
+        lm, ls = ens["log_profile_mean"][g], ens["log_profile_sem"][g]
+        ok = np.isfinite(lm)
+        if not ok.any():
+            continue
+        label = ", ".join(f"{a}={ens[a][g]:g}" if isinstance(ens[a][g], float | np.floating)
+                          else f"{a}={ens[a][g]}" for a in axes) or "ensemble"
+        xi, err = ens["localisation_length"][g], ens["localisation_length_err"][g]
+        label += f" (N={int(ens['n_realisations'][g])}"
+        label += f", ξ = {xi:.3g} ± {err:.2g} grains)" if math.isfinite(xi) else ")"
+        (line,) = ax.plot(grains[ok], np.exp(lm[ok]), label=label)
+        band = np.isfinite(ls) & ok
+        ax.fill_between(grains[band], np.exp(lm[band] - ls[band]), np.exp(lm[band] + ls[band]),
+                        color=line.get_color(), alpha=0.25, linewidth=0)
+    ax.set_xlabel("grain i")
+    ax.set_ylabel(r"typical amplitude $\exp\langle\ln \max_t v_i\rangle$ (m/s)")
+    if log:
+        ax.set_yscale("log")
+    ax.legend(fontsize="small")
+    return True

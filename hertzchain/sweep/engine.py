@@ -47,6 +47,8 @@ __all__ = [
     "default_point_function",
     "SweepOutcome",
     "run_sweep",
+    "run_batch",
+    "ensemble_batches",
     "resolve_point_function",
     "function_name",
     "points_to_run",
@@ -66,8 +68,14 @@ def default_point_function(spec: SweepSpec) -> str:
 
     :data:`MODELS_POINT_FUNCTION` (every model of the point, compared:
     :func:`hertzchain.compare.compare_point`) when the base scenario has a ``[models]``
-    table or a point runs a continuum; otherwise :data:`DEFAULT_POINT_FUNCTION`.
+    table or a point runs a continuum; the realisations of a sweep with an
+    ``[ensemble]`` (:data:`hertzchain.sweep.ensemble.ENSEMBLE_POINT_FUNCTION`);
+    otherwise :data:`DEFAULT_POINT_FUNCTION`.
     """
+    if spec.ensemble is not None:
+        from .ensemble import ENSEMBLE_POINT_FUNCTION
+
+        return ENSEMBLE_POINT_FUNCTION
     if spec.base.get("models") or any(p.scenario.models.continuum for p in spec.points()):
         return MODELS_POINT_FUNCTION
     return DEFAULT_POINT_FUNCTION
@@ -242,6 +250,47 @@ def run_point(point_function: PointFunction, scenario: Scenario, point_id: str,
                    traceback="".join(traceback.format_exc(limit=-6)))
     rec["point_wall_time"] = time.perf_counter() - t0
     return rec
+
+
+def run_batch(point_function: PointFunction, scenarios: list[Scenario], point_ids: list[str],
+              values: list[Mapping[str, Any]]) -> list[dict[str, Any]]:
+    """Run a batch of points together and return their records (an ensemble's Dask task).
+
+    ``point_function.batch(scenarios)`` returns one summary per scenario (the
+    realisations integrated together, :mod:`hertzchain.sweep.ensemble`); each record
+    is :func:`run_point`'s, its ``point_wall_time`` the batch's divided among its
+    points.  If the batch fails, every point is run alone (:func:`run_point`), so a
+    point's failure stays its own.
+    """
+    t0 = time.perf_counter()
+    worker = f"{socket.gethostname()}:{os.getpid()}"
+    try:
+        summaries = [_check_summary(x) for x in point_function.batch(scenarios)]
+        if len(summaries) != len(scenarios):
+            raise RuntimeError(f"the batch returned {len(summaries)} summaries for "
+                               f"{len(scenarios)} points")
+    except Exception:  # noqa: BLE001 - each point then fails (or not) on its own
+        return [run_point(point_function, sc, pid, v)
+                for sc, pid, v in zip(scenarios, point_ids, values, strict=True)]
+    wall = (time.perf_counter() - t0) / max(len(scenarios), 1)
+    return [{"id": pid, "values": dict(v), "worker": worker, "full_output": "",
+             "status": "ok", "error": "", "summary": summ, "point_wall_time": wall}
+            for pid, v, summ in zip(point_ids, values, summaries, strict=True)]
+
+
+def ensemble_batches(spec: SweepSpec, todo: list[Point]) -> list[list[Point]]:
+    """The points of an ensemble sweep cut into batches (the unit a Dask worker takes).
+
+    Realisations of one point of the other axes (same values but the seed), in order,
+    at most ``spec.ensemble.batch`` per batch.
+    """
+    ens = spec.ensemble
+    groups: dict[str, list[Point]] = {}
+    for p in todo:
+        key = repr(sorted((k, repr(v)) for k, v in p.values.items() if k != ens.name))
+        groups.setdefault(key, []).append(p)
+    return [pts[i:i + ens.batch] for pts in groups.values()
+            for i in range(0, len(pts), ens.batch)]
 
 
 def tiny_scenario(table: Mapping[str, Any]) -> Scenario | None:
@@ -537,11 +586,17 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
                 bar.set_postfix_str("warming up workers")
                 report = c.run(warmup)
                 log.info("warm-up: %s", report)
-            for p in todo:
+            batched = spec.ensemble is not None and callable(getattr(fn, "batch", None))
+            for p in [] if batched else todo:
                 target = str(runs / f"{p.id}.h5") if full_output else None
                 fut = c.submit(run_point, fn, p.scenario, p.id, p.values, target,
                                key=f"hertzchain-point-{p.id}-{token}", pure=False)
                 pending[fut.key] = (fut, p)
+            for pts in ensemble_batches(spec, todo) if batched else []:
+                fut = c.submit(run_batch, fn, [p.scenario for p in pts], [p.id for p in pts],
+                               [p.values for p in pts],
+                               key=f"hertzchain-batch-{pts[0].id}-{token}", pure=False)
+                pending[fut.key] = (fut, pts)
             bar.set_postfix(failed=0, refresh=False)
             last_write = time.monotonic()
             completed = as_completed([f for f, _ in pending.values()])
@@ -549,20 +604,22 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
             for batch in _batches(completed, watch):  # one fsync per batch of points
                 done = []
                 for fut in batch:
-                    _, p = pending.pop(fut.key)
+                    _, item = pending.pop(fut.key)
+                    pts = item if isinstance(item, list) else [item]  # (an ensemble batch)
                     try:
-                        rec = fut.result()
+                        res = fut.result()
                     except CancelledError:
                         continue
                     except Exception as exc:  # noqa: BLE001 - e.g. KilledWorker
                         if _worker_lost(exc):  # not the point's fault: stays pending
-                            lost.append(p.id)
-                            log.warning("point %s lost its worker (%s); it stays pending",
-                                        p.id, type(exc).__name__)
+                            lost.extend(p.id for p in pts)
+                            log.warning("point(s) %s lost their worker (%s); they stay "
+                                        "pending", [p.id for p in pts], type(exc).__name__)
                             continue
-                        rec = _failed_record(p, exc)
-                    rec["point_function"] = fname
-                    done.append(rec)
+                        res = [_failed_record(p, exc) for p in pts]
+                    for rec in res if isinstance(res, list) else [res]:
+                        rec["point_function"] = fname
+                        done.append(rec)
                 del batch
                 if max_points is not None:
                     done = done[:max_points - n_run]

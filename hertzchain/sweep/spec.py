@@ -29,10 +29,22 @@ A sweep file is TOML with a ``[base]`` scenario (the schema of
     integer = false                        # round the values to integers (e.g. for
                                            # chain.sections.0.n)
 
+    [ensemble]                             # optional: realisations of the disorder
+    seeds = 256                            # seeds first_seed .. first_seed + seeds - 1
+    path = "chain.sections.0.seed"         # default: the seed of the one disordered
+                                           # section of [base]
+    first_seed = 0                         # optional
+    batch = 64                             # realisations per Dask task (default 64)
+
     [[sweep.axes]]                         # product mode: a linked axis moves with an
     path = "initial.strain_max"            # earlier one (value i with its value i): one
     with = "delta0"                        # dimension of the product sets several keys
     values = [1e-6, 9e-4, 1e-3]            # (same number of values; its own column)
+
+An ``[ensemble]`` table adds the seed axis ``seed`` (last, product mode): every point of
+the other axes becomes ``seeds`` realisations of its disorder, each a point (a row) of
+its own, run in batches of ``batch`` realisations integrated together
+(:mod:`hertzchain.sweep.ensemble`); ``[sweep]`` may then have no axes of its own.
 
 Every point of the sweep is a scenario: the base with the axis values substituted at
 their paths, validated by :func:`~hertzchain.scenario.parse_scenario` before anything
@@ -56,6 +68,7 @@ from ..scenario import Scenario, ScenarioError, parse_scenario, read_toml
 __all__ = [
     "SweepError",
     "Axis",
+    "EnsembleSpec",
     "Point",
     "SweepSpec",
     "RESERVED_COLUMNS",
@@ -107,6 +120,41 @@ class Axis:
 
 
 @dataclass(frozen=True)
+class EnsembleSpec:
+    """The ``[ensemble]`` table: realisations of the disorder along a seed axis.
+
+    Parameters
+    ----------
+    seeds : int
+        Realisations per point of the other axes (>= 1).
+    path : str
+        Dotted path of the seed in the scenario, e.g. ``"chain.sections.0.seed"``.
+    first_seed : int
+        The first seed (>= 0); the seeds are ``first_seed .. first_seed + seeds - 1``.
+    batch : int
+        Realisations per Dask task, integrated together (>= 1).
+    """
+
+    seeds: int
+    path: str
+    first_seed: int = 0
+    batch: int = 64
+
+    name = "seed"
+    """Column name of the seed axis."""
+
+    def axis(self) -> Axis:
+        """The seed axis the ensemble adds to the sweep."""
+        return Axis(path=self.path, name=self.name,
+                    values=tuple(range(self.first_seed, self.first_seed + self.seeds)))
+
+    def to_dict(self) -> dict:
+        """JSON-able description."""
+        return {"seeds": self.seeds, "path": self.path, "first_seed": self.first_seed,
+                "batch": self.batch}
+
+
+@dataclass(frozen=True)
 class Point:
     """One point of a sweep: its position, its axis values and its validated scenario."""
 
@@ -133,6 +181,7 @@ class SweepSpec:
     axes: tuple[Axis, ...]
     mode: str = "product"
     description: str = ""
+    ensemble: EnsembleSpec | None = None
     _points: list = field(default_factory=list, repr=False, compare=False)
 
     @property
@@ -149,14 +198,19 @@ class SweepSpec:
 
     def to_dict(self) -> dict:
         """Plain JSON-able description (stored with the results)."""
-        return {
+        ens = self.ensemble
+        out = {
             "name": self.name,
             "description": self.description,
             "mode": self.mode,
             "base": self.base,
             "axes": [{"path": a.path, "name": a.name, "values": list(a.values)}
-                     | ({"with": a.follows} if a.follows else {}) for a in self.axes],
+                     | ({"with": a.follows} if a.follows else {}) for a in self.axes
+                     if ens is None or a.name != ens.name],
         }
+        if ens is not None:  # (its seed axis is the last of ``axes``)
+            out["ensemble"] = ens.to_dict()
+        return out
 
     def to_json(self) -> str:
         """Canonical JSON text of :meth:`to_dict`."""
@@ -267,7 +321,8 @@ def set_path(table: dict, path: str, value: Any) -> None:
 
 
 # -- parsing ----------------------------------------------------------------------
-_TOP_KEYS = {"name", "description", "base", "sweep"}
+_TOP_KEYS = {"name", "description", "base", "sweep", "ensemble"}
+_ENSEMBLE_KEYS = {"seeds", "path", "first_seed", "batch"}
 _SWEEP_KEYS = {"mode", "axes"}
 _AXIS_KEYS = {"path", "name", "values", "linspace", "logspace", "integer", "with"}
 
@@ -397,10 +452,19 @@ def parse_sweep_spec(data: dict, *, default_name: str = "sweep",
     mode = sweep.get("mode", "product")
     if mode not in ("product", "zip"):
         raise SweepError(f"[sweep] mode = {mode!r}; allowed: ['product', 'zip']")
-    raw_axes = sweep.get("axes")
-    if not isinstance(raw_axes, list) or not raw_axes:
+    ensemble = _parse_ensemble(data["ensemble"], base) if "ensemble" in data else None
+    raw_axes = sweep.get("axes", [] if ensemble is not None else None)
+    if not isinstance(raw_axes, list) or not (raw_axes or ensemble is not None):
         raise SweepError("[sweep] axes is required: one or more [[sweep.axes]] tables")
     axes = tuple(_parse_axis(a, i) for i, a in enumerate(raw_axes))
+    if ensemble is not None:
+        if mode != "product":
+            raise SweepError("[ensemble] needs [sweep] mode = 'product' (the seed axis "
+                             "multiplies the points of the other axes)")
+        if any(a.name == ensemble.name for a in axes):
+            raise SweepError(f"[sweep.axes] the name {ensemble.name!r} is the [ensemble]'s "
+                             "seed axis; rename the axis")
+        axes += (ensemble.axis(),)
     _check_axes(axes, mode)
     total = math.prod(len(a.values) for a in axes if not a.follows) \
         if mode == "product" else len(axes[0].values)
@@ -411,10 +475,43 @@ def parse_sweep_spec(data: dict, *, default_name: str = "sweep",
                          "coarsen an axis")
     for axis in axes:  # a bad path is reported once, not once per point
         set_path(copy.deepcopy(base), axis.path, axis.values[0])
-    spec = SweepSpec(name=name, base=base, axes=axes, mode=mode, description=description)
+    spec = SweepSpec(name=name, base=base, axes=axes, mode=mode, description=description,
+                     ensemble=ensemble)
     if validate_points:
         spec.points()
     return spec
+
+
+def _parse_ensemble(raw: Any, base: dict) -> EnsembleSpec:
+    """The ``[ensemble]`` table (module docstring)."""
+    if not isinstance(raw, dict):
+        raise SweepError(f"[ensemble] must be a table, got {raw!r}")
+    _check_keys(raw, _ENSEMBLE_KEYS, "ensemble")
+    vals = {}
+    for key, low, default in (("seeds", 1, None), ("first_seed", 0, 0), ("batch", 1, 64)):
+        v = raw.get(key, default)
+        if v is None:
+            raise SweepError("[ensemble] seeds is required: the number of realisations "
+                             "per point (an integer >= 1)")
+        if isinstance(v, bool) or not isinstance(v, int) or not low <= v <= MAX_POINTS:
+            raise SweepError(f"[ensemble] {key} must be an integer in [{low}, {MAX_POINTS}], "
+                             f"got {v!r}")
+        vals[key] = v
+    path = raw.get("path")
+    if path is None:
+        sections = (base.get("chain") or {}).get("sections") or []
+        disordered = [i for i, s in enumerate(sections) if isinstance(s, dict) and any(
+            s.get(k) for k in ("disorder_mass", "disorder_stiffness", "disorder_diameter"))]
+        if len(disordered) != 1:
+            raise SweepError(f"[ensemble] path is required: [base] has {len(disordered)} "
+                             "disordered sections (the default is the seed of the one "
+                             "disordered section, e.g. 'chain.sections.0.seed')")
+        path = f"chain.sections.{disordered[0]}.seed"
+    if not isinstance(path, str) or not path:
+        raise SweepError(f"[ensemble] path must be a dotted path such as "
+                         f"'chain.sections.0.seed', got {path!r}")
+    return EnsembleSpec(seeds=vals["seeds"], path=path, first_seed=vals["first_seed"],
+                        batch=vals["batch"])
 
 
 def _check_axes(axes: tuple[Axis, ...], mode: str) -> None:

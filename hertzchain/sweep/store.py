@@ -201,8 +201,19 @@ def derived_columns(point: Point) -> dict[str, Any]:
 
 
 def _column(values: Sequence[Any]) -> tuple[np.ndarray, dict]:
-    """Typed array for one column; ``None`` marks a missing entry."""
+    """Typed array for one column; ``None`` marks a missing entry.
+
+    A column whose entries are lists of numbers of one length (a profile per point,
+    e.g. an ensemble realisation's ``amplitude_profile``) is a 2-D float array, NaN
+    rows where missing.
+    """
     present = [v for v in values if v is not None]
+    if present and all(isinstance(v, list) and v and all(
+            isinstance(x, int | float) and not isinstance(x, bool) for x in v)
+            for v in present) and len({len(v) for v in present}) == 1:
+        width = len(present[0])
+        return np.array([[math.nan] * width if v is None else [float(x) for x in v]
+                         for v in values], dtype=float).reshape(len(values), width), {}
     if present and all(isinstance(v, bool) for v in present):
         arr = np.array([INT_FILL if v is None else int(v) for v in values], dtype=np.int8)
         return arr, {"fill_value": INT_FILL, "boolean": True}
@@ -330,7 +341,42 @@ def write_table(path: str | os.PathLike, spec: SweepSpec, points: Sequence[Point
                 ds.attrs[key] = val
             if name in axis_paths:
                 ds.attrs["path"] = axis_paths[name]
+        if getattr(spec, "ensemble", None) is not None:
+            _write_ensemble(fh, spec, points, records)
     return path
+
+
+def _write_ensemble(fh, spec: SweepSpec, points: Sequence[Point],
+                    records: Mapping[str, dict]) -> None:
+    """The ``/ensemble`` table: statistics over each point's finished realisations.
+
+    One row per point of the other axes (:func:`hertzchain.sweep.ensemble.ensemble_table`);
+    the attribute ``profile_grains`` gives the grains of the 2-D profile columns.
+    """
+    from .ensemble import ensemble_table, profile_grains
+
+    name = spec.ensemble.name
+    groups: dict[str, tuple[dict, list]] = {}
+    n_grains = None
+    for p in points:
+        values = {k: v for k, v in p.values.items() if k != name}
+        key = json.dumps(values, sort_keys=True, default=_json_default)
+        rec = records.get(p.id)
+        entry = groups.setdefault(key, (values, []))
+        if rec is not None and rec.get("status") == "ok":
+            entry[1].append(rec.get("summary") or {})
+            n_grains = n_grains or (rec.get("summary") or {}).get("n_grains")
+    table = ensemble_table([g[0] for g in groups.values()], [g[1] for g in groups.values()])
+    grp = fh.create_group("ensemble")
+    grp.attrs["columns"] = list(table)
+    grp.attrs["profile_grains"] = (profile_grains(int(n_grains)) if n_grains
+                                   else np.zeros(0, np.int64))
+    for col, arr in table.items():
+        if arr.dtype == object:
+            grp.create_dataset(col, data=[str(x) for x in arr],
+                               dtype=h5py.string_dtype("utf-8"))
+        else:
+            grp.create_dataset(col, data=arr)
 
 
 @dataclass
@@ -354,6 +400,9 @@ class SweepResults:
     attrs: dict = field(default_factory=dict)
     axes: list[str] = field(default_factory=list)
     path: Path | None = None
+    ensemble: dict[str, np.ndarray] = field(default_factory=dict)
+    """The ``/ensemble`` statistics table of an ensemble sweep (column -> array; the
+    grains of its profile columns under ``"profile_grains"``); empty otherwise."""
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.columns[name]
@@ -419,7 +468,17 @@ def _read_results(path: Path) -> SweepResults:
                 columns[name] = ds[()]
             kinds[name] = str(ds.attrs.get("kind", ""))
         axes = [str(n) for n in grp.attrs.get("axes", [])]
-    return SweepResults(columns=columns, kinds=kinds, attrs=attrs, axes=axes, path=path)
+        ensemble: dict[str, np.ndarray] = {}
+        if "ensemble" in fh:
+            eg = fh["ensemble"]
+            for name in [str(n) for n in eg.attrs["columns"]]:
+                ds = eg[name]
+                ensemble[name] = (np.array(ds.asstr()[()], dtype=object).reshape(-1)
+                                  if h5py.check_string_dtype(ds.dtype) is not None
+                                  else ds[()])
+            ensemble["profile_grains"] = np.asarray(eg.attrs["profile_grains"])
+    return SweepResults(columns=columns, kinds=kinds, attrs=attrs, axes=axes, path=path,
+                        ensemble=ensemble)
 
 
 def records_from_table(path: str | os.PathLike) -> dict[str, dict]:

@@ -1,0 +1,242 @@
+r"""Ensembles in sweeps: a seed axis run in batches, per-realisation reductions, statistics.
+
+A sweep file with an ``[ensemble]`` table (:mod:`hertzchain.sweep.spec`) adds a seed
+axis: every point of the other axes becomes ``seeds`` realisations of its disorder.
+Each realisation is a point of its own (its own row, id and record: a resumed sweep
+reruns only the missing ones), but the engine hands the realisations of one point to
+a Dask worker in batches (:data:`EnsembleSpec.batch` at a time, the unit a worker
+takes), which integrates them together in the batch kernel
+(:func:`discrete.ensemble.run_ensemble`).
+
+Per realisation (:func:`realisation`, :func:`realisations`: the same record bit for bit
+whether run alone or in a batch) the summary holds the transmitted amplitude — the
+running maximum of the grain velocity, :math:`A_i = \max_t v_i(t)` — at the last grain
+and sampled along the chain (``amplitude_profile``, at :func:`profile_grains`), its
+exponential decay rate (:func:`discrete.ensemble.amplitude_decay`), the arrival time
+of the peak at the last grain and the front speed fitted to the arrival times, the
+final energy and the energy error.  The ensemble statistics over the realisations of
+each point of the other axes (:func:`ensemble_table`: mean, standard error, quantiles
+with bootstrap errors; the mean log-amplitude profile and the localisation length
+:math:`\xi = 1/\langle\gamma\rangle`) go to the ``/ensemble`` table of
+``results.h5`` (:func:`hertzchain.sweep.store.write_table`), and
+:func:`hertzchain.sweep_plot.plot_ensemble` draws the amplitude decay.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..scenario import Scenario, ScenarioError
+
+__all__ = ["ENSEMBLE_POINT_FUNCTION", "SCALARS", "realisation", "realisations",
+           "profile_grains", "fit_range", "ensemble_table", "PROFILE_POINTS"]
+
+ENSEMBLE_POINT_FUNCTION = "hertzchain.sweep.ensemble:realisation"
+"""The point function of a sweep with an ``[ensemble]`` table."""
+
+PROFILE_POINTS = 64
+"""Grains at which a realisation's amplitude profile is kept (all grains of a shorter chain)."""
+
+SCALARS = ("amplitude_last", "decay_rate", "amplitude_fit", "arrival_time_last",
+           "front_speed_tr", "energy_final", "energy_drift")
+"""The per-realisation numbers whose ensemble statistics :func:`ensemble_table` reports."""
+
+
+def profile_grains(n: int) -> np.ndarray:
+    """The grains where the amplitude profile is kept (:data:`PROFILE_POINTS`).
+
+    All grains of a chain of up to that many, else that many evenly spaced from 0 to n-1.
+    """
+    if n <= PROFILE_POINTS:
+        return np.arange(n)
+    return np.unique(np.round(np.linspace(0, n - 1, PROFILE_POINTS)).astype(np.int64))
+
+
+def fit_range(n: int) -> tuple[int, int]:
+    """Grains (first, last) of the decay fit.
+
+    From a tenth of the chain (past the struck end's transient, where the pulse
+    forms) to the last grain.
+    """
+    return max(1, n // 10), n - 1
+
+
+def _build(scenario: Scenario):
+    """The scenario's simulation with running maxima only (the runner's chain, state, dt)."""
+    import discrete
+
+    from ..runner import build_simulation
+
+    if scenario.run.t_end is None or scenario.run.until_front_at is not None:
+        raise ScenarioError("[run] an ensemble realisation runs to t_end (s): give t_end "
+                            "and no until_front_at")
+    _, _, sim = build_simulation(scenario, energy_grid=False)
+    rec = sim.recording
+    if (rec.events() or len(rec.series_grains) or rec.energy_every or len(rec.sensors)
+            or rec.wall_forces or rec.strain_maxima or sim.kernels.refined_maxima
+            or not rec.maxima):  # a [record] table that asks for more: maxima only
+        sim = discrete.Simulation(sim.chain, sim.u, sim.v, dt=sim.time_step,
+                                  wall_left=sim.wall_left, wall_right=sim.wall_right,
+                                  law=sim.law, drag=sim.drag, record=discrete.Recording(
+                                      maxima=True, refined_maxima=False))
+    return sim
+
+
+def _summaries(sims, res, t_end: float, wall: float) -> list[dict[str, Any]]:
+    """Each realisation's summary (the sweep's record) from the ensemble's results."""
+    from discrete.ensemble import amplitude_decay
+
+    n = res.vmax.shape[1]
+    first, last = fit_range(n)
+    rate, a0 = amplitude_decay(res.vmax, first, last)
+    grains = profile_grains(n)
+    out = []
+    for q, sim in enumerate(sims):
+        x = np.cumsum(sim.chain.diameter) - 0.5 * sim.chain.diameter  # grain centres, m
+        t = res.vmax_time[q]
+        reached = np.flatnonzero(res.vmax[q, first:last + 1] > 0) + first
+        speed = math.nan
+        if reached.size >= 5 and np.ptp(t[reached]) > 0:
+            slope = np.polyfit(x[reached], t[reached], 1)[0]  # s/m
+            speed = 1.0 / slope if slope > 0 else math.nan
+        s = {k: math.nan for k in ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re",
+                                   "front_speed_re", "front_speed_tr_over_c0L")}
+        s.update(transmitted=None, reflected=None, n_transmitted_pulses=None,
+                 front_speed_tr=float(speed),
+                 energy_drift=float(res.energy_error[q]), steps=int(res.steps[q]),
+                 dt=float(res.dt[q]), t=float(res.t[q]), wall_time=wall,
+                 stopped_by="t_end", completed=True, n_grains=int(n),
+                 integrator=res.integrator,
+                 amplitude_last=float(res.vmax[q, -1]),
+                 decay_rate=float(rate[q]), amplitude_fit=float(a0[q]),
+                 arrival_time_last=float(t[-1]) if res.vmax[q, -1] > 0 else math.nan,
+                 energy_initial=float(res.energy0[q]), energy_final=float(res.energy[q]),
+                 amplitude_profile=[float(v) for v in res.vmax[q, grains]])
+        out.append(s)
+    return out
+
+
+def realisation(scenario: Scenario, *, out=None, progress: bool = False) -> dict[str, Any]:
+    """One realisation's summary, run alone (a batch of one): the sweep point function.
+
+    The same numbers bit for bit as the realisation's record from a batch
+    (:func:`realisations`); ``wall_time`` is this run's.  ``out`` (a full per-run
+    file) is not written by ensembles; ``progress`` is ignored.
+    """
+    return realisations([scenario])[0]
+
+
+def realisations(scenarios: Sequence[Scenario]) -> list[dict[str, Any]]:
+    """The summaries of realisations of one chain size, integrated together.
+
+    Every scenario is built as the runner builds it (:func:`hertzchain.runner.
+    build_simulation`: chain, initial state, time step) and all run to their
+    ``[run] t_end`` in :func:`discrete.ensemble.run_ensemble`, grouped by end time.
+    ``wall_time`` is the batch's wall time divided among its realisations.
+    """
+    from discrete.ensemble import run_ensemble
+
+    t0 = time.perf_counter()
+    sims = [_build(s) for s in scenarios]
+    sizes = {s.chain.n for s in sims}
+    if len(sizes) != 1:
+        raise ScenarioError(f"an ensemble batch needs one chain size, got {sorted(sizes)}")
+    by_end: dict[float, list[int]] = {}
+    for q, s in enumerate(scenarios):
+        by_end.setdefault(float(s.run.t_end), []).append(q)
+    out: list[dict[str, Any]] = [{} for _ in scenarios]
+    done = []
+    for t_end, idx in by_end.items():
+        res = run_ensemble([sims[q] for q in idx], t_end)
+        done.append((idx, [sims[q] for q in idx], res, t_end))
+    wall = (time.perf_counter() - t0) / len(scenarios)
+    for idx, group, res, t_end in done:
+        for q, summary in zip(idx, _summaries(group, res, t_end, wall), strict=True):
+            out[q] = summary
+    return out
+
+
+realisation.batch = realisations  # the engine batches points of a point function with it
+
+
+# ------------------------------------------------------------------ statistics
+def _finite_rows(rows: list) -> np.ndarray:
+    width = max((len(r) for r in rows if isinstance(r, list)), default=0)
+    return np.array([r if isinstance(r, list) and len(r) == width else [math.nan] * width
+                     for r in rows], dtype=float).reshape(len(rows), width)
+
+
+def ensemble_table(group_values: Sequence[Mapping[str, Any]],
+                   summaries: Sequence[Sequence[Mapping[str, Any]]], *,
+                   n_boot: int = 200) -> dict[str, np.ndarray]:
+    r"""Ensemble statistics per group of realisations (one row per point of the other axes).
+
+    Parameters
+    ----------
+    group_values : sequence of dict
+        The values of the other axes of each group (its columns).
+    summaries : sequence of sequences of dict
+        The summaries of each group's finished realisations.
+    n_boot : int
+        Bootstrap resamples for the quantiles' errors.
+
+    Returns
+    -------
+    dict of str to array
+        Per group: the axis values, ``n_realisations``; for every name X of
+        :data:`SCALARS` ``X_mean``, ``X_sem``, ``X_std``, ``X_q5`` … ``X_q95`` and
+        ``X_q5_err`` … (:func:`discrete.ensemble.ensemble_statistics`, NumPy's
+        arithmetic); ``localisation_length`` :math:`\xi = 1/\langle\gamma\rangle` in
+        grains (γ the decay rate; the slope of the mean log amplitude, the
+        self-averaging quantity of a disordered chain, docs/physics.md §18) with
+        ``localisation_length_err`` :math:`\sigma_{\langle\gamma\rangle}/\langle\gamma
+        \rangle^2` (NaN where ⟨γ⟩ <= 0); and 2-D columns (groups × profile grains)
+        ``profile_mean``, ``profile_sem``, ``profile_q50``, ``log_profile_mean``,
+        ``log_profile_sem`` (of ln A, 1/ln(m/s)).
+    """
+    from discrete.ensemble import ensemble_statistics
+
+    cols: dict[str, list] = {}
+    for values, recs in zip(group_values, summaries, strict=True):
+        for name, v in values.items():
+            cols.setdefault(name, []).append(v)
+        cols.setdefault("n_realisations", []).append(len(recs))
+        for key in SCALARS:
+            x = np.array([np.nan if r.get(key) is None else float(r[key]) for r in recs]
+                         if recs else [np.nan])
+            st = ensemble_statistics(x, n_boot=n_boot)
+            for stat, val in st.items():
+                if stat != "n":
+                    cols.setdefault(f"{key}_{stat}", []).append(float(val))
+        rate = cols["decay_rate_mean"][-1]
+        ok = math.isfinite(rate) and rate > 0
+        cols.setdefault("localisation_length", []).append(1.0 / rate if ok else math.nan)
+        cols.setdefault("localisation_length_err", []).append(
+            cols["decay_rate_sem"][-1] / rate**2 if ok else math.nan)
+        prof = _finite_rows([r.get("amplitude_profile") for r in recs]) if recs \
+            else np.zeros((1, 0))
+        st = ensemble_statistics(prof, n_boot=0) if prof.size else None
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lp = np.log(np.where(prof > 0, prof, np.nan))
+        st_log = ensemble_statistics(lp, n_boot=0) if prof.size else None
+        for name, src, stat in (("profile_mean", st, "mean"), ("profile_sem", st, "sem"),
+                                ("profile_q50", st, "q50"), ("log_profile_mean", st_log, "mean"),
+                                ("log_profile_sem", st_log, "sem")):
+            cols.setdefault(name, []).append(None if src is None else np.asarray(src[stat]))
+    out: dict[str, np.ndarray] = {}
+    for name, vals in cols.items():
+        if name.startswith(("profile_", "log_profile_")):
+            width = max((v.size for v in vals if v is not None), default=0)
+            out[name] = np.array([v if v is not None and v.size == width
+                                  else np.full(width, np.nan) for v in vals]).reshape(
+                len(vals), width)
+        elif all(isinstance(v, str) for v in vals):
+            out[name] = np.array(vals, dtype=object)
+        else:
+            out[name] = np.array(vals)
+    return out

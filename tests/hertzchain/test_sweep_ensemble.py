@@ -1,0 +1,102 @@
+"""Ensemble sweeps: the [ensemble] table, batches on Dask, per-realisation records, statistics.
+
+A realisation's record from a batch must equal the same realisation run alone (every
+summary key but the wall time, ``==`` on the numbers); the ``/ensemble`` table must be
+NumPy's statistics of the per-realisation column; a bad ``[ensemble]`` names its key.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from discrete.ensemble import ensemble_statistics
+from hertzchain.sweep import SweepError, parse_sweep_spec, read_results, run_sweep
+from hertzchain.sweep.engine import ensemble_batches
+from hertzchain.sweep.ensemble import ENSEMBLE_POINT_FUNCTION, realisation
+from hertzchain.sweep.store import records_from_table
+
+
+def _spec(**ensemble):
+    return parse_sweep_spec({
+        "name": "ens",
+        "base": {"chain": {"delta0_over_d": 1e-3,
+                           "sections": [{"n": 30, "disorder_mass": 0.1}]},
+                 "initial": {"kind": "impact", "v0": 0.1}, "run": {"t_end": 1.2e-4},
+                 "models": {"theory": False}},
+        "sweep": {"axes": [{"path": "chain.sections.0.disorder_mass", "name": "sigma",
+                            "values": [0.05, 0.2]}]},
+        "ensemble": {"seeds": 5, "batch": 3, **ensemble}})
+
+
+def test_spec_adds_the_seed_axis():
+    spec = _spec()
+    assert spec.n_points == 10 and spec.axes[-1].name == "seed"
+    assert spec.axes[-1].path == "chain.sections.0.seed"
+    assert [p.values["seed"] for p in spec.points()[:5]] == [0, 1, 2, 3, 4]
+    assert "seed" not in [a["name"] for a in spec.to_dict()["axes"]]
+    batches = ensemble_batches(spec, spec.points())
+    assert [len(b) for b in batches] == [3, 2, 3, 2]  # per value of sigma, 3 at most
+    assert all(len({p.values["sigma"] for p in b}) == 1 for b in batches)
+
+
+@pytest.mark.parametrize("bad, match", [
+    ({"seeds": 0}, "seeds"), ({"batch": 1.5}, "batch"), ({"colour": 1}, "unknown"),
+    ({"path": ""}, "path")])
+def test_bad_ensemble_table(bad, match):
+    with pytest.raises(SweepError, match=match):
+        _spec(**bad)
+
+
+def test_ensemble_sweep_equals_one_by_one(tmp_path):
+    spec = _spec()
+    out = run_sweep(spec, out=tmp_path / "s", workers=1, processes=False, progress=False)
+    assert out.n_ok == 10 and out.n_failed == 0
+    res = read_results(out.table)
+    assert set(res["point_function"]) == {ENSEMBLE_POINT_FUNCTION}
+    for i, p in enumerate(spec.points()):
+        alone = realisation(p.scenario)
+        row = res.row(i)
+        for key, val in alone.items():
+            if key in ("wall_time",):
+                continue
+            got = row[key] if key in row else row[f"summary.{key}"]
+            if key == "amplitude_profile":
+                assert np.array_equal(res[key][i], np.array(val)), key
+            elif isinstance(val, float) and math.isnan(val):
+                assert math.isnan(got), key
+            elif val is None:
+                assert got in ("", None, -1), key
+            else:
+                assert got == val, key
+    # the profile column is 2-D and survives the table round trip
+    assert res["amplitude_profile"].shape == (10, 30)
+    back = records_from_table(out.table)
+    assert back[res["id"][3]]["summary"]["amplitude_profile"] == res[
+        "amplitude_profile"][3].tolist()
+    # statistics: NumPy's, per value of sigma
+    ens = res.ensemble
+    assert ens["sigma"].tolist() == [0.05, 0.2] and ens["n_realisations"].tolist() == [5, 5]
+    for g, sigma in enumerate((0.05, 0.2)):
+        sel = res["sigma"] == sigma
+        for key in ("decay_rate", "amplitude_last", "front_speed_tr"):
+            st = ensemble_statistics(res[key][sel])
+            for stat in ("mean", "sem", "q50", "q5_err"):
+                assert ens[f"{key}_{stat}"][g] == pytest.approx(float(st[stat]), rel=1e-13,
+                                                                nan_ok=True), (key, stat)
+        prof = res["amplitude_profile"][sel]
+        assert np.allclose(ens["profile_mean"][g], prof.mean(axis=0), rtol=1e-13)
+        rate = ens["decay_rate_mean"][g]
+        if rate > 0:
+            assert ens["localisation_length"][g] == pytest.approx(1 / rate, rel=1e-13)
+    assert np.array_equal(ens["profile_grains"], np.arange(30))
+    # the plot: one curve (mean log amplitude) per value of sigma
+    from matplotlib.figure import Figure
+
+    from hertzchain.sweep_plot import plot_ensemble
+
+    ax = Figure().add_subplot()
+    assert plot_ensemble(ax, res) and len(ax.get_lines()) == 2
+    # a rerun finds every realisation done
+    again = run_sweep(spec, out=tmp_path / "s", workers=1, processes=False, progress=False)
+    assert again.n_run == 0 and again.n_skipped == 10
