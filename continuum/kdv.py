@@ -11,7 +11,7 @@ whose soliton :math:`s = A\,\mathrm{sech}^2((X - X_0 - Vt)/\Lambda)` has
 :math:`\xi_{max} = A/d` — and :math:`\Lambda = \sqrt{2\delta_0/A}` grain diameters.
 For any contact law the nonlinear coefficient c/(4δ0) is c b/K (K = F'(δ0),
 b = F''(δ0)/2: ``quadratic`` = b/K, 1/m), the soliton's speed c(1 + (b/K)A/3) and
-width 1/√(2(b/K)A).
+width 1/√(2(b/K)A) (docs/physics.md, "Long waves on any chain").
 KdV is well-posed, so no regularisation is needed; it serves as the reference for the
 solitary-wave speed and as a cheap model of a single wave in a uniform section.
 
@@ -37,58 +37,51 @@ __all__ = ["KdVPDE"]
 
 
 class KdVPDE(PDEBase):
-    r"""KdV reduction of Eq. 4 for the overlap change s (m), X in grain diameters.
+    r"""KdV reduction of Eq. 4 for the overlap change s (m), X in grains.
 
     .. math:: \partial_t s = -(c - c_f)\,\partial_X s - \frac{c}{24}\,\partial_X^3 s
-              - \frac{c}{12\delta_0}\big(s\,\partial_X s + \partial_X s^2\big)
+              - \frac{c\,b}{3K}\big(s\,\partial_X s + \partial_X s^2\big)
+
+    (Hertz, paper Eq. 4: b/K = 1/(4δ0), the last coefficient c/(12δ0)).
 
     Parameters
     ----------
     speed : float
-        Sound speed c = √(K/m), grain diameters per second (paper Eq. 4: c0/d).
-    delta0 : float
-        Static overlap δ0, m.
+        Sound speed c = √(K/m), grains per second (paper Eq. 4: c0/d).
+    quadratic : float
+        b/K = F''(δ0)/(2F'(δ0)) of the contact law at the static overlap, 1/m (> 0;
+        :func:`continuum.boussinesq.law_curvature`): 1/(4δ0) for Hertz.
     frame_speed : float
         Speed c_f of the co-moving frame, grains/s (0: laboratory frame).
-    quadratic : float, optional
-        b/K of the contact law at δ0, 1/m (:func:`continuum.boussinesq.law_curvature`);
-        default 1/(4δ0), Hertz's (paper Eq. 4).
     """
 
     explicit_time_dependence = False
 
-    def __init__(self, speed: float, delta0: float, *, frame_speed: float = 0.0,
-                 quadratic: float | None = None) -> None:
+    def __init__(self, speed: float, quadratic: float, *, frame_speed: float = 0.0) -> None:
         super().__init__()
-        if not (speed > 0 and delta0 > 0):
-            raise ValueError(f"speed (grains/s) and delta0 (m) must be > 0 (got {speed}, {delta0})")
-        if quadratic is not None and not quadratic > 0:
-            raise ValueError(f"quadratic (b/K, 1/m) must be > 0 (got {quadratic})")
+        if not (speed > 0 and quadratic > 0):
+            raise ValueError(f"speed (grains/s) and quadratic (b/K, 1/m) must be > 0 "
+                             f"(got {speed}, {quadratic})")
         self.speed = float(speed)
-        self.delta0 = float(delta0)
+        self.quadratic = float(quadratic)
         self.frame_speed = float(frame_speed)
-        self.quadratic = 0.25 / self.delta0 if quadratic is None else float(quadratic)
-        # coefficient of the skew form (s s_X + (s²)_X): c b/(3K); Hertz c/(12 δ0)
-        self._nl = (self.speed / (12.0 * self.delta0) if quadratic is None
-                    else self.speed * self.quadratic / 3.0)
+        self._nl = self.speed * self.quadratic / 3.0  # of the skew form (s s_X + (s²)_X)
         self.bc = "periodic"
 
     @classmethod
     def for_medium(cls, medium, grain: int = 0, **kwargs) -> KdVPDE:
         """KdV equation of the section around ``grain`` of a :class:`~continuum.Medium`.
 
-        c = √(K/m) with the law's stiffness K = F'(δ0) at the grain's right contact
-        (paper Eq. 4: (3/2) k δ0^{1/2} for Hertz) and, for a law other than Hertz,
-        ``quadratic`` = F''(δ0)/(2K).
+        c = √(K/m) and b/K = F''(δ0)/(2K) with the law's stiffness K = F'(δ0) at the
+        grain's right contact (paper Eq. 4: K = (3/2) k δ0^{1/2}, b/K = 1/(4δ0) for Hertz).
         """
         from .boussinesq import law_curvature
 
         m, k, d0 = medium.mass[grain], medium.k[grain + 1], medium.delta0[grain + 1]
         law = medium.law
         k_lin = float(law.stiffness(d0, k))
-        if law.exponent != 1.5 or law.dissipative:
-            kwargs.setdefault("quadratic", float(0.5 * law_curvature(law, d0, k)) / k_lin)
-        return cls(np.sqrt(k_lin / m), d0, **kwargs)
+        quadratic = float(0.5 * law_curvature(law, d0, k)) / k_lin
+        return cls(np.sqrt(k_lin / m), quadratic, **kwargs)
 
     @staticmethod
     def grid(n_grains: int, n: int = 5) -> CartesianGrid:
@@ -208,7 +201,7 @@ class KdVPDE(PDEBase):
     def parameters(self) -> dict:
         """Run parameters for HDF5 attributes."""
         return {"pde": type(self).__name__, "speed_grains_per_s": self.speed,
-                "delta0_m": self.delta0, "frame_speed_grains_per_s": self.frame_speed,
+                "quadratic_1_per_m": self.quadratic, "frame_speed_grains_per_s": self.frame_speed,
                 "bc": "periodic"}
 
     def energy(self, state: ScalarField) -> dict[str, float]:
