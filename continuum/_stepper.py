@@ -227,7 +227,7 @@ def rosenau_factors(diag, off, corner):
 
 
 def constant_runs(fac) -> np.ndarray:
-    """Lengths of the runs of bitwise-constant factors that :func:`_rosenau_pass` meets.
+    """Lengths of the runs of bitwise-constant factors that the Rosenau pass (``rosenau_kernels``) meets.
 
     Row r, node i: how many consecutive nodes, starting at i in the direction sweep
     r walks, carry exactly the factors of node i — 0: elimination from the top,
@@ -259,7 +259,7 @@ def window_margin(fac) -> int:
 
     The smallest m such that every product of m consecutive back-substitution factors
     |cp_t| and |cp_b| (rows 2 and 5 of :func:`rosenau_factors`) is below 2^-60: the
-    truncation error of :func:`rosenau_chunk`'s windowed solve relative to the largest
+    truncation error of the Rosenau chunk's windowed solve relative to the largest
     value (at least 2).
     """
     target = -WINDOW_LOG2_TOLERANCE * np.log(2.0)
@@ -743,8 +743,9 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         h, bc, nl :
             Node spacing (grains), boundary code, nonlinearity code.
         kk, bb, kh, d0, f0 : float64[faces]
-            Linear stiffness K (N/m), quadratic coefficient K/(4δ0) (N/m²), Hertz constant
-            (N/m^{3/2}), static overlap (m) and static force k δ0^{3/2} (N) per face.
+            Linear stiffness K = F'(δ0) (N/m), quadratic coefficient b = F''(δ0)/2 (N/m²;
+            K/(4δ0) for Hertz), contact constant (N/m^n), static overlap (m) and static
+            force F_el(δ0) (N) per face.
         fac :
             Factors of the mass operator (:func:`rosenau_factors`).
         runs : int32[4, N]
@@ -790,7 +791,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
 
     def rosenau_chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, nl, kk, bb, kh, d0, f0,
                                fac, z, vfac):
-        """:func:`rosenau_chunk` for a periodic chain, swept whole (cyclic solve).
+        """``rosenau_chunk`` for a periodic chain, swept whole (cyclic solve).
 
         ``fac``, ``z``, ``vfac``: the Sherman–Morrison factors of :func:`rosenau_factors`.
         Returns the node-updates performed.
@@ -923,7 +924,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         """Advance the dissipative Rosenau form by ``nsteps`` steps of ``dt`` (s), in place.
 
         Strang splitting D(Δt/2) ∘ V(Δt) ∘ D(Δt/2): V the symplectic splitting of the
-        elastic forces (the passes of :func:`rosenau_chunk`, whole chain, each step's
+        elastic forces (the passes of ``rosenau_chunk``, whole chain, each step's
         passes unmerged), D the Crank–Nicolson dissipative sub-step of
         ``rosenau_dissipate`` (which books the dissipated energy in ``wd``, J per node).
         Free or wall ends.  Returns the node-updates performed.
@@ -964,7 +965,7 @@ class NesterenkoKernels(NamedTuple):
     chunk: object
     """``chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
     mask, eps, disp, inv_m, c, spec, <9 scratch arrays>, win, windowed, margin, tau_v,
-    tau_d, mass, mon)`` (:func:`nesterenko_chunk` of the law)."""
+    tau_d, mass, mon)`` (``nesterenko_chunk`` of the law)."""
     chunk_dissipative: object
     """The same with the dissipated energy ``wd`` after ``v`` and the drag rate, law
     parameters after ``mon``: Strang splitting with the exact dissipative face flows."""
@@ -1010,7 +1011,7 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
 
     def nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl, fh, ph, y,
                          comp):
-        """Overlap δ, Hertz flux k δ^{3/2} - f0, φ and y = mask √k (ζ(δ) - ζ0) per face.
+        """Overlap δ, elastic flux F_el(δ) - f0, φ and y = mask √k (ζ(δ) - ζ0) per face.
 
         Faces [qa, qb]; the strain is s_q = Σ_j gcoef[q, j] u[gidx[q, j]]
         (:func:`continuum._kernels.staggered_gradient`), with the plain weights (1/h and 0,
@@ -1080,8 +1081,8 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
                           c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
         """Face forces of the regularised Eq. 7 for nodes [L, R], into ``fh`` (N).
 
-        Sweeps: faces (δ, Hertz flux, φ, y: :func:`_nesterenko_faces`); the saturated
-        operator H y (:func:`_saturated_apply`); F = w k(δ^{3/2} - δ0^{3/2}) + disp √k φ H y.
+        Sweeps: faces (δ, elastic flux, φ, y: ``nesterenko_faces``); the saturated
+        operator H y (:func:`_saturated_apply`); F = w (F_el(δ) - f0) + disp √k φ H y.
         Leaves δ, y and H y in ``dl``, ``y``, ``hy`` (the monitor's energy reads them).
         """
         qa = L
@@ -1101,9 +1102,9 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
     def nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, f0, disp, mass, dl, y, hy):
         """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
 
-        E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q)
-        + (disp/2.5) y_q (Hy)_q] (NesterenkoPDE.energy_density), P = h Σ m v, from δ, y and
-        H y of every face (:func:`_nesterenko_forces` over the whole chain).
+        E = h Σ ½ m v² + h Σ_q [w_q (U(δ) - U(δ0) - f0_q s_q) + (disp/(n+1)) y_q (Hy)_q]
+        (U the law's elastic energy; NesterenkoPDE.energy_density), P = h Σ m v, from δ, y and
+        H y of every face (``nesterenko_forces`` over the whole chain).
         """
         n = u.size
         ek = 0.0
@@ -1133,13 +1134,13 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
         With ``windowed`` (sonic vacuum, non-periodic) only nodes [lo - margin, hi + margin]
         are swept, ``win`` = [lo, hi] being the nodes that move (|v| > tau_v) or touch a
         compressed face (δ > tau_d): outside, δ = 0 and v = 0 (to 2^-52 of the wave's
-        values), so the flux (Hertz and dispersive, the latter ∝ φ(δ) = 0) vanishes, and a
+        values), so the flux (elastic and dispersive, the latter ∝ φ(δ) = 0) vanishes, and a
         disturbance reaches at most ``margin`` nodes per force evaluation (1 for the
         second-order stencil, 3 for the fourth-order one).  Otherwise the whole chain is
         swept.  Returns the node-updates performed.
 
         With ``mon.size == 2`` it then writes the energy functional (J) and momentum
-        (kg m/s) of the state into ``mon`` (:func:`_nesterenko_energy`; ``mass`` in kg per
+        (kg m/s) of the state into ``mon`` (``nesterenko_energy``; ``mass`` in kg per
         grain).  The monitor is this kernel with ``nsteps`` = 0 and scratch arrays of its
         own: one compiled kernel, in which the face pass and H are called from one place
         (the loop's last evaluation is the monitor's), so that they are compiled once —
