@@ -227,7 +227,7 @@ def rosenau_factors(diag, off, corner):
 
 
 def constant_runs(fac) -> np.ndarray:
-    """Lengths of the runs of bitwise-constant factors that the Rosenau pass (``rosenau_kernels``) meets.
+    """Lengths of the runs of bitwise-constant factors that the Rosenau pass meets.
 
     Row r, node i: how many consecutive nodes, starting at i in the direction sweep
     r walks, carry exactly the factors of node i — 0: elimination from the top,
@@ -457,13 +457,17 @@ def _kernel_key(law: ContactLaw, kind: str) -> str:
     """Disk-cache key of the kernels of ``law``: its key and the sources they compile.
 
     This module and the file of every :class:`~theory.laws.ContactLaw` class in the
-    law's MRO (:func:`theory.jitcache.source_digest`): editing a law or a kernel
-    recompiles.
+    law's MRO (:func:`theory.jitcache.source_digest`, once per law class and process):
+    editing a law or a kernel recompiles.
     """
-    classes = [c for c in type(law).__mro__
-               if isinstance(c, type) and issubclass(c, ContactLaw)]
-    digest = jitcache.source_digest(sys.modules[__name__], *classes)
-    return f"{kind}|{law.key()!r}|{digest}"
+    cls = type(law)
+    if cls not in _DIGESTS:
+        classes = [c for c in cls.__mro__ if isinstance(c, type) and issubclass(c, ContactLaw)]
+        _DIGESTS[cls] = jitcache.source_digest(sys.modules[__name__], *classes)
+    return f"{kind}|{law.key()!r}|{_DIGESTS[cls]}"
+
+
+_DIGESTS: dict[type, str] = {}
 
 
 def power_piece(q: float):
