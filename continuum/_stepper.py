@@ -6,8 +6,12 @@ Python and without allocating: the stepping, the flux-form right-hand side, the
 tridiagonal (Rosenau) solve and the bookkeeping of the active window are fused into
 three sweeps over the window per force evaluation (flux divergence; elimination;
 back substitution with the kick), the window's new edges found by scans from its ends.
-They are module-level ``@njit(cache=True)`` functions (compiled once per machine, not
-once per equation).
+The pieces that do not depend on the contact law are module-level ``@njit(cache=True)``
+functions; the passes that evaluate forces are closures over the law's compiled pieces
+(its elastic force, energy and damping coefficient, :mod:`theory.laws`), built once per
+law by :func:`rosenau_kernels` and :func:`nesterenko_kernels` the way the discrete
+solver builds its kernels, and cached on disk under the law's key
+(:func:`theory.jitcache.keyed_njit`): compiled once per machine and law.
 The NumPy reference of every kernel is the PDE's :meth:`evolution_rate` driven by
 py-pde's generic stepping (``backend="numpy"``); the tests compare the two.
 
@@ -67,11 +71,27 @@ quadratic flux): a drift-and-kick pass 2.37 → 1.81 ns per node (elimination 0.
 a vectorised form, each face's flux computed for both its nodes, was no faster).
 
 Boundary codes (as :mod:`continuum._kernels`): 0 = free, 1 = wall, 2 = periodic.
-Nonlinearity codes: 0 = linear K s, 1 = quadratic K s + B s², 2 = Hertz
-k [δ0 + s]_+^{3/2} - f0.  No ``fastmath``: the tests rely on IEEE arithmetic.
+Nonlinearity codes: 0 = linear K s, 1 = quadratic K s + B s², 2 = the full law
+F_el(δ0 + s; k) - f0 (Hertz: k [δ0 + s]_+^{3/2} - f0).  No ``fastmath``: the tests rely on
+IEEE arithmetic.
+
+Dissipation
+-----------
+Velocity-dependent forces — the law's damping c(δ) δ̇ (Kuwabara & Kono; the viscous
+long-wave term of Herbold & Nesterenko, Phys. Rev. E 75 (2007) 021304) and the on-site
+drag -β m u_t — are split off the conservative forces (Strang): a step is
+D(Δt/2) ∘ V(Δt) ∘ D*(Δt/2), V the symplectic splitting above, D the dissipative flow
+at fixed positions, which books the energy it removes per node (the state's third
+field).  Rosenau form: Crank–Nicolson on the tridiagonal mass operator; regularised
+Eq. 7: exact face-by-face flows (diagonal mass).  Both never create energy, are stable
+for any Δt, and their booked energy equals the kinetic-energy change to round-off; the
+dissipative kernels step one step at a time (no merged passes).
 """
 
 from __future__ import annotations
+
+import sys
+from typing import NamedTuple
 
 from theory import jitcache
 
@@ -81,7 +101,10 @@ import numba as nb  # noqa: E402
 import numpy as np  # noqa: E402
 from rocket_fft import c2r, r2c  # noqa: E402
 
+from theory.laws import ContactLaw, compile_piece  # noqa: E402
+
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
+_INNER = {"nogil": True, "error_model": "numpy"}
 
 FREE, WALL, PERIODIC = 0, 1, 2
 
@@ -90,19 +113,6 @@ _AXES = np.zeros(1, np.int64)  # the one axis of the rocket-fft transforms
 WINDOW_LOG2_TOLERANCE = 60
 """The windowed tridiagonal solve neglects terms below 2^-60 of the largest value."""
 
-
-# ------------------------------------------------------------------------------ Rosenau
-@nb.njit(inline="always", **_JIT)
-def _flux(s, nl, kq, bq, khq, d0q, f0q):
-    """Dynamic contact force P(s) at one face, N (see the nonlinearity codes)."""
-    if nl == 0:
-        return kq * s
-    if nl == 1:
-        return (kq + bq * s) * s
-    r = d0q + s
-    if r < 0.0:
-        r = 0.0
-    return khq * (r * np.sqrt(r)) - f0q
 
 
 @nb.njit(inline="always", **_JIT)
@@ -166,146 +176,6 @@ def _substitute4(y, v, i0, i1, i2, i3, c, q2, q3, q4, beta, a):
     return a
 
 
-@nb.njit(**_JIT)
-def _rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
-                  tau_s, tau_v, win):
-    """One drift (α Δt) and one kick (β Δt) over nodes [L, R], non-periodic ends.
-
-    Sweep A (the drift vectorised; the flux of each face carried to the next node):
-    drift, face strains and fluxes, flux divergence r_i.  Sweep B: the "burn at both
-    ends" (twisted) factorisation of the tridiagonal mass operator, eliminating from L
-    upwards and from R downwards at the same time (two independent dependency chains)
-    to the twist node k; sweep C: back substitution outwards from k with the kick.
-    Where the factors are constant (``runs``, :func:`constant_runs`: everywhere but a
-    few tens of nodes at the chain's ends and its interfaces) B and C advance four
-    nodes per link of their dependency chains (:func:`_eliminate4`,
-    :func:`_substitute4`).  ``win`` receives the new active window.
-    """
-    n = u.size
-    ih = 1.0 / h
-    inv_t, g_t, cp_t, inv_b, g_b, cp_b = fac[0], fac[1], fac[2], fac[3], fac[4], fac[5]
-    twist, off = fac[6], fac[7]
-    # ---- sweep A (on views of the window: no negative-index checks, vectorisable)
-    m_ = R + 1 - L
-    uu = u[L:R + 1]
-    vv = v[L:R + 1]
-    yy = y[L:R + 1]
-    for i in range(m_):
-        uu[i] += alpha * vv[i]
-    if L == 0:
-        s = -2.0 * u[0] * ih if bc == WALL else 0.0
-    else:
-        s = (u[L - 1] - u[L]) * ih
-    p_prev = _flux(s, nl, kk[L], bb[L], kh[L], d0[L], f0[L])
-    k1 = kk[L + 1:R + 2]
-    b1 = bb[L + 1:R + 2]
-    if nl == 1:
-        for i in range(m_ - 1):
-            s = (uu[i] - uu[i + 1]) * ih
-            p = (k1[i] + b1[i] * s) * s
-            yy[i] = (p_prev - p) * ih
-            p_prev = p
-    else:
-        h1 = kh[L + 1:R + 2]
-        z1 = d0[L + 1:R + 2]
-        f1 = f0[L + 1:R + 2]
-        for i in range(m_ - 1):
-            s = (uu[i] - uu[i + 1]) * ih
-            p = _flux(s, nl, k1[i], b1[i], h1[i], z1[i], f1[i])
-            yy[i] = (p_prev - p) * ih
-            p_prev = p
-    if R == n - 1:
-        s = 2.0 * u[n - 1] * ih if bc == WALL else 0.0
-    else:
-        s = (u[R] - u[R + 1]) * ih
-    q = R + 1
-    y[R] = (p_prev - _flux(s, nl, kk[q], bb[q], kh[q], d0[q], f0[q])) * ih
-    # ---- sweep B: eliminate L -> k-1 (a) and R -> k+1 (b)
-    k = (L + R) // 2
-    nt = k - L
-    nb_ = R - k
-    a = 0.0
-    b = 0.0
-    i = L
-    j = R
-    while i < k and j > k:
-        r = min(runs[0, i], runs[1, j], k - i, j - k)
-        if r >= 4:
-            c1, c2, d1, d2 = inv_t[i], g_t[i], inv_b[j], g_b[j]
-            p2 = c2 * c2
-            e2 = d2 * d2
-            p3, p4, e3, e4 = -(p2 * c2), p2 * p2, -(e2 * d2), e2 * e2
-            for _ in range(r // 4):
-                a = _eliminate4(y, i, i + 1, i + 2, i + 3, c1, c2, p2, p3, p4, a)
-                b = _eliminate4(y, j, j - 1, j - 2, j - 3, d1, d2, e2, e3, e4, b)
-                i += 4
-                j -= 4
-        else:
-            a = y[i] * inv_t[i] - g_t[i] * a
-            y[i] = a
-            i += 1
-            b = y[j] * inv_b[j] - g_b[j] * b
-            y[j] = b
-            j -= 1
-    # the chains advance together and nb_ - nt is 0 or 1: the top chain is done, at
-    # most one node of the bottom one is left
-    if j > k:
-        b = y[j] * inv_b[j] - g_b[j] * b
-        y[j] = b
-    # twist node: (d_k - e_{k-1} cp_t[k-1] - e_k cp_b[k+1]) x_k = r_k - e_{k-1} a - e_k b
-    rk = y[k]
-    if nt > 0:
-        rk -= off[k - 1] * a
-    if nb_ > 0:
-        rk -= off[k] * b
-    xk = rk * twist[k]
-    v[k] += beta * xk
-    # ---- sweep C: back substitution k-1 -> L (a) and k+1 -> R (b), kick
-    a = xk
-    b = xk
-    i = k - 1
-    j = k + 1
-    while i >= L and j <= R:
-        r = min(runs[2, i], runs[3, j], i - L + 1, R - j + 1)
-        if r >= 4:
-            c, d = cp_t[i], cp_b[j]
-            p2 = c * c
-            e2 = d * d
-            p3, p4, e3, e4 = -(p2 * c), p2 * p2, -(e2 * d), e2 * e2
-            for _ in range(r // 4):
-                a = _substitute4(y, v, i, i - 1, i - 2, i - 3, c, p2, p3, p4, beta, a)
-                b = _substitute4(y, v, j, j + 1, j + 2, j + 3, d, e2, e3, e4, beta, b)
-                i -= 4
-                j += 4
-        else:
-            a = y[i] - cp_t[i] * a
-            v[i] += beta * a
-            i -= 1
-            b = y[j] - cp_b[j] * b
-            v[j] += beta * b
-            j += 1
-    if j <= R:  # (at most one node left, of the bottom chain, as in sweep B)
-        b = y[j] - cp_b[j] * b
-        v[j] += beta * b
-    # ---- new active window: scan inwards from both edges
-    lo = -1
-    for i in range(L, R + 1):
-        if _node_active(u, v, i, n, ih, tau_s, tau_v):
-            lo = i
-            break
-    if lo < 0:
-        win[0] = -1
-        win[1] = -1
-        return
-    hi = lo
-    for i in range(R, lo, -1):
-        if _node_active(u, v, i, n, ih, tau_s, tau_v):
-            hi = i
-            break
-    win[0] = lo
-    win[1] = hi
-
-
 @nb.njit(inline="always", **_JIT)
 def _node_active(u, v, i, n, ih, tau_s, tau_v):
     """Node i moves (|v| > tau_v) or one of its interior faces is strained (> tau_s)."""
@@ -316,125 +186,6 @@ def _node_active(u, v, i, n, ih, tau_s, tau_v):
     if i < n - 1 and abs((u[i] - u[i + 1]) * ih) > tau_s:
         return True
     return False
-
-
-@nb.njit(**_JIT)
-def _rosenau_pass_periodic(u, v, y, alpha, beta, h, nl, kk, bb, kh, d0, f0,
-                           inv_den, g, cp, z, vfac):
-    """One drift and one kick over a periodic chain (cyclic Thomas, Sherman–Morrison)."""
-    n = u.size
-    ih = 1.0 / h
-    for i in range(n):
-        u[i] += alpha * v[i]
-    s = (u[n - 1] - u[0]) * ih
-    p0 = _flux(s, nl, kk[0], bb[0], kh[0], d0[0], f0[0])
-    p_prev = p0
-    yp = 0.0
-    for i in range(1, n):
-        s = (u[i - 1] - u[i]) * ih
-        p = _flux(s, nl, kk[i], bb[i], kh[i], d0[i], f0[i])
-        yp = (p_prev - p) * ih * inv_den[i - 1] - g[i - 1] * yp
-        y[i - 1] = yp
-        p_prev = p
-    y[n - 1] = (p_prev - p0) * ih * inv_den[n - 1] - g[n - 1] * yp
-    x = 0.0
-    for i in range(n - 1, -1, -1):
-        x = y[i] - cp[i] * x
-        y[i] = x
-    f = (y[0] + vfac[0] * y[n - 1]) / vfac[1]
-    for i in range(n):
-        v[i] += beta * (y[i] - f * z[i])
-
-
-@nb.njit(**_JIT)
-def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0,
-                  fac, runs, win, margin, tau_s, tau_v):
-    """Advance the Rosenau form of Eq. 4 by ``nsteps`` steps of ``dt`` (s), in place.
-
-    Free or wall ends (periodic chains: :func:`rosenau_chunk_periodic`, a kernel of its
-    own so that neither compiles the other's pass).
-
-    Parameters
-    ----------
-    u, v : float64[N]
-        Node displacements (m) and velocities (m/s).
-    y : float64[N]
-        Scratch.
-    alpha, beta : float64[P+1], float64[P]
-        Drift and kick coefficients of the splitting (module docstring).
-    h, bc, nl :
-        Node spacing (grains), boundary code, nonlinearity code.
-    kk, bb, kh, d0, f0 : float64[faces]
-        Linear stiffness K (N/m), quadratic coefficient K/(4δ0) (N/m²), Hertz constant
-        (N/m^{3/2}), static overlap (m) and static force k δ0^{3/2} (N) per face.
-    fac :
-        Factors of the mass operator (:func:`rosenau_factors`).
-    runs : int32[4, N]
-        Lengths of their constant runs (:func:`constant_runs`).
-    win : int64[2]
-        Active window [lo, hi] (in/out; lo = -1: the chain is at rest).
-    margin : int
-        Nodes solved beyond the active window on either side.
-    tau_s, tau_v : float
-        At-rest thresholds for strain (m) and velocity (m/s).
-
-    Returns
-    -------
-    int
-        Node-updates performed (nodes swept times force evaluations).
-    """
-    n = u.size
-    nsub = beta.size
-    fsal = alpha[0] == 0.0 and alpha[nsub] == 0.0
-    work = 0
-    for step in range(nsteps):
-        for j in range(nsub):
-            a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
-            if skip:
-                continue
-            if win[0] < 0:
-                # at rest: drifts are no-ops (v = 0 to within tau), kicks vanish
-                continue
-            lo = max(win[0] - margin, 0)
-            hi = min(win[1] + margin, n - 1)
-            _rosenau_pass(u, v, y, lo, hi, a, b, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
-                          tau_s, tau_v, win)
-            work += hi - lo + 1
-    # closing drift α_P
-    a = alpha[nsub] * dt
-    if nsteps > 0 and win[0] >= 0:
-        lo = max(win[0] - margin, 0)
-        hi = min(win[1] + margin, n - 1)
-        for i in range(lo, hi + 1):
-            u[i] += a * v[i]
-    return work
-
-
-@nb.njit(**_JIT)
-def rosenau_chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, nl, kk, bb, kh, d0, f0,
-                           fac, z, vfac):
-    """:func:`rosenau_chunk` for a periodic chain, swept whole (cyclic solve).
-
-    ``fac``, ``z``, ``vfac``: the Sherman–Morrison factors of :func:`rosenau_factors`.
-    Returns the node-updates performed.
-    """
-    n = u.size
-    nsub = beta.size
-    fsal = alpha[0] == 0.0 and alpha[nsub] == 0.0
-    passes = 0
-    for step in range(nsteps):
-        for j in range(nsub):
-            a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
-            if skip:
-                continue
-            _rosenau_pass_periodic(u, v, y, a, b, h, nl, kk, bb, kh, d0, f0,
-                                   fac[0], fac[1], fac[2], z, vfac)
-            passes += 1
-    if nsteps > 0:
-        a = alpha[nsub] * dt
-        for i in range(n):
-            u[i] += a * v[i]
-    return passes * n
 
 
 def rosenau_factors(diag, off, corner):
@@ -476,7 +227,7 @@ def rosenau_factors(diag, off, corner):
 
 
 def constant_runs(fac) -> np.ndarray:
-    """Lengths of the runs of bitwise-constant factors that :func:`_rosenau_pass` meets.
+    """Lengths of the runs of bitwise-constant factors that the Rosenau pass meets.
 
     Row r, node i: how many consecutive nodes, starting at i in the direction sweep
     r walks, carry exactly the factors of node i — 0: elimination from the top,
@@ -508,7 +259,7 @@ def window_margin(fac) -> int:
 
     The smallest m such that every product of m consecutive back-substitution factors
     |cp_t| and |cp_b| (rows 2 and 5 of :func:`rosenau_factors`) is below 2^-60: the
-    truncation error of :func:`rosenau_chunk`'s windowed solve relative to the largest
+    truncation error of the Rosenau chunk's windowed solve relative to the largest
     value (at least 2).
     """
     target = -WINDOW_LOG2_TOLERANCE * np.log(2.0)
@@ -524,52 +275,6 @@ def window_margin(fac) -> int:
                 break
         worst = max(worst, m)
     return max(2, worst + 1)
-
-
-@nb.njit(**_JIT)
-def rosenau_monitor(u, v, h, bc, nl, kk, bb, kh, d0, f0, mass, wgrad, w):
-    """Energy functional (J) and momentum (kg m/s) of the Rosenau form of Eq. 4.
-
-    E = h Σ_p ½ m_p v_p² + h Σ_q w_q [½ m_q ℓ² (v_X)_q² + W(s_q)] with ``wgrad`` =
-    w_q m_q ℓ² and W the dynamic potential of the flux (``BoussinesqPDE.potential``);
-    P = h Σ m_p v_p.  Non-finite values propagate (NaN/inf state → NaN/inf energy).
-    """
-    n = u.size
-    ih = 1.0 / h
-    ek = 0.0
-    mom = 0.0
-    for i in range(n):
-        ek += mass[i] * v[i] * v[i]
-        mom += mass[i] * v[i]
-    ek *= 0.5
-    nf = kk.size
-    ep = 0.0
-    for q in range(nf):
-        if bc == PERIODIC:
-            im = q - 1 if q > 0 else n - 1
-            s = (u[im] - u[q]) * ih
-            dv = (v[q] - v[im]) * ih
-        elif q == 0 or q == n:
-            if bc == WALL:
-                s = -2.0 * u[0] * ih if q == 0 else 2.0 * u[n - 1] * ih
-                dv = 2.0 * v[0] * ih if q == 0 else -2.0 * v[n - 1] * ih
-            else:
-                s = 0.0
-                dv = 0.0
-        else:
-            s = (u[q - 1] - u[q]) * ih
-            dv = (v[q] - v[q - 1]) * ih
-        if nl == 0:
-            pot = 0.5 * kk[q] * s * s
-        elif nl == 1:
-            pot = 0.5 * kk[q] * s * s + bb[q] * s * s * s / 3.0
-        else:
-            r = d0[q] + s
-            if r < 0.0:
-                r = 0.0
-            pot = 0.4 * kh[q] * (r * r * np.sqrt(r) - d0[q] * d0[q] * np.sqrt(d0[q])) - f0[q] * s
-        ep += w[q] * pot + 0.5 * wgrad[q] * dv * dv
-    return h * (ek + ep), h * mom
 
 
 # ------------------------------------------------------------------------------ Nesterenko
@@ -694,97 +399,6 @@ def _table_overlap(u, q, gidx, gcoef, d0, dl):
     dl[q] = 0.0 if x < 0.0 else x  # (NaN kept)
 
 
-@nb.njit(**_JIT)
-def _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl, fh, ph, y,
-                      comp):
-    """Overlap δ, Hertz flux k δ^{3/2} - f0, φ and y = mask √k (ζ(δ) - ζ0) per face.
-
-    Faces [qa, qb]; the strain is s_q = Σ_j gcoef[q, j] u[gidx[q, j]]
-    (:func:`continuum._kernels.staggered_gradient`), with the plain weights (1/h and 0,
-    or 27/24h and 1/24h) written out for the faces 2 <= q <= n - 2 (interior for either
-    order, whose stencil rows are the plain ones: checked by the caller,
-    :meth:`NesterenkoPDE.make_chunk_stepper`) in a loop without branches.  Returns
-    how many faces carry a nonzero y or φ; when H is then applied by a direct sum
-    (:func:`_direct_sum`) they are listed in ``comp``.
-    """
-    width = gidx.shape[1]
-    n = u.size
-    e4 = np.sqrt(np.sqrt(eps))
-    e54 = eps * e4
-    # one loop for both orders (one compiled copy): the four-point formula, whose outer
-    # weight is 0 at second order (then x = δ0 + (u_{q-1} - u_q)/h exactly)
-    if width == 4:
-        c1, c3 = 27.0 / (24.0 * h), 1.0 / (24.0 * h)
-    else:
-        c1, c3 = 1.0 / h, 0.0
-    ia = max(qa, 2)
-    ib = min(qb, n - 2)
-    # overlaps δ of the interior faces.  Every hot loop runs over zero-based views with
-    # a zero-based index, so that numba emits no negative-index wrap-around check and
-    # LLVM vectorises it (with an index starting at a runtime value it does neither)
-    if ib >= ia:
-        mi = ib + 1 - ia
-        dd = dl[ia:ib + 1]
-        zz = d0[ia:ib + 1]
-        uu = u[ia - 2:ib + 2]  # uu[i] = u[q - 2] for q = ia + i
-        for i in range(mi):
-            x = zz[i] + (c1 * (uu[i + 1] - uu[i + 2]) - c3 * (uu[i] - uu[i + 3]))
-            dd[i] = 0.0 if x < 0.0 else x  # (NaN kept)
-    # end faces [qa, ia) and (ib, qb]: the stencil table
-    for q in range(qa, min(ia, qb + 1)):
-        _table_overlap(u, q, gidx, gcoef, d0, dl)
-    for q in range(max(ib + 1, ia), qb + 1):
-        _table_overlap(u, q, gidx, gcoef, d0, dl)
-    mf = qb + 1 - qa
-    dd = dl[qa:qb + 1]
-    kq, f0q, mq = k[qa:qb + 1], f0[qa:qb + 1], mask[qa:qb + 1]
-    skq, z0q = sk[qa:qb + 1], z0[qa:qb + 1]
-    fq, pq, yq = fh[qa:qb + 1], ph[qa:qb + 1], y[qa:qb + 1]
-    for i in range(mf):
-        x = dd[i]
-        r2 = np.sqrt(x)
-        r4 = np.sqrt(r2)
-        fq[i] = kq[i] * (x * r2) - f0q[i]
-        r = x / eps
-        # ζ, φ above the floor, else their C¹ continuation (NesterenkoPDE): both
-        # computed, one selected (no branch)
-        zq = x * r4 if x >= eps else e54 * (0.625 * r * r + 0.375)
-        pq[i] = (r4 if x >= eps else e4 * r) * mq[i]
-        yq[i] = mq[i] * skq[i] * (zq - z0q[i])
-    ncomp = 0
-    for i in range(mf):
-        ncomp += (yq[i] != 0.0) | (pq[i] != 0.0)
-    if _direct_sum(ncomp, mf):
-        m = 0
-        for q in range(qa, qb + 1):
-            if y[q] != 0.0 or ph[q] != 0.0:
-                comp[m] = q
-                m += 1
-    return ncomp
-
-
-@nb.njit(inline="always", **_JIT)
-def _nesterenko_forces(u, L, R, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps, disp,
-                       c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
-    """Face forces of the regularised Eq. 7 for nodes [L, R], into ``fh`` (N).
-
-    Sweeps: faces (δ, Hertz flux, φ, y: :func:`_nesterenko_faces`); the saturated
-    operator H y (:func:`_saturated_apply`); F = w k(δ^{3/2} - δ0^{3/2}) + disp √k φ H y.
-    Leaves δ, y and H y in ``dl``, ``y``, ``hy`` (the monitor's energy reads them).
-    """
-    qa = L
-    qb = R if bc == PERIODIC else R + 1
-    ncomp = _nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl,
-                              fh, ph, y, comp)
-    _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
-                     bc == PERIODIC)
-    # face forces F (zero outside [qa, qb]: there δ = 0, see nesterenko_chunk) into fh
-    fq, wq, skq, pq, hq = (fh[qa:qb + 1], w[qa:qb + 1], sk[qa:qb + 1], ph[qa:qb + 1],
-                           hy[qa:qb + 1])
-    for i in range(qb + 1 - qa):
-        fq[i] = wq[i] * fq[i] + disp * skq[i] * pq[i] * hq[i]
-
-
 @nb.njit(inline="always", **_JIT)
 def _nesterenko_kick(v, L, R, beta, bc, h, gidx, gcoef, fh, inv_m):
     """Kick v_i += β Δt (-Gᵀ F)_i / m_i of nodes [L, R] by the face forces ``fh``.
@@ -838,123 +452,917 @@ def _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m):
     v[i] += beta * f * inv_m[i]
 
 
-@nb.njit(inline="always", **_JIT)
-def _nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, disp, mass, dl, y, hy):
-    """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
+# ------------------------------------------------------------------------------ kernels of a law
+def _kernel_key(law: ContactLaw, kind: str) -> str:
+    """Disk-cache key of the kernels of ``law``: its key and the sources they compile.
 
-    E = h Σ ½ m v² + h Σ_q [w_q k_q (⅖(δ^{5/2} - δ0^{5/2}) - δ0^{3/2} s_q)
-    + (disp/2.5) y_q (Hy)_q] (NesterenkoPDE.energy_density), P = h Σ m v, from δ, y and
-    H y of every face (:func:`_nesterenko_forces` over the whole chain).
+    This module and the file of every :class:`~theory.laws.ContactLaw` class in the
+    law's MRO (:func:`theory.jitcache.source_digest`, once per law class and process):
+    editing a law or a kernel recompiles.
     """
-    n = u.size
-    ek = 0.0
-    mom = 0.0
-    for i in range(n):
-        ek += mass[i] * v[i] * v[i]
-        mom += mass[i] * v[i]
-    qb = n - 1 if bc == PERIODIC else n
-    ep = 0.0
-    width = gidx.shape[1]
-    for q in range(qb + 1):
-        x = dl[q]
-        s = 0.0
-        for j in range(width):
-            s += gcoef[q, j] * u[gidx[q, j]]
-        pot = k[q] * (0.4 * (x * x * np.sqrt(x) - d0[q] * d0[q] * np.sqrt(d0[q]))
-                      - d0[q] * np.sqrt(d0[q]) * s)
-        ep += w[q] * pot + (disp / 2.5) * y[q] * hy[q]
-    return h * (0.5 * ek + ep), h * mom
+    cls = type(law)
+    if cls not in _DIGESTS:
+        classes = [c for c in cls.__mro__ if isinstance(c, type) and issubclass(c, ContactLaw)]
+        _DIGESTS[cls] = jitcache.source_digest(sys.modules[__name__], *classes)
+    return f"{kind}|{law.key()!r}|{_DIGESTS[cls]}"
 
 
-@nb.njit(**_JIT)
-def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
-                     mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
-                     comp, win, windowed, margin, tau_v, tau_d, mass, mon):
-    """Advance the regularised Eq. 7 by ``nsteps`` steps of ``dt`` (s), in place.
+_DIGESTS: dict[type, str] = {}
 
-    With ``windowed`` (sonic vacuum, non-periodic) only nodes [lo - margin, hi + margin]
-    are swept, ``win`` = [lo, hi] being the nodes that move (|v| > tau_v) or touch a
-    compressed face (δ > tau_d): outside, δ = 0 and v = 0 (to 2^-52 of the wave's
-    values), so the flux (Hertz and dispersive, the latter ∝ φ(δ) = 0) vanishes, and a
-    disturbance reaches at most ``margin`` nodes per force evaluation (1 for the
-    second-order stencil, 3 for the fourth-order one).  Otherwise the whole chain is
-    swept.  Returns the node-updates performed.
 
-    With ``mon.size == 2`` it then writes the energy functional (J) and momentum
-    (kg m/s) of the state into ``mon`` (:func:`_nesterenko_energy`; ``mass`` in kg per
-    grain).  The monitor is this kernel with ``nsteps`` = 0 and scratch arrays of its
-    own: one compiled kernel, in which the face pass and H are called from one place
-    (the loop's last evaluation is the monitor's), so that they are compiled once —
-    this kernel's first compilation is the continuum's largest.
+def power_piece(q: float):
+    """Compiled x ↦ x^q for x >= 0: √√x, √x, √x·√√x, x, x√x for q = 1/4 … 3/2, else x**q.
+
+    The powers of the dispersive term of the strongly nonlinear equation
+    (φ = δ^{(n-1)/2}: δ^{1/4} for Hertz, formed as √√δ as the kernels always have).
     """
-    n = u.size
-    nsub = beta.size
-    fsal = alpha[0] == 0.0 and alpha[nsub] == 0.0
-    nev = nsteps * nsub
-    work = 0
-    for e in range(nev + 1):
-        if e < nev:
-            step = e // nsub
-            j = e - step * nsub
-            a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
-            if skip:
-                continue
-            if windowed:
+    q = float(q)
+    if q == 0.0:
+        def power(x):
+            return 1.0
+    elif q == 0.25:
+        def power(x):
+            return np.sqrt(np.sqrt(x))
+    elif q == 0.5:
+        def power(x):
+            return np.sqrt(x)
+    elif q == 0.75:
+        def power(x):
+            return np.sqrt(x) * np.sqrt(np.sqrt(x))
+    elif q == 1.0:
+        def power(x):
+            return x
+    elif q == 1.5:
+        def power(x):
+            return x * np.sqrt(x)
+    else:
+        def power(x):
+            return x**q
+    return compile_piece(power)
+
+
+class RosenauKernels(NamedTuple):
+    """The compiled kernels of the Rosenau form for one contact law (:func:`rosenau_kernels`)."""
+
+    chunk: object
+    """``chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
+    win, margin, tau_s, tau_v)``: free or wall ends, active window."""
+    chunk_periodic: object
+    """``chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, nl, kk, bb, kh, d0, f0, fac,
+    z, vfac)``: a periodic chain, swept whole."""
+    chunk_dissipative: object
+    """``chunk_dissipative(u, v, wd, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0,
+    f0, fac, runs, win, mdiag, moff, wface, mass, drag, p, ad, ao, x, cp)``: Strang
+    splitting with the dissipative Crank–Nicolson sub-steps, swept whole."""
+    monitor: object
+    """``monitor(u, v, h, bc, nl, kk, bb, kh, d0, f0, mass, wgrad, w) -> (E, P)``."""
+    static_forces: object
+    """``static_forces(d0, k, out)``: F_el(δ0; k) with the kernels' arithmetic."""
+    window_pass: object
+    """``window_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
+    tau_s, tau_v, win)``: one drift and kick over nodes [L, R] (for tests)."""
+
+
+_ROSENAU: dict[str, RosenauKernels] = {}
+
+
+def rosenau_kernels(law: ContactLaw) -> RosenauKernels:
+    """The kernels of the Rosenau form closed over ``law``'s compiled pieces; built once.
+
+    Like the discrete solver's kernels (``discrete.kernels.make_kernels``): the law's
+    elastic force, energy and damping coefficient (``make_elastic``, ``make_energy``,
+    ``make_damping``, inlined) are fused into the passes below, which are compiled per
+    law key with a keyed disk cache (:func:`theory.jitcache.keyed_njit`).
+    """
+    key = _kernel_key(law, "rosenau")
+    if key not in _ROSENAU:
+        _ROSENAU[key] = _build_rosenau(law, key)
+    return _ROSENAU[key]
+
+
+def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
+    elastic = law.make_elastic()
+    energy = law.make_energy()
+    damping = law.make_damping()
+
+    def inner(func, **options):
+        return jitcache.keyed_njit(func, key, cache=False, **_INNER, **options)
+
+    def entry(func):
+        return jitcache.keyed_njit(func, key, **_INNER)
+
+    def flux(s, nl, kq, bq, khq, d0q, f0q):
+        """Dynamic contact force P(s) at one face, N (see the nonlinearity codes)."""
+        if nl == 0:
+            return kq * s
+        if nl == 1:
+            return (kq + bq * s) * s
+        return elastic(d0q + s, khq) - f0q
+
+    flux = inner(flux, inline="always")
+
+    def rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
+                     tau_s, tau_v, win):
+        """One drift (α Δt) and one kick (β Δt) over nodes [L, R], non-periodic ends.
+
+        Sweep A (the drift vectorised; the flux of each face carried to the next node):
+        drift, face strains and fluxes, flux divergence r_i.  Sweep B: the "burn at both
+        ends" (twisted) factorisation of the tridiagonal mass operator, eliminating from L
+        upwards and from R downwards at the same time (two independent dependency chains)
+        to the twist node k; sweep C: back substitution outwards from k with the kick.
+        Where the factors are constant (``runs``, :func:`constant_runs`: everywhere but a
+        few tens of nodes at the chain's ends and its interfaces) B and C advance four
+        nodes per link of their dependency chains (:func:`_eliminate4`,
+        :func:`_substitute4`).  ``win`` receives the new active window.
+        """
+        n = u.size
+        ih = 1.0 / h
+        inv_t, g_t, cp_t, inv_b, g_b, cp_b = fac[0], fac[1], fac[2], fac[3], fac[4], fac[5]
+        twist, off = fac[6], fac[7]
+        # ---- sweep A (on views of the window: no negative-index checks, vectorisable)
+        m_ = R + 1 - L
+        uu = u[L:R + 1]
+        vv = v[L:R + 1]
+        yy = y[L:R + 1]
+        for i in range(m_):
+            uu[i] += alpha * vv[i]
+        if L == 0:
+            s = -2.0 * u[0] * ih if bc == WALL else 0.0
+        else:
+            s = (u[L - 1] - u[L]) * ih
+        p_prev = flux(s, nl, kk[L], bb[L], kh[L], d0[L], f0[L])
+        k1 = kk[L + 1:R + 2]
+        b1 = bb[L + 1:R + 2]
+        if nl == 1:
+            for i in range(m_ - 1):
+                s = (uu[i] - uu[i + 1]) * ih
+                p = (k1[i] + b1[i] * s) * s
+                yy[i] = (p_prev - p) * ih
+                p_prev = p
+        else:
+            h1 = kh[L + 1:R + 2]
+            z1 = d0[L + 1:R + 2]
+            f1 = f0[L + 1:R + 2]
+            for i in range(m_ - 1):
+                s = (uu[i] - uu[i + 1]) * ih
+                p = flux(s, nl, k1[i], b1[i], h1[i], z1[i], f1[i])
+                yy[i] = (p_prev - p) * ih
+                p_prev = p
+        if R == n - 1:
+            s = 2.0 * u[n - 1] * ih if bc == WALL else 0.0
+        else:
+            s = (u[R] - u[R + 1]) * ih
+        q = R + 1
+        y[R] = (p_prev - flux(s, nl, kk[q], bb[q], kh[q], d0[q], f0[q])) * ih
+        # ---- sweep B: eliminate L -> k-1 (a) and R -> k+1 (b)
+        k = (L + R) // 2
+        nt = k - L
+        nb_ = R - k
+        a = 0.0
+        b = 0.0
+        i = L
+        j = R
+        while i < k and j > k:
+            r = min(runs[0, i], runs[1, j], k - i, j - k)
+            if r >= 4:
+                c1, c2, d1, d2 = inv_t[i], g_t[i], inv_b[j], g_b[j]
+                p2 = c2 * c2
+                e2 = d2 * d2
+                p3, p4, e3, e4 = -(p2 * c2), p2 * p2, -(e2 * d2), e2 * e2
+                for _ in range(r // 4):
+                    a = _eliminate4(y, i, i + 1, i + 2, i + 3, c1, c2, p2, p3, p4, a)
+                    b = _eliminate4(y, j, j - 1, j - 2, j - 3, d1, d2, e2, e3, e4, b)
+                    i += 4
+                    j -= 4
+            else:
+                a = y[i] * inv_t[i] - g_t[i] * a
+                y[i] = a
+                i += 1
+                b = y[j] * inv_b[j] - g_b[j] * b
+                y[j] = b
+                j -= 1
+        # the chains advance together and nb_ - nt is 0 or 1: the top chain is done, at
+        # most one node of the bottom one is left
+        if j > k:
+            b = y[j] * inv_b[j] - g_b[j] * b
+            y[j] = b
+        # twist node: (d_k - e_{k-1} cp_t[k-1] - e_k cp_b[k+1]) x_k = r_k - e_{k-1} a - e_k b
+        rk = y[k]
+        if nt > 0:
+            rk -= off[k - 1] * a
+        if nb_ > 0:
+            rk -= off[k] * b
+        xk = rk * twist[k]
+        v[k] += beta * xk
+        # ---- sweep C: back substitution k-1 -> L (a) and k+1 -> R (b), kick
+        a = xk
+        b = xk
+        i = k - 1
+        j = k + 1
+        while i >= L and j <= R:
+            r = min(runs[2, i], runs[3, j], i - L + 1, R - j + 1)
+            if r >= 4:
+                c, d = cp_t[i], cp_b[j]
+                p2 = c * c
+                e2 = d * d
+                p3, p4, e3, e4 = -(p2 * c), p2 * p2, -(e2 * d), e2 * e2
+                for _ in range(r // 4):
+                    a = _substitute4(y, v, i, i - 1, i - 2, i - 3, c, p2, p3, p4, beta, a)
+                    b = _substitute4(y, v, j, j + 1, j + 2, j + 3, d, e2, e3, e4, beta, b)
+                    i -= 4
+                    j += 4
+            else:
+                a = y[i] - cp_t[i] * a
+                v[i] += beta * a
+                i -= 1
+                b = y[j] - cp_b[j] * b
+                v[j] += beta * b
+                j += 1
+        if j <= R:  # (at most one node left, of the bottom chain, as in sweep B)
+            b = y[j] - cp_b[j] * b
+            v[j] += beta * b
+        # ---- new active window: scan inwards from both edges
+        lo = -1
+        for i in range(L, R + 1):
+            if _node_active(u, v, i, n, ih, tau_s, tau_v):
+                lo = i
+                break
+        if lo < 0:
+            win[0] = -1
+            win[1] = -1
+            return
+        hi = lo
+        for i in range(R, lo, -1):
+            if _node_active(u, v, i, n, ih, tau_s, tau_v):
+                hi = i
+                break
+        win[0] = lo
+        win[1] = hi
+
+    rosenau_pass = inner(rosenau_pass)
+
+    def rosenau_pass_periodic(u, v, y, alpha, beta, h, nl, kk, bb, kh, d0, f0,
+                              inv_den, g, cp, z, vfac):
+        """One drift and one kick over a periodic chain (cyclic Thomas, Sherman–Morrison)."""
+        n = u.size
+        ih = 1.0 / h
+        for i in range(n):
+            u[i] += alpha * v[i]
+        s = (u[n - 1] - u[0]) * ih
+        p0 = flux(s, nl, kk[0], bb[0], kh[0], d0[0], f0[0])
+        p_prev = p0
+        yp = 0.0
+        for i in range(1, n):
+            s = (u[i - 1] - u[i]) * ih
+            p = flux(s, nl, kk[i], bb[i], kh[i], d0[i], f0[i])
+            yp = (p_prev - p) * ih * inv_den[i - 1] - g[i - 1] * yp
+            y[i - 1] = yp
+            p_prev = p
+        y[n - 1] = (p_prev - p0) * ih * inv_den[n - 1] - g[n - 1] * yp
+        x = 0.0
+        for i in range(n - 1, -1, -1):
+            x = y[i] - cp[i] * x
+            y[i] = x
+        f = (y[0] + vfac[0] * y[n - 1]) / vfac[1]
+        for i in range(n):
+            v[i] += beta * (y[i] - f * z[i])
+
+    rosenau_pass_periodic = inner(rosenau_pass_periodic)
+
+    def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0,
+                      fac, runs, win, margin, tau_s, tau_v):
+        """Advance the Rosenau form of Eq. 4 by ``nsteps`` steps of ``dt`` (s), in place.
+
+        Free or wall ends (periodic chains: :func:`rosenau_chunk_periodic`, a kernel of its
+        own so that neither compiles the other's pass).
+
+        Parameters
+        ----------
+        u, v : float64[N]
+            Node displacements (m) and velocities (m/s).
+        y : float64[N]
+            Scratch.
+        alpha, beta : float64[P+1], float64[P]
+            Drift and kick coefficients of the splitting (module docstring).
+        h, bc, nl :
+            Node spacing (grains), boundary code, nonlinearity code.
+        kk, bb, kh, d0, f0 : float64[faces]
+            Linear stiffness K = F'(δ0) (N/m), quadratic coefficient b = F''(δ0)/2 (N/m²;
+            K/(4δ0) for Hertz), contact constant (N/m^n), static overlap (m) and static
+            force F_el(δ0) (N) per face.
+        fac :
+            Factors of the mass operator (:func:`rosenau_factors`).
+        runs : int32[4, N]
+            Lengths of their constant runs (:func:`constant_runs`).
+        win : int64[2]
+            Active window [lo, hi] (in/out; lo = -1: the chain is at rest).
+        margin : int
+            Nodes solved beyond the active window on either side.
+        tau_s, tau_v : float
+            At-rest thresholds for strain (m) and velocity (m/s).
+
+        Returns
+        -------
+        int
+            Node-updates performed (nodes swept times force evaluations).
+        """
+        n = u.size
+        nsub = beta.size
+        fsal = alpha[0] == 0.0 and alpha[nsub] == 0.0
+        work = 0
+        for step in range(nsteps):
+            for j in range(nsub):
+                a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
+                if skip:
+                    continue
                 if win[0] < 0:
+                    # at rest: drifts are no-ops (v = 0 to within tau), kicks vanish
                     continue
                 lo = max(win[0] - margin, 0)
                 hi = min(win[1] + margin, n - 1)
+                rosenau_pass(u, v, y, lo, hi, a, b, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
+                              tau_s, tau_v, win)
+                work += hi - lo + 1
+        # closing drift α_P
+        a = alpha[nsub] * dt
+        if nsteps > 0 and win[0] >= 0:
+            lo = max(win[0] - margin, 0)
+            hi = min(win[1] + margin, n - 1)
+            for i in range(lo, hi + 1):
+                u[i] += a * v[i]
+        return work
+
+
+    def rosenau_chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, nl, kk, bb, kh, d0, f0,
+                               fac, z, vfac):
+        """``rosenau_chunk`` for a periodic chain, swept whole (cyclic solve).
+
+        ``fac``, ``z``, ``vfac``: the Sherman–Morrison factors of :func:`rosenau_factors`.
+        Returns the node-updates performed.
+        """
+        n = u.size
+        nsub = beta.size
+        fsal = alpha[0] == 0.0 and alpha[nsub] == 0.0
+        passes = 0
+        for step in range(nsteps):
+            for j in range(nsub):
+                a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
+                if skip:
+                    continue
+                rosenau_pass_periodic(u, v, y, a, b, h, nl, kk, bb, kh, d0, f0,
+                                       fac[0], fac[1], fac[2], z, vfac)
+                passes += 1
+        if nsteps > 0:
+            a = alpha[nsub] * dt
+            for i in range(n):
+                u[i] += a * v[i]
+        return passes * n
+
+
+    def rosenau_monitor(u, v, h, bc, nl, kk, bb, kh, d0, f0, mass, wgrad, w):
+        """Energy functional (J) and momentum (kg m/s) of the Rosenau form of Eq. 4.
+
+        E = h Σ_p ½ m_p v_p² + h Σ_q w_q [½ m_q ℓ² (v_X)_q² + W(s_q)] with ``wgrad`` =
+        w_q m_q ℓ² and W the dynamic potential of the flux (``BoussinesqPDE.potential``);
+        P = h Σ m_p v_p.  Non-finite values propagate (NaN/inf state → NaN/inf energy).
+        """
+        n = u.size
+        ih = 1.0 / h
+        ek = 0.0
+        mom = 0.0
+        for i in range(n):
+            ek += mass[i] * v[i] * v[i]
+            mom += mass[i] * v[i]
+        ek *= 0.5
+        nf = kk.size
+        ep = 0.0
+        for q in range(nf):
+            if bc == PERIODIC:
+                im = q - 1 if q > 0 else n - 1
+                s = (u[im] - u[q]) * ih
+                dv = (v[q] - v[im]) * ih
+            elif q == 0 or q == n:
+                if bc == WALL:
+                    s = -2.0 * u[0] * ih if q == 0 else 2.0 * u[n - 1] * ih
+                    dv = 2.0 * v[0] * ih if q == 0 else -2.0 * v[n - 1] * ih
+                else:
+                    s = 0.0
+                    dv = 0.0
             else:
+                s = (u[q - 1] - u[q]) * ih
+                dv = (v[q] - v[q - 1]) * ih
+            if nl == 0:
+                pot = 0.5 * kk[q] * s * s
+            elif nl == 1:
+                pot = 0.5 * kk[q] * s * s + bb[q] * s * s * s / 3.0
+            else:
+                pot = energy(d0[q] + s, kh[q], d0[q]) - f0[q] * s
+            ep += w[q] * pot + 0.5 * wgrad[q] * dv * dv
+        return h * (ek + ep), h * mom
+
+
+
+    def rosenau_dissipate(u, v, wd, tau, h, bc, kh, d0, mdiag, moff, wface, mass, drag, p,
+                          ad, ao, x, cp):
+        """Dissipative sub-step: (M + τ/2 A) v' = (M - τ/2 A) v, booked into ``wd`` (J).
+
+        A = Gᵀ diag(w c) G + β m (symmetric, >= 0): the viscous flux c(δ) ṡ of every
+        face (the law's damping coefficient at the overlap δ0 + s, positions fixed) and
+        the drag; M the Rosenau mass operator (bands ``mdiag``, ``moff``).  Crank–
+        Nicolson: unconditionally stable and dissipative, the kinetic energy falls by
+        exactly h τ v̄ᵀ A v̄ (v̄ = (v + v')/2), booked per node as h τ v̄_i (A v̄)_i.
+        Free or wall ends (module docstring of :mod:`continuum.boussinesq`).
+        """
+        n = u.size
+        ih = 1.0 / h
+        for i in range(n):
+            ad[i] = drag * mass[i]
+        for i in range(n - 1):
+            ao[i] = 0.0
+        if bc == WALL:
+            e0 = damping(d0[0] - 2.0 * u[0] * ih, kh[0], p) * wface[0] * ih * ih
+            en = damping(d0[n] + 2.0 * u[n - 1] * ih, kh[n], p) * wface[n] * ih * ih
+            ad[0] += 4.0 * e0
+            ad[n - 1] += 4.0 * en
+        for q in range(1, n):
+            e = damping(d0[q] + (u[q - 1] - u[q]) * ih, kh[q], p) * wface[q] * ih * ih
+            ad[q - 1] += e
+            ad[q] += e
+            ao[q - 1] -= e
+        ht = 0.5 * tau
+        # right-hand side (M - τ/2 A) v into x; forward elimination of M + τ/2 A
+        for i in range(n):
+            r = (mdiag[i] - ht * ad[i]) * v[i]
+            if i > 0:
+                r += (moff[i - 1] - ht * ao[i - 1]) * v[i - 1]
+            if i < n - 1:
+                r += (moff[i] - ht * ao[i]) * v[i + 1]
+            x[i] = r
+        den = mdiag[0] + ht * ad[0]
+        x[0] = x[0] / den
+        for i in range(1, n):
+            o = moff[i - 1] + ht * ao[i - 1]
+            cp[i - 1] = o / den
+            den = mdiag[i] + ht * ad[i] - o * cp[i - 1]
+            x[i] = (x[i] - o * x[i - 1]) / den
+        for i in range(n - 2, -1, -1):
+            x[i] -= cp[i] * x[i + 1]
+        # v̄ into x, booking, v' = 2 v̄ - v
+        for i in range(n):
+            x[i] = 0.5 * (v[i] + x[i])
+        for i in range(n):
+            av = ad[i] * x[i]
+            if i > 0:
+                av += ao[i - 1] * x[i - 1]
+            if i < n - 1:
+                av += ao[i] * x[i + 1]
+            wd[i] += h * tau * x[i] * av
+        for i in range(n):
+            v[i] = 2.0 * x[i] - v[i]
+
+    rosenau_dissipate = inner(rosenau_dissipate)
+
+    def rosenau_chunk_dissipative(u, v, wd, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb,
+                                  kh, d0, f0, fac, runs, win, mdiag, moff, wface, mass,
+                                  drag, p, ad, ao, x, cp):
+        """Advance the dissipative Rosenau form by ``nsteps`` steps of ``dt`` (s), in place.
+
+        Strang splitting D(Δt/2) ∘ V(Δt) ∘ D(Δt/2): V the symplectic splitting of the
+        elastic forces (the passes of ``rosenau_chunk``, whole chain, each step's
+        passes unmerged), D the Crank–Nicolson dissipative sub-step of
+        ``rosenau_dissipate`` (which books the dissipated energy in ``wd``, J per node).
+        Free or wall ends.  Returns the node-updates performed.
+        """
+        n = u.size
+        nsub = beta.size
+        work = 0
+        for _ in range(nsteps):
+            rosenau_dissipate(u, v, wd, 0.5 * dt, h, bc, kh, d0, mdiag, moff, wface, mass,
+                              drag, p, ad, ao, x, cp)
+            for j in range(nsub):
+                rosenau_pass(u, v, y, 0, n - 1, alpha[j] * dt, beta[j] * dt, h, bc, nl, kk,
+                             bb, kh, d0, f0, fac, runs, 0.0, 0.0, win)
+                work += n
+            a = alpha[nsub] * dt
+            for i in range(n):
+                u[i] += a * v[i]
+            rosenau_dissipate(u, v, wd, 0.5 * dt, h, bc, kh, d0, mdiag, moff, wface, mass,
+                              drag, p, ad, ao, x, cp)
+        win[0] = 0
+        win[1] = n - 1
+        return work
+
+    def static_forces(d0, k, out):
+        """Static forces F_el(δ0; k) into ``out``, N, with the kernels' arithmetic (P(0) = 0)."""
+        for i in range(d0.size):
+            out[i] = elastic(d0[i], k[i])
+
+    return RosenauKernels(entry(rosenau_chunk), entry(rosenau_chunk_periodic),
+                          entry(rosenau_chunk_dissipative), entry(rosenau_monitor),
+                          entry(static_forces), rosenau_pass)
+
+
+
+class NesterenkoKernels(NamedTuple):
+    """The compiled kernels of the regularised Eq. 7 for one law (:func:`nesterenko_kernels`)."""
+
+    chunk: object
+    """``chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
+    mask, eps, disp, inv_m, c, spec, <9 scratch arrays>, win, windowed, margin, tau_v,
+    tau_d, mass, mon)`` (``nesterenko_chunk`` of the law)."""
+    chunk_dissipative: object
+    """The same with the dissipated energy ``wd`` after ``v`` and the drag rate, law
+    parameters after ``mon``: Strang splitting with the exact dissipative face flows."""
+    static_forces: object
+    """``static_forces(d0, k, out)``: F_el(δ0; k) with the kernels' arithmetic."""
+    zeta: object
+    """``zeta(x, eps, out)``: ζ(x) = x φ(x) continued below ``eps``, the kernels' arithmetic."""
+
+
+_NESTERENKO: dict[tuple, NesterenkoKernels] = {}
+
+
+def nesterenko_kernels(law: ContactLaw) -> NesterenkoKernels:
+    r"""The kernels of the regularised Eq. 7 closed over ``law``'s compiled pieces; built once.
+
+    The elastic force, its energy and damping coefficient come from the law; the
+    dispersive term's powers from its exponent n: φ = δ^{(n-1)/2}, ζ = δ φ =
+    δ^{(n+1)/2} (:class:`continuum.nesterenko.NesterenkoPDE`), continued below the floor
+    ε as ζ = ε φ(ε) (a r² + 1 - a), φ = φ(ε) r (r = δ/ε, a = (n+1)/4: C¹ at r = 1).
+    """
+    key = _kernel_key(law, "nesterenko")
+    if key not in _NESTERENKO:
+        _NESTERENKO[key] = _build_nesterenko(law, key)
+    return _NESTERENKO[key]
+
+
+def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: C901
+    elastic = law.make_elastic()
+    energy = law.make_energy()
+    damping = law.make_damping()
+    n_exp = float(law.exponent)
+    phi = power_piece(0.5 * (n_exp - 1.0))
+    ca = 0.25 * (n_exp + 1.0)  # ζ's continuation below the floor: ε φ(ε) (ca r² + cb)
+    cb = 1.0 - ca
+    n1 = n_exp + 1.0
+
+    def inner(func, **options):
+        return jitcache.keyed_njit(func, key, cache=False, **_INNER, **options)
+
+    def entry(func):
+        return jitcache.keyed_njit(func, key, **_INNER)
+
+
+    def nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl, fh, ph, y,
+                         comp):
+        """Overlap δ, elastic flux F_el(δ) - f0, φ and y = mask √k (ζ(δ) - ζ0) per face.
+
+        Faces [qa, qb]; the strain is s_q = Σ_j gcoef[q, j] u[gidx[q, j]]
+        (:func:`continuum._kernels.staggered_gradient`), with the plain weights (1/h and 0,
+        or 27/24h and 1/24h) written out for the faces 2 <= q <= n - 2 (interior for either
+        order, whose stencil rows are the plain ones: checked by the caller,
+        :meth:`NesterenkoPDE.make_chunk_stepper`) in a loop without branches.  Returns
+        how many faces carry a nonzero y or φ; when H is then applied by a direct sum
+        (:func:`_direct_sum`) they are listed in ``comp``.
+        """
+        width = gidx.shape[1]
+        n = u.size
+        e4 = phi(eps)
+        e54 = eps * e4
+        # one loop for both orders (one compiled copy): the four-point formula, whose outer
+        # weight is 0 at second order (then x = δ0 + (u_{q-1} - u_q)/h exactly)
+        if width == 4:
+            c1, c3 = 27.0 / (24.0 * h), 1.0 / (24.0 * h)
+        else:
+            c1, c3 = 1.0 / h, 0.0
+        ia = max(qa, 2)
+        ib = min(qb, n - 2)
+        # overlaps δ of the interior faces.  Every hot loop runs over zero-based views with
+        # a zero-based index, so that numba emits no negative-index wrap-around check and
+        # LLVM vectorises it (with an index starting at a runtime value it does neither)
+        if ib >= ia:
+            mi = ib + 1 - ia
+            dd = dl[ia:ib + 1]
+            zz = d0[ia:ib + 1]
+            uu = u[ia - 2:ib + 2]  # uu[i] = u[q - 2] for q = ia + i
+            for i in range(mi):
+                x = zz[i] + (c1 * (uu[i + 1] - uu[i + 2]) - c3 * (uu[i] - uu[i + 3]))
+                dd[i] = 0.0 if x < 0.0 else x  # (NaN kept)
+        # end faces [qa, ia) and (ib, qb]: the stencil table
+        for q in range(qa, min(ia, qb + 1)):
+            _table_overlap(u, q, gidx, gcoef, d0, dl)
+        for q in range(max(ib + 1, ia), qb + 1):
+            _table_overlap(u, q, gidx, gcoef, d0, dl)
+        mf = qb + 1 - qa
+        dd = dl[qa:qb + 1]
+        kq, f0q, mq = k[qa:qb + 1], f0[qa:qb + 1], mask[qa:qb + 1]
+        skq, z0q = sk[qa:qb + 1], z0[qa:qb + 1]
+        fq, pq, yq = fh[qa:qb + 1], ph[qa:qb + 1], y[qa:qb + 1]
+        for i in range(mf):
+            x = dd[i]
+            fq[i] = elastic(x, kq[i]) - f0q[i]
+            r4 = phi(x)
+            r = x / eps
+            # ζ = x φ, φ above the floor, else their C¹ continuation (NesterenkoPDE):
+            # both computed, one selected (no branch)
+            zq = x * r4 if x >= eps else e54 * (ca * r * r + cb)
+            pq[i] = (r4 if x >= eps else e4 * r) * mq[i]
+            yq[i] = mq[i] * skq[i] * (zq - z0q[i])
+        ncomp = 0
+        for i in range(mf):
+            ncomp += (yq[i] != 0.0) | (pq[i] != 0.0)
+        if _direct_sum(ncomp, mf):
+            m = 0
+            for q in range(qa, qb + 1):
+                if y[q] != 0.0 or ph[q] != 0.0:
+                    comp[m] = q
+                    m += 1
+        return ncomp
+
+    nesterenko_faces = inner(nesterenko_faces)
+
+    def nesterenko_forces(u, L, R, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps, disp,
+                          c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp):
+        """Face forces of the regularised Eq. 7 for nodes [L, R], into ``fh`` (N).
+
+        Sweeps: faces (δ, elastic flux, φ, y: ``nesterenko_faces``); the saturated
+        operator H y (:func:`_saturated_apply`); F = w (F_el(δ) - f0) + disp √k φ H y.
+        Leaves δ, y and H y in ``dl``, ``y``, ``hy`` (the monitor's energy reads them).
+        """
+        qa = L
+        qb = R if bc == PERIODIC else R + 1
+        ncomp = nesterenko_faces(u, qa, qb, h, gidx, gcoef, k, d0, f0, sk, z0, mask, eps, dl,
+                                  fh, ph, y, comp)
+        _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
+                         bc == PERIODIC)
+        # face forces F (zero outside [qa, qb]: there δ = 0, see nesterenko_chunk) into fh
+        fq, wq, skq, pq, hq = (fh[qa:qb + 1], w[qa:qb + 1], sk[qa:qb + 1], ph[qa:qb + 1],
+                               hy[qa:qb + 1])
+        for i in range(qb + 1 - qa):
+            fq[i] = wq[i] * fq[i] + disp * skq[i] * pq[i] * hq[i]
+
+    nesterenko_forces = inner(nesterenko_forces, inline="always")
+
+    def nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, f0, disp, mass, dl, y, hy):
+        """Energy functional (J) and momentum (kg m/s) of the regularised Eq. 7.
+
+        E = h Σ ½ m v² + h Σ_q [w_q (U(δ) - U(δ0) - f0_q s_q) + (disp/(n+1)) y_q (Hy)_q]
+        (U the law's elastic energy; NesterenkoPDE.energy_density), P = h Σ m v, from δ, y and
+        H y of every face (``nesterenko_forces`` over the whole chain).
+        """
+        n = u.size
+        ek = 0.0
+        mom = 0.0
+        for i in range(n):
+            ek += mass[i] * v[i] * v[i]
+            mom += mass[i] * v[i]
+        qb = n - 1 if bc == PERIODIC else n
+        ep = 0.0
+        width = gidx.shape[1]
+        for q in range(qb + 1):
+            x = dl[q]
+            s = 0.0
+            for j in range(width):
+                s += gcoef[q, j] * u[gidx[q, j]]
+            pot = energy(x, k[q], d0[q]) - f0[q] * s
+            ep += w[q] * pot + (disp / n1) * y[q] * hy[q]
+        return h * (0.5 * ek + ep), h * mom
+
+    nesterenko_energy = inner(nesterenko_energy, inline="always")
+
+    def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
+                         mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
+                         comp, win, windowed, margin, tau_v, tau_d, mass, mon):
+        """Advance the regularised Eq. 7 by ``nsteps`` steps of ``dt`` (s), in place.
+
+        With ``windowed`` (sonic vacuum, non-periodic) only nodes [lo - margin, hi + margin]
+        are swept, ``win`` = [lo, hi] being the nodes that move (|v| > tau_v) or touch a
+        compressed face (δ > tau_d): outside, δ = 0 and v = 0 (to 2^-52 of the wave's
+        values), so the flux (elastic and dispersive, the latter ∝ φ(δ) = 0) vanishes, and a
+        disturbance reaches at most ``margin`` nodes per force evaluation (1 for the
+        second-order stencil, 3 for the fourth-order one).  Otherwise the whole chain is
+        swept.  Returns the node-updates performed.
+
+        With ``mon.size == 2`` it then writes the energy functional (J) and momentum
+        (kg m/s) of the state into ``mon`` (``nesterenko_energy``; ``mass`` in kg per
+        grain).  The monitor is this kernel with ``nsteps`` = 0 and scratch arrays of its
+        own: one compiled kernel, in which the face pass and H are called from one place
+        (the loop's last evaluation is the monitor's), so that they are compiled once —
+        this kernel's first compilation is the continuum's largest.
+        """
+        n = u.size
+        nsub = beta.size
+        fsal = alpha[0] == 0.0 and alpha[nsub] == 0.0
+        nev = nsteps * nsub
+        work = 0
+        for e in range(nev + 1):
+            if e < nev:
+                step = e // nsub
+                j = e - step * nsub
+                a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
+                if skip:
+                    continue
+                if windowed:
+                    if win[0] < 0:
+                        continue
+                    lo = max(win[0] - margin, 0)
+                    hi = min(win[1] + margin, n - 1)
+                else:
+                    lo = 0
+                    hi = n - 1
+                uu = u[lo:hi + 1]
+                vv = v[lo:hi + 1]
+                for i in range(hi + 1 - lo):
+                    uu[i] += a * vv[i]
+            else:
+                # closing drift α_P, then (monitor) the whole chain's forces and energy
+                if nsteps > 0:
+                    a = alpha[nsub] * dt
+                    if windowed:
+                        if win[0] >= 0:
+                            for i in range(max(win[0] - margin, 0),
+                                           min(win[1] + margin, n - 1) + 1):
+                                u[i] += a * v[i]
+                    else:
+                        for i in range(n):
+                            u[i] += a * v[i]
+                if mon.size != 2:
+                    break
                 lo = 0
                 hi = n - 1
-            uu = u[lo:hi + 1]
-            vv = v[lo:hi + 1]
-            for i in range(hi + 1 - lo):
-                uu[i] += a * vv[i]
-        else:
-            # closing drift α_P, then (monitor) the whole chain's forces and energy
-            if nsteps > 0:
-                a = alpha[nsub] * dt
-                if windowed:
-                    if win[0] >= 0:
-                        for i in range(max(win[0] - margin, 0),
-                                       min(win[1] + margin, n - 1) + 1):
-                            u[i] += a * v[i]
-                else:
-                    for i in range(n):
-                        u[i] += a * v[i]
-            if mon.size != 2:
+            nesterenko_forces(u, lo, hi, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps,
+                               disp, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp)
+            if e == nev:
+                en, mo = nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, f0, disp, mass, dl,
+                                            y, hy)
+                mon[0] = en
+                mon[1] = mo
                 break
-            lo = 0
-            hi = n - 1
-        _nesterenko_forces(u, lo, hi, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask, eps,
-                           disp, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp)
-        if e == nev:
-            en, mo = _nesterenko_energy(u, v, bc, h, gidx, gcoef, w, k, d0, disp, mass, dl,
-                                        y, hy)
-            mon[0] = en
-            mon[1] = mo
-            break
-        _nesterenko_kick(v, lo, hi, b, bc, h, gidx, gcoef, fh, inv_m)
-        work += hi - lo + 1
-        if windowed:
-            new_lo = -1
-            for i in range(lo, hi + 1):
-                if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                    new_lo = i
-                    break
-            if new_lo < 0:
-                win[0] = -1
-                win[1] = -1
-            else:
-                new_hi = new_lo
-                for i in range(hi, new_lo, -1):
+            _nesterenko_kick(v, lo, hi, b, bc, h, gidx, gcoef, fh, inv_m)
+            work += hi - lo + 1
+            if windowed:
+                new_lo = -1
+                for i in range(lo, hi + 1):
                     if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                        new_hi = i
+                        new_lo = i
                         break
-                win[0] = new_lo
-                win[1] = new_hi
-    return work
+                if new_lo < 0:
+                    win[0] = -1
+                    win[1] = -1
+                else:
+                    new_hi = new_lo
+                    for i in range(hi, new_lo, -1):
+                        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+                            new_hi = i
+                            break
+                    win[0] = new_lo
+                    win[1] = new_hi
+        return work
+
+
+
+    def nesterenko_dissipate(u, v, wd, tau, lo, hi, bc, h, gidx, gcoef, w, k, d0, p, inv_m,
+                             mass, drag, forward):
+        """Dissipative sub-step of nodes [lo, hi] at fixed positions, booked into ``wd`` (J).
+
+        The face flows m v̇ = -w_q c_q g_q (g_qᵀ v), g_q the face's strain stencil and c_q
+        the law's damping coefficient at its overlap, solved exactly one face at a time:
+        z = g_qᵀ v relaxes as z e^{-λτ}, λ = w_q c_q g_qᵀ M⁻¹ g_q, at constant momentum,
+        and the kinetic energy falls by exactly h (z² - z'²)/(2 g_qᵀ M⁻¹ g_q).  Faces in
+        the residue classes q mod (stencil width) in turn (the faces of one class have
+        disjoint stencils), ascending (``forward``) or in the reverse order, so that the
+        forward and backward sub-steps compose symmetrically; the drag
+        v ← v e^{-βτ} first (forward) or last.  Free or wall ends.
+        """
+        width = gidx.shape[1]
+        qa = lo
+        qb = hi + 1
+        if forward and drag > 0.0:
+            f = np.exp(-drag * tau)
+            for i in range(lo, hi + 1):
+                v1 = v[i] * f
+                wd[i] += 0.5 * h * mass[i] * (v[i] * v[i] - v1 * v1)
+                v[i] = v1
+        for rr in range(width):
+            r = rr if forward else width - 1 - rr
+            first = qa + (r - qa) % width
+            count = 0 if first > qb else (qb - first) // width + 1
+            for t in range(count):
+                q = first + t * width if forward else first + (count - 1 - t) * width
+                x = d0[q]
+                for j in range(width):
+                    x += gcoef[q, j] * u[gidx[q, j]]
+                if not x > 0.0:
+                    continue
+                c = damping(x, k[q], p) * w[q]
+                if c == 0.0:
+                    continue
+                z = 0.0
+                gam = 0.0
+                for j in range(width):
+                    z += gcoef[q, j] * v[gidx[q, j]]
+                    for jj in range(width):
+                        if gidx[q, jj] == gidx[q, j]:
+                            gam += gcoef[q, j] * gcoef[q, jj] * inv_m[gidx[q, j]]
+                if not gam > 0.0:
+                    continue
+                z1 = z * np.exp(-c * gam * tau)
+                a = (z - z1) / gam
+                for j in range(width):
+                    v[gidx[q, j]] -= inv_m[gidx[q, j]] * gcoef[q, j] * a
+                wd[gidx[q, width // 2 - 1]] += 0.5 * h * (z * z - z1 * z1) / gam
+        if not forward and drag > 0.0:
+            f = np.exp(-drag * tau)
+            for i in range(lo, hi + 1):
+                v1 = v[i] * f
+                wd[i] += 0.5 * h * mass[i] * (v[i] * v[i] - v1 * v1)
+                v[i] = v1
+
+    nesterenko_dissipate = inner(nesterenko_dissipate)
+
+    def nesterenko_chunk_dissipative(u, v, wd, nsteps, dt, alpha, beta, bc, h, gidx, gcoef,
+                                     w, k, d0, f0, sk, z0, mask, eps, disp, inv_m, c, spec,
+                                     fft_re, fft_c, fstate, dl, fh, ph, y, hy, comp, win,
+                                     windowed, margin, tau_v, tau_d, mass, drag, p):
+        """Advance the dissipative regularised Eq. 7 by ``nsteps`` steps of ``dt`` (s).
+
+        Strang splitting D(Δt/2) ∘ V(Δt) ∘ D*(Δt/2): V the symplectic splitting of the
+        conservative forces (the passes of ``nesterenko_chunk``, each step's unmerged),
+        D the exact dissipative face flows of ``nesterenko_dissipate`` (forward, D* in
+        reverse), over the active window in the sonic vacuum (outside it every face is
+        open: no damping), else the whole chain.  Free or wall ends.  Returns the
+        node-updates performed.
+        """
+        n = u.size
+        nsub = beta.size
+        work = 0
+        for _ in range(nsteps):
+            if windowed and win[0] < 0:
+                break  # at rest
+            lo = max(win[0] - margin, 0) if windowed else 0
+            hi = min(win[1] + margin, n - 1) if windowed else n - 1
+            nesterenko_dissipate(u, v, wd, 0.5 * dt, lo, hi, bc, h, gidx, gcoef, w, k, d0,
+                                 p, inv_m, mass, drag, True)
+            for j in range(nsub):
+                if windowed:
+                    if win[0] < 0:
+                        break
+                    lo = max(win[0] - margin, 0)
+                    hi = min(win[1] + margin, n - 1)
+                a = alpha[j] * dt
+                for i in range(lo, hi + 1):
+                    u[i] += a * v[i]
+                nesterenko_forces(u, lo, hi, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0, mask,
+                                  eps, disp, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y,
+                                  hy, comp)
+                _nesterenko_kick(v, lo, hi, beta[j] * dt, bc, h, gidx, gcoef, fh, inv_m)
+                work += hi - lo + 1
+                if windowed:
+                    new_lo = -1
+                    for i in range(lo, hi + 1):
+                        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+                            new_lo = i
+                            break
+                    if new_lo < 0:
+                        win[0] = -1
+                        win[1] = -1
+                    else:
+                        new_hi = new_lo
+                        for i in range(hi, new_lo, -1):
+                            if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+                                new_hi = i
+                                break
+                        win[0] = new_lo
+                        win[1] = new_hi
+            if windowed:
+                if win[0] < 0:
+                    break
+                lo = max(win[0] - margin, 0)
+                hi = min(win[1] + margin, n - 1)
+            a = alpha[nsub] * dt
+            for i in range(lo, hi + 1):
+                u[i] += a * v[i]
+            nesterenko_dissipate(u, v, wd, 0.5 * dt, lo, hi, bc, h, gidx, gcoef, w, k, d0,
+                                 p, inv_m, mass, drag, False)
+        return work
+
+    def static_forces(d0, k, out):
+        """Static forces F_el(δ0; k) into ``out``, N, with the kernels' arithmetic (F - f0 = 0)."""
+        for i in range(d0.size):
+            out[i] = elastic(d0[i], k[i])
+
+    def zeta(x, eps, out):
+        """ζ(x) into ``out`` with the kernels' arithmetic (``nesterenko_faces``)."""
+        e4 = phi(eps)
+        e54 = eps * e4
+        for i in range(x.size):
+            xi = x[i]
+            r = xi / eps
+            out[i] = xi * phi(xi) if xi >= eps else e54 * (ca * r * r + cb)
+
+    return NesterenkoKernels(entry(nesterenko_chunk), entry(nesterenko_chunk_dissipative),
+                             entry(static_forces), entry(zeta))
+
 
 
 # ------------------------------------------------------------------------------ KdV

@@ -1,16 +1,27 @@
-"""Common base of the second-order-in-time chain PDEs (fields ``u`` and ``v``).
+"""Common base of the second-order-in-time chain PDEs (fields ``u``, ``v`` [, ``w``]).
 
-Each concrete PDE supplies the acceleration ``u_tt`` twice: as plain NumPy
+Each concrete PDE supplies the conservative acceleration ``u_tt`` twice: as plain NumPy
 (:meth:`ChainPDEBase._acceleration_numpy`, used by :meth:`evolution_rate`) and as a
 numba-compiled function (:meth:`ChainPDEBase._make_acceleration_numba`, used by
-:meth:`make_evolution_rate`), in the manner of ``pde.pdes.wave.WavePDE``; and its
-conserved energy functional (:meth:`ChainPDEBase.energy`).
+:meth:`make_evolution_rate`), in the manner of ``pde.pdes.wave.WavePDE``; its
+dissipative sub-step (:meth:`ChainPDEBase.dissipate`, NumPy; compiled in the fused
+stepper) when the medium has velocity-dependent forces; and its energy functional
+(:meth:`ChainPDEBase.energy`).
+
+A medium with a dissipative contact law or on-site drag (:attr:`theory.medium.Medium.dissipative`)
+adds a third field ``w``: the energy (J) dissipated so far, booked per node where it
+was dissipated; the energy functional plus Σ w is then the conserved quantity the
+solvers monitor.
+
+Models register themselves by name in :data:`continuum.MODELS`
+(:func:`continuum.register_model`): a model class gives ``name``, ``label`` and
+:meth:`ChainPDEBase.for_chain`, the constructor the scenario runner calls.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from typing import Any
+from collections.abc import Callable, Mapping
+from typing import Any, ClassVar
 
 import numba as nb
 import numpy as np
@@ -18,7 +29,8 @@ from pde import CartesianGrid, FieldCollection, ScalarField
 from pde.pdes.base import PDEBase
 
 from ._kernels import FREE, PERIODIC, WALL
-from .medium import BOUNDARY_CONDITIONS, Discretisation, Medium
+from .cells import homogenise
+from .medium import BOUNDARY_CONDITIONS, Discretisation, Medium, discretise
 
 __all__ = ["ChainPDEBase", "WINDOW_TOLERANCE"]
 
@@ -29,12 +41,17 @@ _BC_CODE = {"free": FREE, "wall": WALL, "periodic": PERIODIC}
 
 
 class ChainPDEBase(PDEBase):
-    """Base class: a :class:`Medium` on ``n`` nodes per grain with fields (u, v).
+    """Base class: a :class:`Medium` on ``n`` nodes per grain with fields (u, v[, w]).
+
+    Periodic sections of the medium (dimers, trimers: ``medium.cells``) are replaced by
+    their homogenised long-wave medium (:func:`continuum.cells.homogenise`); every other
+    chain enters with its own per-grain and per-contact coefficients.
 
     Parameters
     ----------
     medium : Medium
-        The chain (masses, contact stiffnesses, static overlaps, diameter).
+        The chain (:class:`theory.medium.Medium`: masses, contact constants, static
+        overlaps, law, drag, gravity).
     n : int
         Nodes per grain (odd).
     bc : {"free", "wall", "periodic"}
@@ -43,13 +60,30 @@ class ChainPDEBase(PDEBase):
 
     explicit_time_dependence = False
 
+    name: ClassVar[str] = ""
+    """Key of the model in :data:`continuum.MODELS`."""
+    label: ClassVar[str] = ""
+    """Legend text of the model (e.g. ``"Eq. 4"``)."""
+
     def __init__(self, medium: Medium, n: int = 5, *, bc: str = "free") -> None:
         super().__init__()
+        if not isinstance(medium, Medium):
+            raise ValueError(f"medium must be a theory.medium.Medium (got "
+                             f"{type(medium).__name__}; discrete.Chain.medium() builds one)")
         if bc not in BOUNDARY_CONDITIONS:
             raise ValueError(f"bc must be one of {BOUNDARY_CONDITIONS} (got {bc!r})")
+        if bc == "wall" and not np.all(medium.k[[0, -1]] > 0):
+            raise ValueError("bc='wall' needs both end contacts (k[0], k[N] > 0); a free end "
+                             "(k = 0) takes bc='free'")
+        if medium.dissipative and bc == "periodic":
+            raise ValueError("dissipative media (a dissipative law or drag) take bc='free' or "
+                             "'wall' (the dissipative sub-steps are not periodic)")
         self.medium = medium
+        self.effective, dispersion = homogenise(medium)
+        self.law = medium.law
         self.bc = bc
-        self.disc: Discretisation = medium.discretise(n, periodic=bc == "periodic")
+        self.disc: Discretisation = discretise(self.effective, n, periodic=bc == "periodic",
+                                               dispersion=dispersion)
         self._bc_code = _BC_CODE[bc]
         self.grid = CartesianGrid(
             [(-0.5, medium.n_grains - 0.5)], medium.n_grains * self.disc.n,
@@ -62,26 +96,65 @@ class ChainPDEBase(PDEBase):
             w[0] = w[-1] = 0.0  # no dynamic strain at a free end
         self._face_weight = w
 
+    # ------------------------------------------------------------------ registry
+    @classmethod
+    def for_chain(cls, medium: Medium, *, nodes_per_grain: int, bc: str,
+                  options: Mapping[str, Any]) -> ChainPDEBase:
+        """The model for a scenario's chain (the constructor :data:`continuum.MODELS` users call).
+
+        ``options`` holds the scenario's continuum settings (``nonlinearity``,
+        ``delta_floor`` as a fraction of the incident peak overlap, ``dispersion_cap``)
+        and ``incident_overlap`` (m, the incident wave's peak overlap change); a model
+        reads what it needs.  ValueError if the model cannot describe ``medium``.
+        """
+        raise NotImplementedError  # pragma: no cover
+
     # ------------------------------------------------------------------ states
     @property
     def n(self) -> int:
         """Nodes per grain."""
         return self.disc.n
 
-    def get_initial_condition(self, u, v=None) -> FieldCollection:
-        """Combine displacement u (m) and velocity v (m/s) into the solver state.
+    @property
+    def face_weight(self) -> np.ndarray:
+        """Weight of each face in the energy: 1, ½ at a wall face, 0 at a free end face."""
+        return self._face_weight
 
-        ``u`` and ``v`` may be :class:`pde.ScalarField` or arrays on the nodes.
+    @property
+    def dissipative(self) -> bool:
+        """Velocity-dependent forces (a dissipative law or drag): state (u, v, w)."""
+        return self.medium.dissipative
+
+    @property
+    def n_fields(self) -> int:
+        """Fields of the state: 2 (u, v), 3 with the dissipated energy w."""
+        return 3 if self.dissipative else 2
+
+    def get_initial_condition(self, u, v=None, w=None) -> FieldCollection:
+        """Combine displacement u (m), velocity v (m/s) [and dissipated energy w, J] into a state.
+
+        Arrays on the nodes or :class:`pde.ScalarField`; ``w`` only for a dissipative
+        medium (default 0).
         """
-        uf = u if isinstance(u, ScalarField) else ScalarField(self.grid, np.asarray(u, float))
-        vf = ScalarField(self.grid) if v is None else (
-            v if isinstance(v, ScalarField) else ScalarField(self.grid, np.asarray(v, float))
-        )
-        return FieldCollection([uf.copy(label="u"), vf.copy(label="v")], labels=["u", "v"])
+        def field(x, label):
+            if isinstance(x, ScalarField):
+                return x.copy(label=label)
+            data = None if x is None else np.asarray(x, float)
+            return ScalarField(self.grid, data, label=label)
+
+        fields = [field(u, "u"), field(v, "v")]
+        labels = ["u", "v"]
+        if self.dissipative:
+            fields.append(field(w, "w"))
+            labels.append("w")
+        elif w is not None:
+            raise ValueError("w (dissipated energy) applies only to a dissipative medium")
+        return FieldCollection(fields, labels=labels)
 
     def _check(self, state) -> None:
-        if not isinstance(state, FieldCollection) or len(state) != 2:
-            raise TypeError("state must be a FieldCollection of the fields (u, v)")
+        if not isinstance(state, FieldCollection) or len(state) != self.n_fields:
+            names = "(u, v, w)" if self.dissipative else "(u, v)"
+            raise TypeError(f"state must be a FieldCollection of the fields {names}")
 
     # ------------------------------------------------------------------ strains
     def strain(self, u: np.ndarray) -> np.ndarray:
@@ -103,21 +176,45 @@ class ChainPDEBase(PDEBase):
             return (p - np.roll(p, -1)) / self.disc.h
         return (p[:-1] - p[1:]) / self.disc.h
 
+    def acceleration(self, u: np.ndarray) -> np.ndarray:
+        """Acceleration of the conservative forces at displacements ``u`` (NumPy), m/s²."""
+        return self._acceleration_numpy(np.asarray(u, float))
+
+    def damping_coefficients(self, u: np.ndarray) -> np.ndarray:
+        """The law's damping coefficient c(δ0 + s) of every face, N·s/m (0: conservative)."""
+        d = self.disc
+        return self.law.damping(d.delta0 + self.strain(u), d.k)
+
     # ------------------------------------------------------------------ py-pde API
     def evolution_rate(self, state: FieldCollection, t: float = 0) -> FieldCollection:  # type: ignore[override]
-        """Evaluate the right-hand side (u_t, v_t) = (v, u_tt) with NumPy."""
+        """Evaluate the right-hand side (u_t, v_t[, w_t]) with NumPy.
+
+        v_t is the conservative acceleration plus, for a dissipative medium, that of
+        the viscous flux and the drag (:meth:`_dissipative_rate`); w_t the power
+        dissipated per node.
+        """
         self._check(state)
-        u, v = state
-        acc = self._acceleration_numpy(np.asarray(u.data))
-        return FieldCollection(
-            [v.copy(), ScalarField(self.grid, acc)], labels=["u", "v"]
-        )
+        u, v = np.asarray(state[0].data), np.asarray(state[1].data)
+        acc = self._acceleration_numpy(u)
+        fields = [state[1].copy(), ScalarField(self.grid, acc)]
+        if self.dissipative:
+            a_d, power = self._dissipative_rate(u, v)
+            fields[1] = ScalarField(self.grid, acc + a_d)
+            fields.append(ScalarField(self.grid, power))
+        return FieldCollection(fields, labels=[f.label or "" for f in state])
 
     def make_evolution_rate(self, state: FieldCollection, backend) -> Callable:
-        """Compiled right-hand side (numba) with signature ``(state_data, t)``."""
+        """Compiled right-hand side (numba) with signature ``(state_data, t)``.
+
+        Conservative media only (a dissipative one steps with the fused kernels or the
+        NumPy backend).
+        """
         self._check(state)
         if getattr(backend, "name", str(backend)) == "numpy":
             raise NotImplementedError("the numpy backend uses evolution_rate")
+        if self.dissipative:
+            raise NotImplementedError("a dissipative medium steps with the fused stepper "
+                                      "(backend='numba') or backend='numpy'")
         accel = self._make_acceleration_numba()
 
         @nb.njit
@@ -157,27 +254,41 @@ class ChainPDEBase(PDEBase):
     def _make_acceleration_numba(self) -> Callable:  # pragma: no cover
         raise NotImplementedError
 
+    def _dissipative_rate(self, u: np.ndarray, v: np.ndarray):  # pragma: no cover
+        """(acceleration of the viscous flux and drag, dissipated power per node J/s)."""
+        raise NotImplementedError
+
+    def dissipate(self, state_data: np.ndarray, tau: float, forward: bool = True) -> None:
+        """Dissipative sub-step of ``tau`` (s) at fixed positions, in place (NumPy).
+
+        Books the removed energy into ``state_data[2]``; ``forward=False`` is the
+        adjoint (reverse) composition (:mod:`continuum._stepper`, "Dissipation").
+        """
+        raise NotImplementedError  # pragma: no cover
+
     def energy_density(self, state: FieldCollection) -> tuple[np.ndarray, np.ndarray]:
         """Kinetic energy per node and potential energy per face, J (sum = energy)."""
         raise NotImplementedError  # pragma: no cover
 
     def energy(self, state: FieldCollection) -> dict[str, float]:
-        """Conserved energy functional of the semi-discrete equation, J.
+        """Energy functional of the semi-discrete equation, J.
 
-        Returns ``kinetic``, ``potential`` and ``total``.  The potential energy is the
-        *dynamic* part (contact energy minus the static energy minus F0 × overlap
+        Returns ``kinetic``, ``potential``, ``dissipated`` (Σ w; 0 for a conservative
+        medium) and ``total`` = their sum, the conserved quantity.  The potential energy
+        is the *dynamic* part (contact energy minus the static energy minus F0 × overlap
         change), the quantity the flux form conserves for any boundary condition.
         """
         ek, ep = self.energy_density(state)
-        return {"kinetic": float(ek.sum()), "potential": float(ep.sum()),
-                "total": float(ek.sum() + ep.sum())}
+        dis = float(np.sum(state[2].data)) if self.dissipative else 0.0
+        return {"kinetic": float(ek.sum()), "potential": float(ep.sum()), "dissipated": dis,
+                "total": float(ek.sum() + ep.sum()) + dis}
 
     def invariants(self, state: FieldCollection) -> tuple[float, float]:
         """(energy J, momentum kg m/s): the quantities :func:`continuum.run` monitors."""
         return self.energy(state)["total"], self.momentum(state)
 
     def momentum(self, state: FieldCollection) -> float:
-        """Total momentum h Σ m_p v_p, kg m/s (conserved for free/periodic ends)."""
+        """Total momentum h Σ m_p v_p, kg m/s (conserved for free/periodic ends, no drag)."""
         return float(self.disc.h * np.sum(self.disc.mass * state[1].data))
 
     def stable_dt(self, state: FieldCollection, safety: float = 0.5) -> float:

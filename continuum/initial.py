@@ -2,8 +2,8 @@ r"""Initial conditions matching the discrete solver's: solitary waves and grain 
 
 * :func:`solitary_wave` — the sech² solitary wave of the regularised Eq. 4
   (:class:`~continuum.boussinesq.BoussinesqPDE`), or the KdV soliton of Eq. 4 itself;
-* :func:`compacton` — Nesterenko's cos⁴ compacton (docs/physics.md §3, paper Eq. 8) for
-  :class:`~continuum.nesterenko.NesterenkoPDE`;
+* :func:`compacton` — Nesterenko's compacton (cos⁴ for Hertz, docs/physics.md §3,
+  paper Eq. 8; cos^{2/(n-1)} for F = kδ^n) for :class:`~continuum.nesterenko.NesterenkoPDE`;
 * :func:`from_grains` — any discrete snapshot ``(u_i, v_i)`` (e.g. the exact discrete
   solitary wave of ``theory.profiles`` sampled per grain, or a DEM state) interpolated
   onto the nodes.
@@ -19,11 +19,15 @@ from pde import FieldCollection
 from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq
 
+from theory import compacton_motion, compacton_width
+
+from .boussinesq import law_curvature
+
 __all__ = ["solitary_wave", "solitary_wave_parameters", "compacton", "compacton_parameters",
            "from_grains"]
 
 COMPACTON_WAVENUMBER = np.sqrt(10.0) / 5.0
-"""κ = √10/5 of the compacton cos⁴(κ X) (docs/physics.md §3), per grain diameter."""
+"""κ = √10/5 of the Hertz compacton cos⁴(κ X) (docs/physics.md §3), per grain."""
 
 
 def _grain_index(pde, center: float) -> int:
@@ -35,34 +39,41 @@ def solitary_wave_parameters(pde, center: float, *, amplitude: float | None = No
                              kind: str = "regularised") -> dict[str, float]:
     r"""Amplitude, speed and width of the sech² wave of the corrected Eq. 4.
 
-    With the local section's K, m, δ0 (``c² = K/m``, grains²/s²) and overlap amplitude
-    A (m), the travelling wave of both Eq. 4 and its Rosenau form has
+    With the local section's K = F'(δ0), b = F''(δ0)/2, m and ℓ² (``c² = K/m``,
+    grains²/s²; :class:`~continuum.boussinesq.BoussinesqPDE`) and overlap amplitude A (m),
+    the travelling wave of both Eq. 4 and its Rosenau form has
 
-    .. math:: V^2 = c^2\,\big(1 + A/(6\delta_0)\big)\quad\text{(Eq. 5 to first order)},\qquad
+    .. math:: V^2 = c^2\,\Big(1 + \frac{2bA}{3K}\Big),\qquad
               s = A\,\mathrm{sech}^2\big((X - X_0 - Vt)/\Lambda\big)
 
-    with :math:`\Lambda = \sqrt{2\delta_0/A}` (Eq. 4, ``kind="kdv"``) or
-    :math:`\Lambda = (V/c)\sqrt{2\delta_0/A}` (Rosenau form, ``kind="regularised"``),
-    in grain diameters.  The grain velocity is v = V s, so ``velocity_max`` = V A.
+    with :math:`\Lambda = 2\ell c/\sqrt{V^2 - c^2}` (Eq. 4, ``kind="kdv"``) or
+    :math:`\Lambda = 2\ell V/\sqrt{V^2 - c^2}` (Rosenau form, ``kind="regularised"``),
+    in grains.  For Hertz b/K = 1/(4δ0): V² = c²(1 + A/(6δ0)) (Eq. 5 to first order)
+    and Λ = √(2δ0/A) (× V/c).  The grain velocity is v = V s, so ``velocity_max`` = V A.
 
     Returns
     -------
     dict
-        ``amplitude`` (m), ``speed`` (grains/s), ``speed_m_s``, ``width`` (grains),
-        ``c0`` (grains/s), ``delta0`` (m), ``velocity_max`` (m/s).
+        ``amplitude`` (m), ``speed`` (grains/s), ``speed_m_s`` (× the local diameter),
+        ``width`` (grains), ``c0`` (grains/s), ``delta0`` (m), ``velocity_max`` (m/s).
     """
     if (amplitude is None) == (velocity_max is None):
         raise ValueError("give exactly one of amplitude (m) or velocity_max (m/s)")
     if kind not in ("regularised", "kdv"):
         raise ValueError(f"kind must be 'regularised' or 'kdv' (got {kind!r})")
     disc = pde.disc
-    q = disc.contact_faces[min(_grain_index(pde, center), disc.contact_faces.size - 1)]
-    p = disc.grain_nodes[_grain_index(pde, center)]
+    g = _grain_index(pde, center)
+    q = disc.contact_faces[min(g, disc.contact_faces.size - 1)]
+    p = disc.grain_nodes[g]
     k_lin, m, d0 = float(disc.stiffness[q]), float(disc.mass[p]), float(disc.delta0[q])
+    if not d0 > 0:
+        raise ValueError("the sech² solitary wave needs a precompressed chain (delta0 > 0)")
+    b = 0.5 * float(np.asarray(law_curvature(pde.law, d0, disc.k[q])))
+    ell = np.sqrt(float(disc.dispersion[q]) / 12.0)
     c = np.sqrt(k_lin / m)
 
     def speed(a):
-        return c * np.sqrt(1.0 + a / (6.0 * d0))
+        return c * np.sqrt(1.0 + 2.0 * b * a / (3.0 * k_lin))
 
     if amplitude is None:
         vm = float(velocity_max)
@@ -73,9 +84,9 @@ def solitary_wave_parameters(pde, center: float, *, amplitude: float | None = No
     if a <= 0:
         raise ValueError(f"amplitude must be > 0 m (got {a})")
     v = speed(a)
-    width = np.sqrt(2.0 * d0 / a) * (v / c if kind == "regularised" else 1.0)
-    return {"amplitude": a, "speed": v, "speed_m_s": v * pde.medium.diameter, "width": width,
-            "c0": c, "delta0": d0, "velocity_max": v * a}
+    width = 2.0 * ell * (v if kind == "regularised" else c) / np.sqrt(v * v - c * c)
+    return {"amplitude": a, "speed": v, "speed_m_s": v * float(pde.medium.diameter[g]),
+            "width": width, "c0": c, "delta0": d0, "velocity_max": v * a}
 
 
 def solitary_wave(pde, center: float, *, amplitude: float | None = None,
@@ -99,55 +110,66 @@ def solitary_wave(pde, center: float, *, amplitude: float | None = None,
 
 def compacton_parameters(pde, *, amplitude: float | None = None,
                          velocity_max: float | None = None, grain: int = 0) -> dict[str, float]:
-    r"""Amplitude and speed of Nesterenko's compacton (paper Eq. 8).
+    r"""Amplitude and speed of Nesterenko's compacton for the law F = k δ^n (paper Eq. 8).
 
-    ξ_max = δ_max/d, :math:`V = (2/\sqrt5)\,c\,\xi_{max}^{1/4}` with
-    :math:`c^2 = k_n d^{5/2}/m` (Eq. 7, 8); the grain velocity is v = V ξ, so
-    ``velocity_max`` = V ξ_max.  Uses the contact stiffness and mass at ``grain``.
+    In grain units: peak overlap δ_max (m), :math:`V = \sqrt{2/(n+1)}\,c\,
+    \delta_{max}^{(n-1)/2}` grains/s with :math:`c^2 = k/m` (the law's
+    :meth:`~theory.laws.LongWave.compacton_speed`; Hertz: ξ_max = δ_max/d and
+    :math:`V = (2/\sqrt5)\,c_{mat}\,\xi_{max}^{1/4}`, Eq. 7, 8); the grain velocity is
+    v = V δ, so ``velocity_max`` = V δ_max.  Uses the contact constant and mass at
+    ``grain`` (the homogenised cell's in a periodic section) and its diameter for m/s.
 
     Returns
     -------
     dict
-        ``amplitude`` (overlap, m), ``strain_max``, ``speed_m_s``, ``speed`` (grains/s),
-        ``c_mat`` (m/s), ``velocity_max`` (m/s), ``half_width`` (grains).
+        ``amplitude`` (overlap, m), ``strain_max`` (δ_max/d), ``speed_m_s``, ``speed``
+        (grains/s), ``c_mat`` (m/s, √(k d^{n+1}/m)), ``velocity_max`` (m/s),
+        ``half_width`` (grains: half the support, × √(12ℓ²) in a homogenised cell).
     """
     if (amplitude is None) == (velocity_max is None):
         raise ValueError("give exactly one of amplitude (m) or velocity_max (m/s)")
-    med = pde.medium
-    d = med.diameter
-    c = np.sqrt(med.k[grain + 1] * d**2.5 / med.mass[grain])
+    med = pde.effective
+    n = float(pde.law.exponent)
+    if not n > 1:
+        raise ValueError(f"the compacton needs a law exponent n > 1 (got {n:g})")
+    d = float(med.diameter[grain])
+    k, m = float(med.k[grain + 1]), float(med.mass[grain])
+    lw = pde.law.long_wave(k, m, d)
+    vac = np.sqrt(2.0 / (n + 1.0))
     if amplitude is None:
-        # v = (2/√5) c ξ^{5/4}
-        xi = (float(velocity_max) * np.sqrt(5.0) / (2.0 * c)) ** 0.8
+        # v = V δ = vac c (δ/d)^{(n-1)/2} δ/d (m/s): solve for δ
+        xi = (float(velocity_max) / (vac * lw.c)) ** (2.0 / (n + 1.0))
     else:
         xi = float(amplitude) / d
     if not xi > 0:
         raise ValueError("amplitude / velocity_max must be > 0")
-    vs = 2.0 / np.sqrt(5.0) * c * xi**0.25
+    vs = float(lw.compacton_speed(xi))
+    r = float(pde.disc.dispersion[pde.disc.contact_faces[min(grain + 1, med.n_grains)]])
     return {"amplitude": xi * d, "strain_max": xi, "speed_m_s": vs, "speed": vs / d,
-            "c_mat": c, "velocity_max": vs * xi,
-            "half_width": np.pi / (2.0 * COMPACTON_WAVENUMBER)}
+            "c_mat": lw.c, "velocity_max": vs * xi,
+            "half_width": 0.5 * np.sqrt(r) * float(compacton_width(1.0, n))}
 
 
 def compacton(pde, center: float, *, amplitude: float | None = None,
               velocity_max: float | None = None) -> FieldCollection:
-    r"""State of a right-going compacton ξ = ξ_max cos⁴(√10 (X - X0)/5) (docs/physics.md §3).
+    r"""State of a right-going compacton centred at grain ``center``.
 
-    Zero outside :math:`|X - X_0| \le 5\pi/(2\sqrt{10})` ≈ 2.48 grains.  The
-    displacement is the exact integral of the overlap (zero ahead of the wave).
+    δ = δ_max cos^{2/(n-1)}(q (X - X0)) (:func:`theory.compacton_motion` in grain
+    units, its width × √(12ℓ²) in a homogenised cell; Hertz: cos⁴(√10 (X - X0)/5),
+    docs/physics.md §3), zero outside the support (≈ 2.48 grains either side for Hertz).
+    The displacement is the exact integral of the overlap (zero ahead of the wave).
     """
-    par = compacton_parameters(pde, amplitude=amplitude, velocity_max=velocity_max,
-                               grain=_grain_index(pde, center))
+    g = _grain_index(pde, center)
+    par = compacton_parameters(pde, amplitude=amplitude, velocity_max=velocity_max, grain=g)
+    n = float(pde.law.exponent)
     x = pde.disc.x_nodes
-    kappa = COMPACTON_WAVENUMBER
-    th = np.clip((x - center) * kappa, -np.pi / 2, np.pi / 2)
-
-    def prim(t):
-        return 3 * t / 8 + np.sin(2 * t) / 4 + np.sin(4 * t) / 32
-
-    u = par["amplitude"] / kappa * (prim(np.pi / 2) - prim(th))
-    # exactly zero outside the support (cos(±π/2)⁴ would leave 1e-65)
-    v = np.where(np.abs(th) < np.pi / 2, par["speed"] * par["amplitude"] * np.cos(th) ** 4, 0.0)
+    scale = par["half_width"] / (0.5 * float(compacton_width(1.0, n)))
+    c_grain = par["c_mat"] / float(pde.effective.diameter[g]) ** (0.5 * (n + 1.0))
+    u, v = compacton_motion(x, par["amplitude"], scale, c_grain, center, exponent=n)
+    u = np.asarray(u, float)
+    v = np.asarray(v, float)
+    # exactly zero outside the support (cos(±π/2)^p would leave ~1e-65)
+    v = np.where(np.abs(x - center) < par["half_width"], v, 0.0)
     return pde.get_initial_condition(u, v)
 
 

@@ -9,6 +9,9 @@ s = -u_X (m) obeys, to the same order,
 whose soliton :math:`s = A\,\mathrm{sech}^2((X - X_0 - Vt)/\Lambda)` has
 :math:`V = c\,(1 + A/(12\delta_0))` — exactly the paper's Eq. 5 with
 :math:`\xi_{max} = A/d` — and :math:`\Lambda = \sqrt{2\delta_0/A}` grain diameters.
+For any contact law the nonlinear coefficient c/(4δ0) is c b/K (K = F'(δ0),
+b = F''(δ0)/2: ``quadratic`` = b/K, 1/m), the soliton's speed c(1 + (b/K)A/3) and
+width 1/√(2(b/K)A) (docs/physics.md, "Long waves on any chain").
 KdV is well-posed, so no regularisation is needed; it serves as the reference for the
 solitary-wave speed and as a cheap model of a single wave in a uniform section.
 
@@ -34,37 +37,51 @@ __all__ = ["KdVPDE"]
 
 
 class KdVPDE(PDEBase):
-    r"""KdV reduction of Eq. 4 for the overlap change s (m), X in grain diameters.
+    r"""KdV reduction of Eq. 4 for the overlap change s (m), X in grains.
 
     .. math:: \partial_t s = -(c - c_f)\,\partial_X s - \frac{c}{24}\,\partial_X^3 s
-              - \frac{c}{12\delta_0}\big(s\,\partial_X s + \partial_X s^2\big)
+              - \frac{c\,b}{3K}\big(s\,\partial_X s + \partial_X s^2\big)
+
+    (Hertz, paper Eq. 4: b/K = 1/(4δ0), the last coefficient c/(12δ0)).
 
     Parameters
     ----------
     speed : float
-        Sound speed c = √(K/m), grain diameters per second (paper Eq. 4: c0/d).
-    delta0 : float
-        Static overlap δ0, m.
+        Sound speed c = √(K/m), grains per second (paper Eq. 4: c0/d).
+    quadratic : float
+        b/K = F''(δ0)/(2F'(δ0)) of the contact law at the static overlap, 1/m (> 0;
+        :func:`continuum.boussinesq.law_curvature`): 1/(4δ0) for Hertz.
     frame_speed : float
         Speed c_f of the co-moving frame, grains/s (0: laboratory frame).
     """
 
     explicit_time_dependence = False
 
-    def __init__(self, speed: float, delta0: float, *, frame_speed: float = 0.0) -> None:
+    def __init__(self, speed: float, quadratic: float, *, frame_speed: float = 0.0) -> None:
         super().__init__()
-        if not (speed > 0 and delta0 > 0):
-            raise ValueError(f"speed (grains/s) and delta0 (m) must be > 0 (got {speed}, {delta0})")
+        if not (speed > 0 and quadratic > 0):
+            raise ValueError(f"speed (grains/s) and quadratic (b/K, 1/m) must be > 0 "
+                             f"(got {speed}, {quadratic})")
         self.speed = float(speed)
-        self.delta0 = float(delta0)
+        self.quadratic = float(quadratic)
         self.frame_speed = float(frame_speed)
+        self._nl = self.speed * self.quadratic / 3.0  # of the skew form (s s_X + (s²)_X)
         self.bc = "periodic"
 
     @classmethod
     def for_medium(cls, medium, grain: int = 0, **kwargs) -> KdVPDE:
-        """KdV equation of the section around ``grain`` of a :class:`~continuum.Medium`."""
+        """KdV equation of the section around ``grain`` of a :class:`~continuum.Medium`.
+
+        c = √(K/m) and b/K = F''(δ0)/(2K) with the law's stiffness K = F'(δ0) at the
+        grain's right contact (paper Eq. 4: K = (3/2) k δ0^{1/2}, b/K = 1/(4δ0) for Hertz).
+        """
+        from .boussinesq import law_curvature
+
         m, k, d0 = medium.mass[grain], medium.k[grain + 1], medium.delta0[grain + 1]
-        return cls(np.sqrt(1.5 * k * np.sqrt(d0) / m), d0, **kwargs)
+        law = medium.law
+        k_lin = float(law.stiffness(d0, k))
+        quadratic = float(0.5 * law_curvature(law, d0, k)) / k_lin
+        return cls(np.sqrt(k_lin / m), quadratic, **kwargs)
 
     @staticmethod
     def grid(n_grains: int, n: int = 5) -> CartesianGrid:
@@ -73,12 +90,12 @@ class KdVPDE(PDEBase):
 
     # ------------------------------------------------------------------ soliton
     def soliton_speed(self, amplitude: float) -> float:
-        """V = c (1 + A/(12 δ0)), grains/s in the laboratory frame (paper Eq. 5)."""
-        return self.speed * (1.0 + amplitude / (12.0 * self.delta0))
+        """V = c (1 + (b/K) A/3), grains/s in the laboratory frame (Hertz: paper Eq. 5)."""
+        return self.speed * (1.0 + self.quadratic * amplitude / 3.0)
 
     def soliton_width(self, amplitude: float) -> float:
-        """Λ = √(2 δ0/A), grain diameters."""
-        return float(np.sqrt(2.0 * self.delta0 / amplitude))
+        """Λ = 1/√(2 (b/K) A) (Hertz: √(2 δ0/A)), grains."""
+        return float(np.sqrt(0.5 / (self.quadratic * amplitude)))
 
     def soliton(self, grid: CartesianGrid, amplitude: float, center: float,
                 t: float = 0.0) -> ScalarField:
@@ -96,7 +113,7 @@ class KdVPDE(PDEBase):
     # ------------------------------------------------------------------ py-pde API
     def evolution_rate(self, state: ScalarField, t: float = 0) -> ScalarField:  # type: ignore[override]
         """Right-hand side with py-pde's NumPy operators."""
-        c, cf, nl = self.speed, self.frame_speed, self.speed / (12.0 * self.delta0)
+        c, cf, nl = self.speed, self.frame_speed, self._nl
         s_x = state.apply_operator("d_dx", bc="periodic")
         s_xxx = state.apply_operator("d2_dx2", bc="periodic").apply_operator(
             "d_dx", bc="periodic")
@@ -107,7 +124,7 @@ class KdVPDE(PDEBase):
         """Compiled right-hand side from the grid's compiled operators."""
         if getattr(backend, "name", str(backend)) == "numpy":
             raise NotImplementedError("the numpy backend uses evolution_rate")
-        c, cf, nl = self.speed, self.frame_speed, self.speed / (12.0 * self.delta0)
+        c, cf, nl = self.speed, self.frame_speed, self._nl
         grid = state.grid
         d_dx = grid.make_operator("d_dx", bc="periodic", backend=backend)
         d2 = grid.make_operator("d2_dx2", bc="periodic", backend=backend)
@@ -125,12 +142,13 @@ class KdVPDE(PDEBase):
     def stable_dt(self, state: ScalarField, safety: float = 0.5) -> float:
         """RK4 time step from the largest eigenvalue on the imaginary axis, s.
 
-        |λ| ≤ (|c - c_f| + c |s|max/(2 δ0))/h + (c/24)(4/h³) max_θ sinθ sin²(θ/2)
+        |λ| ≤ (|c - c_f| + 2 c (b/K) |s|max)/h + (c/24)(4/h³) max_θ sinθ sin²(θ/2)
         for the central operators, max_θ = 3√3/8; RK4 is stable for |λ| Δt ≤ 2√2.
         """
         h = state.grid.discretization[0]
         smax = float(np.max(np.abs(state.data)))
-        lam = ((abs(self.speed - self.frame_speed) + self.speed * smax / (2 * self.delta0)) / h
+        nonlinear = 2.0 * self.speed * smax * self.quadratic  # c |s| (b/K)·2: c|s|/(2δ0) Hertz
+        lam = ((abs(self.speed - self.frame_speed) + nonlinear) / h
                + self.speed / 24.0 * 4.0 * (3.0 * np.sqrt(3.0) / 8.0) / h**3)
         return float(safety * 2.0 * np.sqrt(2.0) / lam)
 
@@ -144,7 +162,7 @@ class KdVPDE(PDEBase):
                             "(KdVPDE.grid)")
 
     def _coefficients(self) -> tuple[float, float, float]:
-        return self.speed - self.frame_speed, self.speed / 24.0, self.speed / (12.0 * self.delta0)
+        return self.speed - self.frame_speed, self.speed / 24.0, self._nl
 
     def make_chunk_stepper(self, state: ScalarField, dt: float) -> Callable:
         """Compiled chunk stepper: ``chunk(data, nsteps)`` does ``nsteps`` RK4 steps.
@@ -183,7 +201,7 @@ class KdVPDE(PDEBase):
     def parameters(self) -> dict:
         """Run parameters for HDF5 attributes."""
         return {"pde": type(self).__name__, "speed_grains_per_s": self.speed,
-                "delta0_m": self.delta0, "frame_speed_grains_per_s": self.frame_speed,
+                "quadratic_1_per_m": self.quadratic, "frame_speed_grains_per_s": self.frame_speed,
                 "bc": "periodic"}
 
     def energy(self, state: ScalarField) -> dict[str, float]:

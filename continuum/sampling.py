@@ -9,10 +9,15 @@ continuum run and a DEM run are compared with identical definitions:
   δ0; periodic chains wrap), m;
 * kinetic energy of grain i: ½ m_i v_i², J;
 * potential energy of contact j: the contact energy minus the static energy of the same
-  contact, (2/5) k_j ([δ_j]_+^{5/2} - δ0_j^{5/2}), J (paper Table 2, docs/physics.md §6 —
-  it keeps the linear term F0 (δ_j - δ0_j), so an expansive wave has negative
-  potential energy);
+  contact, U(δ_j) - U(δ0_j) with U the law's elastic energy (Hertz: (2/5) k_j
+  ([δ_j]_+^{5/2} - δ0_j^{5/2})), J (paper Table 2, docs/physics.md §6 — it keeps the
+  linear term F0_j (δ_j - δ0_j), so an expansive wave has negative potential energy);
 * energy of grain i: kinetic plus half of each of its two contacts.
+
+In a homogenised periodic section (:mod:`continuum.cells`) the equation carries the
+cell's mean overlap; a contact's own overlap is then the one at which its constant
+k_j carries the homogenised force, (F/k_j)^{1/n} (the cell's contacts share the force
+at leading order).
 
 The continuum equations conserve their own functionals
 (:meth:`~continuum.base.ChainPDEBase.energy`); the grain-sampled energies agree with
@@ -27,8 +32,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-
-from theory import wave_contact_energy
 
 __all__ = ["GrainSample", "sample_grains", "section_energies"]
 
@@ -46,13 +49,14 @@ class GrainSample:
     kinetic : numpy.ndarray, shape (N,)
         ½ m v², J.
     potential : numpy.ndarray, shape (N+1,)
-        (2/5) k ([δ]_+^{5/2} - δ0^{5/2}) per contact, J.
+        U(δ) - U(δ0) per contact (the law's elastic energy; Hertz (2/5) k ([δ]_+^{5/2}
+        - δ0^{5/2})), J.
     force : numpy.ndarray, shape (N+1,)
-        Contact force k [δ]_+^{3/2}, N.
+        Elastic contact force F_el(δ) (Hertz k [δ]_+^{3/2}), N.
     delta0 : numpy.ndarray, shape (N+1,)
         Static overlaps, m.
-    force0 : float
-        Static contact force F0, N.
+    force0 : numpy.ndarray, shape (N+1,)
+        Static contact forces F0_j, N (one value through the chain without gravity).
     """
 
     u: np.ndarray
@@ -62,7 +66,7 @@ class GrainSample:
     potential: np.ndarray
     force: np.ndarray
     delta0: np.ndarray
-    force0: float
+    force0: np.ndarray
 
     @property
     def grain_energy(self) -> np.ndarray:
@@ -96,15 +100,22 @@ def sample_grains(pde, state) -> GrainSample:
         du[0] = du[-1] = 0.0
     else:
         du[0] = du[-1] = u[-1] - u[0]
+    law = med.law
     overlap = med.delta0 + du
-    dp = np.maximum(overlap, 0.0)
+    eff = pde.effective
+    cells = eff.k != med.k
+    if np.any(cells):
+        # homogenised cells: the contact's own overlap under the homogenised force
+        force = law.elastic(eff.delta0[cells] + du[cells], eff.k[cells])
+        overlap[cells] = np.where(force > 0, law.static_overlap(force, med.k[cells]),
+                                  eff.delta0[cells] + du[cells])
     return GrainSample(
         u=u, v=v, overlap=overlap,
         kinetic=0.5 * med.mass * v * v,
-        potential=wave_contact_energy(overlap, med.k, med.delta0),
-        force=med.k * dp**1.5,
+        potential=law.energy(overlap, med.k, med.delta0),
+        force=law.elastic(overlap, med.k),
         delta0=med.delta0.copy(),
-        force0=med.force0,
+        force0=med.f0,
     )
 
 
@@ -114,7 +125,7 @@ def section_energies(sample: GrainSample, n_left: int) -> dict[str, dict[str, fl
     The interface contact (between grains ``n_left - 1`` and ``n_left``) is split half
     to each side (docs/physics.md §6: once the waves have separated its share is negligible).
     ``potential_linear`` is the linear part of the potential energy,
-    F0 Σ(δ_j - δ0_j), used by :func:`theory.table2_prediction`.
+    Σ F0_j (δ_j - δ0_j), used by :func:`theory.table2_prediction`.
     """
     pot, lin = sample.potential, sample.force0 * sample.strain
     out = {}

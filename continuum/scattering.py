@@ -1,8 +1,9 @@
 r"""Energy scattering of a solitary wave at a composite-chain interface (paper Table 2).
 
 :func:`energy_ratios` launches the paper's incident solitary wave in the left section of
-a two-section chain (:meth:`Medium.two_section`), lets it cross the interface with a
-continuum solver, and returns the transmitted and reflected fractions of the incident
+a two-section chain (a :class:`theory.medium.Medium`, e.g. ``discrete.Chain.two_section(
+...).medium()``, long enough by :func:`section_lengths`), lets it cross the interface
+with a continuum solver, and returns the transmitted and reflected fractions of the incident
 kinetic, potential and total energy, defined exactly as in the paper's Table 2 and
 docs/physics.md §6: energies are computed per grain with the discrete formulas
 (:mod:`continuum.sampling`), the potential energy being the contact energy minus the
@@ -13,6 +14,7 @@ section totals once the transmitted peak is ``distance`` grains past the interfa
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -26,18 +28,33 @@ from .nesterenko import NesterenkoPDE
 from .sampling import sample_grains, section_energies
 from .solver import run
 
-__all__ = ["energy_ratios", "PAPER_VELOCITY_MAX"]
+__all__ = ["energy_ratios", "section_lengths", "PAPER_VELOCITY_MAX"]
 
 PAPER_VELOCITY_MAX = 0.0822
 """Peak grain velocity of the paper's incident wave at δ0/d = 1e-3, v0 = 1 m/s, m/s
 (v̄max/v0 = 0.0822, paper Section 2, Fig. 2b)."""
 
 
+def section_lengths(gamma_c0: float, lead: int = 100, distance: int = 100) -> tuple[int, int]:
+    """Grains (left, right) for :func:`energy_ratios` at sound-speed ratio γ_c0 = c_R/c_L.
+
+    The left section holds the incident peak ``lead`` grains before the interface, the
+    reflected wave's path while the transmitted one runs ``distance`` grains, and 100
+    grains more (nothing may reach its free end: the end carries the static force F0,
+    and any motion of it would add work F0 Δu to the Table-2 energies); the right one
+    the transmitted wave's path and 150 grains more.
+    """
+    g = float(gamma_c0)
+    if not (math.isfinite(g) and g > 0):
+        raise ValueError(f"gamma_c0 must be > 0 (got {gamma_c0!r})")
+    return (int(lead) + int(np.ceil(distance / min(g, 1.0))) + 100,
+            int(np.ceil(distance * max(g, 1.0))) + 150)
+
+
 def energy_ratios(
-    alpha_rho: float,
-    alpha_kn: float,
+    medium: Medium,
+    interface: int,
     *,
-    delta0_over_d: float = 1e-3,
     velocity_max: float = PAPER_VELOCITY_MAX,
     lead: int = 100,
     distance: int = 100,
@@ -47,33 +64,34 @@ def energy_ratios(
     order: int = 4,
     safety: float = 0.5,
     initial: str | tuple[np.ndarray, np.ndarray] = "regularised",
-    material: theory.Material = theory.PAPER_MATERIAL,
-    diameter: float = theory.PAPER_DIAMETER,
 ) -> dict[str, Any]:
     """Continuum transmitted/reflected energy ratios for one interface (Table 2).
 
     Parameters
     ----------
-    alpha_rho, alpha_kn : float
-        ρ^R/ρ^L and k_n^R/k_n^L (e.g. ``theory.PAPER_POINTS["M"]``).
-    delta0_over_d : float
-        Static overlap of the left section, δ0^L/d (paper: 1e-3).
+    medium : Medium
+        A precompressed two-section chain: grains [0, ``interface``) the left section,
+        the rest the right one (e.g. ``discrete.Chain.two_section(n_left, n_right,
+        alpha_rho, alpha_kn, delta0_over_d).medium()`` with the lengths of
+        :func:`section_lengths`).
+    interface : int
+        First grain of the right section (the interface contact lies between grains
+        ``interface - 1`` and ``interface``).
     velocity_max : float
         Peak grain velocity of the incident wave, m/s (paper: 0.0822 for v0 = 1 m/s).
     lead : int
-        Initial distance of the incident peak from the interface, grains.  The left
-        section is made long enough (``lead`` + the reflected wave's path + 100) that
-        nothing reaches its free end before the measurement: the end carries the static
-        force F0, and any motion of it would add work F0 Δu to the Table-2 energies.
+        Initial distance of the incident peak from the interface, grains.
     distance : int
         The ratios are measured when the transmitted peak is this many grains past the
         interface (docs/physics.md §6: for point P Ek_tr drifts slowly with distance).
+        The sections must be at least :func:`section_lengths` long for ``lead`` and
+        ``distance``.
     n : int
         Nodes per grain (odd).
     model : {"boussinesq", "nesterenko"}
         Regularised Eq. 4 (:class:`BoussinesqPDE`) or Eq. 7 (:class:`NesterenkoPDE`).
-    nonlinearity : {"quadratic", "hertz"}
-        Flux of the Boussinesq model (Eq. 4's quadratic expansion or the Hertz law).
+    nonlinearity : {"quadratic", "full"}
+        Flux of the Boussinesq model (Eq. 4's quadratic expansion or the full law).
     order : {2, 4}
         Order of the symplectic time stepper.
     safety : float
@@ -83,8 +101,6 @@ def energy_ratios(
         exact discrete solitary wave (:func:`theory.discrete_solitary_wave`, docs/physics.md
         §7) sampled per grain and interpolated (:func:`from_grains`), or any per-grain
         arrays (u, v) over the whole chain.
-    material, diameter :
-        Left-section material and grain diameter (m).
 
     Returns
     -------
@@ -95,14 +111,23 @@ def energy_ratios(
         transmitted peak position, to half a grain), ``peak_past_interface`` (grains,
         the same to a fraction of a grain: parabola through the three largest grain
         velocities), ``energy_drift`` (relative, of the conserved
-        functional), ``gamma_c0``, ``gamma_rg`` and the run parameters.
+        functional), ``gamma_c0``, ``gamma_rg`` (of the medium's linear stiffnesses and
+        masses) and the run parameters.
     """
-    d = diameter
-    g_c0 = float(theory.gamma_c0(alpha_rho, alpha_kn))
-    n_left = lead + int(np.ceil(distance / min(g_c0, 1.0))) + 100
-    n_right = int(np.ceil(distance * max(g_c0, 1.0))) + 150
-    med = Medium.two_section(n_left, n_right, delta0_over_d * d, alpha_rho, alpha_kn,
-                             material=material, diameter=d)
+    med = medium
+    n_left = int(interface)
+    if not 1 <= n_left < med.n_grains:
+        raise ValueError(f"interface must lie in [1, {med.n_grains - 1}] (got {interface!r})")
+    k_lin = med.stiffness
+    c_l = np.sqrt(k_lin[1] / med.mass[0])
+    c_r = np.sqrt(k_lin[-2] / med.mass[-1])
+    g_c0 = float(c_r / c_l)
+    g_rg = float(np.sqrt(k_lin[-2] * med.mass[-1]) / np.sqrt(k_lin[1] * med.mass[0]))
+    need_l, need_r = section_lengths(g_c0, lead, distance)
+    if n_left < need_l or med.n_grains - n_left < need_r:
+        raise ValueError(f"the sections are too short for lead = {lead}, distance = "
+                         f"{distance}: need >= ({need_l}, {need_r}) grains, got "
+                         f"({n_left}, {med.n_grains - n_left}) (section_lengths)")
     if model == "boussinesq":
         pde = BoussinesqPDE(med, n, bc="free", nonlinearity=nonlinearity)
     elif model == "nesterenko":
@@ -112,13 +137,15 @@ def energy_ratios(
     else:
         raise ValueError(f"model must be 'boussinesq' or 'nesterenko' (got {model!r})")
     center = float(n_left - lead)
+    d = float(med.diameter[0])
     if isinstance(initial, str) and initial == "regularised":
         state = solitary_wave(pde if model == "boussinesq" else BoussinesqPDE(med, n),
                               center, velocity_max=velocity_max)
         state = pde.get_initial_condition(state[0].data, state[1].data)
     elif isinstance(initial, str) and initial == "discrete":
         wave = theory.discrete_solitary_wave(med.k[1], med.mass[0], d, med.delta0[1],
-                                             velocity_max=velocity_max)
+                                             velocity_max=velocity_max,
+                                             exponent=med.law.exponent)
         smp = wave.sample(med.n_grains, center)
         state = from_grains(pde, smp.displacement, smp.velocity)
     elif isinstance(initial, str):
@@ -126,8 +153,7 @@ def energy_ratios(
     else:
         state = from_grains(pde, *initial)
     par = solitary_wave_parameters(BoussinesqPDE(med, 1), center, velocity_max=velocity_max)
-    c_r = med.sound_speed()[-2]
-    t_end = lead / par["speed"] + distance / c_r
+    t_end = lead / par["speed"] + distance / float(med.sound_speed()[-2])
     dt = pde.stable_dt(state, safety=safety)
     res = run(pde, state, t_end, dt=dt, order=order, interval=t_end / 4)
 
@@ -137,7 +163,6 @@ def energy_ratios(
     inc_f = _functional_sections(pde, state, n_left)["left"]
     out: dict[str, Any] = _ratios(_functional_sections(pde, res["state"], n_left), inc_f)
     out["grains"] = _ratios(sec, inc)
-    g_rg = float(theory.gamma_rg(alpha_rho, alpha_kn))
     lin = inc["potential_linear"]
     # linear acoustics for the same incident energies
     out["prediction"] = theory.table2_prediction(g_rg, inc["kinetic"], lin,
@@ -148,9 +173,8 @@ def energy_ratios(
     out["energy_drift"] = res.energy_drift
     out["gamma_c0"] = g_c0
     out["gamma_rg"] = g_rg
-    out["parameters"] = {"alpha_rho": alpha_rho, "alpha_kn": alpha_kn,
-                         "delta0_over_d": delta0_over_d, "velocity_max_m_s": velocity_max,
-                         "n_left": n_left, "n_right": n_right, "lead": lead,
+    out["parameters"] = {"n_left": n_left, "n_right": med.n_grains - n_left,
+                         "velocity_max_m_s": velocity_max, "lead": lead,
                          "distance": distance, "n": n,
                          "model": model, "nonlinearity": nonlinearity, "order": order,
                          "safety": safety, "dt_s": dt,
@@ -186,7 +210,7 @@ def _functional_sections(pde, state, n_left: int) -> dict[str, dict[str, float]]
     """
     ek, ep = pde.energy_density(state)
     disc = pde.disc
-    ep = ep + disc.h * pde._face_weight * disc.force0 * pde.strain(np.asarray(state[0].data))
+    ep = ep + disc.h * pde.face_weight * disc.f0 * pde.strain(np.asarray(state[0].data))
     x_i = n_left - 0.5
     wf = np.where(np.isclose(disc.x_faces, x_i), 0.5, (disc.x_faces < x_i).astype(float))
     wn = (disc.x_nodes < x_i).astype(float)

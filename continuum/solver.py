@@ -305,7 +305,9 @@ class VerletSolver(_CheckedSolver):
     (w1, w0, w1) = (1/(2-2^{1/3}), -2^{1/3}/(2-2^{1/3}), 1/(2-2^{1/3})); ``method``
     takes any method of :mod:`theory.splitting` (kick-first ones with the FSAL merge:
     module docstring, "Kernel passes").  Requires that the acceleration does not depend
-    on v (true for all chain PDEs).
+    on v (the conservative forces of the chain PDEs; a dissipative medium's
+    velocity-dependent forces are split off by Strang splitting, the PDE's
+    ``dissipate`` sub-step).
 
     Parameters
     ----------
@@ -355,6 +357,8 @@ class VerletSolver(_CheckedSolver):
         applied one after the other (the fused kernels add their coefficients: equal to
         round-off).
         """
+        if getattr(self.pde, "dissipative", False):
+            return self._dissipative_step(dt)
         if self.method.kick_first and self.backend.name == "numba":
             # py-pde compiles the single step; the kick-first one caches the last
             # acceleration in a Python dict, which numba cannot type (a TypingError)
@@ -394,6 +398,32 @@ class VerletSolver(_CheckedSolver):
             return state_data
 
         return single_step_fsal
+
+
+    def _dissipative_step(self, dt: float):
+        """NumPy step of a dissipative PDE: D(Δt/2) ∘ V(Δt) ∘ D*(Δt/2) (Strang).
+
+        V the splitting method with the conservative acceleration
+        (``pde.acceleration``), D the PDE's dissipative sub-step (``pde.dissipate``,
+        booking the dissipated energy in the state's third field): the reference of the
+        fused dissipative kernels (:mod:`continuum._stepper`, "Dissipation").
+        """
+        if self.backend.name != "numpy":
+            raise ValueError("a dissipative medium steps with the fused kernels "
+                             "(backend 'numba', fused=True) or backend='numpy'")
+        pde, alpha, beta = self.pde, self.alpha, self.beta
+        nsub = beta.size
+
+        def single_step(state_data, t):
+            pde.dissipate(state_data, 0.5 * dt, True)
+            for i in range(nsub):
+                state_data[0] += alpha[i] * dt * state_data[1]
+                state_data[1] += beta[i] * dt * pde.acceleration(state_data[0])
+            state_data[0] += alpha[nsub] * dt * state_data[1]
+            pde.dissipate(state_data, 0.5 * dt, False)
+            return state_data
+
+        return single_step
 
 
 class RK4Solver(_CheckedSolver):

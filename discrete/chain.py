@@ -554,6 +554,30 @@ class Chain:
                           "alpha_kn": float(alpha_kn), "delta0_over_d": x})
         return ch
 
+    def medium(self, law: theory.ContactLaw | None = None, drag: float = 0.0):
+        """The chain's coefficients as a :class:`theory.medium.Medium` (the continuum's input).
+
+        Masses, contact constants, static overlaps, diameters, gravity and the periodic
+        sections (:class:`Periodic` profiles: start, stop, cell length) with the contact
+        ``law`` (default Hertz) and on-site drag rate ``drag`` (1/s) of the run.
+        ValueError if the law's exponent is not the one the static overlaps balance.
+        """
+        from theory.medium import Medium
+
+        law = theory.as_law(law)
+        if law.exponent != self.exponent and np.any(self.delta0 > 0):
+            raise ValueError(f"law exponent {law.exponent:g} differs from the exponent "
+                             f"{self.exponent:g} the chain's static overlaps balance")
+        specs = self.params.get("sections", [])
+        cells = []
+        for sl in self.section_slices():
+            a = int(self.section[sl.start])
+            prof = (specs[a].get("profile") or {}) if a < len(specs) else {}
+            if prof.get("profile") == "periodic":
+                cells.append((sl.start, sl.stop, len(prof["cell"])))
+        return Medium(self.mass, self.k, self.delta0, self.diameter, law=law, drag=drag,
+                      gravity=self.gravity, cells=tuple(cells), info=dict(self.params))
+
     def with_params(self, **extra) -> Chain:
         """Copy with ``params`` updated by ``extra``."""
         return Chain(self.mass, self.k, self.delta0, self.diameter, self.section,

@@ -655,18 +655,19 @@ def _run_discrete(scenario: Scenario, times: np.ndarray, *, cache, stem, out, fo
 
 
 # -- continuum -------------------------------------------------------------------------
-def _medium(chain: discrete.Chain):
-    import continuum
+def _medium(chain: discrete.Chain, scenario: Scenario):
+    """The chain's coefficients with the scenario's law and drag (:meth:`discrete.Chain.medium`).
 
-    d = np.unique(chain.diameter)
-    if d.size != 1:
-        raise ScenarioError("[models] continuum: the continuum needs grains of one diameter "
-                            f"(got {d.size} diameters)")
-    k, d0 = chain.k.copy(), chain.delta0.copy()
-    for end, nb in ((0, 1), (-1, -2)):  # a free end: the neighbour contact's constants
-        if k[end] == 0:
-            k[end], d0[end] = k[nb], d0[nb]
-    return continuum.Medium(chain.mass, k, d0, diameter=float(d[0]))
+    Sections, tapers, gravity and periodic cells all enter as per-grain and per-contact
+    coefficients (the continuum homogenises periodic sections itself).
+    """
+    from .runner import build_law
+
+    law, drag = build_law(scenario.chain)
+    try:
+        return chain.medium(law, drag)
+    except ValueError as exc:
+        raise ScenarioError(f"[models] continuum: {exc}") from exc
 
 
 def continuum_label(model: str, models: ModelsSpec) -> str:
@@ -732,15 +733,24 @@ def _write_continuum(path: Path, run_: ModelRun, scenario: Scenario) -> None:
 
 
 def _pde(model: str, med, models: ModelsSpec, bc: str, incident: IncidentWave, d: float):
+    """The continuum model ``model`` of :data:`continuum.MODELS` for the medium ``med``.
+
+    Its ``for_chain`` reads the scenario's continuum settings and the incident wave's
+    peak overlap (m, ``incident.strain`` × d: Eq. 7's floor is a fraction of it).
+    """
     import continuum
 
-    n = models.nodes_per_grain
-    if model == "eq4":
-        return continuum.BoussinesqPDE(med, n, bc=bc, nonlinearity=models.nonlinearity)
-    if model == "eq7":
-        return continuum.NesterenkoPDE(med, n, bc=bc, cap=models.dispersion_cap,
-                                       delta_floor=models.delta_floor * incident.strain * d)
-    raise AssertionError(model)  # pragma: no cover
+    if model not in continuum.MODELS:
+        raise ScenarioError(f"[models] continuum = {model!r} is not a registered continuum "
+                            f"model: {sorted(continuum.MODELS)} or \"kdv\"")
+    options = {"nonlinearity": models.nonlinearity, "delta_floor": models.delta_floor,
+               "dispersion_cap": models.dispersion_cap,
+               "incident_overlap": float(incident.strain) * d}
+    try:
+        return continuum.MODELS[model].for_chain(med, nodes_per_grain=models.nodes_per_grain,
+                                                 bc=bc, options=options)
+    except ValueError as exc:
+        raise ScenarioError(f"[models] continuum = {model!r}: {exc}") from exc
 
 
 def _kdv_run(med, models, init, chain, times, t_final, d):
@@ -901,7 +911,7 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
             pass
     start = time.perf_counter()
     d = float(chain.diameter[0])
-    med = _medium(chain)
+    med = _medium(chain, scenario)
     ends = "free" if model == "kdv" else _ends(scenario, init)
     params = {**key, "ends": ends, "label": label}
     summary: dict[str, Any] = {"model": model, "ends": ends}

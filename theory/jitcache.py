@@ -42,6 +42,9 @@ This module lives in :mod:`theory` because it is the one package that both
 from __future__ import annotations
 
 import getpass
+import hashlib
+import inspect
+import marshal
 import os
 import sys
 import tempfile
@@ -51,7 +54,8 @@ from contextlib import contextmanager
 from pathlib import Path
 
 __all__ = ["configure", "default_cache_dir", "cache_is_warm", "KERNEL_FAMILIES",
-           "compile_notice", "announce_compilation", "announce"]
+           "compile_notice", "announce_compilation", "announce", "keyed_njit",
+           "source_digest"]
 
 _ENV = "NUMBA_CACHE_DIR"
 
@@ -288,3 +292,58 @@ def announce(family: str, log: Callable[[str], None] | None = None) -> bool:
         return _active[0].announce(family)
     (log or _stderr)(notice + " ...")
     return True
+
+
+def source_digest(*objects) -> str:
+    """SHA-256 of the source files of ``objects`` (modules, classes or functions).
+
+    Part of the key of a :func:`keyed_njit` kernel, so that editing a source the kernel
+    is compiled from recompiles it.  An object whose file cannot be read (defined by
+    ``exec``) contributes the bytecode of its functions instead.
+    """
+    h = hashlib.sha256()
+    for obj in objects:
+        try:
+            with open(inspect.getsourcefile(obj), "rb") as f:  # type: ignore[arg-type]
+                h.update(f.read())
+        except (TypeError, OSError):
+            funcs = vars(obj).items() if isinstance(obj, type) else [("", obj)]
+            for name, attr in sorted(funcs, key=lambda kv: kv[0]):
+                code = getattr(getattr(attr, "__func__", attr), "__code__", None)
+                if code is not None:
+                    h.update(name.encode() + marshal.dumps(code))
+    return h.hexdigest()
+
+
+def keyed_njit(py_func, key: str, *, cache: bool = True, **options):
+    """``numba.njit(**options)(py_func)`` for a closure, with a disk cache keyed by ``key``.
+
+    numba keys a closure's cache entry by a pickle of the values it closes over; when
+    those are compiled functions (a contact law's pieces) the pickle holds a per-process
+    id, so every process would miss.  Here the entry is keyed by the function's bytecode
+    and ``key`` instead, which must name everything the compiled code depends on (e.g.
+    a law's :meth:`~theory.laws.ContactLaw.key` and a :func:`source_digest` of the
+    sources).  The function's name gets a suffix from ``key``, so that closures of the
+    same name compiled for different keys (and loaded from the cache into one process)
+    never share a symbol.  ``cache=False``: only the renaming (inner functions).
+    """
+    import numba
+
+    configure()
+    tag = hashlib.sha256(key.encode()).hexdigest()[:12]
+    py_func.__qualname__ = f"{py_func.__qualname__}_K{tag}"
+    disp = numba.njit(**options)(py_func)
+    if cache:
+        try:
+            from numba.core.caching import FunctionCache
+
+            class _KeyedCache(FunctionCache):
+                def _index_key(self, sig, codegen):
+                    code = self._py_func.__code__.co_code
+                    digest = hashlib.sha256(code + key.encode()).hexdigest()
+                    return (sig, codegen.magic_tuple(), (digest, ""))
+
+            disp._cache = _KeyedCache(py_func)
+        except Exception:  # pragma: no cover - numba internals changed: run uncached
+            pass
+    return disp

@@ -21,8 +21,7 @@ init = discrete.exact_wave(chain, centre, velocity_max=0.0822)
 sim = init.simulation(record=discrete.Recording(maxima=False))
 sim.run(until=discrete.WaveAt(n_left + past), progress=False)
 
-d = theory.PAPER_DIAMETER
-medium = continuum.Medium.two_section(n_left, n_right, 1e-3 * d, ar, ak)
+medium = chain.medium()  # the same chain's coefficients (theory.medium.Medium)
 pde = continuum.BoussinesqPDE(medium, nodes, bc="free")
 res = continuum.run(pde, continuum.from_grains(pde, init.u, init.v), sim.t, interval=sim.t)
 grains = continuum.sample_grains(pde, res["state"])

@@ -13,7 +13,7 @@ import theory
 from continuum import BoussinesqPDE, Medium, VerletSolver, run, solitary_wave
 from continuum import solitary_wave_parameters as swp
 
-from ._helpers import peak_position, shape_change
+from ._helpers import from_arrays, peak_position, shape_change, two_section
 
 D = theory.PAPER_DIAMETER
 DELTA0 = 1e-3 * D          # paper's precompression δ0/d = 1e-3
@@ -31,11 +31,11 @@ def uniform():
 def test_numpy_and_compiled_rates_agree(nonlinearity, bc, rng):
     """The NumPy path (sparse LU) and the numba path (Thomas / Sherman–Morrison) are
     independent implementations; they must agree to round-off (rtol 1e-10)."""
-    med = Medium.two_section(12, 9, DELTA0, 2.0, 0.3)
+    med = two_section(12, 9, DELTA0, 2.0, 0.3)
     if bc == "periodic":  # the wrap contact closes the chain: make it a second interface
         k = med.k.copy()
         k[-1] = k[0]
-        med = Medium.from_grain_arrays(med.mass, k, DELTA0)
+        med = from_arrays(med.mass, k, DELTA0)
     pde = BoussinesqPDE(med, 3, bc=bc, nonlinearity=nonlinearity)
     u = 0.2 * DELTA0 * rng.standard_normal(pde.grid.shape)
     state = pde.get_initial_condition(u, rng.standard_normal(pde.grid.shape))
@@ -249,7 +249,7 @@ def test_interface_transmission_small_amplitude(point):
     ar, ak = theory.PAPER_POINTS[point]
     g = theory.gamma_rg(ar, ak)
     n_l = n_r = 280
-    med = Medium.two_section(n_l, n_r, DELTA0, ar, ak)
+    med = two_section(n_l, n_r, DELTA0, ar, ak)
     pde = BoussinesqPDE(med, 3)
     x, sig, x0, amp = pde.disc.x_nodes, 10.0, 140.0, 1e-3 * DELTA0
     c_l = med.sound_speed()[1]

@@ -11,7 +11,7 @@ from scipy.optimize import curve_fit
 import theory
 from continuum import Medium, NesterenkoPDE, compacton, compacton_parameters, run
 
-from ._helpers import peak_position, shape_change
+from ._helpers import from_arrays, peak_position, shape_change, two_section
 
 D = theory.PAPER_DIAMETER
 VMAX = 0.68  # m/s: the paper's sonic-vacuum wave for v0 = 1 m/s (v̄max/v0 = 0.6816)
@@ -27,10 +27,10 @@ def _amplitude(med):
 def test_numpy_and_compiled_rates_agree(bc, rng):
     """Same flux, FFTs through numba.objmode in the compiled path: agree to 1e-10."""
     if bc == "periodic":
-        med = Medium.from_grain_arrays(np.r_[np.full(8, 5e-4), np.full(7, 2e-4)],
+        med = from_arrays(np.r_[np.full(8, 5e-4), np.full(7, 2e-4)],
                                        np.r_[np.full(9, 5e9), np.full(6, 2e9), 5e9], 0.0)
     else:
-        med = Medium.two_section(8, 7, 0.0, 0.4, 0.5)
+        med = two_section(8, 7, 0.0, 0.4, 0.5)
     pde = NesterenkoPDE(med, 3, bc=bc, delta_floor=1e-8)
     # compressed and separated contacts, some below the floor
     u = np.cumsum(-2e-6 * rng.random(pde.grid.shape) + 1e-6) * pde.disc.h
@@ -173,7 +173,7 @@ def test_sonic_vacuum_interface_conserves(alpha_rho, alpha_kn):
     1e-3 when measured with the functional."""
     from continuum.scattering import _functional_sections
 
-    med = Medium.two_section(30, 40, 0.0, alpha_rho, alpha_kn)
+    med = two_section(30, 40, 0.0, alpha_rho, alpha_kn)
     amp = _amplitude(med)
     pde = NesterenkoPDE(med, 3, delta_floor=1e-2 * amp)
     state = compacton(pde, 15.0, velocity_max=VMAX)

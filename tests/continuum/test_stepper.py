@@ -34,6 +34,8 @@ from continuum import (
 )
 from continuum.solver import splitting_coefficients, splitting_method
 
+from ._helpers import from_arrays, two_section
+
 D = theory.PAPER_DIAMETER
 DELTA0 = 1e-3 * D
 RTOL = 1e-9
@@ -57,10 +59,10 @@ def _both(pde, state, t_end, **kw):
 
 
 def _periodic_two_section(n_l, n_r, delta0, ar, ak):
-    med = Medium.two_section(n_l, n_r, delta0, ar, ak)
+    med = two_section(n_l, n_r, delta0, ar, ak)
     k = med.k.copy()
     k[-1] = k[0]  # the wrap contact closes the chain: a second interface
-    return Medium.from_grain_arrays(med.mass, k, delta0)
+    return from_arrays(med.mass, k, delta0)
 
 
 # ---------------------------------------------------------------------------------
@@ -76,7 +78,7 @@ def test_rosenau_fused_equals_numpy(bc, nonlinearity, method, rng):
     if bc == "periodic":
         med = _periodic_two_section(14, 11, DELTA0, 2.0, 0.3)
     else:
-        med = Medium.two_section(14, 11, DELTA0, 2.0, 0.3)
+        med = two_section(14, 11, DELTA0, 2.0, 0.3)
     pde = BoussinesqPDE(med, 3, bc=bc, nonlinearity=nonlinearity)
     u = 0.1 * DELTA0 * np.cumsum(rng.standard_normal(pde.grid.shape)) * pde.disc.h
     v = 1e-3 * rng.standard_normal(pde.grid.shape)
@@ -101,7 +103,7 @@ def test_chunks_merge_fsal_and_split_anywhere(model, method, rng):
     swept, so node-updates = evaluations × nodes exactly)."""
     m = splitting_method(method)
     if model == "eq7":
-        med = Medium.two_section(40, 35, DELTA0, 0.4, 0.5)
+        med = two_section(40, 35, DELTA0, 0.4, 0.5)
         pde = NesterenkoPDE(med, 3, delta_floor=1e-8)
         u = np.cumsum(-2e-6 * rng.random(pde.grid.shape) + 1e-6) * pde.disc.h
     else:
@@ -127,7 +129,7 @@ def test_rosenau_window_is_exact_and_small():
     """A solitary wave in a long chain: the active window covers a fraction of the
     chain (fewer node-updates than steps × nodes) and the result equals the NumPy
     reference that integrates every node."""
-    med = Medium.two_section(200, 400, DELTA0, 0.5, 2.0)
+    med = two_section(200, 400, DELTA0, 0.5, 2.0)
     pde = BoussinesqPDE(med, 3)
     state = solitary_wave(pde, 120.0, velocity_max=0.0822)
     dt = pde.stable_dt(state)
@@ -152,7 +154,7 @@ def test_nesterenko_fused_equals_numpy(bc, precompressed, order, space_order, rn
     if bc == "periodic":
         med = _periodic_two_section(40, 35, d0, 0.4, 0.5)
     else:
-        med = Medium.two_section(40, 35, d0, 0.4, 0.5)
+        med = two_section(40, 35, d0, 0.4, 0.5)
     pde = NesterenkoPDE(med, 3, bc=bc, delta_floor=1e-8, space_order=space_order)
     u = np.cumsum(-2e-6 * rng.random(pde.grid.shape) + 1e-6) * pde.disc.h
     state = pde.get_initial_condition(u, 1e-3 * rng.standard_normal(pde.grid.shape))
@@ -231,7 +233,7 @@ def test_no_allocation_per_step(model):
         chunk = pde.make_chunk_stepper(state, pde.stable_dt(state))
     else:
         if model == "eq4":
-            pde = BoussinesqPDE(Medium.two_section(40, 40, DELTA0, 2.0, 1.0), 3)
+            pde = BoussinesqPDE(two_section(40, 40, DELTA0, 2.0, 1.0), 3)
             state = solitary_wave(pde, 20.0, velocity_max=0.0822)
         else:
             med = Medium.uniform(80, 0.0)
@@ -276,13 +278,13 @@ def test_compiled_monitor_equals_numpy(model, rng):
     else:
         kind, bc = model.split("-")
         if kind == "eq4":
-            pde = BoussinesqPDE(Medium.two_section(20, 15, DELTA0, 2.0, 0.5), 3, bc=bc)
+            pde = BoussinesqPDE(two_section(20, 15, DELTA0, 2.0, 0.5), 3, bc=bc)
         elif bc == "pre":
-            pde = NesterenkoPDE(Medium.two_section(20, 15, DELTA0, 2.0, 0.5), 3,
+            pde = NesterenkoPDE(two_section(20, 15, DELTA0, 2.0, 0.5), 3,
                                 delta_floor=1e-3 * DELTA0)
         else:
             med = (_periodic_two_section(20, 15, 0.0, 2.0, 0.5) if bc == "periodic"
-                   else Medium.two_section(20, 15, 0.0, 2.0, 0.5))
+                   else two_section(20, 15, 0.0, 2.0, 0.5))
             pde = NesterenkoPDE(med, 3, bc=bc, delta_floor=1e-8)
         u = np.cumsum(-2e-6 * rng.random(pde.grid.shape) + 1e-6) * pde.disc.h
         state = pde.get_initial_condition(u, 1e-3 * rng.standard_normal(pde.grid.shape))
@@ -339,14 +341,15 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, nonlinearity, r
     few ulp, measured ≤ 2e-16)."""
     from continuum import _kernels, _stepper
 
-    sec = Medium.two_section(30, 40, DELTA0, 3.0, 0.5)
-    med = Medium.from_grain_arrays(np.r_[sec.mass, sec.mass[:30] * 0.25],
-                                   np.r_[sec.k, sec.k[1:31]], DELTA0)
+    sec = two_section(30, 40, DELTA0, 3.0, 0.5)
+    med = from_arrays(np.r_[sec.mass, sec.mass[:30] * 0.25],
+                      np.r_[sec.k, sec.k[1:31]], DELTA0)
     pde = BoussinesqPDE(med, 3, bc=bc, nonlinearity=nonlinearity)
     n = pde.grid.shape[0]
     h = pde.disc.h
     fac = _stepper.rosenau_factors(*pde._bands)[0]
     runs = _stepper.constant_runs(fac)
+    window_pass = _stepper.rosenau_kernels(pde.law).window_pass
     assert runs[0].max() > 40 and runs[3].max() > 40  # long runs: the links are used
     kk, bb, kh, d0, f0 = pde._kernel_arrays()
     diag, off, _ = pde._bands
@@ -361,8 +364,8 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, nonlinearity, r
         v0 = v.copy()
         y = np.zeros(n)
         win = np.zeros(2, np.int64)
-        _stepper._rosenau_pass(u, v, y, lo, hi, 0.0, 0.7, h, code, pde._nl_code, kk, bb,
-                               kh, d0, f0, fac, runs, 0.0, np.inf, win)
+        window_pass(u, v, y, lo, hi, 0.0, 0.7, h, code, pde._nl_code, kk, bb, kh, d0, f0,
+                    fac, runs, 0.0, np.inf, win)
         # flux divergence on the window: faces lo..hi+1 (outer ones from u beyond it)
         s = np.empty(hi - lo + 2)
         for j, q in enumerate(range(lo, hi + 2)):
