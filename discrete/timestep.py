@@ -135,7 +135,8 @@ from .reference import overlaps as _overlaps
 __all__ = ["DT_FRACTION", "TimeStep", "ProbeResult", "default_fraction", "default_dt",
            "stable_dt", "expected_overlaps", "probe_error", "RTOL_SAFETY", "RTOL_CANDIDATES",
            "PROBE_PERIODS", "PROBE_FRACTION", "PROBE_MAX_LEVELS", "ORDER_SLACK",
-           "error_bounds"]
+           "error_bounds", "contact_rates", "damping_rate", "damping_overlaps",
+           "roundoff_floor", "UNIT_ROUNDOFF", "DAMPING_STEP_LIMIT"]
 
 DT_FRACTION = 0.002
 """Default dt per force evaluation as a fraction of the shortest linearised contact
@@ -163,6 +164,11 @@ PROBE_PERIODS = 40.0
 PROBE_FRACTION = 0.016
 """Largest probe step per force evaluation as a fraction of the shortest contact period."""
 
+DAMPING_STEP_LIMIT = 1.0
+"""Largest γ_max Δt an explicit step may have (:meth:`TimeStep.check`): there the split
+step's relaxation rate of an overdamped contact, (x/2) coth(x/2) times the exact one
+with x = γΔt, is 8.2 % off (module docstring, "Dissipative time scales")."""
+
 
 def default_fraction(integrator: str | Integrator = "verlet") -> float:
     """Default dt as a fraction of the shortest contact period: S × :data:`DT_FRACTION`."""
@@ -171,7 +177,13 @@ def default_fraction(integrator: str | Integrator = "verlet") -> float:
 
 def expected_overlaps(chain: Chain, u=None, v=None, wall_left: float = 0.0,
                       wall_right: float = 0.0, *, law: ContactLaw | None = None) -> np.ndarray:
-    """Largest expected overlap of each contact, m (module docstring)."""
+    r"""Largest expected overlap of each contact, m (module docstring).
+
+    The energy bound :math:`U^{-1}(U([r]_+) + E_1)`; for a dissipative law also at most
+    the overlap at which the damping alone has absorbed the impulse
+    :math:`J = \sum_i m_i|v_i|` (:func:`damping_overlaps`; module docstring,
+    "Dissipative time scales").
+    """
     law = as_law(law)
     u = np.zeros(chain.n) if u is None else np.asarray(u, float)
     v = np.zeros(chain.n) if v is None else np.asarray(v, float)
@@ -179,7 +191,64 @@ def expected_overlaps(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     if chain.gravity:  # the chain may fall onto its static overlaps: 2 × the weight
         r = np.maximum(r, 2.0 ** (1.0 / law.exponent) * chain.delta0)
     e1 = float(np.max(0.5 * chain.mass * v**2))
-    return law.overlap_with_energy(r, e1, chain.k)
+    delta = law.overlap_with_energy(r, e1, chain.k)
+    if law.dissipative:
+        impulse = float(np.sum(chain.mass * np.abs(v)))
+        delta = damping_overlaps(chain, r, delta, impulse, law=law)
+    return delta
+
+
+_GAUSS = np.polynomial.legendre.leggauss(16)
+"""16-point Gauss–Legendre nodes and weights on [-1, 1] (the damping integrals)."""
+
+
+def damping_overlaps(chain: Chain, r, upper, impulse: float, *,
+                     law: ContactLaw) -> np.ndarray:
+    r"""Overlap at which a contact's damping alone has absorbed ``impulse`` (N·s), m.
+
+    While a contact closes (:math:`\dot\delta > 0`) its force is at least its damping
+    force, :math:`F = \max(0, F_{el} + c\,\dot\delta) \ge c(\delta)\,\dot\delta`
+    (:mod:`discrete.laws`, "Dissipative laws"), so the impulse it transmits while
+    closing from r to δ is at least :math:`\int_r^\delta c(x)\,dx`.  The overlap
+    therefore stops growing before :math:`\delta^*` with
+    :math:`\int_r^{\delta^*} c(x;k)\,dx = J` — exactly so for two bodies (J = μ w, the
+    reduced mass times the approach speed; for Kuwabara–Kono
+    :math:`\delta^* = (3\mu w/(2kA))^{2/3}`).  Solved per contact by bisection in
+    [r, ``upper``] with a 16-point Gauss–Legendre rule for the integral of the law's
+    NumPy twin ``law.damping``; ``upper`` where the integral over [r, upper] stays below
+    J (weak damping: the energy bound ``upper`` is the tighter one).
+
+    Parameters
+    ----------
+    chain : Chain
+        The contact constants k.
+    r, upper : (N+1,) arrays
+        Present overlaps (m, >= 0) and the energy bound (m, >= r).
+    impulse : float
+        J, N·s (the chain's total |momentum| Σ m|v| for :func:`expected_overlaps`).
+    law : ContactLaw
+        A dissipative law (its ``damping`` twin, N·s/m).
+    """
+    r = np.asarray(r, float)
+    upper = np.maximum(np.asarray(upper, float), r)
+    k = np.broadcast_to(np.asarray(chain.k, float), r.shape)
+    rows = np.unique(np.stack([r, upper, k], axis=1), axis=0, return_inverse=True)
+    (ur, uu, uk), inverse = rows[0].T, np.ravel(rows[1])
+    x, wq = _GAUSS
+
+    def absorbed(d):  # ∫_r^d c(x; k) dx per row, N·s
+        half = 0.5 * (d - ur)
+        nodes = (ur + half)[:, None] + half[:, None] * x[None, :]
+        return half * (law.damping(nodes, uk[:, None]) @ wq)
+
+    lo, hi = ur.copy(), uu.copy()
+    reach = absorbed(hi) > impulse  # else the energy bound stands
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        over = absorbed(mid) > impulse
+        hi = np.where(reach & over, mid, hi)
+        lo = np.where(reach & ~over, mid, lo)
+    return np.where(reach, hi, uu)[inverse]
 
 
 def _inv_mass_pairs(chain: Chain) -> np.ndarray:
@@ -190,10 +259,43 @@ def _inv_mass_pairs(chain: Chain) -> np.ndarray:
     return inv
 
 
-def _omega_max(chain: Chain, delta: np.ndarray, law: ContactLaw) -> float:
-    """max_j √(K_j (1/m_{j-1} + 1/m_j)), rad/s."""
+def contact_rates(chain: Chain, delta, *, law: ContactLaw | None = None,
+                  drag: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    r"""Each contact's elastic frequency ω_j (rad/s) and dissipative rate γ_j (1/s).
+
+    At overlaps ``delta`` (m), with :math:`s_j = 1/m_{j-1} + 1/m_j` (1/kg; one mass at a
+    wall): :math:`\omega_j = \sqrt{K_j s_j}`, :math:`K_j = \partial F_{el}/\partial
+    \delta` (``law.stiffness``, N/m), and :math:`\gamma_j = c_j s_j + \beta`, with
+    :math:`c_j` the damping coefficient (``law.damping``, N·s/m) and β the drag rate
+    (1/s): the rate at which the relative velocity of the contact's two grains relaxes
+    (module docstring, "Dissipative time scales").  γ = 0 for a conservative law
+    without drag.
+    """
+    law = as_law(law)
+    delta = np.maximum(np.asarray(delta, float), 0.0)
+    inv = _inv_mass_pairs(chain)
+    omega = np.sqrt(law.stiffness(delta, chain.k) * inv)
+    gamma = law.damping(delta, chain.k) * inv + float(drag)
+    return omega, gamma
+
+
+def _rate_max(chain: Chain, delta: np.ndarray, law: ContactLaw, drag: float = 0.0) -> float:
+    """max_j Ω_j, Ω_j² = ω_j² + 2γ_j² (rad/s; module docstring): ω_max without damping."""
     kk = law.stiffness(delta, chain.k)
-    return float(np.sqrt(np.max(kk * _inv_mass_pairs(chain))))
+    w2 = kk * _inv_mass_pairs(chain)
+    if law.dissipative or drag > 0:
+        _, gamma = contact_rates(chain, delta, law=law, drag=drag)
+        w2 = w2 + 2.0 * gamma**2
+    return float(np.sqrt(np.max(w2)))
+
+
+def damping_rate(chain: Chain, delta, *, law: ContactLaw | None = None,
+                 drag: float = 0.0) -> float:
+    """max_j γ_j at overlaps ``delta`` (m), 1/s (:func:`contact_rates`; 0: conservative)."""
+    law = as_law(law)
+    if not (law.dissipative or drag > 0):
+        return 0.0
+    return float(np.max(contact_rates(chain, delta, law=law, drag=drag)[1]))
 
 
 def stable_dt(chain: Chain, delta, *, law: ContactLaw | None = None,
@@ -202,8 +304,10 @@ def stable_dt(chain: Chain, delta, *, law: ContactLaw | None = None,
 
     ω_lat² ≤ max_i (K_i + K_{i+1})·2/m_i (Gershgorin bound on M⁻¹K; exact for a
     uniform chain, where ω_lat = 2√(K/m) is the zone-edge frequency), dt ≤ 2/ω_lat.
-    Damping and ``drag`` add no bound (module docstring); ``drag`` is accepted for the
-    callers' uniformity.
+    Damping and ``drag`` add no *stability* bound: their sub-steps are exact flows that
+    never raise the kinetic energy (module docstring, "Dissipative time scales"); they
+    bound the step for accuracy instead (:func:`damping_rate`, :meth:`TimeStep.check`).
+    ``drag`` is accepted for the callers' uniformity.
     """
     law = as_law(law)
     delta = np.maximum(np.asarray(delta, float), 0.0)
@@ -238,9 +342,15 @@ class _ProbeRun:
         sim = Simulation(chain, u, v, dt=h, wall_left=wl, wall_right=wr, record=recording,
                          integrator=method.name, law=law, drag=drag, check_dt=False)
         x0 = _centroid(sim)
+        rec = sim.record
         # every level ends at the same time; in two halves, so that the drift's growth
-        # over the second half is measured (ProbeResult.drifts_at)
+        # over the second half is measured (ProbeResult.drifts_at), and the maxima that
+        # no longer changed over it are known (settled)
         first = sim.run(max_steps=nsteps // 2, progress=False)
+        vmax_mid = np.array(rec.vmax if rec.vmax_refined is None else rec.vmax_refined,
+                            float)
+        omax_mid = None if rec.overlap_max is None else np.array(rec.overlap_max, float)
+        self.umax_mid = float(np.max(np.abs(sim.u), initial=0.0))
         late = sim.run(max_steps=nsteps - nsteps // 2, progress=False)
 
         def measure(info):  # the energy monitor's (Verlet's modified energy, else E)
@@ -248,28 +358,45 @@ class _ProbeRun:
 
         self.drift_late = measure(late)
         self.drift = measure(first) + self.drift_late  # >= the drift over the probe
-        rec = sim.record
         # the refined maxima (between the steps, at the method's order), not the samples
         vmax = np.asarray(rec.vmax if rec.vmax_refined is None else rec.vmax_refined, float)
         scale = float(np.max(np.abs(vmax))) or 1.0
         self.steps = sim.steps
+        self.umax = float(np.max(np.abs(sim.u), initial=0.0))
         self.travel = _centroid(sim) - x0
-        self.vmax = vmax / scale
-        # a maximum counts once the grain's peak has passed (v below half of it); a grain
-        # still rising at the probe's end holds its present v, a phase error, not a maximum
-        self.done = (sim.v < 0.5 * vmax) & (vmax > 0.01 * scale)
-        self.omax = None
+        self.vmax, self.vscale = vmax, scale
+        # a maximum counts once it is final: the grain's peak has passed (v below half
+        # of it) or the running maximum did not change over the probe's second half; a
+        # grain still rising at the probe's end holds its present v, a phase error
+        self.done = (((sim.v < 0.5 * vmax) | (vmax == vmax_mid))
+                     & (np.abs(vmax) > 0.01 * scale))
+        self.omax = self.odone = None
+        self.oscale = 0.0
         if rec.overlap_max is not None:  # strain maxima: the dynamic part, relative
-            dyn = np.asarray(rec.overlap_max, float) - chain.delta0
-            self.omax = dyn / (float(np.max(np.abs(dyn))) or 1.0)
+            # only contacts that carry a force (k > 0): a free end's "overlap" is the end
+            # grain's displacement, no strain
+            loaded = chain.k > 0
+            omax = np.asarray(rec.overlap_max, float)
+            dyn = omax - chain.delta0
+            self.oscale = float(np.max(np.abs(dyn[loaded]), initial=0.0))
+            self.omax = dyn
+            now = sim.overlaps() - chain.delta0
+            self.odone = (loaded & ((now < 0.5 * dyn) | (omax == omax_mid))
+                          & (np.abs(dyn) > 0.01 * self.oscale))
 
-    def difference(self, other: _ProbeRun, done: np.ndarray) -> float:
-        """max-norm of the relative differences of the compared quantities."""
-        d = float(np.max(np.abs(self.vmax[done] - other.vmax[done]), initial=0.0))
-        if self.omax is not None and other.omax is not None:
-            both = np.r_[done[:1], done[:-1] & done[1:], done[-1:]]  # contacts 0..N
-            d = max(d, float(np.max(np.abs(self.omax[both] - other.omax[both]),
-                                    initial=0.0)))
+    def difference(self, other: _ProbeRun, done: np.ndarray,
+                   odone: np.ndarray | None) -> float:
+        """max-norm of the differences of the compared quantities, relative.
+
+        Both runs' maxima over the *same* scale, ``other``'s (the finer run's) largest
+        |v| and largest dynamic overlap: a run's own scale would hide the error of the
+        maximum that sets it (a single contact compared with itself, 1 = 1).
+        """
+        d = float(np.max(np.abs(self.vmax[done] - other.vmax[done]), initial=0.0)) \
+            / other.vscale
+        if odone is not None and self.omax is not None and other.omax is not None:
+            d = max(d, float(np.max(np.abs(self.omax[odone] - other.omax[odone]),
+                                    initial=0.0)) / (other.oscale or 1.0))
         return max(d, abs(self.travel - other.travel) / max(abs(other.travel), 1.0))
 
 
@@ -282,6 +409,51 @@ def _centroid(sim) -> float:
     e = ek[lo:hi + 1] + ep[lo:hi + 1]
     tot = float(np.sum(e))
     return lo + float(np.dot(np.arange(e.size, dtype=float), e) / tot) if tot > 0 else 0.0
+
+
+UNIT_ROUNDOFF = 2.0**-53
+"""Unit round-off u of IEEE 754 double precision (round to nearest), relative."""
+
+
+def roundoff_floor(steps: int, *, displacement: float = 0.0, strain: float = 0.0,
+                   delta0: float = 0.0) -> float:
+    r"""The relative error round-off alone leaves in the recorded quantities after N steps.
+
+    Every step rounds every stored u and v once (relative error at most u =
+    :data:`UNIT_ROUNDOFF`); independent roundings accumulate as a random walk, so
+    after N steps a velocity maximum, relative to the largest speed, carries
+    :math:`u\sqrt N` (Henrici's statistical law of round-off propagation, P. Henrici,
+    *Discrete Variable Methods in Ordinary Differential Equations*, Wiley 1962;
+    Brouwer's law for the energy, Hairer, McLachlan & Razakarivony, BIT 48 (2008)
+    231).  An overlap :math:`\delta_{0,j} + u_{j-1} - u_j` is a difference of
+    displacements: each carries :math:`u\,U\sqrt N` (U the largest displacement, m),
+    and the sum one rounding of :math:`\delta_0`, so its maximum, relative to the
+    dynamic overlap scale Q (m), carries :math:`u(\sqrt{2N}\,U + \delta_0)/Q` — large
+    when the grains travel far compared with their overlaps (a free pair flying
+    apart) or a small wave rides on a large precompression.
+
+    Parameters
+    ----------
+    steps : int
+        N, the run's number of steps.
+    displacement : float
+        U, m.
+    strain : float
+        Q, m; 0 when no overlap maxima are compared.
+    delta0 : float
+        The largest static overlap, m.
+
+    Returns
+    -------
+    float
+        :math:`\max(u\sqrt N,\ u(\sqrt{2N}\,U + \delta_0)/Q)`, relative.
+    """
+    n = max(int(steps), 1)
+    floor = UNIT_ROUNDOFF * math.sqrt(n)
+    if strain > 0:
+        floor = max(floor, UNIT_ROUNDOFF * (math.sqrt(2.0 * n) * abs(displacement)
+                                            + abs(delta0)) / strain)
+    return floor
 
 
 @dataclass(frozen=True)
@@ -323,6 +495,17 @@ class ProbeResult:
     drifts_late : tuple
         The drift of each probe run over its second half alone (from the state at
         t_probe/2): the growth rate :meth:`drifts_at` extrapolates with.
+    compared_contacts : int
+        Contacts whose overlap maxima were compared (0 without strain maxima).
+    displacement, displacement_late : float
+        max_i |u_i| at the finest probe run's end, and its growth over the probe's
+        second half, m (:meth:`roundoff_at` extrapolates the displacements with it).
+    strain_scale : float
+        The largest dynamic overlap max_j (δ_max,j - δ0_j) of the loaded contacts in the
+        finest probe run, m (0 without strain maxima): the scale the overlap maxima
+        are compared in.
+    delta0_max : float
+        The largest static overlap, m (its rounding enters every overlap).
     """
 
     method: str
@@ -338,6 +521,26 @@ class ProbeResult:
     complete: bool = True
     drifts: tuple = ()
     drifts_late: tuple = ()
+    compared_contacts: int = 0
+    displacement: float = 0.0
+    displacement_late: float = 0.0
+    strain_scale: float = 0.0
+    delta0_max: float = 0.0
+
+    def roundoff_at(self, h: float, horizon: float | None = None) -> float:
+        """The round-off floor of the compared quantities at step h over ``horizon``, relative.
+
+        :func:`roundoff_floor` with N = horizon/h steps (the probe's length when no
+        horizon is given) and the displacements grown to the horizon at the rate the
+        probe measured over its second half (as :meth:`drifts_at` grows the drifts).
+        """
+        t = self.t_probe
+        if horizon is not None and math.isfinite(horizon) and horizon > t:
+            t = float(horizon)
+        grow = max(self.displacement_late, 0.0) * 2.0 * max(t - self.t_probe, 0.0) \
+            / self.t_probe if self.t_probe > 0 else 0.0
+        return roundoff_floor(math.ceil(t / h), displacement=self.displacement + grow,
+                              strain=self.strain_scale, delta0=self.delta0_max)
 
     def drifts_at(self, horizon: float | None) -> tuple:
         """Each probe run's drift extrapolated to a run of length ``horizon`` (s).
@@ -493,7 +696,7 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     law = as_law(law)
     method = get_integrator(integrator)
     delta = expected_overlaps(chain, u, v, wall_left, wall_right, law=law)
-    w = _omega_max(chain, delta, law)
+    w = _rate_max(chain, delta, law, drag)
     if not w > 0:
         raise ValueError("cannot probe the error: no contact is loaded and nothing moves")
     period = 2.0 * math.pi / w
@@ -513,14 +716,23 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     runs: list[_ProbeRun] = []
     steps = 0
 
+    loaded = chain.k > 0
+    delta0_max = float(np.max(chain.delta0[loaded], initial=0.0))
+
     def result(complete: bool = True) -> ProbeResult:
         done = np.logical_and.reduce([r.done for r in runs])
-        d = [runs[k].difference(runs[k + 1], done) for k in range(len(runs) - 1)]
+        odone = (None if runs[0].odone is None
+                 else np.logical_and.reduce([r.odone for r in runs]))
+        d = [runs[k].difference(runs[k + 1], done, odone) for k in range(len(runs) - 1)]
         hs = tuple(h0 / 2.0**k for k in range(len(runs)))
         e, p_obs, p, clean = error_bounds(d, method.order)
+        fine = runs[-1]
         return ProbeResult(method.name, hs, e, tuple(d), p_obs, p, clean, t_probe, steps,
                            int(np.count_nonzero(done)), complete,
-                           tuple(r.drift for r in runs), tuple(r.drift_late for r in runs))
+                           tuple(r.drift for r in runs), tuple(r.drift_late for r in runs),
+                           0 if odone is None else int(np.count_nonzero(odone)),
+                           fine.umax, fine.umax - fine.umax_mid,
+                           0.0 if odone is None else fine.oscale, delta0_max)
 
     restarts = 0
     while True:
@@ -556,9 +768,12 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
             continue
         # finer while the differences do not shrink (not yet asymptotic) or no probe step
         # meets the target; never more than PROBE_MAX_LEVELS runs
-        converging = pr.differences[-1] < pr.differences[-2] or pr.differences[-1] <= 1e-14
+        # or the differences reached the round-off floor of the probe runs (two runs'
+        # round-off: finer probe steps only measure more of it)
+        converging = pr.differences[-1] < pr.differences[-2]
+        at_floor = pr.differences[-1] <= 2.0 * pr.roundoff_at(pr.h[-1])
         meets = target is None or pr.errors[-1] <= target
-        if (converging and meets) or len(runs) >= PROBE_MAX_LEVELS:
+        if (converging and meets) or at_floor or len(runs) >= PROBE_MAX_LEVELS:
             return pr
 
 
@@ -583,6 +798,87 @@ def error_bounds(differences, method_order: int) -> tuple[tuple, float, float, b
     for dk in reversed(d):
         e.append(dk + e[-1])
     return tuple(reversed(e)), p_obs, p, clean
+
+
+def _refuse_below_floor(chain, u, v, wall_left, wall_right, *, rtol, law, drag, horizon,
+                        recording, stages) -> None:
+    """ValueError, before any probe run, if round-off alone exceeds RTOL_SAFETY × rtol.
+
+    The fewest steps the run can take are its length (``horizon``, else the probe's,
+    :data:`PROBE_PERIODS` shortest contact periods) over the largest probe step
+    (:data:`PROBE_FRACTION` × S × 2π/Ω_max, at most half the stability bound); the
+    displacements are at least the initial ones and the dynamic overlaps at most the
+    expected ones (:func:`expected_overlaps`), so :func:`roundoff_floor` of these is a
+    lower bound of the run's round-off floor.  The step chosen for rtol keeps the
+    truncation error plus the floor within RTOL_SAFETY × rtol (:func:`_rtol_step`), so
+    an rtol below floor / RTOL_SAFETY cannot be met whatever the step.
+    """
+    delta = expected_overlaps(chain, u, v, wall_left, wall_right, law=law)
+    w = _rate_max(chain, delta, law, drag)
+    if not w > 0:
+        return  # probe_error names it
+    period = 2.0 * math.pi / w
+    h_max = min(PROBE_FRACTION * stages * period,
+                0.5 * stable_dt(chain, delta, law=law, drag=drag))
+    t = PROBE_PERIODS * period
+    if horizon is not None and math.isfinite(horizon) and horizon > 0:
+        t = float(horizon)
+    strain = 0.0
+    loaded = chain.k > 0
+    if recording is not None and recording.strain_maxima:
+        strain = float(np.max((delta - chain.delta0)[loaded], initial=0.0))
+    u0 = 0.0 if u is None else float(np.max(np.abs(u), initial=0.0))
+    floor = roundoff_floor(math.ceil(t / h_max), displacement=u0, strain=strain,
+                           delta0=float(np.max(chain.delta0[loaded], initial=0.0)))
+    if floor > RTOL_SAFETY * rtol:
+        least = floor / RTOL_SAFETY
+        raise ValueError(
+            f"rtol = {rtol:g} is below what float64 can deliver for this run: round-off "
+            f"alone, accumulated over its at least {math.ceil(t / h_max):,} steps (unit "
+            f"round-off 2^-53 times the square root of the number of steps, relative to "
+            f"the recorded maxima; discrete.timestep.roundoff_floor), is at least "
+            f"{floor:.2g}, so the smallest error the run can state is {least:.2g}; "
+            f"allowed rtol in [{least:.2g}, 1)")
+
+
+def _rtol_step(pr: ProbeResult, rtol: float, h_max: float,
+               horizon: float | None) -> tuple[float | None, float]:
+    """The largest step h <= h_max whose estimate (E(h) + F(h)) / RTOL_SAFETY <= rtol.
+
+    E(h) the probe's truncation error (:meth:`ProbeResult.error_at`, increasing in h),
+    F(h) the round-off floor over the run (:meth:`ProbeResult.roundoff_at`, growing as
+    h^{-1/2}): their sum has one minimum, and the steps that meet rtol form an interval
+    below h_max.  Returns (h, estimate), or (None, the smallest estimate of any step)
+    if none meets rtol.
+    """
+    def estimate(h):
+        return (pr.error_at(h) + pr.roundoff_at(h, horizon)) / RTOL_SAFETY
+
+    h = min(h_max, pr.step_for(RTOL_SAFETY * rtol))
+    est = estimate(h)
+    if est <= rtol:
+        return h, est
+    # the round-off floor takes part of the budget: go down in steps of 2^(1/16) until
+    # the estimate meets rtol (then bisect the bracket), or it rises again (past the
+    # minimum: nothing meets rtol)
+    ratio = 2.0 ** (1.0 / 16.0)
+    best = est
+    for _ in range(16 * 40):
+        lower = h / ratio
+        e_lower = estimate(lower)
+        if e_lower <= rtol:
+            hi, lo = h, lower
+            for _ in range(40):
+                mid = math.sqrt(hi * lo)
+                if estimate(mid) <= rtol:
+                    lo = mid
+                else:
+                    hi = mid
+            return lo, estimate(lo)
+        if e_lower > best:
+            break
+        h, best = lower, e_lower
+    return None, best
 
 
 PREDICTION_SLACK = 1.25
@@ -652,13 +948,18 @@ class TimeStep:
     rtol : float or None
         The accuracy asked for (``source == "rtol"``), relative.
     error_estimate : float
-        The estimated relative error of the recorded quantities at :attr:`dt` (from the
-        probe, :func:`probe_error`; nan without rtol).
+        The estimated relative error of the recorded quantities at :attr:`dt`: the
+        probe's truncation error (:func:`probe_error`) plus the round-off floor over
+        the run (:meth:`ProbeResult.roundoff_at`), over :data:`RTOL_SAFETY` — measured,
+        never set to rtol (nan without rtol).
     order : float
         The order that extrapolated the finest probe run of the chosen method (the
         observed one, clipped to [1, method order], if clean, else 1; nan without rtol).
     probe_steps : int
         Steps the probe took (0 without rtol).
+    damping_rate : float
+        The largest dissipative rate γ_max at the expected overlaps, 1/s
+        (:func:`damping_rate`; 0 for a conservative law without drag).
     """
 
     dt: float
@@ -672,6 +973,7 @@ class TimeStep:
     error_estimate: float = math.nan
     order: float = math.nan
     probe_steps: int = 0
+    damping_rate: float = 0.0
 
     @classmethod
     def choose(cls, chain: Chain, u=None, v=None, wall_left: float = 0.0,
@@ -754,9 +1056,10 @@ class TimeStep:
         if not (math.isfinite(frac) and frac > 0):
             raise ValueError(f"fraction must be finite and > 0 (got {fraction!r})")
         delta = expected_overlaps(chain, u, v, wall_left, wall_right, law=law)
-        w = _omega_max(chain, delta, law)
+        w = _rate_max(chain, delta, law, drag)
         default = frac * 2.0 * math.pi / w if w > 0 else math.inf
         stable = stable_dt(chain, delta, law=law, drag=drag)
+        gamma = damping_rate(chain, delta, law=law, drag=drag)
         if dt is None:
             if not math.isfinite(default):
                 raise ValueError("cannot choose dt: no contact is loaded and nothing "
@@ -768,7 +1071,8 @@ class TimeStep:
                     or not math.isfinite(chosen) or chosen <= 0):
                 raise ValueError(f"dt must be a finite number > 0 s (got {dt!r})")
             source = "explicit"
-        step = cls(chosen, source, default, stable, frac, method.name, delta)
+        step = cls(chosen, source, default, stable, frac, method.name, delta,
+                   damping_rate=gamma)
         if check:
             step.check()
         return step
@@ -786,8 +1090,12 @@ class TimeStep:
                  else (get_integrator(integrator).name,))
         if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
             names = ("verlet",)
+        _refuse_below_floor(chain, u, v, wall_left, wall_right, rtol=rtol, law=law,
+                            drag=drag, horizon=horizon, recording=recording,
+                            stages=max(get_integrator(n).stages for n in names))
         target = RTOL_SAFETY * rtol
         best = None
+        floors = []
         steps = 0
         for name in names:
             method = get_integrator(name)
@@ -797,30 +1105,61 @@ class TimeStep:
             steps += pr.probe_steps
             if not pr.complete:
                 continue
+            if pr.compared == 0 and pr.compared_contacts == 0:
+                raise ValueError(
+                    f"rtol = {rtol:g}: no recorded maximum settled within the probe "
+                    f"({pr.t_probe:.3g} s; a maximum counts once its peak has passed or "
+                    "it no longer changes), so there is nothing to measure the error on; "
+                    "give dt")
             base = cls.choose(chain, u, v, wall_left, wall_right, integrator=method,
                               law=law, drag=drag, check=False)
-            h = min(pr.step_for(target), 0.5 * base.stable)
+            h_max = min(pr.h0, 0.5 * base.stable)
             # the run must also pass its energy monitor: the probe's drift, extrapolated
             # to the run's length at the rate measured over the probe's second half
             cap = min(drift_tolerance, rtol) if energy_ratios else drift_tolerance
-            h = min(h, pr.step_for_drift(RTOL_SAFETY * cap, horizon))
-            # the step meets the target by construction; recomputing the estimate there
-            # can return rtol (1 + 2e-16), a promise (estimate <= rtol) broken by round-off
-            est = min(rtol, pr.error_at(h) / RTOL_SAFETY)
+            h_max = min(h_max, pr.step_for_drift(RTOL_SAFETY * cap, horizon))
+            h, est = _rtol_step(pr, rtol, h_max, horizon)
+            if h is None:  # round-off and truncation together never get below rtol
+                floors.append(est)
+                continue
             if energy_ratios:  # the energy ratios' absolute error: the run's drift
-                est = max(est, min(rtol, pr.drift_at(h, horizon) / RTOL_SAFETY))
+                est = max(est, pr.drift_at(h, horizon) / RTOL_SAFETY)
             cost = method.stages / h
             if best is None or cost < best[0]:
                 best = (cost, method, h, est, pr, base)
+        if best is None:
+            raise ValueError(
+                f"rtol = {rtol:g} is below what float64 can deliver for this run: the "
+                f"probe's truncation error and the round-off accumulated over the run's "
+                f"steps (unit round-off 2^-53 times the square root of the number of "
+                f"steps, :func:`discrete.timestep.roundoff_floor`) add up to at least "
+                f"{min(floors):.2g} of the recorded quantities at every step; allowed "
+                f"rtol in [{min(floors):.2g}, 1)")
         _, method, h, est, pr, base = best
         step = cls(h, "rtol", base.default, base.stable, base.fraction, method.name,
-                   base.delta_expected, rtol, est, pr.order, steps)
+                   base.delta_expected, rtol, est, pr.order, steps, base.damping_rate)
         if check:
             step.check()
         return step
 
     def check(self) -> None:
-        """ValueError if :attr:`dt` is above :attr:`stable` (naming the allowed range)."""
+        r"""ValueError if :attr:`dt` is above :attr:`stable` or the damping bound.
+
+        The damping bound :math:`\gamma_{max}\,\Delta t \le` :data:`DAMPING_STEP_LIMIT`
+        is one of accuracy, not stability (module docstring, "Dissipative time
+        scales"): beyond it the split step's relaxation of an overdamped contact is off
+        by more than 8 %, a wrong result that no monitor sees.
+        """
+        if self.damping_rate * self.dt > DAMPING_STEP_LIMIT:
+            limit = DAMPING_STEP_LIMIT / self.damping_rate
+            raise ValueError(
+                f"dt = {self.dt:.4g} s is above the damping bound {limit:.4g} s: the "
+                f"fastest dissipative rate at the expected overlaps is γ_max = "
+                f"{self.damping_rate:.4g} 1/s (damping coefficient × inverse reduced "
+                f"mass, plus the drag rate), and the split dissipative step is accurate "
+                f"only for γ_max dt <= {DAMPING_STEP_LIMIT:g}; allowed range (0, "
+                f"{min(limit, self.stable):.4g}] s, default {self.default:.4g} s "
+                f"(check_dt=False skips this check)")
         if self.dt > self.stable:
             raise ValueError(
                 f"dt = {self.dt:.4g} s is above the largest linearly stable time step "
