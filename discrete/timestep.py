@@ -386,7 +386,7 @@ class _ProbeRun:
                             float)
         omax_mid = None if rec.overlap_max is None else np.array(rec.overlap_max, float)
         self.umax_mid = float(np.max(np.abs(sim.u), initial=0.0))
-        open_mid = sim.overlaps() < 0
+        topen_mid = _opening_times(sim, drag)
         late = sim.run(max_steps=nsteps - nsteps // 2, progress=False)
 
         def measure(info):  # the energy monitor's (Verlet's modified energy, else E)
@@ -406,18 +406,17 @@ class _ProbeRun:
         # grain still rising at the probe's end holds its present v, a phase error
         settled = vmax - vmax_mid <= SETTLED_GROWTH * np.abs(vmax)
         self.done = ((sim.v < 0.5 * vmax) | settled) & (np.abs(vmax) > 0.01 * scale)
-        # the contacts that opened for good: open at mid-probe and at its end, opening
-        # (their grains flying apart) with a gap of at least 1 % of the expected dynamic
-        # overlap; t_open = t - r/ṙ, the time free flight back from the end state
-        # closes them: their opening (contact) times
-        r, rd = sim.overlaps(), self._overlap_rates(sim)
-        rmax = (np.asarray(rec.overlap_max, float) if rec.overlap_max is not None
-                else np.full(r.shape, np.inf))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            self.topen = sim.t - r / rd
-            self.tdone = ((chain.k > 0) & open_mid & (r < 0) & (rd < 0)
-                          & (-r > 0.01 * (delta_expected - chain.delta0))
-                          & (rmax > chain.delta0) & (self.topen > 0))
+        # the contacts that opened for good, their grains in free flight since: the
+        # opening time read back along the free flight from the end state and from the
+        # mid-probe state agree (to SETTLED_GROWTH), with a gap of at least 1 % of the
+        # expected dynamic overlap: their contact times
+        r = sim.overlaps()
+        self.topen = _opening_times(sim, drag)
+        with np.errstate(invalid="ignore"):
+            self.tdone = ((chain.k > 0) & (-r > 0.01 * (delta_expected - chain.delta0))
+                          & (np.abs(self.topen - topen_mid)
+                             <= SETTLED_GROWTH * np.abs(self.topen))
+                          & (self.topen > 0))
         self.omax = self.odone = None
         self.oscale = 0.0
         if rec.overlap_max is not None:  # strain maxima: the dynamic part, relative
@@ -432,12 +431,6 @@ class _ProbeRun:
             settled = omax - omax_mid <= SETTLED_GROWTH * np.abs(dyn)
             self.odone = (loaded & ((now < 0.5 * dyn) | settled)
                           & (np.abs(dyn) > 0.01 * self.oscale))
-
-    @staticmethod
-    def _overlap_rates(sim) -> np.ndarray:
-        """dδ_j/dt = v_{j-1} - v_j (a wall at rest: v = 0), m/s."""
-        v = np.r_[0.0, sim.v, 0.0]
-        return v[:-1] - v[1:]
 
     def difference(self, other: _ProbeRun, done: np.ndarray,
                    odone: np.ndarray | None, tdone: np.ndarray | None = None) -> float:
@@ -458,6 +451,24 @@ class _ProbeRun:
         return max(d, abs(self.travel - other.travel) / max(abs(other.travel), 1.0))
 
 
+def _opening_times(sim, drag: float) -> np.ndarray:
+    r"""When each open, opening contact opened, if its grains flew freely since, s.
+
+    A contact with gap r < 0 opening at :math:`\dot r = v_{j-1} - v_j < 0` (a wall at
+    rest: v = 0), both grains in free flight under the drag β since it opened at
+    :math:`t_o`: :math:`\dot r(t) = \dot r_o e^{-\beta(t - t_o)}`, :math:`r = (\dot r_o
+    / \beta)(1 - e^{-\beta(t - t_o)})`, so :math:`t - t_o = \ln(1 + \beta r/\dot r)/\beta`
+    (β → 0: r/ṙ).  nan where the contact is closed or closing.
+    """
+    r = sim.overlaps()
+    v = np.r_[0.0, sim.v, 0.0]
+    rd = v[:-1] - v[1:]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = r / rd
+        back = np.log1p(drag * x) / drag if drag > 0 else x
+        return np.where((r < 0) & (rd < 0), sim.t - back, np.nan)
+
+
 def _centroid(sim) -> float:
     """Energy centroid of a simulation's active window, grains (0 if it holds no energy)."""
     lo, hi = sim.window
@@ -475,20 +486,24 @@ UNIT_ROUNDOFF = 2.0**-53
 
 def roundoff_floor(steps: int, *, displacement: float = 0.0, strain: float = 0.0,
                    delta0: float = 0.0) -> float:
-    r"""The relative error round-off alone leaves in the recorded quantities after N steps.
+    r"""The relative error round-off alone leaves in the compared quantities after N steps.
 
     Every step rounds every stored u and v once (relative error at most u =
-    :data:`UNIT_ROUNDOFF`); independent roundings accumulate as a random walk, so
-    after N steps a velocity maximum, relative to the largest speed, carries
-    :math:`u\sqrt N` (Henrici's statistical law of round-off propagation, P. Henrici,
-    *Discrete Variable Methods in Ordinary Differential Equations*, Wiley 1962;
-    Brouwer's law for the energy, Hairer, McLachlan & Razakarivony, BIT 48 (2008)
-    231).  An overlap :math:`\delta_{0,j} + u_{j-1} - u_j` is a difference of
-    displacements: each carries :math:`u\,U\sqrt N` (U the largest displacement, m),
-    and the sum one rounding of :math:`\delta_0`, so its maximum, relative to the
-    dynamic overlap scale Q (m), carries :math:`u(\sqrt{2N}\,U + \delta_0)/Q` — large
-    when the grains travel far compared with their overlaps (a free pair flying
-    apart) or a small wave rides on a large precompression.
+    :data:`UNIT_ROUNDOFF`).  The velocity increments h·a change from step to step, so
+    their roundings behave as independent and accumulate as a random walk (Henrici's
+    statistical law of round-off propagation, P. Henrici, *Discrete Variable Methods
+    in Ordinary Differential Equations*, Wiley 1962; Brouwer's law for the energy,
+    Hairer, McLachlan & Razakarivony, BIT 48 (2008) 231): a velocity maximum, relative
+    to the largest speed, carries :math:`u\sqrt N` (measured on an impact: 0.3–1.3
+    of it).  A displacement increment h·v repeats itself in free flight and is then
+    rounded the same way step after step: the rounding of u, at most :math:`u\,U` per
+    step (U the largest displacement, m), accumulates linearly, :math:`u\,N\,U` (the
+    worst case; measured on a pair flying apart: 1/10 of it, 10 times the random walk).
+    An overlap :math:`\delta_{0,j} + u_{j-1} - u_j` and a contact time (its gap over its
+    opening speed) carry that over the dynamic overlap scale Q (m), plus one rounding of
+    :math:`\delta_0`: :math:`u(N U + \delta_0)/Q` — large when the grains travel far
+    compared with their overlaps (a pair flying apart) or a small wave rides on a large
+    precompression.
 
     Parameters
     ----------
@@ -497,20 +512,19 @@ def roundoff_floor(steps: int, *, displacement: float = 0.0, strain: float = 0.0
     displacement : float
         U, m.
     strain : float
-        Q, m; 0 when no overlap maxima are compared.
+        Q, m; 0: velocities only.
     delta0 : float
         The largest static overlap, m.
 
     Returns
     -------
     float
-        :math:`\max(u\sqrt N,\ u(\sqrt{2N}\,U + \delta_0)/Q)`, relative.
+        :math:`\max(u\sqrt N,\ u(N U + \delta_0)/Q)`, relative.
     """
     n = max(int(steps), 1)
     floor = UNIT_ROUNDOFF * math.sqrt(n)
     if strain > 0:
-        floor = max(floor, UNIT_ROUNDOFF * (math.sqrt(2.0 * n) * abs(displacement)
-                                            + abs(delta0)) / strain)
+        floor = max(floor, UNIT_ROUNDOFF * (n * abs(displacement) + abs(delta0)) / strain)
     return floor
 
 
@@ -560,8 +574,8 @@ class ProbeResult:
         second half, m (:meth:`roundoff_at` extrapolates the displacements with it).
     strain_scale : float
         The largest dynamic overlap max_j (δ_max,j - δ0_j) of the loaded contacts in the
-        finest probe run, m (0 without strain maxima): the scale the overlap maxima
-        are compared in.
+        finest probe run (the expected one, :func:`expected_overlaps`, without strain
+        maxima), m: the scale of the overlaps and contact times (:meth:`roundoff_at`).
     delta0_max : float
         The largest static overlap, m (its rounding enters every overlap).
     """
@@ -780,6 +794,7 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
 
     loaded = chain.k > 0
     delta0_max = float(np.max(chain.delta0[loaded], initial=0.0))
+    q_expected = float(np.max((delta - chain.delta0)[loaded], initial=0.0))
 
     def result(complete: bool = True) -> ProbeResult:
         done = np.logical_and.reduce([r.done for r in runs])
@@ -796,7 +811,7 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
                            tuple(r.drift for r in runs), tuple(r.drift_late for r in runs),
                            0 if odone is None else int(np.count_nonzero(odone)),
                            fine.umax, fine.umax - fine.umax_mid,
-                           0.0 if odone is None else fine.oscale, delta0_max)
+                           q_expected if odone is None else fine.oscale, delta0_max)
 
     restarts = 0
     while True:
@@ -865,7 +880,7 @@ def error_bounds(differences, method_order: int) -> tuple[tuple, float, float, b
 
 
 def _refuse_below_floor(chain, u, v, wall_left, wall_right, *, rtol, law, drag, horizon,
-                        recording, stages) -> None:
+                        stages) -> None:
     """ValueError, before any probe run, if round-off alone exceeds RTOL_SAFETY × rtol.
 
     The fewest steps the run can take are its length (``horizon``, else the probe's,
@@ -887,10 +902,8 @@ def _refuse_below_floor(chain, u, v, wall_left, wall_right, *, rtol, law, drag, 
     t = PROBE_PERIODS * period
     if horizon is not None and math.isfinite(horizon) and horizon > 0:
         t = float(horizon)
-    strain = 0.0
     loaded = chain.k > 0
-    if recording is not None and recording.strain_maxima:
-        strain = float(np.max((delta - chain.delta0)[loaded], initial=0.0))
+    strain = float(np.max((delta - chain.delta0)[loaded], initial=0.0))
     u0 = 0.0 if u is None else float(np.max(np.abs(u), initial=0.0))
     floor = roundoff_floor(math.ceil(t / h_max), displacement=u0, strain=strain,
                            delta0=float(np.max(chain.delta0[loaded], initial=0.0)))
@@ -911,38 +924,40 @@ def _rtol_step(pr: ProbeResult, rtol: float, h_max: float,
 
     E(h) the probe's truncation error (:meth:`ProbeResult.error_at`, increasing in h),
     F(h) the round-off floor over the run (:meth:`ProbeResult.roundoff_at`, growing as
-    h^{-1/2}): their sum has one minimum, and the steps that meet rtol form an interval
-    below h_max.  Returns (h, estimate), or (None, the smallest estimate of any step)
-    if none meets rtol.
+    h falls): the steps that meet rtol form an interval below h_max.  Scanned from
+    h_max down in factors 2^(1/16) over 40 octaves, the first step that meets rtol
+    refined by bisection against the one above it.  Returns (h, estimate), or (None,
+    the smallest estimate of the scan) when no step meets rtol.
     """
     def estimate(h):
         return (pr.error_at(h) + pr.roundoff_at(h, horizon)) / RTOL_SAFETY
 
-    h = min(h_max, pr.step_for(RTOL_SAFETY * rtol))
+    h = min(h_max, pr.step_for(RTOL_SAFETY * rtol))  # where E alone meets it
     est = estimate(h)
     if est <= rtol:
-        return h, est
-    # the round-off floor takes part of the budget: go down in steps of 2^(1/16) until
-    # the estimate meets rtol (then bisect the bracket), or it rises again (past the
-    # minimum: nothing meets rtol)
-    ratio = 2.0 ** (1.0 / 16.0)
-    best = est
-    for _ in range(16 * 40):
-        lower = h / ratio
-        e_lower = estimate(lower)
-        if e_lower <= rtol:
-            hi, lo = h, lower
-            for _ in range(40):
-                mid = math.sqrt(hi * lo)
-                if estimate(mid) <= rtol:
-                    lo = mid
-                else:
-                    hi = mid
-            return lo, estimate(lo)
-        if e_lower > best:
-            break
-        h, best = lower, e_lower
-    return None, best
+        if h >= h_max:
+            return h, est
+        above = min(h_max, h * 2.0 ** (1.0 / 16.0))
+    else:  # the floor takes part of the budget: scan the whole range
+        grid = h_max * 2.0 ** (-np.arange(16 * 40 + 1) / 16.0)
+        ests = np.array([estimate(x) for x in grid])
+        ok = np.flatnonzero(ests <= rtol)
+        if ok.size == 0:
+            return None, float(np.min(ests))
+        h, est = float(grid[ok[0]]), float(ests[ok[0]])
+        if ok[0] == 0:
+            return h, est
+        above = float(grid[ok[0] - 1])
+    if estimate(above) <= rtol:
+        return above, estimate(above)
+    lo, hi = h, above
+    for _ in range(40):
+        mid = math.sqrt(hi * lo)
+        if estimate(mid) <= rtol:
+            lo = mid
+        else:
+            hi = mid
+    return lo, estimate(lo)
 
 
 PREDICTION_SLACK = 1.25
@@ -1155,7 +1170,7 @@ class TimeStep:
         if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
             names = ("verlet",)
         _refuse_below_floor(chain, u, v, wall_left, wall_right, rtol=rtol, law=law,
-                            drag=drag, horizon=horizon, recording=recording,
+                            drag=drag, horizon=horizon,
                             stages=max(get_integrator(n).stages for n in names))
         target = RTOL_SAFETY * rtol
         best = None
