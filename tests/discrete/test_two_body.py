@@ -190,3 +190,23 @@ def test_reference_agrees_with_a_second_integrator(case):
             assert a[key] == pytest.approx(b[key], rel=1e-8), key
     if "e" in a:
         assert a["e"] == pytest.approx(b["e"], abs=1e-8)
+
+
+@pytest.mark.parametrize(("n", "unit"), [(1.0, "N/m"), (1.5, "N/m^(3/2)"), (2.0, "N/m^2"),
+                                         (2.5, "N/m^(5/2)")])
+def test_saved_contact_constant_has_the_unit_of_its_law(tmp_path, n, unit):
+    # F = k δⁿ (N, m): k is in N/m^n.  The HDF5 file wrote N/m^(3/2) for every exponent.
+    import json
+
+    import h5py
+
+    from discrete import save
+
+    law, k, _ = CASES[f"power-{n:g}"]
+    chain = Chain.from_arrays([M, M], [0.0, k, 0.0], 0.0, exponent=n, diameter=D)
+    sim = Simulation(chain, v=[W0, 0.0], law=law)
+    sim.run(max_steps=10, progress=False)
+    path = save(tmp_path / "pair.h5", sim)
+    with h5py.File(path, "r") as f:
+        assert f["chain/k"].attrs["units"] == unit
+        assert json.loads(f.attrs["units"])["k"] == unit
