@@ -16,16 +16,20 @@ elastic energy :math:`U(\delta) = k\delta^{n+1}/(n+1)` (J; for Hertz (2/5) k δ^
 (:meth:`ContactLaw.overlap_with_energy <discrete.laws.ContactLaw.overlap_with_energy>`).
 For a vertical chain (gravity) the present overlap is taken at least at the force of
 twice the static weight, :math:`2^{1/n}\delta_0` (a chain released uncompressed falls
-onto its static overlaps and overshoots them).
+onto its static overlaps and overshoots them).  For a dissipative law it is also at most
+the overlap at which the damping alone absorbs the chain's momentum
+(:func:`damping_overlaps`; "Dissipative time scales" below).
 
 Default time step
 -----------------
 The linearised stiffness of contact j at overlap δ is :math:`K_j = \partial F/\partial
 \delta` (N/m; Hertz: :math:`\tfrac32 k_j\delta^{1/2}`) and its two-body frequency
-:math:`\omega_j = \sqrt{K_j (1/m_{j-1} + 1/m_j)}` (rad/s; one mass at a wall).  At the
-expected overlaps the default is
+:math:`\omega_j = \sqrt{K_j (1/m_{j-1} + 1/m_j)}` (rad/s; one mass at a wall); a
+dissipative law or drag adds the rate :math:`\gamma_j` (:func:`contact_rates`; next
+section), and :math:`\Omega_j^2 = \omega_j^2 + 2\gamma_j^2` (= ω_j² bitwise without
+them).  At the expected overlaps the default is
 
-.. math:: \Delta t = f\,S\, \frac{2\pi}{\max_j \omega_j},\qquad f = 0.002
+.. math:: \Delta t = f\,S\, \frac{2\pi}{\max_j \Omega_j},\qquad f = 0.002
    \ (\text{:data:`DT_FRACTION`}),
 
 with S the force evaluations per step of the integrator (:mod:`discrete.integrators`;
@@ -41,10 +45,35 @@ error 7e-5) and for smooth solitary waves (cut or exact waves: energy conserved 
 ~1e-11 at f = 0.01) much larger steps would do.  For the paper's steel grains
 (d = 5 mm, v0 = 1 m/s) f = 0.002 gives dt ≈ 4.4e-8 s, ~40× the paper's dt = 1e-9 s.
 
-Velocity-dependent forces (:class:`~discrete.laws.ViscoelasticHertz`, drag) add no
-bound: the kernels solve them exactly in dissipative sub-steps that never increase the
-kinetic energy, for any step (:mod:`discrete.kernels`, "Dissipation"); the elastic part
-keeps the bound above, and the run-time energy-balance monitor catches what it misses.
+Dissipative time scales
+-----------------------
+Velocity-dependent forces (:class:`~discrete.laws.ViscoelasticHertz`, drag) are solved
+exactly in dissipative sub-steps between the elastic ones (:mod:`discrete.kernels`,
+"Dissipation"): they never raise the kinetic energy, so they add no *stability* bound —
+the elastic one above stands.  They bound the step for *accuracy* (docs/physics.md
+§13).  Contact j's relative velocity relaxes at :math:`\gamma_j = c_j s_j + \beta`
+(1/s; :math:`c_j` the law's damping coefficient ``law.damping`` at the expected
+overlap, N·s/m, :math:`s_j = 1/m_{j-1} + 1/m_j`, β the drag).  For one contact, the
+damped oscillator :math:`\ddot x + \gamma\dot x + \omega^2 x = 0`, the split step is
+velocity Verlet's :math:`(\omega h)^2/24` off in frequency when underdamped; when
+overdamped (γ > ω) the overlap creeps back at :math:`\omega^2/\gamma` and the split
+step's creep is :math:`(x/2)\coth(x/2)` times that, x = γh — relatively
+:math:`x^2/12` off, and x/2 for x ≫ 1 (the step that ignored γ: two grains with
+A = 1e-2 s stuck at 1.08e-7 m instead of 3.92e-8 m).  Together about
+:math:`(\Omega h)^2/24`, whence the default with :math:`\Omega_j`: the same
+6.6e-6 as the lossless default.  An explicit step with :math:`\gamma_{max}\Delta t`
+above :data:`DAMPING_STEP_LIMIT` (creep 8.2 % off) is refused (:meth:`TimeStep.check`).
+
+Which overlap: γ grows with the overlap (Kuwabara–Kono: :math:`c = kA\sqrt\delta`), and
+a heavily damped contact never reaches the energy bound.  While it closes its force is
+at least :math:`c(\delta)\dot\delta`, so an impulse J stops it by :math:`\delta^*`
+with :math:`\int_r^{\delta^*} c\,d\delta = J` (:func:`damping_overlaps`; exact for
+two bodies with J = μw, Kuwabara–Kono :math:`\delta^* = (3\mu w/2kA)^{2/3}` where
+:math:`\gamma = \tfrac32 w/\delta^*`, the inverse approach time); the expected
+overlap is the smaller of the two bounds, with J the chain's total |momentum|
+:math:`\sum_i m_i|v_i|`.  An overdamped contact also has a slow time, its creep time
+:math:`\gamma_j/\omega_j^2` (:func:`creep_time`; Kuwabara–Kono 2A/3): the rtol probe
+covers :data:`PROBE_CREEP` of them.
 
 A stated accuracy instead of a dt (``rtol``)
 --------------------------------------------
@@ -52,16 +81,22 @@ With ``rtol`` (and no explicit dt) the step is chosen so that the recorded quant
 carry a relative error of at most about ``rtol``, from an error that is *measured*, not
 assumed (:func:`probe_error`).  A short probe — the run itself from its initial state,
 with the run's own recording and kernel, for :data:`PROBE_PERIODS` shortest contact
-periods :math:`T_c = 2\pi/\omega_{max}` (or to the run's end if sooner; a whole number
-of steps, so that every probe run ends at the same time) — is integrated at the steps
-:math:`h_k = h_0/2^k`, k = 0, 1, 2, … (:math:`h_0` = :data:`PROBE_FRACTION` × S ×
-:math:`T_c`).  The compared quantities q are what the run records: every grain's
-running maximum of v over the largest |v| (the Fig. 2 v̄max/v0, the *refined* maximum
+periods :math:`T_c = 2\pi/\Omega_{max}` and at least :data:`PROBE_CREEP` creep times
+of an overdamped contact (at most :data:`PROBE_CREEP_STEPS` steps for these; or to the
+run's end if sooner; a whole number of steps, so that every probe run ends at the same
+time) — is integrated at the steps :math:`h_k = h_0/2^k`, k = 0, 1, 2, …
+(:math:`h_0` = :data:`PROBE_FRACTION` × S × :math:`T_c`).  The compared quantities q
+are what the run records, each once it is *settled* — its peak passed (v < v̄max/2) or
+grown by less than :data:`SETTLED_GROWTH` of itself over the probe's second half —
+and over a scale common to both runs compared (the finer run's: a run's own scale
+would hide the error of the maximum that sets it): every grain's running maximum of v
+over the largest |v| (the Fig. 2 v̄max/v0, the *refined* maximum
 ``record.vmax_refined``, interpolated between the steps at the method's order — not the
-largest sample ``record.vmax``, which stays O(h²) and is not what rtol bounds; only
-grains whose peak has passed, v < v̄max/2, at the end of the probe), every contact's
-running maximum overlap
-when the run records strain maxima, and the distance travelled by the energy centroid
+largest sample ``record.vmax``, which stays O(h²) and is not what rtol bounds), every
+loaded contact's (k > 0) running maximum overlap over the largest dynamic one when the
+run records strain maxima, every contact's opening (contact) time — read back along
+the free flight since (drag included) from the probe's end and from its middle, where
+the two agree — relative to itself, and the distance travelled by the energy centroid
 of the wave (arrival times and speeds), relative.  The differences
 :math:`d_k = \|q(h_k) - q(h_{k+1})\|_\infty` bound the error at each probe step
 directly (triangle inequality),
@@ -85,8 +120,15 @@ run's length at the rate measured over the probe's second half
 (:meth:`ProbeResult.drifts_at`), would reach :data:`RTOL_SAFETY` of the run's drift
 tolerance (a fourth-order method at a large step can meet rtol in the maxima and still
 fail the run's energy monitor: measured on the interface problem, Blanes–Moan 4 at 8×
-the default step drifted 1.3e-4 over the run), and the estimate E(h)/s (≤ rtol) is
-written into the result (:attr:`TimeStep.error_estimate`).  Finer probe steps are
+the default step drifted 1.3e-4 over the run).  Round-off takes its share: E(h) is
+joined by the floor F(h) that round-off leaves after the run's N = T/h steps
+(:func:`roundoff_floor`: :math:`u\sqrt N` for the velocities, :math:`u(N U +
+\delta_0)/Q` for overlaps and contact times, u = 2^-53; docs/physics.md §13), the
+step is the largest with :math:`(E(h) + F(h))/s \le` rtol, and that estimate is
+written into the result (:attr:`TimeStep.error_estimate`) as measured — never set to
+rtol.  An rtol below F/s at the largest probe step (the fewest steps the run can take)
+is refused before any probe run, and one that no step meets after the probe, each
+with the achievable floor named (ValueError).  Finer probe steps are
 added while the differences do not shrink (not yet asymptotic) or no probe step meets s·rtol, up to
 :data:`PROBE_MAX_LEVELS` runs; an unstable probe run is dropped with the coarser ones.
 The factor 1/s is measured, not decoration: a maximum sampled once per step has an
@@ -108,8 +150,11 @@ converge at the method's order, so the 4th-order methods can win.  The
 tests (``tests/discrete/test_rtol.py``) check that the estimate bounds the true error
 (against a run at a 16× smaller step) for an impact, a precompressed solitary wave and
 an interface run, for every method ``integrator=None`` can pick (measured: the true
-error 0.30–0.56 of the estimate at rtol 1e-3 and 1e-4).  An explicit dt wins over
-rtol.
+error 0.30–0.56 of the estimate at rtol 1e-3 and 1e-4), and ``tests/discrete/
+test_two_body.py`` that it bounds the error of the maximum overlap, the contact time
+and the coefficient of restitution of two grains against the two-body ODE for every
+law over its whole range (power laws n = 1 … 5/2, Kuwabara–Kono A = 0 … 1e3 s, drag
+1e2 … 1e8 1/s) at rtol 1e-3 and 1e-4.  An explicit dt wins over rtol.
 
 The default is no rtol: the fixed fraction :data:`DT_FRACTION` above, whose error in
 the most dt-sensitive recorded quantity of the paper's runs (v̄max/v0 of an impact on
