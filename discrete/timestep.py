@@ -273,10 +273,11 @@ def damping_overlaps(chain: Chain, r, upper, impulse: float, *,
     therefore stops growing before :math:`\delta^*` with
     :math:`\int_r^{\delta^*} c(x;k)\,dx = J` — exactly so for two bodies (J = μ w, the
     reduced mass times the approach speed; for Kuwabara–Kono
-    :math:`\delta^* = (3\mu w/(2kA))^{2/3}`).  Solved per contact by bisection in
-    [r, ``upper``] with a 16-point Gauss–Legendre rule for the integral of the law's
-    NumPy twin ``law.damping``; ``upper`` where the integral over [r, upper] stays below
-    J (weak damping: the energy bound ``upper`` is the tighter one).
+    :math:`\delta^* = (3\mu w/(2kA))^{2/3}`).  Solved per contact by Newton's method
+    (the integral's derivative is c) kept inside a bisection bracket in [r, ``upper``],
+    with a 16-point Gauss–Legendre rule for the integral of the law's NumPy twin
+    ``law.damping``; ``upper`` where the integral over [r, upper] stays below J (weak
+    damping: the energy bound ``upper`` is the tighter one).
 
     Parameters
     ----------
@@ -296,19 +297,29 @@ def damping_overlaps(chain: Chain, r, upper, impulse: float, *,
     (ur, uu, uk), inverse = rows[0].T, np.ravel(rows[1])
     x, wq = _GAUSS
 
-    def absorbed(d):  # ∫_r^d c(x; k) dx per row, N·s
-        half = 0.5 * (d - ur)
-        nodes = (ur + half)[:, None] + half[:, None] * x[None, :]
-        return half * (law.damping(nodes, uk[:, None]) @ wq)
+    def absorbed(lo, d, kk):  # ∫_lo^d c(x; k) dx per row, N·s
+        half = 0.5 * (d - lo)
+        nodes = (lo + half)[:, None] + half[:, None] * x[None, :]
+        return half * (law.damping(nodes, kk[:, None]) @ wq)
 
-    lo, hi = ur.copy(), uu.copy()
-    reach = absorbed(hi) > impulse  # else the energy bound stands
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        over = absorbed(mid) > impulse
-        hi = np.where(reach & over, mid, hi)
-        lo = np.where(reach & ~over, mid, lo)
-    return np.where(reach, hi, uu)[inverse]
+    out = uu.copy()
+    reach = absorbed(ur, uu, uk) > impulse  # else the energy bound stands
+    r0, kk = ur[reach], uk[reach]
+    lo, hi = r0.copy(), uu[reach]
+    d = 0.5 * (lo + hi)
+    for _ in range(24):  # Newton on ∫ c = J (its derivative: c), kept in the bracket
+        g = absorbed(r0, d, kk) - impulse
+        if not np.any(np.abs(g) > 1e-12 * impulse):
+            break
+        hi = np.where(g > 0, d, hi)
+        lo = np.where(g > 0, lo, d)
+        c = law.damping(d, kk)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = d - g / c
+        inside = (c > 0) & (newton > lo) & (newton < hi)
+        d = np.where(inside, newton, 0.5 * (lo + hi))
+    out[reach] = d
+    return out[inverse]
 
 
 def _inv_mass_pairs(chain: Chain) -> np.ndarray:

@@ -482,9 +482,10 @@ def test_roundoff_floor_bounds_the_measured_roundoff():
     # maxima changes by ~2e-10 of itself (nothing at these steps), their rounding
     # completely, so the difference is the round-off of two runs.  The 200-grain impact,
     # grains passed: measured 1.2e-14 … 8e-14 for N = 2e4 … 6e6 steps, against
-    # u√N = 1.6e-14 … 2.6e-13 (here N = 1.4e5: 1.3e-14 against 4.2e-14).  (2) The gap of a pair that flew apart for ~20 contact
-    # times, the same way (run b's gap moved back to run a's end time along its free
-    # flight): its displacements, rounded the same way step after step in free flight,
+    # u√N = 1.6e-14 … 2.6e-13 (here N = 1.4e5: 1.3e-14 against 4.2e-14).  (2) The gap
+    # of a pair that flew apart for ~20 contact times, the same way (run b's gap moved
+    # back to run a's end time along its free flight): its displacements, rounded the
+    # same way step after step in free flight,
     # carry up to u N U, relative to the overlap scale Q (measured 3.6e-11 against
     # 3.7e-10).  Tolerance for both: two runs' floors.
     from discrete.timestep import roundoff_floor
@@ -521,3 +522,94 @@ def test_roundoff_floor_bounds_the_measured_roundoff():
     floor = roundoff_floor(n, displacement=umax, strain=q)
     assert floor > 10 * roundoff_floor(n)  # the displacements amplify it
     assert 0 < gap <= 2 * floor, (gap, floor)
+
+
+# ------------------------------------------------- the dissipative time scales, derived
+@pytest.mark.parametrize("x", [0.5, 2.0, 8.0])
+def test_split_step_creeps_as_derived(x):
+    # Two free grains pressed together (linear spring, ω² = 2k/m; drag β = 100 ω: overdamped)
+    # creeps back at the slow root λ ≈ ω²/β.  The split step D*_{h/2} V_h D_{h/2}
+    # (discrete.kernels, "Dissipation") is the 2×2 map M = D V D on (x, v), D =
+    # diag(1, e^{-βh/2}); its slow eigenvalue is 1 - ω²h² ½coth(βh/2) to first order in
+    # ω², a creep (x/2)coth(x/2) times too fast, x = βh (docs/physics.md §13).  The
+    # kernel's creep rate, read over the slow phase, equals -ln(μ_slow)/h of M to 1e-9
+    # (round-off of the logarithms), and (x/2)coth(x/2) · ω²/β to 2e-4 + (ωh)²/2 (the
+    # first-order formula's O((ω/β)²) = 1e-4 and O((ωh)²): 1.6e-3 measured at x = 8);
+    # (x/2)coth(x/2) = 1.02, 1.31, 4.00: the creep that much too fast.
+    from discrete import PowerLaw
+
+    m, k = 1e-3, 1e8
+    w = math.sqrt(2 * k / m)  # the pair's relative coordinate: ω² = k (1/m + 1/m)
+    beta = 100 * w
+    h = x / beta
+    # two free grains pressed together: the centre of mass stays, the overlap creeps
+    chain = Chain.from_arrays([m, m], [0.0, k, 0.0], 0.0, exponent=1.0)
+    sim = Simulation(chain, u=[1e-6, -1e-6], v=[0.0, 0.0], law=PowerLaw(1.0), drag=beta,
+                     dt=h, check_dt=False, record=Recording(maxima=False),
+                     drift_tolerance=1.0)  # (x = 8 is meant to be inaccurate)
+    n1 = int(20 / x) + 10  # the fast mode (rate β) gone
+    sim.run(max_steps=n1, progress=False)
+    u1 = sim.overlaps()[1]
+    n2 = n1 + int(0.5 * beta / (w * w) / h)  # half a creep time more
+    sim.run(max_steps=n2 - n1, progress=False)
+    u2 = sim.overlaps()[1]
+    rate = math.log(u1 / u2) / ((n2 - n1) * h)
+    e = math.exp(-beta * h / 2)
+    d = np.diag([1.0, e])
+    v = np.array([[1 - w * w * h * h / 2, h], [-w * w * h * (1 - w * w * h * h / 4),
+                                               1 - w * w * h * h / 2]])
+    mu = np.max(np.abs(np.linalg.eigvals(d @ v @ d)))
+    assert rate == pytest.approx(-math.log(mu) / h, rel=1e-9)
+    first_order = 2e-4 + 0.5 * (w * h) ** 2  # its O((ω/β)²) and O((ωh)²)
+    assert rate == pytest.approx(w * w / beta * (x / 2) / math.tanh(x / 2), rel=first_order)
+
+
+def test_contact_rates_and_damping_overlaps_of_kuwabara_kono():
+    # Kuwabara–Kono, two steel grains: γ = kA√δ s and ω² = (3/2) k √δ s, so the creep
+    # time γ/ω² = 2A/3 at every overlap; the damping-limited overlap of an impulse
+    # J = μ w is δ* = (3 μ w / (2kA))^{2/3} (∫0^δ* kA√x dx = J), found by the 16-point
+    # Gauss–Legendre rule to 2.3e-5 (its error on √x from 0; tolerance 1e-4) — and the
+    # energy bound stands where the damping cannot absorb J before it.
+    from discrete import ViscoelasticHertz
+    from discrete.timestep import contact_rates, creep_time, damping_overlaps
+
+    chain, _ = _two_grains()
+    k, mu = chain.k[1], chain.mass[0] / 2
+    for a in (1e-6, 1e-3, 1e3):
+        law = ViscoelasticHertz(a)
+        delta = np.array([0.0, 2e-7, 0.0])
+        omega, gamma = contact_rates(chain, delta, law=law, drag=0.0)
+        assert gamma[1] == pytest.approx(k * a * math.sqrt(2e-7) / mu, rel=1e-12)
+        assert omega[1] ** 2 == pytest.approx(1.5 * k * math.sqrt(2e-7) / mu, rel=1e-12)
+        if gamma[1] > omega[1]:
+            assert creep_time(chain, delta, law=law) == pytest.approx(2 * a / 3, rel=1e-12)
+        star = (3 * mu * 1.0 / (2 * k * a)) ** (2 / 3)
+        got = damping_overlaps(chain, np.zeros(3), np.full(3, 1e-5), mu * 1.0, law=law)
+        assert got[1] == pytest.approx(min(star, 1e-5), rel=1e-4)
+        assert got[0] == got[2] == 1e-5  # free ends: k = 0, no damping
+    _, gamma = contact_rates(chain, np.array([0.0, 2e-7, 0.0]), drag=50.0)
+    assert np.all(gamma == 50.0)  # a conservative law: the drag alone
+
+
+def test_default_step_is_unchanged_without_damping_and_uses_omega():
+    # Ω² = ω² + 2γ² equals ω² bitwise for a conservative law without drag: the paper's
+    # runs keep their steps; with damping the default is f·2π/max Ω.
+    from discrete import HERTZ, ViscoelasticHertz
+    from discrete.timestep import DT_FRACTION, contact_rates, expected_overlaps
+
+    init, _ = _impact()
+    step = TimeStep.choose(init.chain, init.u, init.v)
+    delta = expected_overlaps(init.chain, init.u, init.v)
+    kk = HERTZ.stiffness(delta, init.chain.k)
+    inv = np.zeros(init.chain.n + 1)
+    inv[:-1] += 1 / init.chain.mass
+    inv[1:] += 1 / init.chain.mass
+    assert step.dt == DT_FRACTION * 2 * math.pi / float(np.sqrt(np.max(kk * inv)))
+    assert step.damping_rate == 0.0
+    law = ViscoelasticHertz(1e-6)
+    damped = TimeStep.choose(init.chain, init.u, init.v, law=law, drag=10.0)
+    omega, gamma = contact_rates(init.chain, damped.delta_expected, law=law, drag=10.0)
+    big = float(np.max(np.sqrt(omega**2 + 2 * gamma**2)))
+    assert damped.dt == pytest.approx(DT_FRACTION * 2 * math.pi / big, rel=1e-12)
+    assert damped.damping_rate == pytest.approx(float(np.max(gamma)), rel=1e-12)
+    assert damped.dt < step.dt
