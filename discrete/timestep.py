@@ -94,10 +94,11 @@ over the largest |v| (the Fig. 2 v̄max/v0, the *refined* maximum
 ``record.vmax_refined``, interpolated between the steps at the method's order — not the
 largest sample ``record.vmax``, which stays O(h²) and is not what rtol bounds), every
 loaded contact's (k > 0) running maximum overlap over the largest dynamic one when the
-run records strain maxima, every contact's opening (contact) time — read back along
-the free flight since (drag included) from the probe's end and from its middle, where
-the two agree — relative to itself, and the distance travelled by the energy centroid
-of the wave (arrival times and speeds), relative.  The differences
+run records strain maxima, every contact's opening (contact) time when the run records
+the trajectory (time series, sensors or wall forces) — read back along the free flight
+since (drag included) from the probe's end and from its middle, where the two agree —
+relative to itself, and the distance travelled by the energy centroid of the wave
+(arrival times and speeds), relative.  The differences
 :math:`d_k = \|q(h_k) - q(h_{k+1})\|_\infty` bound the error at each probe step
 directly (triangle inequality),
 
@@ -427,7 +428,7 @@ class _ProbeRun:
     """One probe run at step h: the compared quantities of the run's recording."""
 
     def __init__(self, chain, u, v, wl, wr, law, drag, method, h, nsteps, recording,
-                 delta_expected):
+                 delta_expected, timing: bool = True):
         from .simulation import Simulation
 
         sim = Simulation(chain, u, v, dt=h, wall_left=wl, wall_right=wr, record=recording,
@@ -462,14 +463,15 @@ class _ProbeRun:
         # grain still rising at the probe's end holds its present v, a phase error
         settled = vmax - vmax_mid <= SETTLED_GROWTH * np.abs(vmax)
         self.done = ((sim.v < 0.5 * vmax) | settled) & (np.abs(vmax) > 0.01 * scale)
-        # the contacts that opened for good, their grains in free flight since: the
-        # opening time read back along the free flight from the end state and from the
-        # mid-probe state agree (to SETTLED_GROWTH), with a gap of at least 1 % of the
-        # expected dynamic overlap: their contact times
+        # (a time-resolved recording) the contacts that opened for good, their grains in
+        # free flight since: the opening time read back along the free flight from the
+        # end state and from the mid-probe state agree (to SETTLED_GROWTH), with a gap
+        # of at least 1 % of the expected dynamic overlap: their contact times
         r = sim.overlaps()
         self.topen = _opening_times(sim, drag)
         with np.errstate(invalid="ignore"):
-            self.tdone = ((chain.k > 0) & (-r > 0.01 * (delta_expected - chain.delta0))
+            self.tdone = (timing & (chain.k > 0)
+                          & (-r > 0.01 * (delta_expected - chain.delta0))
                           & (np.abs(self.topen - topen_mid)
                              <= SETTLED_GROWTH * np.abs(self.topen))
                           & (self.topen > 0))
@@ -839,6 +841,10 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     if horizon is not None and math.isfinite(horizon) and horizon > 0:
         t_probe = min(t_probe, float(horizon))
     rec = _probe_recording(recording, bool(law.dissipative or drag))
+    # a time-resolved recording (series, sensors, wall forces) records the trajectory:
+    # its timing — when each contact opened — is compared too
+    timing = recording is not None and bool(recording.series_grains or recording.sensors
+                                            or recording.wall_forces)
     stages = method.stages
     # whole steps at h0: every probe run ends at the same time (a probe run that ended
     # up to a step later would carry a first-order "error" in the travelled distance)
@@ -880,7 +886,7 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
         h = h0 / 2.0**len(runs)
         try:
             run = _ProbeRun(chain, u, v, wall_left, wall_right, law, drag, method, h,
-                            n0 * 2 ** len(runs), rec, delta)
+                            n0 * 2 ** len(runs), rec, delta, timing)
         except InstabilityError:  # too coarse: drop it (and any coarser) and go finer
             restarts += 1
             if restarts > PROBE_RESTARTS:
