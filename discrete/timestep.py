@@ -973,11 +973,11 @@ def _refuse_below_floor(chain, u, v, wall_left, wall_right, *, rtol, law, drag, 
         least = floor / RTOL_SAFETY
         raise ValueError(
             f"rtol = {rtol:g} is below what float64 can deliver for this run: round-off "
-            f"alone, accumulated over its at least {math.ceil(t / h_max):,} steps (unit "
-            f"round-off 2^-53 times the square root of the number of steps, relative to "
-            f"the recorded maxima; discrete.timestep.roundoff_floor), is at least "
-            f"{floor:.2g}, so the smallest error the run can state is {least:.2g}; "
-            f"allowed rtol in [{least:.2g}, 1)")
+            f"alone, accumulated over its at least {math.ceil(t / h_max):,} steps "
+            f"(discrete.timestep.roundoff_floor: u·√N for the velocities, u·(N·U + δ0)/Q "
+            f"for the overlaps and contact times, u = 2^-53), is at least {floor:.2g}, so "
+            f"the smallest error the run can state is {least:.2g}; allowed rtol in "
+            f"[{least:.2g}, 1)")
 
 
 def _rtol_step(pr: ProbeResult, rtol: float, h_max: float,
@@ -1272,8 +1272,7 @@ class TimeStep:
             raise ValueError(
                 f"rtol = {rtol:g} is below what float64 can deliver for this run: the "
                 f"probe's truncation error and the round-off accumulated over the run's "
-                f"steps (unit round-off 2^-53 times the square root of the number of "
-                f"steps, discrete.timestep.roundoff_floor) add up to at least "
+                f"steps (discrete.timestep.roundoff_floor) add up to at least "
                 f"{min(floors):.2g} of the recorded quantities at every step; allowed "
                 f"rtol in [{min(floors):.2g}, 1)")
         _, method, h, est, pr, base = best
