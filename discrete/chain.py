@@ -284,8 +284,9 @@ class Chain:
     mass : (N,) array
         Grain masses, kg (> 0).
     k : (N+1,) array
-        Contact constants of Eq. 1, N/m^{3/2} (>= 0); contact j couples grains j-1 and
-        j, contact 0 the left wall, contact N the right wall; 0 = no contact (free end).
+        Contact constants of Eq. 1, N/m^n for the law F = k δⁿ (N/m^{3/2} for Hertz;
+        >= 0); contact j couples grains j-1 and j, contact 0 the left wall, contact N
+        the right wall; 0 = no contact (free end).
     delta0 : (N+1,) array
         Static overlaps, m (>= 0; 0 where k = 0).
     diameter : (N,) array
@@ -381,7 +382,8 @@ class Chain:
         mass : (N,) array
             Grain masses, kg.
         k : (N+1,) array
-            Contact constants, N/m^{3/2} (0 at a free end).
+            Contact constants, N/m^n for the law F = k δⁿ (N/m^{3/2} for Hertz; 0 at
+            a free end).
         delta0 : float or (N+1,) array
             Static overlaps, m.  A scalar is the overlap of contact 1 (or 0) and the
             others follow from force equilibrium δ_j = (F0/k_j)^{1/n} (below Eq. 9).

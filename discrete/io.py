@@ -33,6 +33,7 @@ from __future__ import annotations
 import importlib.metadata
 import json
 import os
+from fractions import Fraction
 from pathlib import Path
 
 import h5py
@@ -46,7 +47,7 @@ from .integrators import get_integrator
 from .recording import Record, Recording, Snapshot, event_from_dict, event_to_dict
 from .simulation import SavedSimulation, Simulation
 
-__all__ = ["save", "load", "UNITS", "FORMAT"]
+__all__ = ["save", "load", "UNITS", "FORMAT", "contact_constant_unit", "units_for"]
 
 FORMAT = "hertzchain.discrete/1"
 UNITS = {
@@ -60,6 +61,29 @@ UNITS = {
     "vmax_refined": "m/s", "vmax_time": "s", "peak_state": "mixed (discrete.kernels)",
     "dt_default": "s", "dissipation_rate0": "W",
 }
+"""The unit of every dataset of a Hertz run; :func:`units_for` those of any law."""
+
+
+def contact_constant_unit(exponent: float) -> str:
+    """Unit of the contact constant k of F = k δⁿ: N/m^n (``"N/m^(3/2)"`` for Hertz).
+
+    F in N and δ in m make k a force per length to the n-th power; half-integer and
+    other rational n are written as a fraction (n = 1: ``"N/m"``, 2: ``"N/m^2"``,
+    5/2: ``"N/m^(5/2)"``).
+    """
+    q = Fraction(float(exponent)).limit_denominator(1000)
+    if q == 1:
+        return "N/m"
+    if q.denominator == 1:
+        return f"N/m^{q.numerator}"
+    if float(q) == float(exponent):
+        return f"N/m^({q.numerator}/{q.denominator})"
+    return f"N/m^{float(exponent):g}"
+
+
+def units_for(law) -> dict[str, str]:
+    """:data:`UNITS` with the contact constant's unit for ``law``'s exponent."""
+    return {**UNITS, "k": contact_constant_unit(law.exponent)}
 
 
 def _version() -> str:
@@ -69,7 +93,8 @@ def _version() -> str:
         return "unknown"
 
 
-def _ds(group: h5py.Group, name: str, data, compress: bool = True) -> None:
+def _ds(group: h5py.Group, name: str, data, compress: bool = True,
+        units: dict | None = None) -> None:
     data = np.asarray(data)
     if data.size >= 64:
         kw = {"compression": "gzip", "compression_opts": 4, "shuffle": True} if compress \
@@ -77,8 +102,9 @@ def _ds(group: h5py.Group, name: str, data, compress: bool = True) -> None:
         group.create_dataset(name, data=data, chunks=True, **kw)
     else:
         group.create_dataset(name, data=data)
-    if name in UNITS:
-        group[name].attrs["units"] = UNITS[name]
+    units = UNITS if units is None else units
+    if name in units:
+        group[name].attrs["units"] = units[name]
 
 
 def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
@@ -133,10 +159,11 @@ def _write(f: h5py.File, saved: SavedSimulation, compress: bool) -> None:
     a["chain_params"] = json.dumps(saved.chain.params)
     a["recording"] = json.dumps(saved.recording.to_dict())
     a["pending_events"] = json.dumps([event_to_dict(e) for e in saved.pending])
-    a["units"] = json.dumps(UNITS)
+    units = units_for(saved.law)
+    a["units"] = json.dumps(units)
     g = f.create_group("chain")
     for name in ("mass", "k", "delta0", "diameter", "section"):
-        _ds(g, name, getattr(saved.chain, name), compress)
+        _ds(g, name, getattr(saved.chain, name), compress, units)
     g = f.create_group("state")
     for name, arr in saved.state.items():
         _ds(g, name, arr, compress)

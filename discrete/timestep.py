@@ -16,16 +16,20 @@ elastic energy :math:`U(\delta) = k\delta^{n+1}/(n+1)` (J; for Hertz (2/5) k δ^
 (:meth:`ContactLaw.overlap_with_energy <theory.laws.ContactLaw.overlap_with_energy>`).
 For a vertical chain (gravity) the present overlap is taken at least at the force of
 twice the static weight, :math:`2^{1/n}\delta_0` (a chain released uncompressed falls
-onto its static overlaps and overshoots them).
+onto its static overlaps and overshoots them).  For a dissipative law it is also at most
+the overlap at which the damping alone absorbs the chain's momentum
+(:func:`damping_overlaps`; "Dissipative time scales" below).
 
 Default time step
 -----------------
 The linearised stiffness of contact j at overlap δ is :math:`K_j = \partial F/\partial
 \delta` (N/m; Hertz: :math:`\tfrac32 k_j\delta^{1/2}`) and its two-body frequency
-:math:`\omega_j = \sqrt{K_j (1/m_{j-1} + 1/m_j)}` (rad/s; one mass at a wall).  At the
-expected overlaps the default is
+:math:`\omega_j = \sqrt{K_j (1/m_{j-1} + 1/m_j)}` (rad/s; one mass at a wall); a
+dissipative law or drag adds the rate :math:`\gamma_j` (:func:`contact_rates`; next
+section), and :math:`\Omega_j^2 = \omega_j^2 + 2\gamma_j^2` (= ω_j² bitwise without
+them).  At the expected overlaps the default is
 
-.. math:: \Delta t = f\,S\, \frac{2\pi}{\max_j \omega_j},\qquad f = 0.002
+.. math:: \Delta t = f\,S\, \frac{2\pi}{\max_j \Omega_j},\qquad f = 0.002
    \ (\text{:data:`DT_FRACTION`}),
 
 with S the force evaluations per step of the integrator (:mod:`discrete.integrators`;
@@ -41,10 +45,35 @@ error 7e-5) and for smooth solitary waves (cut or exact waves: energy conserved 
 ~1e-11 at f = 0.01) much larger steps would do.  For the paper's steel grains
 (d = 5 mm, v0 = 1 m/s) f = 0.002 gives dt ≈ 4.4e-8 s, ~40× the paper's dt = 1e-9 s.
 
-Velocity-dependent forces (:class:`~theory.laws.ViscoelasticHertz`, drag) add no
-bound: the kernels solve them exactly in dissipative sub-steps that never increase the
-kinetic energy, for any step (:mod:`discrete.kernels`, "Dissipation"); the elastic part
-keeps the bound above, and the run-time energy-balance monitor catches what it misses.
+Dissipative time scales
+-----------------------
+Velocity-dependent forces (:class:`~theory.laws.ViscoelasticHertz`, drag) are solved
+exactly in dissipative sub-steps between the elastic ones (:mod:`discrete.kernels`,
+"Dissipation"): they never raise the kinetic energy, so they add no *stability* bound —
+the elastic one above stands.  They bound the step for *accuracy* (docs/physics.md
+§20).  Contact j's relative velocity relaxes at :math:`\gamma_j = c_j s_j + \beta`
+(1/s; :math:`c_j` the law's damping coefficient ``law.damping`` at the expected
+overlap, N·s/m, :math:`s_j = 1/m_{j-1} + 1/m_j`, β the drag).  For one contact, the
+damped oscillator :math:`\ddot x + \gamma\dot x + \omega^2 x = 0`, the split step is
+velocity Verlet's :math:`(\omega h)^2/24` off in frequency when underdamped; when
+overdamped (γ > ω) the overlap creeps back at :math:`\omega^2/\gamma` and the split
+step's creep is :math:`(x/2)\coth(x/2)` times that, x = γh — relatively
+:math:`x^2/12` off, and x/2 for x ≫ 1 (the step that ignored γ: two grains with
+A = 1e-2 s stuck at 1.08e-7 m instead of 3.92e-8 m).  Together about
+:math:`(\Omega h)^2/24`, whence the default with :math:`\Omega_j`: the same
+6.6e-6 as the lossless default.  An explicit step with :math:`\gamma_{max}\Delta t`
+above :data:`DAMPING_STEP_LIMIT` (creep 8.2 % off) is refused (:meth:`TimeStep.check`).
+
+Which overlap: γ grows with the overlap (Kuwabara–Kono: :math:`c = kA\sqrt\delta`), and
+a heavily damped contact never reaches the energy bound.  While it closes its force is
+at least :math:`c(\delta)\dot\delta`, so an impulse J stops it by :math:`\delta^*`
+with :math:`\int_r^{\delta^*} c\,d\delta = J` (:func:`damping_overlaps`; exact for
+two bodies with J = μw, Kuwabara–Kono :math:`\delta^* = (3\mu w/2kA)^{2/3}` where
+:math:`\gamma = \tfrac32 w/\delta^*`, the inverse approach time); the expected
+overlap is the smaller of the two bounds, with J the chain's total |momentum|
+:math:`\sum_i m_i|v_i|`.  An overdamped contact also has a slow time, its creep time
+:math:`\gamma_j/\omega_j^2` (:func:`creep_time`; Kuwabara–Kono 2A/3): the rtol probe
+covers :data:`PROBE_CREEP` of them.
 
 A stated accuracy instead of a dt (``rtol``)
 --------------------------------------------
@@ -52,17 +81,24 @@ With ``rtol`` (and no explicit dt) the step is chosen so that the recorded quant
 carry a relative error of at most about ``rtol``, from an error that is *measured*, not
 assumed (:func:`probe_error`).  A short probe — the run itself from its initial state,
 with the run's own recording and kernel, for :data:`PROBE_PERIODS` shortest contact
-periods :math:`T_c = 2\pi/\omega_{max}` (or to the run's end if sooner; a whole number
-of steps, so that every probe run ends at the same time) — is integrated at the steps
-:math:`h_k = h_0/2^k`, k = 0, 1, 2, … (:math:`h_0` = :data:`PROBE_FRACTION` × S ×
-:math:`T_c`).  The compared quantities q are what the run records: every grain's
-running maximum of v over the largest |v| (the Fig. 2 v̄max/v0, the *refined* maximum
+periods :math:`T_c = 2\pi/\Omega_{max}` and at least :data:`PROBE_CREEP` creep times
+of an overdamped contact (at most :data:`PROBE_CREEP_STEPS` steps for these; or to the
+run's end if sooner; a whole number of steps, so that every probe run ends at the same
+time) — is integrated at the steps :math:`h_k = h_0/2^k`, k = 0, 1, 2, …
+(:math:`h_0` = :data:`PROBE_FRACTION` × S × :math:`T_c`).  The compared quantities q
+are what the run records, each once it is *settled* — its peak passed (v < v̄max/2) or
+grown by less than :data:`SETTLED_GROWTH` of itself over the probe's second half —
+and over a scale common to both runs compared (the finer run's: a run's own scale
+would hide the error of the maximum that sets it): every grain's running maximum of v
+over the largest |v| (the Fig. 2 v̄max/v0, the *refined* maximum
 ``record.vmax_refined``, interpolated between the steps at the method's order — not the
-largest sample ``record.vmax``, which stays O(h²) and is not what rtol bounds; only
-grains whose peak has passed, v < v̄max/2, at the end of the probe), every contact's
-running maximum overlap
-when the run records strain maxima, and the distance travelled by the energy centroid
-of the wave (arrival times and speeds), relative.  The differences
+largest sample ``record.vmax``, which stays O(h²) and is not what rtol bounds), every
+loaded contact's (k > 0) running maximum overlap over the largest dynamic one when the
+run records strain maxima, every contact's opening (contact) time when the run records
+the trajectory (time series, sensors or wall forces) — read back along the free flight
+since (drag included) from the probe's end and from its middle, where the two agree —
+relative to itself, and the distance travelled by the energy centroid of the wave
+(arrival times and speeds), relative.  The differences
 :math:`d_k = \|q(h_k) - q(h_{k+1})\|_\infty` bound the error at each probe step
 directly (triangle inequality),
 
@@ -85,8 +121,15 @@ run's length at the rate measured over the probe's second half
 (:meth:`ProbeResult.drifts_at`), would reach :data:`RTOL_SAFETY` of the run's drift
 tolerance (a fourth-order method at a large step can meet rtol in the maxima and still
 fail the run's energy monitor: measured on the interface problem, Blanes–Moan 4 at 8×
-the default step drifted 1.3e-4 over the run), and the estimate E(h)/s (≤ rtol) is
-written into the result (:attr:`TimeStep.error_estimate`).  Finer probe steps are
+the default step drifted 1.3e-4 over the run).  Round-off takes its share: E(h) is
+joined by the floor F(h) that round-off leaves after the run's N = T/h steps
+(:func:`roundoff_floor`: :math:`u\sqrt N` for the velocities, :math:`u(N U +
+\delta_0)/Q` for overlaps and contact times, u = 2^-53; docs/physics.md §20), the
+step is the largest with :math:`(E(h) + F(h))/s \le` rtol, and that estimate is
+written into the result (:attr:`TimeStep.error_estimate`) as measured — never set to
+rtol.  An rtol below F/s at the largest probe step (the fewest steps the run can take)
+is refused before any probe run, and one that no step meets after the probe, each
+with the achievable floor named (ValueError).  Finer probe steps are
 added while the differences do not shrink (not yet asymptotic) or no probe step meets s·rtol, up to
 :data:`PROBE_MAX_LEVELS` runs; an unstable probe run is dropped with the coarser ones.
 The factor 1/s is measured, not decoration: a maximum sampled once per step has an
@@ -108,8 +151,11 @@ converge at the method's order, so the 4th-order methods can win.  The
 tests (``tests/discrete/test_rtol.py``) check that the estimate bounds the true error
 (against a run at a 16× smaller step) for an impact, a precompressed solitary wave and
 an interface run, for every method ``integrator=None`` can pick (measured: the true
-error 0.30–0.56 of the estimate at rtol 1e-3 and 1e-4).  An explicit dt wins over
-rtol.
+error 0.30–0.56 of the estimate at rtol 1e-3 and 1e-4), and ``tests/discrete/
+test_two_body.py`` that it bounds the error of the maximum overlap, the contact time
+and the coefficient of restitution of two grains against the two-body ODE for every
+law over its whole range (power laws n = 1 … 5/2, Kuwabara–Kono A = 0 … 1e3 s, drag
+1e2 … 1e8 1/s) at rtol 1e-3 and 1e-4.  An explicit dt wins over rtol.
 
 The default is no rtol: the fixed fraction :data:`DT_FRACTION` above, whose error in
 the most dt-sensitive recorded quantity of the paper's runs (v̄max/v0 of an impact on
@@ -136,7 +182,9 @@ from .reference import overlaps as _overlaps
 __all__ = ["DT_FRACTION", "TimeStep", "ProbeResult", "default_fraction", "default_dt",
            "stable_dt", "expected_overlaps", "probe_error", "RTOL_SAFETY", "RTOL_CANDIDATES",
            "PROBE_PERIODS", "PROBE_FRACTION", "PROBE_MAX_LEVELS", "ORDER_SLACK",
-           "error_bounds"]
+           "error_bounds", "contact_rates", "damping_rate", "damping_overlaps",
+           "roundoff_floor", "UNIT_ROUNDOFF", "DAMPING_STEP_LIMIT", "creep_time",
+           "PROBE_CREEP", "PROBE_CREEP_STEPS", "SETTLED_GROWTH"]
 
 DT_FRACTION = 0.002
 """Default dt per force evaluation as a fraction of the shortest linearised contact
@@ -164,6 +212,25 @@ PROBE_PERIODS = 40.0
 PROBE_FRACTION = 0.016
 """Largest probe step per force evaluation as a fraction of the shortest contact period."""
 
+PROBE_CREEP = 4.0
+"""The rtol probe covers at least this many creep times of the slowest overdamped contact
+(:func:`creep_time`): an overdamped contact's overlap maximum, its opening and its
+restitution are final only after its creep (two bodies, Kuwabara–Kono: the contact
+ends after ≈ 1.6 creep times), and only a final quantity is compared."""
+
+PROBE_CREEP_STEPS = 200_000
+"""At most this many steps of h_0 for the creep (a slower creep is not probed: its
+quantities are not final within the probe, so the estimate does not cover them)."""
+
+SETTLED_GROWTH = 1e-3
+"""A running maximum counts as settled in a probe run when it grew by less than this
+fraction of itself over the probe's second half (module docstring)."""
+
+DAMPING_STEP_LIMIT = 1.0
+"""Largest γ_max Δt an explicit step may have (:meth:`TimeStep.check`): there the split
+step's relaxation rate of an overdamped contact, (x/2) coth(x/2) times the exact one
+with x = γΔt, is 8.2 % off (module docstring, "Dissipative time scales")."""
+
 
 def default_fraction(integrator: str | Integrator = "verlet") -> float:
     """Default dt as a fraction of the shortest contact period: S × :data:`DT_FRACTION`."""
@@ -172,7 +239,13 @@ def default_fraction(integrator: str | Integrator = "verlet") -> float:
 
 def expected_overlaps(chain: Chain, u=None, v=None, wall_left: float = 0.0,
                       wall_right: float = 0.0, *, law: ContactLaw | None = None) -> np.ndarray:
-    """Largest expected overlap of each contact, m (module docstring)."""
+    r"""Largest expected overlap of each contact, m (module docstring).
+
+    The energy bound :math:`U^{-1}(U([r]_+) + E_1)`; for a dissipative law also at most
+    the overlap at which the damping alone has absorbed the impulse
+    :math:`J = \sum_i m_i|v_i|` (:func:`damping_overlaps`; module docstring,
+    "Dissipative time scales").
+    """
     law = as_law(law)
     u = np.zeros(chain.n) if u is None else np.asarray(u, float)
     v = np.zeros(chain.n) if v is None else np.asarray(v, float)
@@ -180,7 +253,75 @@ def expected_overlaps(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     if chain.gravity:  # the chain may fall onto its static overlaps: 2 × the weight
         r = np.maximum(r, 2.0 ** (1.0 / law.exponent) * chain.delta0)
     e1 = float(np.max(0.5 * chain.mass * v**2))
-    return law.overlap_with_energy(r, e1, chain.k)
+    delta = law.overlap_with_energy(r, e1, chain.k)
+    if law.dissipative:
+        impulse = float(np.sum(chain.mass * np.abs(v)))
+        delta = damping_overlaps(chain, r, delta, impulse, law=law)
+    return delta
+
+
+_GAUSS = np.polynomial.legendre.leggauss(16)
+"""16-point Gauss–Legendre nodes and weights on [-1, 1] (the damping integrals)."""
+
+
+def damping_overlaps(chain: Chain, r, upper, impulse: float, *,
+                     law: ContactLaw) -> np.ndarray:
+    r"""Overlap at which a contact's damping alone has absorbed ``impulse`` (N·s), m.
+
+    While a contact closes (:math:`\dot\delta > 0`) its force is at least its damping
+    force, :math:`F = \max(0, F_{el} + c\,\dot\delta) \ge c(\delta)\,\dot\delta`
+    (:mod:`theory.laws`, "Dissipative laws"), so the impulse it transmits while
+    closing from r to δ is at least :math:`\int_r^\delta c(x)\,dx`.  The overlap
+    therefore stops growing before :math:`\delta^*` with
+    :math:`\int_r^{\delta^*} c(x;k)\,dx = J` — exactly so for two bodies (J = μ w, the
+    reduced mass times the approach speed; for Kuwabara–Kono
+    :math:`\delta^* = (3\mu w/(2kA))^{2/3}`).  Solved per contact by Newton's method
+    (the integral's derivative is c) kept inside a bisection bracket in [r, ``upper``],
+    with a 16-point Gauss–Legendre rule for the integral of the law's NumPy twin
+    ``law.damping``; ``upper`` where the integral over [r, upper] stays below J (weak
+    damping: the energy bound ``upper`` is the tighter one).
+
+    Parameters
+    ----------
+    chain : Chain
+        The contact constants k.
+    r, upper : (N+1,) arrays
+        Present overlaps (m, >= 0) and the energy bound (m, >= r).
+    impulse : float
+        J, N·s (the chain's total |momentum| Σ m|v| for :func:`expected_overlaps`).
+    law : ContactLaw
+        A dissipative law (its ``damping`` twin, N·s/m).
+    """
+    r = np.asarray(r, float)
+    upper = np.maximum(np.asarray(upper, float), r)
+    k = np.broadcast_to(np.asarray(chain.k, float), r.shape)
+    rows = np.unique(np.stack([r, upper, k], axis=1), axis=0, return_inverse=True)
+    (ur, uu, uk), inverse = rows[0].T, np.ravel(rows[1])
+    x, wq = _GAUSS
+
+    def absorbed(lo, d, kk):  # ∫_lo^d c(x; k) dx per row, N·s
+        half = 0.5 * (d - lo)
+        nodes = (lo + half)[:, None] + half[:, None] * x[None, :]
+        return half * (law.damping(nodes, kk[:, None]) @ wq)
+
+    out = uu.copy()
+    reach = absorbed(ur, uu, uk) > impulse  # else the energy bound stands
+    r0, kk = ur[reach], uk[reach]
+    lo, hi = r0.copy(), uu[reach]
+    d = 0.5 * (lo + hi)
+    for _ in range(24):  # Newton on ∫ c = J (its derivative: c), kept in the bracket
+        g = absorbed(r0, d, kk) - impulse
+        if not np.any(np.abs(g) > 1e-12 * impulse):
+            break
+        hi = np.where(g > 0, d, hi)
+        lo = np.where(g > 0, lo, d)
+        c = law.damping(d, kk)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            newton = d - g / c
+        inside = (c > 0) & (newton > lo) & (newton < hi)
+        d = np.where(inside, newton, 0.5 * (lo + hi))
+    out[reach] = d
+    return out[inverse]
 
 
 def _inv_mass_pairs(chain: Chain) -> np.ndarray:
@@ -191,10 +332,62 @@ def _inv_mass_pairs(chain: Chain) -> np.ndarray:
     return inv
 
 
-def _omega_max(chain: Chain, delta: np.ndarray, law: ContactLaw) -> float:
-    """max_j √(K_j (1/m_{j-1} + 1/m_j)), rad/s."""
+def contact_rates(chain: Chain, delta, *, law: ContactLaw | None = None,
+                  drag: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    r"""Each contact's elastic frequency ω_j (rad/s) and dissipative rate γ_j (1/s).
+
+    At overlaps ``delta`` (m), with :math:`s_j = 1/m_{j-1} + 1/m_j` (1/kg; one mass at a
+    wall): :math:`\omega_j = \sqrt{K_j s_j}`, :math:`K_j = \partial F_{el}/\partial
+    \delta` (``law.stiffness``, N/m), and :math:`\gamma_j = c_j s_j + \beta`, with
+    :math:`c_j` the damping coefficient (``law.damping``, N·s/m) and β the drag rate
+    (1/s): the rate at which the relative velocity of the contact's two grains relaxes
+    (module docstring, "Dissipative time scales").  γ = 0 for a conservative law
+    without drag.
+    """
+    law = as_law(law)
+    delta = np.maximum(np.asarray(delta, float), 0.0)
+    inv = _inv_mass_pairs(chain)
+    omega = np.sqrt(law.stiffness(delta, chain.k) * inv)
+    gamma = law.damping(delta, chain.k) * inv + float(drag)
+    return omega, gamma
+
+
+def _rate_max(chain: Chain, delta: np.ndarray, law: ContactLaw, drag: float = 0.0) -> float:
+    """max_j Ω_j, Ω_j² = ω_j² + 2γ_j² (rad/s; module docstring): ω_max without damping."""
     kk = law.stiffness(delta, chain.k)
-    return float(np.sqrt(np.max(kk * _inv_mass_pairs(chain))))
+    w2 = kk * _inv_mass_pairs(chain)
+    if law.dissipative or drag > 0:
+        _, gamma = contact_rates(chain, delta, law=law, drag=drag)
+        w2 = w2 + 2.0 * gamma**2
+    return float(np.sqrt(np.max(w2)))
+
+
+def damping_rate(chain: Chain, delta, *, law: ContactLaw | None = None,
+                 drag: float = 0.0) -> float:
+    """max_j γ_j at overlaps ``delta`` (m), 1/s (:func:`contact_rates`; 0: conservative)."""
+    law = as_law(law)
+    if not (law.dissipative or drag > 0):
+        return 0.0
+    return float(np.max(contact_rates(chain, delta, law=law, drag=drag)[1]))
+
+
+def creep_time(chain: Chain, delta, *, law: ContactLaw | None = None,
+               drag: float = 0.0) -> float:
+    r"""The slowest relaxation time of the overdamped contacts at overlaps ``delta``, s.
+
+    An overdamped contact (:math:`\gamma_j > \omega_j`, :func:`contact_rates`) relaxes
+    in two stages: its relative velocity within 1/γ_j, then its overlap creeps back at
+    the rate :math:`\omega_j^2/\gamma_j` (the slow root of :math:`\lambda^2 + \gamma
+    \lambda + \omega^2 = 0`); for Kuwabara–Kono :math:`\gamma_j/\omega_j^2 = c/K =
+    2A/3` whatever the overlap.  max_j γ_j/ω_j² over the loaded overdamped contacts; 0
+    if there is none.
+    """
+    law = as_law(law)
+    if not (law.dissipative or drag > 0):
+        return 0.0
+    omega, gamma = contact_rates(chain, delta, law=law, drag=drag)
+    over = (omega > 0) & (gamma > omega)
+    return float(np.max(gamma[over] / omega[over] ** 2, initial=0.0))
 
 
 def stable_dt(chain: Chain, delta, *, law: ContactLaw | None = None,
@@ -203,8 +396,10 @@ def stable_dt(chain: Chain, delta, *, law: ContactLaw | None = None,
 
     ω_lat² ≤ max_i (K_i + K_{i+1})·2/m_i (Gershgorin bound on M⁻¹K; exact for a
     uniform chain, where ω_lat = 2√(K/m) is the zone-edge frequency), dt ≤ 2/ω_lat.
-    Damping and ``drag`` add no bound (module docstring); ``drag`` is accepted for the
-    callers' uniformity.
+    Damping and ``drag`` add no *stability* bound: their sub-steps are exact flows that
+    never raise the kinetic energy (module docstring, "Dissipative time scales"); they
+    bound the step for accuracy instead (:func:`damping_rate`, :meth:`TimeStep.check`).
+    ``drag`` is accepted for the callers' uniformity.
     """
     law = as_law(law)
     delta = np.maximum(np.asarray(delta, float), 0.0)
@@ -233,15 +428,23 @@ def _probe_recording(recording, velocity_dependent: bool = False) -> Recording:
 class _ProbeRun:
     """One probe run at step h: the compared quantities of the run's recording."""
 
-    def __init__(self, chain, u, v, wl, wr, law, drag, method, h, nsteps, recording):
+    def __init__(self, chain, u, v, wl, wr, law, drag, method, h, nsteps, recording,
+                 delta_expected, timing: bool = True):
         from .simulation import Simulation
 
         sim = Simulation(chain, u, v, dt=h, wall_left=wl, wall_right=wr, record=recording,
                          integrator=method.name, law=law, drag=drag, check_dt=False)
         x0 = _centroid(sim)
+        rec = sim.record
         # every level ends at the same time; in two halves, so that the drift's growth
-        # over the second half is measured (ProbeResult.drifts_at)
+        # over the second half is measured (ProbeResult.drifts_at), and the maxima that
+        # no longer changed over it are known (settled)
         first = sim.run(max_steps=nsteps // 2, progress=False)
+        vmax_mid = np.array(rec.vmax if rec.vmax_refined is None else rec.vmax_refined,
+                            float)
+        omax_mid = None if rec.overlap_max is None else np.array(rec.overlap_max, float)
+        self.umax_mid = float(np.max(np.abs(sim.u), initial=0.0))
+        topen_mid = _opening_times(sim, drag)
         late = sim.run(max_steps=nsteps - nsteps // 2, progress=False)
 
         def measure(info):  # the energy monitor's (Verlet's modified energy, else E)
@@ -249,29 +452,80 @@ class _ProbeRun:
 
         self.drift_late = measure(late)
         self.drift = measure(first) + self.drift_late  # >= the drift over the probe
-        rec = sim.record
         # the refined maxima (between the steps, at the method's order), not the samples
         vmax = np.asarray(rec.vmax if rec.vmax_refined is None else rec.vmax_refined, float)
         scale = float(np.max(np.abs(vmax))) or 1.0
         self.steps = sim.steps
+        self.umax = float(np.max(np.abs(sim.u), initial=0.0))
         self.travel = _centroid(sim) - x0
-        self.vmax = vmax / scale
-        # a maximum counts once the grain's peak has passed (v below half of it); a grain
-        # still rising at the probe's end holds its present v, a phase error, not a maximum
-        self.done = (sim.v < 0.5 * vmax) & (vmax > 0.01 * scale)
-        self.omax = None
+        self.vmax, self.vscale = vmax, scale
+        # a maximum counts once it is final: the grain's peak has passed (v below half
+        # of it) or the running maximum did not change over the probe's second half; a
+        # grain still rising at the probe's end holds its present v, a phase error
+        settled = vmax - vmax_mid <= SETTLED_GROWTH * np.abs(vmax)
+        self.done = ((sim.v < 0.5 * vmax) | settled) & (np.abs(vmax) > 0.01 * scale)
+        # (a time-resolved recording) the contacts that opened for good, their grains in
+        # free flight since: the opening time read back along the free flight from the
+        # end state and from the mid-probe state agree (to SETTLED_GROWTH), with a gap
+        # of at least 1 % of the expected dynamic overlap: their contact times
+        r = sim.overlaps()
+        self.topen = _opening_times(sim, drag)
+        with np.errstate(invalid="ignore"):
+            self.tdone = (timing & (chain.k > 0)
+                          & (-r > 0.01 * (delta_expected - chain.delta0))
+                          & (np.abs(self.topen - topen_mid)
+                             <= SETTLED_GROWTH * np.abs(self.topen))
+                          & (self.topen > 0))
+        self.omax = self.odone = None
+        self.oscale = 0.0
         if rec.overlap_max is not None:  # strain maxima: the dynamic part, relative
-            dyn = np.asarray(rec.overlap_max, float) - chain.delta0
-            self.omax = dyn / (float(np.max(np.abs(dyn))) or 1.0)
+            # only contacts that carry a force (k > 0): a free end's "overlap" is the end
+            # grain's displacement, no strain
+            loaded = chain.k > 0
+            omax = np.asarray(rec.overlap_max, float)
+            dyn = omax - chain.delta0
+            self.oscale = float(np.max(np.abs(dyn[loaded]), initial=0.0))
+            self.omax = dyn
+            now = sim.overlaps() - chain.delta0
+            settled = omax - omax_mid <= SETTLED_GROWTH * np.abs(dyn)
+            self.odone = (loaded & ((now < 0.5 * dyn) | settled)
+                          & (np.abs(dyn) > 0.01 * self.oscale))
 
-    def difference(self, other: _ProbeRun, done: np.ndarray) -> float:
-        """max-norm of the relative differences of the compared quantities."""
-        d = float(np.max(np.abs(self.vmax[done] - other.vmax[done]), initial=0.0))
-        if self.omax is not None and other.omax is not None:
-            both = np.r_[done[:1], done[:-1] & done[1:], done[-1:]]  # contacts 0..N
-            d = max(d, float(np.max(np.abs(self.omax[both] - other.omax[both]),
-                                    initial=0.0)))
+    def difference(self, other: _ProbeRun, done: np.ndarray,
+                   odone: np.ndarray | None, tdone: np.ndarray | None = None) -> float:
+        """max-norm of the differences of the compared quantities, relative.
+
+        Both runs' maxima over the *same* scale, ``other``'s (the finer run's) largest
+        |v| and largest dynamic overlap: a run's own scale would hide the error of the
+        maximum that sets it (a single contact compared with itself, 1 = 1).
+        """
+        d = float(np.max(np.abs(self.vmax[done] - other.vmax[done]), initial=0.0)) \
+            / other.vscale
+        if odone is not None and self.omax is not None and other.omax is not None:
+            d = max(d, float(np.max(np.abs(self.omax[odone] - other.omax[odone]),
+                                    initial=0.0)) / (other.oscale or 1.0))
+        if tdone is not None and np.any(tdone):  # contact times, relative
+            d = max(d, float(np.max(np.abs(self.topen[tdone] - other.topen[tdone])
+                                    / other.topen[tdone])))
         return max(d, abs(self.travel - other.travel) / max(abs(other.travel), 1.0))
+
+
+def _opening_times(sim, drag: float) -> np.ndarray:
+    r"""When each open, opening contact opened, if its grains flew freely since, s.
+
+    A contact with gap r < 0 opening at :math:`\dot r = v_{j-1} - v_j < 0` (a wall at
+    rest: v = 0), both grains in free flight under the drag β since it opened at
+    :math:`t_o`: :math:`\dot r(t) = \dot r_o e^{-\beta(t - t_o)}`, :math:`r = (\dot r_o
+    / \beta)(1 - e^{-\beta(t - t_o)})`, so :math:`t - t_o = \ln(1 + \beta r/\dot r)/\beta`
+    (β → 0: r/ṙ).  nan where the contact is closed or closing.
+    """
+    r = sim.overlaps()
+    v = np.r_[0.0, sim.v, 0.0]
+    rd = v[:-1] - v[1:]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = r / rd
+        back = np.log1p(drag * x) / drag if drag > 0 else x
+        return np.where((r < 0) & (rd < 0), sim.t - back, np.nan)
 
 
 def _centroid(sim) -> float:
@@ -283,6 +537,54 @@ def _centroid(sim) -> float:
     e = ek[lo:hi + 1] + ep[lo:hi + 1]
     tot = float(np.sum(e))
     return lo + float(np.dot(np.arange(e.size, dtype=float), e) / tot) if tot > 0 else 0.0
+
+
+UNIT_ROUNDOFF = 2.0**-53
+"""Unit round-off u of IEEE 754 double precision (round to nearest), relative."""
+
+
+def roundoff_floor(steps: int, *, displacement: float = 0.0, strain: float = 0.0,
+                   delta0: float = 0.0) -> float:
+    r"""The relative error round-off alone leaves in the compared quantities after N steps.
+
+    Every step rounds every stored u and v once (relative error at most u =
+    :data:`UNIT_ROUNDOFF`).  The velocity increments h·a change from step to step, so
+    their roundings behave as independent and accumulate as a random walk (Henrici's
+    statistical law of round-off propagation, P. Henrici, *Discrete Variable Methods
+    in Ordinary Differential Equations*, Wiley 1962; Brouwer's law for the energy,
+    Hairer, McLachlan & Razakarivony, BIT 48 (2008) 231): a velocity maximum, relative
+    to the largest speed, carries :math:`u\sqrt N` (measured on an impact: 0.3–1.3
+    of it).  A displacement increment h·v repeats itself in free flight and is then
+    rounded the same way step after step: the rounding of u, at most :math:`u\,U` per
+    step (U the largest displacement, m), accumulates linearly, :math:`u\,N\,U` (the
+    worst case; measured on a pair flying apart: 1/10 of it, 10 times the random walk).
+    An overlap :math:`\delta_{0,j} + u_{j-1} - u_j` and a contact time (its gap over its
+    opening speed) carry that over the dynamic overlap scale Q (m), plus one rounding of
+    :math:`\delta_0`: :math:`u(N U + \delta_0)/Q` — large when the grains travel far
+    compared with their overlaps (a pair flying apart) or a small wave rides on a large
+    precompression.
+
+    Parameters
+    ----------
+    steps : int
+        N, the run's number of steps.
+    displacement : float
+        U, m.
+    strain : float
+        Q, m; 0: velocities only.
+    delta0 : float
+        The largest static overlap, m.
+
+    Returns
+    -------
+    float
+        :math:`\max(u\sqrt N,\ u(N U + \delta_0)/Q)`, relative.
+    """
+    n = max(int(steps), 1)
+    floor = UNIT_ROUNDOFF * math.sqrt(n)
+    if strain > 0:
+        floor = max(floor, UNIT_ROUNDOFF * (n * abs(displacement) + abs(delta0)) / strain)
+    return floor
 
 
 @dataclass(frozen=True)
@@ -324,6 +626,17 @@ class ProbeResult:
     drifts_late : tuple
         The drift of each probe run over its second half alone (from the state at
         t_probe/2): the growth rate :meth:`drifts_at` extrapolates with.
+    compared_contacts : int
+        Contacts whose overlap maxima were compared (0 without strain maxima).
+    displacement, displacement_late : float
+        max_i |u_i| at the finest probe run's end, and its growth over the probe's
+        second half, m (:meth:`roundoff_at` extrapolates the displacements with it).
+    strain_scale : float
+        The largest dynamic overlap max_j (δ_max,j - δ0_j) of the loaded contacts in the
+        finest probe run (the expected one, :func:`expected_overlaps`, without strain
+        maxima), m: the scale of the overlaps and contact times (:meth:`roundoff_at`).
+    delta0_max : float
+        The largest static overlap, m (its rounding enters every overlap).
     """
 
     method: str
@@ -339,6 +652,26 @@ class ProbeResult:
     complete: bool = True
     drifts: tuple = ()
     drifts_late: tuple = ()
+    compared_contacts: int = 0
+    displacement: float = 0.0
+    displacement_late: float = 0.0
+    strain_scale: float = 0.0
+    delta0_max: float = 0.0
+
+    def roundoff_at(self, h: float, horizon: float | None = None) -> float:
+        """The round-off floor of the compared quantities at step h over ``horizon``, relative.
+
+        :func:`roundoff_floor` with N = horizon/h steps (the probe's length when no
+        horizon is given) and the displacements grown to the horizon at the rate the
+        probe measured over its second half (as :meth:`drifts_at` grows the drifts).
+        """
+        t = self.t_probe
+        if horizon is not None and math.isfinite(horizon) and horizon > t:
+            t = float(horizon)
+        grow = max(self.displacement_late, 0.0) * 2.0 * max(t - self.t_probe, 0.0) \
+            / self.t_probe if self.t_probe > 0 else 0.0
+        return roundoff_floor(math.ceil(t / h), displacement=self.displacement + grow,
+                              strain=self.strain_scale, delta0=self.delta0_max)
 
     def drifts_at(self, horizon: float | None) -> tuple:
         """Each probe run's drift extrapolated to a run of length ``horizon`` (s).
@@ -494,17 +827,25 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     law = as_law(law)
     method = get_integrator(integrator)
     delta = expected_overlaps(chain, u, v, wall_left, wall_right, law=law)
-    w = _omega_max(chain, delta, law)
+    w = _rate_max(chain, delta, law, drag)
     if not w > 0:
         raise ValueError("cannot probe the error: no contact is loaded and nothing moves")
     period = 2.0 * math.pi / w
     stable = stable_dt(chain, delta, law=law, drag=drag)
     if h0 is None:
         h0 = min(PROBE_FRACTION * method.stages * period, 0.5 * stable)
-    t_probe = PROBE_PERIODS * period
+    # at least PROBE_PERIODS shortest periods, and PROBE_CREEP creep times of an
+    # overdamped contact (at most PROBE_CREEP_STEPS steps of h0), never beyond the run
+    t_probe = max(PROBE_PERIODS * period,
+                  min(PROBE_CREEP * creep_time(chain, delta, law=law, drag=drag),
+                      PROBE_CREEP_STEPS * h0))
     if horizon is not None and math.isfinite(horizon) and horizon > 0:
         t_probe = min(t_probe, float(horizon))
     rec = _probe_recording(recording, bool(law.dissipative or drag))
+    # a time-resolved recording (series, sensors, wall forces) records the trajectory:
+    # its timing — when each contact opened — is compared too
+    timing = recording is not None and bool(recording.series_grains or recording.sensors
+                                            or recording.wall_forces)
     stages = method.stages
     # whole steps at h0: every probe run ends at the same time (a probe run that ended
     # up to a step later would carry a first-order "error" in the travelled distance)
@@ -514,14 +855,26 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     runs: list[_ProbeRun] = []
     steps = 0
 
+    loaded = chain.k > 0
+    delta0_max = float(np.max(chain.delta0[loaded], initial=0.0))
+    q_expected = float(np.max((delta - chain.delta0)[loaded], initial=0.0))
+
     def result(complete: bool = True) -> ProbeResult:
         done = np.logical_and.reduce([r.done for r in runs])
-        d = [runs[k].difference(runs[k + 1], done) for k in range(len(runs) - 1)]
+        odone = (None if runs[0].odone is None
+                 else np.logical_and.reduce([r.odone for r in runs]))
+        tdone = np.logical_and.reduce([r.tdone for r in runs])
+        d = [runs[k].difference(runs[k + 1], done, odone, tdone)
+             for k in range(len(runs) - 1)]
         hs = tuple(h0 / 2.0**k for k in range(len(runs)))
         e, p_obs, p, clean = error_bounds(d, method.order)
+        fine = runs[-1]
         return ProbeResult(method.name, hs, e, tuple(d), p_obs, p, clean, t_probe, steps,
                            int(np.count_nonzero(done)), complete,
-                           tuple(r.drift for r in runs), tuple(r.drift_late for r in runs))
+                           tuple(r.drift for r in runs), tuple(r.drift_late for r in runs),
+                           0 if odone is None else int(np.count_nonzero(odone)),
+                           fine.umax, fine.umax - fine.umax_mid,
+                           q_expected if odone is None else fine.oscale, delta0_max)
 
     restarts = 0
     while True:
@@ -534,7 +887,7 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
         h = h0 / 2.0**len(runs)
         try:
             run = _ProbeRun(chain, u, v, wall_left, wall_right, law, drag, method, h,
-                            n0 * 2 ** len(runs), rec)
+                            n0 * 2 ** len(runs), rec, delta, timing)
         except InstabilityError:  # too coarse: drop it (and any coarser) and go finer
             restarts += 1
             if restarts > PROBE_RESTARTS:
@@ -557,9 +910,12 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
             continue
         # finer while the differences do not shrink (not yet asymptotic) or no probe step
         # meets the target; never more than PROBE_MAX_LEVELS runs
-        converging = pr.differences[-1] < pr.differences[-2] or pr.differences[-1] <= 1e-14
+        # or the differences reached the round-off floor of the probe runs (two runs'
+        # round-off: finer probe steps only measure more of it)
+        converging = pr.differences[-1] < pr.differences[-2]
+        at_floor = pr.differences[-1] <= 2.0 * pr.roundoff_at(pr.h[-1])
         meets = target is None or pr.errors[-1] <= target
-        if (converging and meets) or len(runs) >= PROBE_MAX_LEVELS:
+        if (converging and meets) or at_floor or len(runs) >= PROBE_MAX_LEVELS:
             return pr
 
 
@@ -584,6 +940,87 @@ def error_bounds(differences, method_order: int) -> tuple[tuple, float, float, b
     for dk in reversed(d):
         e.append(dk + e[-1])
     return tuple(reversed(e)), p_obs, p, clean
+
+
+def _refuse_below_floor(chain, u, v, wall_left, wall_right, *, rtol, law, drag, horizon,
+                        stages) -> None:
+    """ValueError, before any probe run, if round-off alone exceeds RTOL_SAFETY × rtol.
+
+    The fewest steps the run can take are its length (``horizon``, else the probe's,
+    :data:`PROBE_PERIODS` shortest contact periods) over the largest probe step
+    (:data:`PROBE_FRACTION` × S × 2π/Ω_max, at most half the stability bound); the
+    displacements are at least the initial ones and the dynamic overlaps at most the
+    expected ones (:func:`expected_overlaps`), so :func:`roundoff_floor` of these is a
+    lower bound of the run's round-off floor.  The step chosen for rtol keeps the
+    truncation error plus the floor within RTOL_SAFETY × rtol (:func:`_rtol_step`), so
+    an rtol below floor / RTOL_SAFETY cannot be met whatever the step.
+    """
+    delta = expected_overlaps(chain, u, v, wall_left, wall_right, law=law)
+    w = _rate_max(chain, delta, law, drag)
+    if not w > 0:
+        return  # probe_error names it
+    period = 2.0 * math.pi / w
+    h_max = min(PROBE_FRACTION * stages * period,
+                0.5 * stable_dt(chain, delta, law=law, drag=drag))
+    t = PROBE_PERIODS * period
+    if horizon is not None and math.isfinite(horizon) and horizon > 0:
+        t = float(horizon)
+    loaded = chain.k > 0
+    strain = float(np.max((delta - chain.delta0)[loaded], initial=0.0))
+    u0 = 0.0 if u is None else float(np.max(np.abs(u), initial=0.0))
+    floor = roundoff_floor(math.ceil(t / h_max), displacement=u0, strain=strain,
+                           delta0=float(np.max(chain.delta0[loaded], initial=0.0)))
+    if floor > RTOL_SAFETY * rtol:
+        least = floor / RTOL_SAFETY
+        raise ValueError(
+            f"rtol = {rtol:g} is below what float64 can deliver for this run: round-off "
+            f"alone, accumulated over its at least {math.ceil(t / h_max):,} steps "
+            f"(discrete.timestep.roundoff_floor: u·√N for the velocities, u·(N·U + δ0)/Q "
+            f"for the overlaps and contact times, u = 2^-53), is at least {floor:.2g}, so "
+            f"the smallest error the run can state is {least:.2g}; allowed rtol in "
+            f"[{least:.2g}, 1)")
+
+
+def _rtol_step(pr: ProbeResult, rtol: float, h_max: float,
+               horizon: float | None) -> tuple[float | None, float]:
+    """The largest step h <= h_max whose estimate (E(h) + F(h)) / RTOL_SAFETY <= rtol.
+
+    E(h) the probe's truncation error (:meth:`ProbeResult.error_at`, increasing in h),
+    F(h) the round-off floor over the run (:meth:`ProbeResult.roundoff_at`, growing as
+    h falls): the steps that meet rtol form an interval below h_max.  Scanned from
+    h_max down in factors 2^(1/16) over 40 octaves, the first step that meets rtol
+    refined by bisection against the one above it.  Returns (h, estimate), or (None,
+    the smallest estimate of the scan) when no step meets rtol.
+    """
+    def estimate(h):
+        return (pr.error_at(h) + pr.roundoff_at(h, horizon)) / RTOL_SAFETY
+
+    h = min(h_max, pr.step_for(RTOL_SAFETY * rtol))  # where E alone meets it
+    est = estimate(h)
+    if est <= rtol:
+        if h >= h_max:
+            return h, est
+        above = min(h_max, h * 2.0 ** (1.0 / 16.0))
+    else:  # the floor takes part of the budget: scan the whole range
+        grid = h_max * 2.0 ** (-np.arange(16 * 40 + 1) / 16.0)
+        ests = np.array([estimate(x) for x in grid])
+        ok = np.flatnonzero(ests <= rtol)
+        if ok.size == 0:
+            return None, float(np.min(ests))
+        h, est = float(grid[ok[0]]), float(ests[ok[0]])
+        if ok[0] == 0:
+            return h, est
+        above = float(grid[ok[0] - 1])
+    if estimate(above) <= rtol:
+        return above, estimate(above)
+    lo, hi = h, above
+    for _ in range(40):
+        mid = math.sqrt(hi * lo)
+        if estimate(mid) <= rtol:
+            lo = mid
+        else:
+            hi = mid
+    return lo, estimate(lo)
 
 
 PREDICTION_SLACK = 1.25
@@ -653,13 +1090,18 @@ class TimeStep:
     rtol : float or None
         The accuracy asked for (``source == "rtol"``), relative.
     error_estimate : float
-        The estimated relative error of the recorded quantities at :attr:`dt` (from the
-        probe, :func:`probe_error`; nan without rtol).
+        The estimated relative error of the recorded quantities at :attr:`dt`: the
+        probe's truncation error (:func:`probe_error`) plus the round-off floor over
+        the run (:meth:`ProbeResult.roundoff_at`), over :data:`RTOL_SAFETY` — measured,
+        never set to rtol (nan without rtol).
     order : float
         The order that extrapolated the finest probe run of the chosen method (the
         observed one, clipped to [1, method order], if clean, else 1; nan without rtol).
     probe_steps : int
         Steps the probe took (0 without rtol).
+    damping_rate : float
+        The largest dissipative rate γ_max at the expected overlaps, 1/s
+        (:func:`damping_rate`; 0 for a conservative law without drag).
     """
 
     dt: float
@@ -673,6 +1115,7 @@ class TimeStep:
     error_estimate: float = math.nan
     order: float = math.nan
     probe_steps: int = 0
+    damping_rate: float = 0.0
 
     @classmethod
     def choose(cls, chain: Chain, u=None, v=None, wall_left: float = 0.0,
@@ -755,9 +1198,10 @@ class TimeStep:
         if not (math.isfinite(frac) and frac > 0):
             raise ValueError(f"fraction must be finite and > 0 (got {fraction!r})")
         delta = expected_overlaps(chain, u, v, wall_left, wall_right, law=law)
-        w = _omega_max(chain, delta, law)
+        w = _rate_max(chain, delta, law, drag)
         default = frac * 2.0 * math.pi / w if w > 0 else math.inf
         stable = stable_dt(chain, delta, law=law, drag=drag)
+        gamma = damping_rate(chain, delta, law=law, drag=drag)
         if dt is None:
             if not math.isfinite(default):
                 raise ValueError("cannot choose dt: no contact is loaded and nothing "
@@ -769,7 +1213,8 @@ class TimeStep:
                     or not math.isfinite(chosen) or chosen <= 0):
                 raise ValueError(f"dt must be a finite number > 0 s (got {dt!r})")
             source = "explicit"
-        step = cls(chosen, source, default, stable, frac, method.name, delta)
+        step = cls(chosen, source, default, stable, frac, method.name, delta,
+                   damping_rate=gamma)
         if check:
             step.check()
         return step
@@ -787,8 +1232,12 @@ class TimeStep:
                  else (get_integrator(integrator).name,))
         if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
             names = ("verlet",)
+        _refuse_below_floor(chain, u, v, wall_left, wall_right, rtol=rtol, law=law,
+                            drag=drag, horizon=horizon,
+                            stages=max(get_integrator(n).stages for n in names))
         target = RTOL_SAFETY * rtol
         best = None
+        floors = []
         steps = 0
         for name in names:
             method = get_integrator(name)
@@ -798,30 +1247,60 @@ class TimeStep:
             steps += pr.probe_steps
             if not pr.complete:
                 continue
+            if pr.compared == 0 and pr.compared_contacts == 0:
+                raise ValueError(
+                    f"rtol = {rtol:g}: no recorded maximum settled within the probe "
+                    f"({pr.t_probe:.3g} s; a maximum counts once its peak has passed or "
+                    "it no longer changes), so there is nothing to measure the error on; "
+                    "give dt")
             base = cls.choose(chain, u, v, wall_left, wall_right, integrator=method,
                               law=law, drag=drag, check=False)
-            h = min(pr.step_for(target), 0.5 * base.stable)
+            h_max = min(pr.h0, 0.5 * base.stable)
             # the run must also pass its energy monitor: the probe's drift, extrapolated
             # to the run's length at the rate measured over the probe's second half
             cap = min(drift_tolerance, rtol) if energy_ratios else drift_tolerance
-            h = min(h, pr.step_for_drift(RTOL_SAFETY * cap, horizon))
-            # the step meets the target by construction; recomputing the estimate there
-            # can return rtol (1 + 2e-16), a promise (estimate <= rtol) broken by round-off
-            est = min(rtol, pr.error_at(h) / RTOL_SAFETY)
+            h_max = min(h_max, pr.step_for_drift(RTOL_SAFETY * cap, horizon))
+            h, est = _rtol_step(pr, rtol, h_max, horizon)
+            if h is None:  # round-off and truncation together never get below rtol
+                floors.append(est)
+                continue
             if energy_ratios:  # the energy ratios' absolute error: the run's drift
-                est = max(est, min(rtol, pr.drift_at(h, horizon) / RTOL_SAFETY))
+                est = max(est, pr.drift_at(h, horizon) / RTOL_SAFETY)
             cost = method.stages / h
             if best is None or cost < best[0]:
                 best = (cost, method, h, est, pr, base)
+        if best is None:
+            raise ValueError(
+                f"rtol = {rtol:g} is below what float64 can deliver for this run: the "
+                f"probe's truncation error and the round-off accumulated over the run's "
+                f"steps (discrete.timestep.roundoff_floor) add up to at least "
+                f"{min(floors):.2g} of the recorded quantities at every step; allowed "
+                f"rtol in [{min(floors):.2g}, 1)")
         _, method, h, est, pr, base = best
         step = cls(h, "rtol", base.default, base.stable, base.fraction, method.name,
-                   base.delta_expected, rtol, est, pr.order, steps)
+                   base.delta_expected, rtol, est, pr.order, steps, base.damping_rate)
         if check:
             step.check()
         return step
 
     def check(self) -> None:
-        """ValueError if :attr:`dt` is above :attr:`stable` (naming the allowed range)."""
+        r"""ValueError if :attr:`dt` is above :attr:`stable` or the damping bound.
+
+        The damping bound :math:`\gamma_{max}\,\Delta t \le` :data:`DAMPING_STEP_LIMIT`
+        is one of accuracy, not stability (module docstring, "Dissipative time
+        scales"): beyond it the split step's relaxation of an overdamped contact is off
+        by more than 8 %, a wrong result that no monitor sees.
+        """
+        if self.damping_rate * self.dt > DAMPING_STEP_LIMIT:
+            limit = DAMPING_STEP_LIMIT / self.damping_rate
+            raise ValueError(
+                f"dt = {self.dt:.4g} s is above the damping bound {limit:.4g} s: the "
+                f"fastest dissipative rate at the expected overlaps is γ_max = "
+                f"{self.damping_rate:.4g} 1/s (damping coefficient × inverse reduced "
+                f"mass, plus the drag rate), and the split dissipative step is accurate "
+                f"only for γ_max dt <= {DAMPING_STEP_LIMIT:g}; allowed range (0, "
+                f"{min(limit, self.stable):.4g}] s, default {self.default:.4g} s "
+                f"(check_dt=False skips this check)")
         if self.dt > self.stable:
             raise ValueError(
                 f"dt = {self.dt:.4g} s is above the largest linearly stable time step "

@@ -525,7 +525,7 @@ def _contact_peaks(chain: Any, v: np.ndarray, overlaps: np.ndarray, law: Any,
     """The largest overlap each of ``contacts`` reaches from a state on, m.
 
     The equation of motion (paper Eq. 2 with the contact law's force, Eq. 1 for Hertz,
-    :mod:`discrete.laws`; static forces, which balance gravity, subtracted; on-site drag
+    :mod:`theory.laws`; static forces, which balance gravity, subtracted; on-site drag
     −γ v) in overlaps r_j and velocities v_i, ṙ_j = v_{j-1} − v_j, integrated by
     velocity Verlet from the state (``v`` m/s, ``overlaps`` m) on the grains
     ``grains = (a, b)`` only (the grains just outside keep their velocity: a window

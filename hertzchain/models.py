@@ -450,7 +450,7 @@ def incident_wave(chain: discrete.Chain, init, kind: str, left: dict, law=None,
     impact's wave forms on the way: 0.68 v0 (v̄max/v0 at δ0 = 0, paper Fig. 2) is only
     the estimate that places the samples; it is measured on the discrete run
     (:func:`incident_from_run`).  ``law``, ``drag``: the chain's contact law
-    (:mod:`discrete.laws`, default Hertz) and on-site drag rate, 1/s.
+    (:mod:`theory.laws`, default Hertz) and on-site drag rate, 1/s.
     """
     v = np.asarray(init.v)
     params = init.params or {}

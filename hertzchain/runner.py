@@ -394,6 +394,12 @@ def check_run(scenario: Scenario, init) -> None:
                 f"{stable:.4g} s of this chain and initial state (Gershgorin bound 2/ω_lat "
                 f"at the largest expected overlaps); allowed range (0, {stable:.4g}] s. "
                 f"dt = 'auto' gives {auto:.4g} s")
+        law, drag = build_law(scenario.chain)
+        try:  # the damping bound of a dissipative law or drag (discrete.TimeStep.check)
+            discrete.TimeStep.choose(init.chain, init.u, init.v, init.wall_left,
+                                     init.wall_right, dt=run.dt, law=law, drag=drag)
+        except ValueError as exc:
+            raise ScenarioError(f"[run] {exc}") from None
     if run.until_front_at is not None and ini.kind in ("cut_wave", "exact_wave") \
             and run.until_front_at <= ini.center:
         raise ScenarioError(
@@ -482,6 +488,8 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
                     maxima=True, strain_maxima=rec.strain_maxima),
                 energy_ratios=bool(ifaces))  # (the summary's, Table 2)
     except ValueError as exc:  # e.g. v0 = 1e-300: the expected overlaps underflow to 0
+        if run.rtol is not None and run.dt is None and str(exc).startswith("rtol"):
+            raise ScenarioError(f"[run] {exc}") from None  # (below the round-off floor)
         amp = {"impact": "v0", "cut_wave": "v0"}.get(scenario.initial.kind, "velocity_max")
         raise ScenarioError(
             f"[run] dt = {'auto' if run.dt is None else run.dt!r}: the time step cannot be "
