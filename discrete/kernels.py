@@ -1571,8 +1571,9 @@ def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
     def substep(u, v, vm, tm, inv_m, k, d0, f0, p, wl, wr, dc, c1, c2, tn, track, w):
         """One fused pass (drift, force, kick) over grains 0 … w of one chain ("Passes").
 
-        Views from grain 0 and grain 1 (``uw[i]`` is grain i, ``u1[i]`` grain i+1) let
-        LLVM see the distance-1 dependence of the drifted neighbour and vectorise.
+        The loops are those of the single-chain kernels' ``loop_arrays``: one base
+        pointer for u[i] and u[i+1] (LLVM sees the distance-1 dependence and
+        vectorises), the running maximum stored at every grain (:func:`_raised`).
         Grain w+1 (at rest when w < N-1) is drifted in the arithmetic but not stored.
         """
         n = u.size
@@ -1580,27 +1581,37 @@ def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
         u[0] = un
         phl = contact(d0[0] + (wl - un), k[0], f0[0], p)
         m = w
-        u1, v1, k1, d1, f1 = u[1:], v[1:], k[1:], d0[1:], f0[1:]
-        if track:
+        k1, d1, f1 = k[1:], d0[1:], f0[1:]
+        if track and TIMES:
             for i in range(m):
-                unr = u1[i] + dc * v1[i]
-                u1[i] = unr
+                unr = u[i + 1] + dc * v[i + 1]
+                u[i + 1] = unr
                 phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
                 ai = (phl - phr) * inv_m[i]
                 x = v[i] + c1 * ai
                 g = _opaque(vm[i])
+                tt = _opaque(tm[i])
                 up = x > g
                 vm[i] = x if up else g
-                if TIMES:
-                    tt = _opaque(tm[i])
-                    tm[i] = tn if up else tt
+                tm[i] = tn if up else tt
+                v[i] = x + c2 * ai
+                phl = phr
+                un = unr
+        elif track:
+            for i in range(m):
+                unr = u[i + 1] + dc * v[i + 1]
+                u[i + 1] = unr
+                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                ai = (phl - phr) * inv_m[i]
+                x = v[i] + c1 * ai
+                vm[i] = _raised(vm[i], x)
                 v[i] = x + c2 * ai
                 phl = phr
                 un = unr
         else:
             for i in range(m):
-                unr = u1[i] + dc * v1[i]
-                u1[i] = unr
+                unr = u[i + 1] + dc * v[i + 1]
+                u[i + 1] = unr
                 phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
                 ai = (phl - phr) * inv_m[i]
                 v[i] = (v[i] + c1 * ai) + c2 * ai
