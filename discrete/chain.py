@@ -530,6 +530,96 @@ class Chain:
         return cls(mass, k, d0, diam, sec, params)
 
     @classmethod
+    def from_sections_seeds(cls, sections: Sequence[Section], seeds: Sequence[int], *,
+                            section: int | None = None, **kwargs) -> list[Chain]:
+        """The chains of :meth:`from_sections` for many seeds of one section's disorder.
+
+        Chain q is, bit for bit, ``from_sections(sections', **kwargs)`` with
+        ``sections'`` the sections in which section ``section``'s
+        :class:`Disorder` has the seed ``seeds[q]``.  Where the disorder leaves the
+        diameters alone (``Disorder.diameter == 0``) and there is no gravity, the
+        sections' geometry — diameters, nominal masses, two-sphere and wall Hertz
+        constants — is built once and each seed only draws its factors: masses
+        m_i = m⁰_i f^m_i and grain–grain constants k_j = k⁰_j f^k_j (:class:`Disorder`),
+        then the static overlaps of force equilibrium (paper, below Eq. 9).  Otherwise
+        each chain is built by :meth:`from_sections`.
+
+        Parameters
+        ----------
+        sections : sequence of Section
+            As for :meth:`from_sections`.
+        seeds : sequence of int
+            The seeds, one chain each.
+        section : int, optional
+            Index of the section whose disorder takes the seeds (default: the only
+            section with a disorder).
+        **kwargs
+            The keywords of :meth:`from_sections` (``delta0``, ``wall_force``, walls,
+            ``exponent``, ``gravity``).
+
+        Returns
+        -------
+        list of Chain
+        """
+        sections = list(sections)
+        if not sections or not all(isinstance(x, Section) for x in sections):
+            raise ValueError("sections must be a non-empty sequence of Section")
+        disordered = [i for i, x in enumerate(sections) if x.disorder is not None]
+        if section is None:
+            if len(disordered) != 1:
+                raise ValueError("section must name the section whose disorder takes the "
+                                 f"seeds (sections with a disorder: {disordered})")
+            section = disordered[0]
+        if section not in disordered:
+            raise ValueError(f"section must be the index of a section with a Disorder, "
+                             f"one of {disordered} (got {section!r})")
+        seeds = [int(x) for x in seeds]
+        dis = sections[section].disorder
+
+        def with_seed(seed: int) -> list[Section]:
+            out = list(sections)
+            out[section] = Section(sections[section].n, sections[section].diameter,
+                                   sections[section].material, sections[section].profile,
+                                   Disorder(dis.mass, dis.stiffness, dis.diameter, seed))
+            return out
+
+        if dis.diameter != 0 or float(kwargs.get("gravity", 0.0)) != 0:
+            return [cls.from_sections(with_seed(x), **kwargs) for x in seeds]
+        # the geometry once: the same sections with unit factors (1 + 0·√3 U = 1
+        # exactly, and x·1 = x), so every product below is from_sections' own
+        nominal = list(sections)
+        nominal[section] = Section(sections[section].n, sections[section].diameter,
+                                   sections[section].material, sections[section].profile,
+                                   Disorder(0.0, 0.0, 0.0, dis.seed))
+        base = cls.from_sections(nominal, **kwargs)
+        lo = sum(int(x.n) for x in sections[:section])
+        n_sec = int(sections[section].n)
+        exponent = float(kwargs.get("exponent", 1.5))
+        ref = 1 if sections[0].n > 1 else 0
+        delta0, wall_force = kwargs.get("delta0"), kwargs.get("wall_force")
+        out = []
+        for seed in seeds:
+            d = Disorder(dis.mass, dis.stiffness, 0.0, seed)
+            f = d.factors(n_sec)
+            mass = np.array(base.mass)
+            mass[lo:lo + n_sec] = mass[lo:lo + n_sec] * f["mass"]
+            k = np.array(base.k)
+            first = lo if lo > 0 else lo + 1  # the contact left of the section's grain 0
+            k[first:lo + n_sec] = k[first:lo + n_sec] * f["stiffness"][first - lo:]
+            if wall_force is not None:
+                fw = float(wall_force)
+                d0 = _equilibrium(k, (fw / k[ref]) ** (1 / exponent), reference=ref,
+                                  exponent=exponent)
+            else:
+                d0 = _equilibrium(k, 0.0 if delta0 is None else float(delta0),
+                                  reference=ref, exponent=exponent)
+            params = dict(base.params)
+            params["sections"] = [x.to_dict() for x in with_seed(seed)]
+            params["delta0"] = float(d0[ref])
+            out.append(cls(mass, k, d0, base.diameter, base.section, params))
+        return out
+
+    @classmethod
     def two_section(cls, n_left: int, n_right: int, alpha_rho: float = 1.0,
                     alpha_kn: float = 1.0, delta0_over_d: float = 0.0, *,
                     material: Material = theory.PAPER_MATERIAL,

@@ -1463,7 +1463,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
 _BATCH: dict[tuple, object] = {}
 
 
-def batch_kernel(law: ContactLaw | None = None):
+def batch_kernel(law: ContactLaw | None = None, times: bool = True):
     r"""The ensemble kernel of a conservative ``law``: R chains of N grains in one call.
 
     Many realisations of a small chain (a disorder ensemble) are integrated in one
@@ -1471,66 +1471,85 @@ def batch_kernel(law: ContactLaw | None = None):
     (realisation first): a realisation's state and constants (u, v, the maxima and
     their times, 1/m, k, δ0, f0: 64 bytes a grain) stay in the L1/L2 cache through all
     its steps, and none of the per-step bookkeeping of :attr:`Kernels.run_steps` (the
-    active window, the event tests, the special grains, the chunk calls) that
-    dominates a 200-grain chain's step is done.
+    event tests, the special grains, the chunk calls) that dominates a 200-grain
+    chain's step is done.
 
     Each realisation's arithmetic is the per-step pass of the single-chain kernels
     (module docstring, "Passes"): the drift ``u + a_s h v`` of grain i+1, the overlap
     ``δ0 + (u_i - u_{i+1})`` (walls not drifted), φ = F(r) - f0, the kick
     ``v = (v + c1 a) + c2 a`` with the closing and the next opening kick fused, the
     running maximum on the synchronous velocity ``v + c1 a``; a run's last step closes
-    with c2 = 0 and its acceleration is recomputed as ``accelerations`` does.  The
-    whole chain is integrated (no window): a grain at rest in equilibrium has
-    exactly zero force, so its state stays exact (module docstring), and every
-    realisation ends bit for bit where :meth:`discrete.Simulation.run` ends it
-    (``tests/discrete/test_ensemble.py``).  Each realisation has its own time step
-    and step count.
+    with c2 = 0 and its acceleration is recomputed as ``accelerations`` does.
+
+    Each pass integrates grains 0 … w of its realisation, w its *front*: grains right
+    of the front are inert (at rest in equilibrium, u = v = 0, so F(δ0) - f0 = 0
+    exactly and they stay so; module docstring).  Before every pass the front moves
+    right while its grain is not at rest — a disturbance crosses at most one contact
+    per pass — so the last grain integrated feels its resting right neighbour through
+    the same arithmetic as in a whole-chain pass, and every realisation ends bit for
+    bit where :meth:`discrete.Simulation.run` ends it
+    (``tests/discrete/test_ensemble.py``).  A wave started at one end thus costs the
+    grains it has reached, as in the single-chain kernels' active window.  Each
+    realisation has its own time step and step count.
 
     Besides the running maximum ``vmax`` of the synchronous velocity (the transmitted
-    amplitude at every grain, paper Fig. 2) it keeps the time ``tmax`` at which that
-    maximum was reached, ``t0 + s h`` at the end of the step s that raised it (the
-    arrival time of the wave's peak, resolved to one step).
+    amplitude at every grain, paper Fig. 2) the variant with ``times`` keeps the time
+    ``tmax`` at which that maximum was reached, ``t0 + s h`` at the end of the step s
+    that raised it (the arrival time of the wave's peak, resolved to one step); it is
+    a variant of its own because that second select per grain costs a fifth to a half
+    of the pass.
 
-    Parameters of the returned function ``run_batch(st, con, p, walls, coef, steps)``:
+    Parameters
+    ----------
+    law : ContactLaw, optional
+        A conservative contact law (default Hertz).
+    times : bool
+        Compile the variant that records the times of the maxima.
 
-    st : tuple of (R, N) float arrays
-        ``(u, v, a, vmax, tmax)``: displacements (m), velocities (m/s), accelerations
-        (m/s², overwritten: computed from u at the start and at the end), running
-        maxima of v (m/s) and their times (s); updated in place.
-    con : tuple of arrays
-        ``(inv_m, k, d0, f0)``: 1/m (R, N) in 1/kg, and per contact (R, N+1) the
-        constants k (N/m^n), the static overlaps δ0 (m) and the static forces
-        F(δ0) (N, computed with the kernels' arithmetic: ``Kernels.static_forces``).
-    p : (P,) float array
-        The law's runtime parameters (:func:`kernel_params`).
-    walls : tuple of (R,) float arrays
-        ``(w_L, w_R)`` wall displacements, m.
-    coef : tuple
-        ``(drift, kick, t0, dt)``: the method's coefficients per realisation, drift
-        (R, S) = a_s h and kick (R, S+1) = b_s h (s), the start time t0 (R,) and the
-        step h (R,) in s.
-    steps : (R,) int64 array
-        Steps of each realisation.
+    Returns
+    -------
+    callable
+        ``run_batch(st, con, p, walls, coef, steps)``, compiled on its first call (or
+        loaded from the disk cache), apart from the single-chain kernels: a sweep of
+        small chains compiles only it.  Its arguments:
 
-    The batch kernel is compiled on its first call (or loaded from the disk cache),
-    apart from the single-chain kernels: a sweep of small chains compiles only it.
+        st : tuple of (R, N) float arrays
+            ``(u, v, a, vmax, tmax)``: displacements (m), velocities (m/s),
+            accelerations (m/s², overwritten: computed from u at the start and at the
+            end), running maxima of v (m/s) and their times (s; not read or written
+            without ``times``: any (R, N) or (R, 0) array); updated in place.
+        con : tuple of arrays
+            ``(inv_m, k, d0, f0)``: 1/m (R, N) in 1/kg, and per contact (R, N+1) the
+            constants k (N/m^n), the static overlaps δ0 (m) and the static forces
+            F(δ0) (N, computed with the kernels' arithmetic: ``Kernels.static_forces``).
+        p : (P,) float array
+            The law's runtime parameters (:func:`kernel_params`).
+        walls : tuple of (R,) float arrays
+            ``(w_L, w_R)`` wall displacements, m.
+        coef : tuple
+            ``(drift, kick, t0, dt)``: the method's coefficients per realisation, drift
+            (R, S) = a_s h and kick (R, S+1) = b_s h (s), the start time t0 (R,) and
+            the step h (R,) in s.
+        steps : (R,) int64 array
+            Steps of each realisation.
     """
     law = as_law(law)
     if law.dissipative:
         raise ValueError(f"law must be conservative for the ensemble kernel (got the "
                          f"{law.describe()}): velocity-dependent forces need the split "
                          "dissipative step of the single-chain kernels")
-    key = law.key()
+    key = (law.key(), bool(times))
     if key not in _BATCH:
-        _BATCH[key] = _build_batch(law)
+        _BATCH[key] = _build_batch(law, bool(times))
     return _BATCH[key]
 
 
-def _build_batch(law: ContactLaw):
+def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
     """Close the ensemble pass over the law's compiled force (:func:`batch_kernel`)."""
     force = law.make_force()
-    ckey = f"batch|{law.key()!r}|{_source_digest(law)}"
-    tag = "B" + hashlib.sha256(repr(law.key()).encode()).hexdigest()[:12]
+    TIMES = times
+    ckey = f"batch|{law.key()!r}|times={TIMES}|{_source_digest(law)}"
+    tag = "B" + hashlib.sha256(f"{law.key()!r}|times={TIMES}".encode()).hexdigest()[:12]
 
     @numba.njit(**_INLINE)
     def contact(r, kj, f0j, p):
@@ -1549,22 +1568,24 @@ def _build_batch(law: ContactLaw):
             phl = phr
 
     @numba.njit(**_INLINE)
-    def substep(u, v, vm, tm, inv_m, k, d0, f0, p, wl, wr, dc, c1, c2, tn, track):
-        """One fused pass (drift, force, kick) over the grains of one chain (see "Passes").
+    def substep(u, v, vm, tm, inv_m, k, d0, f0, p, wl, wr, dc, c1, c2, tn, track, w):
+        """One fused pass (drift, force, kick) over grains 0 … w of one chain ("Passes").
 
-        Views from grain 0 and grain 1 (``uw[i]`` is grain i, ``u1[i]`` grain i+1) let
-        LLVM see the distance-1 dependence of the drifted neighbour and vectorise.
+        The loops are those of the single-chain kernels' ``loop_arrays``: one base
+        pointer for u[i] and u[i+1] (LLVM sees the distance-1 dependence and
+        vectorises), the running maximum stored at every grain (:func:`_raised`).
+        Grain w+1 (at rest when w < N-1) is drifted in the arithmetic but not stored.
         """
         n = u.size
         un = u[0] + dc * v[0]
         u[0] = un
         phl = contact(d0[0] + (wl - un), k[0], f0[0], p)
-        m = n - 1
-        u1, v1, k1, d1, f1 = u[1:], v[1:], k[1:], d0[1:], f0[1:]
-        if track:
+        m = w
+        k1, d1, f1 = k[1:], d0[1:], f0[1:]
+        if track and TIMES:
             for i in range(m):
-                unr = u1[i] + dc * v1[i]
-                u1[i] = unr
+                unr = u[i + 1] + dc * v[i + 1]
+                u[i + 1] = unr
                 phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
                 ai = (phl - phr) * inv_m[i]
                 x = v[i] + c1 * ai
@@ -1576,21 +1597,34 @@ def _build_batch(law: ContactLaw):
                 v[i] = x + c2 * ai
                 phl = phr
                 un = unr
+        elif track:
+            for i in range(m):
+                unr = u[i + 1] + dc * v[i + 1]
+                u[i + 1] = unr
+                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                ai = (phl - phr) * inv_m[i]
+                x = v[i] + c1 * ai
+                vm[i] = _raised(vm[i], x)
+                v[i] = x + c2 * ai
+                phl = phr
+                un = unr
         else:
             for i in range(m):
-                unr = u1[i] + dc * v1[i]
-                u1[i] = unr
+                unr = u[i + 1] + dc * v[i + 1]
+                u[i + 1] = unr
                 phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
                 ai = (phl - phr) * inv_m[i]
                 v[i] = (v[i] + c1 * ai) + c2 * ai
                 phl = phr
                 un = unr
-        phr = contact(d0[n] + (un - wr), k[n], f0[n], p)
+        unr = wr if m == n - 1 else u[m + 1] + dc * v[m + 1]
+        phr = contact(d0[m + 1] + (un - unr), k[m + 1], f0[m + 1], p)
         ai = (phl - phr) * inv_m[m]
         x = v[m] + c1 * ai
         if track and x > vm[m]:
             vm[m] = x
-            tm[m] = tn
+            if TIMES:
+                tm[m] = tn
         v[m] = x + c2 * ai
 
     def run_batch(st, con, p, walls, coef, steps):
@@ -1604,11 +1638,20 @@ def _build_batch(law: ContactLaw):
         for r in range(nr):
             ur, vr, ar = u[r], v[r], a[r]
             imr, kr, dr, fr = inv_m[r], k[r], d0[r], f0[r]
+            tr = tmax[r] if TIMES else tmax[0:0]
             accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
             nsteps = steps[r]
             if nsteps <= 0:
                 continue
-            for i in range(ur.size):  # the opening kick of the first step
+            n = ur.size
+            # the front: the last grain that moves, is accelerated, or feels a wall
+            # out of its place (the right wall's contact is then not in equilibrium)
+            w = n - 1 if wr[r] != 0.0 else 0
+            for i in range(n - 1, w - 1, -1):
+                if ur[i] != 0.0 or vr[i] != 0.0 or ar[i] != 0.0:
+                    w = i
+                    break
+            for i in range(n):  # the opening kick of the first step
                 vr[i] = vr[i] + kick[r, 0] * ar[i]
             for s in range(nsteps):
                 # the closing kick and the next step's opening one; the last step stops
@@ -1616,9 +1659,11 @@ def _build_batch(law: ContactLaw):
                 c2 = kick[r, 0] if s + 1 < nsteps else 0.0
                 tn = t0[r] + (s + 1) * dt[r]
                 for q in range(ns):
+                    while w < n - 1 and (ur[w] != 0.0 or vr[w] != 0.0):
+                        w += 1
                     final = q == ns - 1
-                    substep(ur, vr, vmax[r], tmax[r], imr, kr, dr, fr, p, wl[r], wr[r],
-                            drift[r, q], kick[r, q + 1], c2 if final else 0.0, tn, final)
+                    substep(ur, vr, vmax[r], tr, imr, kr, dr, fr, p, wl[r], wr[r],
+                            drift[r, q], kick[r, q + 1], c2 if final else 0.0, tn, final, w)
             accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
 
     run_batch.__qualname__ = f"run_batch_{tag}"

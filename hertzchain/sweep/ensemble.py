@@ -152,7 +152,7 @@ def realisations(scenarios: Sequence[Scenario]) -> list[dict[str, Any]]:
     out: list[dict[str, Any]] = [{} for _ in scenarios]
     done = []
     for t_end, idx in by_end.items():
-        res = run_ensemble([sims[q] for q in idx], t_end)
+        res = run_ensemble([sims[q] for q in idx], t_end, times=True)  # arrival times
         done.append((idx, [sims[q] for q in idx], res, t_end))
     wall = (time.perf_counter() - t0) / len(scenarios)
     for idx, group, res, t_end in done:

@@ -11,6 +11,7 @@ loop over ``discrete.integrators.step``; the statistics must be NumPy's.
 import numpy as np
 import pytest
 
+import discrete
 import theory
 from discrete import Chain, Disorder, Recording, Section
 from discrete.ensemble import (
@@ -61,16 +62,52 @@ def test_bitwise_equal_to_single_runs(kw):
     assert np.all(res.vmax[:, -1] >= 0)
 
 
+def _moved_sims(seeds, n=50, window=True):
+    """States that start away from the struck end: a pulse in the middle (grains 20-24
+    moving left and right), some with the right wall pushed in (its contact out of
+    equilibrium from the start), so the kernel's front starts inside the chain."""
+    out = []
+    for s in seeds:
+        sec = Section(n, 5e-3, STEEL, disorder=Disorder(mass=0.09, stiffness=0.05, seed=s))
+        chain = Chain.from_sections([sec], delta0=5e-6)
+        v = np.zeros(n)
+        v[20:25] = 0.05 * np.array([1.0, -0.5, 0.7, 0.0, 0.3])
+        wr = -2e-7 if s % 2 else 0.0
+        out.append(discrete.Simulation(chain, np.zeros(n), v, wall_right=wr,
+                                       record=Recording(maxima=True),
+                                       active_window=window))
+    return out
+
+
+def test_front_and_times_variants_bitwise():
+    """The front (grains right of it inert) and the variant without the times of the
+    maxima change no bit: same final state and maxima as whole-chain single runs."""
+    sims = _moved_sims(range(4))
+    t_end = _t_end(sims, 500)
+    with_t = run_ensemble(sims, t_end, times=True)
+    without = run_ensemble(sims, t_end)
+    assert without.vmax_time is None
+    for name in ("u", "v", "a", "vmax", "energy"):
+        assert np.array_equal(getattr(with_t, name), getattr(without, name)), name
+    for q, sim in enumerate(_moved_sims(range(4), window=False)):
+        sim.run(t_end, progress=False)
+        for name in ("u", "v", "a"):
+            assert np.array_equal(getattr(without, name)[q], getattr(sim, name)), name
+        assert np.array_equal(without.vmax[q], sim.record.vmax)
+    # the pushed-in right wall moves the last grain from the start
+    assert without.v[1, -1] != 0.0 and with_t.vmax_time[1, -1] > 0
+
+
 def test_batches_do_not_interact():
     """The same realisations in any batch size give the same bits (times included)."""
     sims = _sims(range(7))
     t_end = _t_end(sims, 300)
-    whole = run_ensemble(sims, t_end, batch=7)
+    whole = run_ensemble(sims, t_end, batch=7, times=True)
     for b in (1, 2, 4):
-        part = run_ensemble(sims, t_end, batch=b)
+        part = run_ensemble(sims, t_end, batch=b, times=True)
         for name in ("u", "v", "a", "vmax", "vmax_time", "energy"):
             assert np.array_equal(getattr(part, name), getattr(whole, name)), (b, name)
-    one = run_ensemble(sims[4:5], t_end)
+    one = run_ensemble(sims[4:5], t_end, times=True)
     assert np.array_equal(one.vmax_time[0], whole.vmax_time[4])
 
 
@@ -84,7 +121,7 @@ def test_against_numpy_reference():
     """
     sims = _sims(range(3), n=40)
     t_end = _t_end(sims, 3000)
-    res = run_ensemble(sims, t_end)
+    res = run_ensemble(sims, t_end, times=True)
     ref = reference_ensemble(sims, t_end)
     assert np.array_equal(res.steps, ref.steps)
     for name in ("u", "v", "vmax"):
