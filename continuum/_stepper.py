@@ -62,13 +62,14 @@ Elimination a_i = r_i/d_i - g_i a_{i-1} and back substitution x_i = a_i - c_i x_
 are first-order recurrences: one multiply and one add per node on the dependency chain,
 so their latency, not the arithmetic throughput, bounds the sweep; two chains (the
 twisted factorisation's two directions) per sweep.  The factors d, g, c reach their
-fixed point bit for bit some tens of nodes after each end and each change of the medium (:func:`constant_runs`), and there the kernel advances
-four nodes per link, a_{i+3} = T_3 + g⁴ a_{i-1} with the local sums T off the chain
-(:func:`_eliminate4`, :func:`_substitute4`): the same arithmetic as the one-step form
-to a few ulp (not bit for bit).  The four-node links shorten the dependency chain about
-fourfold and make a drift-and-kick pass about a quarter cheaper; the flux sweep is bound
-by its loads, so a vectorised form (each face's flux computed for both its nodes) is no
-faster (timings: docs/benchmarks.md, "Design measurements").
+fixed point bit for bit some tens of nodes after each end and each change of the medium
+(:func:`constant_runs`), and there the kernel advances four nodes per link, a_{i+3} =
+T_3 + g⁴ a_{i-1} with the local sums T off the chain (:func:`_eliminate4`,
+:func:`_substitute4`): the same arithmetic as the one-step form to a few ulp (not bit
+for bit).  The four-node links shorten the dependency chain about fourfold and make a
+drift-and-kick pass about a quarter cheaper; the flux sweep is bound by its loads, so a
+vectorised form (each face's flux computed for both its nodes) is no faster (timings:
+docs/benchmarks.md, "Design measurements").
 
 Boundary codes (as :mod:`continuum._kernels`): 0 = free, 1 = wall, 2 = periodic.
 Nonlinearity codes: 0 = linear K s, 1 = quadratic K s + B s², 2 = the full law

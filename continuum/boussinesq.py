@@ -76,10 +76,10 @@ contact law.  What remains is the O(h²) of the nonlinear flux, a factor ~A/δ0 
 on the paper's wave over 20 d the errors are 1.5e-5, 7e-6, 2.5e-6 at n = 3, 5, 9 against
 3.0e-3, 1.1e-3, 3.4e-4 uncorrected (``tests/continuum/test_boussinesq.py``).  Time
 stepping adds Verlet's O(Δt²) dispersion of the opposite sign (it cancels the
-uncorrected scheme's at the "magic" c Δt = h, n = 3 with the default step); use ``order=4`` for accuracy
-(benchmarks/continuum.py ``--accuracy``).  The fused compiled stepper
-(:mod:`continuum._stepper`) solves the tridiagonal system with a twisted ("burn at both
-ends") factorisation over the active window.
+uncorrected scheme's at the "magic" c Δt = h, n = 3 with the default step); use
+``order=4`` for accuracy (benchmarks/continuum.py ``--accuracy``).  The fused compiled
+stepper (:mod:`continuum._stepper`) solves the tridiagonal system with a twisted ("burn
+at both ends") factorisation over the active window.
 """
 
 from __future__ import annotations

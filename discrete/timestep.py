@@ -559,10 +559,10 @@ def roundoff_floor(steps: int, *, displacement: float = 0.0, strain: float = 0.0
     most :math:`u\,U` per step (U the largest displacement, m), accumulates linearly,
     :math:`u\,N\,U` (the worst case; a pair flying apart reaches 1/10 of it, 10 times
     the random walk).  An overlap :math:`\delta_{0,j} + u_{j-1} - u_j` and a contact
-    time (its gap over its opening speed) carry that over the dynamic overlap scale Q (m), plus one rounding of
-    :math:`\delta_0`: :math:`u(N U + \delta_0)/Q` — large when the grains travel far
-    compared with their overlaps (a pair flying apart) or a small wave rides on a large
-    precompression.
+    time (its gap over its opening speed) carry that over the dynamic overlap scale Q
+    (m), plus one rounding of :math:`\delta_0`: :math:`u(N U + \delta_0)/Q` — large when
+    the grains travel far compared with their overlaps (a pair flying apart) or a small
+    wave rides on a large precompression.
 
     Parameters
     ----------
