@@ -53,9 +53,10 @@ transit, :func:`hertzchain.runner.split_row_spacing`, here every 1-2 steps).  Fi
 reads only the labels, classified on the final state; the grid decides only whether the
 waves have separated (the summary's rule; the phase-averaged split its dense rows are
 for is Table 2's, not printed here, and is aliased on these rows).  Recording the dense
-grid was ~70 % of a point's integration (a point at α = (0.5, 2): 40 ms CPU with it, 20
-at every 8 steps, 12 without a grid).  The 408 labels are those of the automatic grid,
-every one, at 8, 16 and 32 steps per row (item timings in docs/benchmarks.md)."""
+grid is most of a point's integration (a point at α = (0.5, 2) costs twice as much with
+it as with a row every 8 steps, three times as much as without a grid).  The 408 labels
+are those of the automatic grid, every one, at 8, 16 and 32 steps per row (item timings
+in docs/benchmarks.md)."""
 BASE = {
     "chain": {"delta0_over_d": 1e-3, "material": "paper",
               "sections": [{"n": 500}, {"n": 1400, "alpha_rho": 1.0, "alpha_kn": 1.0}]},
