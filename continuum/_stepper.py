@@ -59,16 +59,17 @@ integrated whole (cyclic solve by Sherman–Morrison).
 The tridiagonal solve (Rosenau form)
 ------------------------------------
 Elimination a_i = r_i/d_i - g_i a_{i-1} and back substitution x_i = a_i - c_i x_{i+1}
-are first-order recurrences: one multiply and one add (6 cycles on Zen 4) per node on
-the dependency chain, two chains (the twisted factorisation's two directions) per sweep.
-The factors d, g, c reach their fixed point bit for bit some tens of nodes after each end
-and each change of the medium (:func:`constant_runs`), and there the kernel advances
-four nodes per link, a_{i+3} = T_3 + g⁴ a_{i-1} with the local sums T off the chain
-(:func:`_eliminate4`, :func:`_substitute4`): the same arithmetic as the one-step form
-to a few ulp (not bit for bit).  Measured (AMD EPYC Zen 4, 70,000 nodes, whole window,
-quadratic flux): a drift-and-kick pass 2.37 → 1.81 ns per node (elimination 0.83 →
-0.46, back substitution and kick 1.01 → 0.68; the flux sweep 0.6, bound by its loads:
-a vectorised form, each face's flux computed for both its nodes, was no faster).
+are first-order recurrences: one multiply and one add per node on the dependency chain,
+so their latency, not the arithmetic throughput, bounds the sweep; two chains (the
+twisted factorisation's two directions) per sweep.  The factors d, g, c reach their
+fixed point bit for bit some tens of nodes after each end and each change of the medium
+(:func:`constant_runs`), and there the kernel advances four nodes per link, a_{i+3} =
+T_3 + g⁴ a_{i-1} with the local sums T off the chain (:func:`_eliminate4`,
+:func:`_substitute4`): the same arithmetic as the one-step form to a few ulp (not bit
+for bit).  The four-node links shorten the dependency chain about fourfold and make a
+drift-and-kick pass about a quarter cheaper; the flux sweep is bound by its loads, so a
+vectorised form (each face's flux computed for both its nodes) is no faster (timings:
+docs/benchmarks.md, "Design measurements").
 
 Boundary codes (as :mod:`continuum._kernels`): 0 = free, 1 = wall, 2 = periodic.
 Nonlinearity codes: 0 = linear K s, 1 = quadratic K s + B s², 2 = the full law
@@ -282,11 +283,11 @@ def window_margin(fac) -> int:
 def fft_size(need):
     """Smallest length m >= ``need`` that is a multiple of 8 with no prime factor above 5.
 
-    The real FFT pair of :func:`_saturated_apply` costs ~0.6 ns × m log2 m at such
-    lengths and ~0.85–0.95 ns × m log2 m at odd ones or ones divisible only by 2 or 4
-    (DUCC through rocket-fft, measured on the development machine, benchmarks/README.md);
-    rocket-fft's ``good_size`` returns the smallest 5-smooth length, often odd
-    (3375 = 3³5³ for a need of 3,350: 34 µs per pair against 26 µs at 3456 = 2⁷3³).
+    The real FFT pair of :func:`_saturated_apply` (DUCC through rocket-fft) is about a
+    third cheaper per m log2 m at such lengths than at odd ones or ones divisible only by
+    2 or 4 (timings: docs/benchmarks.md, "Design measurements"); rocket-fft's
+    ``good_size`` returns the smallest 5-smooth length, often odd (3375 = 3³5³ for a need
+    of 3,350, where 3456 = 2⁷3³ is faster).
     """
     m = max(8, need + (-need) % 8)
     while True:

@@ -73,13 +73,13 @@ relation is ω² = (K/m) D_h/(1 + ℓ² D_h) with D_h = (4/h²) sin²(kh/2) = k�
 cancels it: the linear dispersion is then exact to O(h⁴k⁶) (the error coefficient of
 k⁶ is -h⁴/240), and at n = 1 the scheme is the discrete chain with the quadratic
 contact law.  What remains is the O(h²) of the nonlinear flux, a factor ~A/δ0 smaller:
-measured on the paper's wave over 20 d, errors 1.5e-5, 7e-6, 2.5e-6 at n = 3, 5, 9
-against 3.0e-3, 1.1e-3, 3.4e-4 uncorrected (tests).  Time stepping adds Verlet's
-O(Δt²) dispersion of the opposite sign (it cancels the uncorrected scheme's at the
-"magic" c Δt = h, n = 3 with the default step); use ``order=4`` for accuracy
-(benchmarks/continuum.py ``--accuracy``).  The fused compiled stepper
-(:mod:`continuum._stepper`) solves the tridiagonal system with a twisted ("burn at both
-ends") factorisation over the active window.
+on the paper's wave over 20 d the errors are 1.5e-5, 7e-6, 2.5e-6 at n = 3, 5, 9 against
+3.0e-3, 1.1e-3, 3.4e-4 uncorrected (``tests/continuum/test_boussinesq.py``).  Time
+stepping adds Verlet's O(Δt²) dispersion of the opposite sign (it cancels the
+uncorrected scheme's at the "magic" c Δt = h, n = 3 with the default step); use
+``order=4`` for accuracy (benchmarks/continuum.py ``--accuracy``).  The fused compiled
+stepper (:mod:`continuum._stepper`) solves the tridiagonal system with a twisted ("burn
+at both ends") factorisation over the active window.
 """
 
 from __future__ import annotations

@@ -63,8 +63,8 @@ s = -u_X is a staggered difference of order ``space_order``
 transpose applied to the face forces, so the semi-discrete system is Hamiltonian (it
 conserves the discrete Π + kinetic energy) for either order:
 
-* ``space_order=4`` (default): weights 27/24 and -1/24 over four nodes.  Measured on
-  the paper's sonic-vacuum compacton over 300 d against 11 nodes per grain: a peak
+* ``space_order=4`` (default): weights 27/24 and -1/24 over four nodes.  On the
+  paper's sonic-vacuum compacton over 300 d against 11 nodes per grain: a peak
   shift of 0.02–0.05 grain at n = 3 (speed error ≤ 2e-4) — better than the second-order
   scheme at n = 11.  It reaches two nodes further per force evaluation, and ahead of a
   compacton it leaves a precursor below 1e-7 of the peak velocity within 3 grains (the
@@ -585,7 +585,7 @@ class NesterenkoPDE(ChainPDEBase):
         was stable with δ_floor ≥ 3e-3 of the peak overlap (energy error ~1e-6 for a
         compacton in a uniform chain).  Across an interface into lighter or stiffer
         grains the wave's overlap grows beyond the initial one: there ``safety`` = 0.1
-        keeps the energy error near 1e-4 (α_ρ = 5, measured: 2e-3 at 0.5; 5e-5 at 0.1
+        keeps the energy error near 1e-4 (α_ρ = 5: 2e-3 at 0.5; 5e-5 at 0.1
         with n = 5, 4e-4 with n = 3).  The dissipative sub-steps are unconditionally
         stable.
         """

@@ -22,7 +22,7 @@ at leading order).
 The continuum equations conserve their own functionals
 (:meth:`~continuum.base.ChainPDEBase.energy`); the grain-sampled energies agree with
 them only to the accuracy of the long-wave approximation, O(d²/L²) for a wave of width
-L: measured ~1e-4 for the paper's precompressed wave (L ≈ 5 d, Table-2 points M, N),
+L: ~1e-4 for the paper's precompressed wave (L ≈ 5 d, Table-2 points M, N),
 0.7 % for the squeezed wave of point P, and up to 10 % for sonic-vacuum waves (5 grains
 wide, energy ∝ δ^{5/2}) — there, compare energies through the functional.
 """

@@ -19,8 +19,8 @@ from .timestep import DT_FRACTION, TimeStep, default_dt, expected_overlaps, stab
 
 
 def __getattr__(name: str):
-    # HDF5 (h5py) is imported when a file is first written or read, not with the solver
-    # (start-up of a run without output, issue 17)
+    # HDF5 (h5py) is imported when a file is first written or read, not with the solver,
+    # so that a run without output does not pay for its import at start-up
     if name in ("load", "save"):
         from . import io
 

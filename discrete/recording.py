@@ -88,11 +88,12 @@ class Recording:
         (:attr:`Record.vmax_refined`; needs ``maxima``).  None (default): with a time step
         chosen for ``rtol`` (whose accuracy statement is about them), not otherwise —
         they cost the recording kernel a per-step test of every grain and a Hermite
-        search for every grain whose maximum rises (measured on ``benchmarks/kernel.py``'s
-        random-velocity chain, where ~1 % of the grains rise at every step: 0.5x; in a
-        wave, where only the front rises, a few per cent).  Positions-only forces: with a
-        dissipative law or drag the stored acceleration is the elastic one, not dv/dt,
-        so :class:`discrete.Simulation` refuses True and None means False there.
+        search for every grain whose maximum rises (about half the kernel's rate on a
+        random-velocity chain, where ~1 % of the grains rise at every step; a few per
+        cent in a wave, where only the front rises; docs/benchmarks.md).  Positions-only
+        forces: with a dissipative law or drag the stored acceleration is the elastic
+        one, not dv/dt, so :class:`discrete.Simulation` refuses True and None means
+        False there.
     """
 
     snapshots: Sequence[AtTime | WaveAt | float | int] = ()
@@ -336,8 +337,8 @@ class Record:
         """The list-valued fields as stacked arrays.
 
         New arrays, except the energy grids: read-only views of the record's own grid
-        (:meth:`energy_grids`; a copy here made ``discrete.save`` of a summarised run
-        hold both grids twice, issue 13).
+        (:meth:`energy_grids`; a copy here would make ``discrete.save`` of a summarised
+        run hold both grids twice).
         """
         s = len(self.series_grains)
         energy_t, ek, ep = self.energy_grids()
@@ -415,10 +416,8 @@ class EnergyGrid:
     the storage (:meth:`block`, :meth:`commit`): no copy, and the grid is read
     (:meth:`grids`) as views of the filled rows.  Rows past the reservation (a run
     bounded by an event only) go to new segments (doubling), joined once on the first
-    read, each segment freed as soon as it is copied.  Issue 13: the interleaved
-    (rows, 2, Nc) blocks of the earlier layout were stacked outside the record
-    (``hertzchain.runner._stacked_grid``) and freed only once both kinds had been
-    copied, ~3 kinds of the grid held at once where 2 are the grid itself.
+    read, each segment freed as soon as it is copied.  So the process holds the grid
+    itself (two kinds, kinetic and potential) and no stacked copy beside it.
     """
 
     def __init__(self) -> None:

@@ -120,23 +120,23 @@ stability bound, nor the step at which the probe's energy drift, extrapolated to
 run's length at the rate measured over the probe's second half
 (:meth:`ProbeResult.drifts_at`), would reach :data:`RTOL_SAFETY` of the run's drift
 tolerance (a fourth-order method at a large step can meet rtol in the maxima and still
-fail the run's energy monitor: measured on the interface problem, Blanes–Moan 4 at 8×
-the default step drifted 1.3e-4 over the run).  Round-off takes its share: E(h) is
+fail the run's energy monitor: on the interface test problem, Blanes–Moan 4 at 8× the
+default step drifts 1.3e-4 over the run).  Round-off takes its share: E(h) is
 joined by the floor F(h) that round-off leaves after the run's N = T/h steps
 (:func:`roundoff_floor`: :math:`u\sqrt N` for the velocities, :math:`u(N U +
 \delta_0)/Q` for overlaps and contact times, u = 2^-53; docs/physics.md §20), the
 step is the largest with :math:`(E(h) + F(h))/s \le` rtol, and that estimate is
-written into the result (:attr:`TimeStep.error_estimate`) as measured — never set to
+written into the result (:attr:`TimeStep.error_estimate`) as estimated — never set to
 rtol.  An rtol below F/s at the largest probe step (the fewest steps the run can take)
 is refused before any probe run, and one that no step meets after the probe, each
 with the achievable floor named (ValueError).  Finer probe steps are
 added while the differences do not shrink (not yet asymptotic) or no probe step meets s·rtol, up to
 :data:`PROBE_MAX_LEVELS` runs; an unstable probe run is dropped with the coarser ones.
-The factor 1/s is measured, not decoration: a maximum sampled once per step has an
+The factor 1/s is needed: a maximum sampled once per step has an
 error that depends on where the peak falls within the step, so it is not a smooth
 function of h; on the test problems (impact, precompressed solitary wave, interface;
-every method; rtol 1e-3 … 1e-5) the true error was 0.70–0.86 of E(h), and 1.29 of it
-once, where the sharper peak of the impacted grain 1 fell badly between two steps
+every method; rtol 1e-3 … 1e-5) the true error is 0.70–0.86 of E(h), and reached 1.29
+of it once, where the sharper peak of the impacted grain 1 fell badly between two steps
 (its worst case is 1.75× that of the grains further on).  ``integrator=None``
 probes the methods of :data:`RTOL_CANDIDATES` — velocity Verlet, Yoshida-4 and
 Blanes–Moan 4 — and takes the one with the fewest force evaluations per unit time,
@@ -150,8 +150,8 @@ the same h, and velocity Verlet would win); the refined maxima between the steps
 converge at the method's order, so the 4th-order methods can win.  The
 tests (``tests/discrete/test_rtol.py``) check that the estimate bounds the true error
 (against a run at a 16× smaller step) for an impact, a precompressed solitary wave and
-an interface run, for every method ``integrator=None`` can pick (measured: the true
-error 0.30–0.56 of the estimate at rtol 1e-3 and 1e-4), and ``tests/discrete/
+an interface run, for every method ``integrator=None`` can pick (there the true
+error is 0.30–0.56 of the estimate at rtol 1e-3 and 1e-4), and ``tests/discrete/
 test_two_body.py`` that it bounds the error of the maximum overlap, the contact time
 and the coefficient of restitution of two grains against the two-body ODE for every
 law over its whole range (power laws n = 1 … 5/2, Kuwabara–Kono A = 0 … 1e3 s, drag
@@ -553,16 +553,16 @@ def roundoff_floor(steps: int, *, displacement: float = 0.0, strain: float = 0.0
     statistical law of round-off propagation, P. Henrici, *Discrete Variable Methods
     in Ordinary Differential Equations*, Wiley 1962; Brouwer's law for the energy,
     Hairer, McLachlan & Razakarivony, BIT 48 (2008) 231): a velocity maximum, relative
-    to the largest speed, carries :math:`u\sqrt N` (measured on an impact: 0.3–1.3
-    of it).  A displacement increment h·v repeats itself in free flight and is then
-    rounded the same way step after step: the rounding of u, at most :math:`u\,U` per
-    step (U the largest displacement, m), accumulates linearly, :math:`u\,N\,U` (the
-    worst case; measured on a pair flying apart: 1/10 of it, 10 times the random walk).
-    An overlap :math:`\delta_{0,j} + u_{j-1} - u_j` and a contact time (its gap over its
-    opening speed) carry that over the dynamic overlap scale Q (m), plus one rounding of
-    :math:`\delta_0`: :math:`u(N U + \delta_0)/Q` — large when the grains travel far
-    compared with their overlaps (a pair flying apart) or a small wave rides on a large
-    precompression.
+    to the largest speed, carries :math:`u\sqrt N` (0.3–1.3 of it on an impact,
+    ``tests/discrete/test_rtol.py``).  A displacement increment h·v repeats itself in
+    free flight and is then rounded the same way step after step: the rounding of u, at
+    most :math:`u\,U` per step (U the largest displacement, m), accumulates linearly,
+    :math:`u\,N\,U` (the worst case; a pair flying apart reaches 1/10 of it, 10 times
+    the random walk).  An overlap :math:`\delta_{0,j} + u_{j-1} - u_j` and a contact
+    time (its gap over its opening speed) carry that over the dynamic overlap scale Q
+    (m), plus one rounding of :math:`\delta_0`: :math:`u(N U + \delta_0)/Q` — large when
+    the grains travel far compared with their overlaps (a pair flying apart) or a small
+    wave rides on a large precompression.
 
     Parameters
     ----------
@@ -682,8 +682,8 @@ class ProbeResult:
         drift that accumulates steadily (contacts closing one after another) is
         extrapolated linearly; one that has settled (a solitary wave's modified energy
         error is bounded, Hairer, Lubich & Wanner 2006, §IX) is not inflated by the
-        run's length.  Measured on the impact of ``benchmarks/rtol.py`` (velocity
-        Verlet, default step): the run's drift is 2.70e-6 at 600, 2,000 and 5,000
+        run's length.  On the impact of ``benchmarks/rtol.py`` (velocity Verlet,
+        default step) the run's drift is 2.70e-6 at 600, 2,000 and 5,000
         grains, the same at 8 times the length, which a linear scaling of the
         whole drift (T / t_p) would overestimate by T / t_p.  ``drifts``
         for a horizon of None, not finite, or not beyond t_p.
@@ -879,8 +879,8 @@ def probe_error(chain: Chain, u=None, v=None, wall_left: float = 0.0,
     restarts = 0
     while True:
         # even its largest step cannot beat the best so far (checked again after an
-        # unstable h_0 was halved: measured on the 2,000-grain impact, Yoshida-4 went on
-        # at h_0/4 against a cost 2.7x above Blanes-Moan 4's, 10,008 probe steps)
+        # unstable h_0 was halved: otherwise a method unstable at its largest probe steps,
+        # e.g. Yoshida-4 on a 2,000-grain impact, goes on to finer levels it cannot win at)
         if not runs and stages / h0 >= max_cost:
             return ProbeResult(method.name, (h0,), (math.inf,), (), math.nan, 1.0, False,
                                t_probe, steps, 0, False)
@@ -1026,8 +1026,8 @@ def _rtol_step(pr: ProbeResult, rtol: float, h_max: float,
 PREDICTION_SLACK = 1.25
 """A method's probe stops once even this multiple of its predicted step
 (:func:`_predicted_step`) costs more force evaluations per unit time than the best
-method so far.  This spares a finer probe level of a method that will lose (measured on
-the 2,000-grain impact at rtol 1e-4: velocity Verlet's third level, 10,000 of the
+method so far.  This spares a finer probe level of a method that will lose (on a
+2,000-grain impact at rtol 1e-4: velocity Verlet's third level, 10,000 of the
 probe's 20,412 steps, predicted step 1.54e-7 against the 1.50e-7 it would take); it
 costs no accuracy (the chosen method's own probe is complete), at worst a method
 25 % cheaper than the one chosen is missed."""
@@ -1092,8 +1092,8 @@ class TimeStep:
     error_estimate : float
         The estimated relative error of the recorded quantities at :attr:`dt`: the
         probe's truncation error (:func:`probe_error`) plus the round-off floor over
-        the run (:meth:`ProbeResult.roundoff_at`), over :data:`RTOL_SAFETY` — measured,
-        never set to rtol (nan without rtol).
+        the run (:meth:`ProbeResult.roundoff_at`), over :data:`RTOL_SAFETY` — estimated
+        from the probe, never set to rtol (nan without rtol).
     order : float
         The order that extrapolated the finest probe run of the chosen method (the
         observed one, clipped to [1, method order], if clean, else 1; nan without rtol).

@@ -20,8 +20,8 @@ is about five grains wide, so the peak values *sampled* at grains and contacts d
 where the wave stands between them — by up to 24 % (velocity) and 21 % (overlap) for the
 exact wave, and a parabola through the top three samples still leaves 16 % and 12 % —
 while its energy does not (the exact wave's is conserved, 7e-15): the wave of equal
-energy gives phase-independent amplitudes and speeds (measured within 2e-3 of a placed
-exact wave at every phase, ``tests/discrete/test_chains_sensors.py``).
+energy gives phase-independent amplitudes and speeds (within 2e-3 of a placed exact
+wave at every phase, ``tests/discrete/test_chains_sensors.py``).
 
 Damped solitary wave (first-order estimate)
 -------------------------------------------

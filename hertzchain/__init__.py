@@ -5,7 +5,7 @@ discrete, continuum and theory results, sweeps, reports).  The solvers live in t
 sibling packages :mod:`discrete`, :mod:`continuum` and :mod:`theory`.
 
 Nothing is imported here: ``__version__`` is read from the installed metadata when it
-is first asked for (start-up of ``hertzchain run``, issue 17).
+is first asked for, so that ``hertzchain run`` does not pay for it at start-up.
 """
 
 from functools import cache

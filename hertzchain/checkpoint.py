@@ -1,4 +1,4 @@
-"""Checkpoint and resume of long runs, bit for bit (issue 8).
+"""Checkpoint and resume of long runs, bit for bit.
 
 A run is integrated in *segments* of :func:`segment_steps` steps (``Simulation.run``
 called repeatedly with ``max_steps``).  After every segment that ends more than

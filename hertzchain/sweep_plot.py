@@ -66,7 +66,7 @@ def classification_codes(results: SweepResults) -> np.ndarray:
     trans = results["transmitted"] if "transmitted" in results else np.full(len(status), "")
     refl = results["reflected"] if "reflected" in results else np.full(len(status), "")
     codes = np.array([_CODES.get((t, r), 4) for t, r in zip(trans, refl, strict=True)])
-    # a label is "" where it is undefined (issue 14): not the same as a measured "none"
+    # a label is "" where it is undefined: not the same as a measured "none"
     codes[(trans == "") | (refl == "")] = 7
     if "completed" in results:
         codes[np.asarray(results["completed"]) == 0] = 7

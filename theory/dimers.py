@@ -19,7 +19,7 @@ linearised cell, ω² = c0² q² (1 - γ q² + O(q⁴)), gives the long-wave dis
 of a precompressed chain).  A sonic-vacuum wave is about two cells wide, and there the
 long-wave width fails: with γ in place of the monoatomic d²/12, Nesterenko's compacton
 (:func:`theory.profiles.compacton_width`) is 27 % narrower than the discrete dimer's wave
-at ε = 0.3428 (its FWHM 1.62 L against 1.19 L; measured in docs/physics.md §14), so no
+at ε = 0.3428 (its FWHM 1.62 L against 1.19 L; docs/physics.md §14), so no
 dimer width is offered.
 
 **Anti-resonances** (Jayaprakash, Starosvetsky & Vakakis, Phys. Rev. Lett. 106 (2011)
@@ -30,8 +30,8 @@ wave leaves the light grains oscillating and decays.  Their first value for Hert
 :data:`FIRST_ANTIRESONANCE_HERTZ` = 0.3428, is numerical.  :func:`antiresonance_mass_ratios`
 computes the leading-order small-ε estimate derived here: the light grain, driven by the
 heavy grains' motion in the ε → 0 limit (the heavy chain with k_eff = 2^{-n} k), is left
-at rest after the wave's passage.  It is asymptotic: measured against the discrete
-chain's ε_k, 0.81, 0.94, 1.01 × for k = 1, 2, 3 (docs/physics.md §14).
+at rest after the wave's passage.  It is asymptotic: against the discrete chain's
+ε_k it gives 0.81, 0.94, 1.01 × for k = 1, 2, 3 (docs/physics.md §14).
 """
 
 from __future__ import annotations
@@ -202,7 +202,7 @@ def cell_solitary_speed(cell: HomogenisedCell, force_max, static_force: float = 
     (:func:`theory.speeds.nesterenko_speed` at ξ0 = Δ0/L, ξ_max = (Δ_m - Δ0)/L).  At δ0 = 0,
     V = √(2/(n+1)) L √(k_eff/M) Δ_m^{(n-1)/2}; for a dimer with equal contacts this is
     the monoatomic speed of grains of the mean mass (m_1 + m_2)/2 and the mean spacing at
-    the same force.  Measured against the discrete chain: docs/physics.md §14.
+    the same force.  Compared with the discrete chain in docs/physics.md §14.
 
     Parameters
     ----------

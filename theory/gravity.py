@@ -357,12 +357,12 @@ def solitary_wave_descent(n_grains: int, mass: float, k: float, d: float, g: flo
 
     (midpoint rule: the peak crosses contact j between grains j-1 and j).  Valid while
     the wave is a solitary wave of the local load: an impact whose wave is strongly
-    nonlinear near the top (A ≳ δ0 there).  Measured against the discrete chain over 300
-    steel grains: ≤ 0.9 % for impacts of 0.01 … 1 m/s from grain 10 on, ≤ 2.6 % from the
-    struck grain (docs/physics.md §14).  Far down, where A ≪ δ0, V → c0 and the amplitude
-    stops mattering; the measured pulse there is no longer adiabatic (its amplitude falls
-    more slowly than this one's, as Hong et al.'s weak pulse does), which changes the
-    arrival times by < 0.1 %.
+    nonlinear near the top (A ≳ δ0 there).  Against the discrete chain of 300 steel
+    grains the arrival times agree to ≤ 0.9 % for impacts of 0.01 … 1 m/s from grain 10
+    on, ≤ 2.6 % from the struck grain (docs/physics.md §14).  Far down, where A ≪ δ0,
+    V → c0 and the amplitude stops mattering; the simulated pulse there is no longer
+    adiabatic (its amplitude falls more slowly than this one's, as Hong et al.'s weak
+    pulse does), which changes the arrival times by < 0.1 %.
 
     Parameters
     ----------
@@ -405,8 +405,8 @@ def weak_pulse_arrival_times(n_grains: int, mass: float, k: float, d: float, g: 
 
     so v_i ∝ Ai(-(t - τ_i)/(3Λ_i)^{1/3}) and the leading peak passes at
     t_i = τ_i + s_1 (3Λ_i)^{1/3}, s_1 = 1.01879 (:data:`AIRY_PEAK`).  For Hertz without
-    a top force τ ∝ depth^{5/6} and the delay ∝ depth^{1/6}.  Measured against the
-    discrete chain (v0 = 1e-4 m/s, 300 grains): within 1.0 % from the struck grain,
+    a top force τ ∝ depth^{5/6} and the delay ∝ depth^{1/6}.  Against the discrete
+    chain (v0 = 1e-4 m/s, 300 grains): within 1.0 % from the struck grain,
     0.15 % from grain 10 (docs/physics.md §14).
 
     Parameters

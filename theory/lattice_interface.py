@@ -32,7 +32,7 @@ the average.  The energy partition then keeps the structure of the paper's Table
 content — transmits with 2/(1+γ) and reflects with (γ−1)/(γ+1), the rest E − F0 D
 with the pulse average τ = ∫T S dω / ∫S dω instead of 4γ/(1+γ)².
 
-Measured against the chain (docs/physics.md §16.5, benchmarks/strong_interface.py), this
+Compared with the chain (docs/physics.md §16.5, benchmarks/strong_interface.py), this
 holds to a few per cent up to an incident strain/δ0 of about 2 and fails above (the
 strongly nonlinear wave does not scatter like its Fourier components:
 :mod:`theory.strong_interface`).

@@ -326,8 +326,9 @@ def _precompressed_wave(target, kind, ppg, tol, max_iter, exponent=1.5):
 
     Matches ``kind`` "amplitude" (ε = w_max) or "velocity" (σ ṽ_max) to ``target``.
     Cached (as :func:`_sonic_vacuum_wave`; arrays read-only, shared between calls): a
-    map's interfaces share their incident wave (``reproduce --full``'s validity map:
-    16 points, 3 precompressed waves, each solved 4 times, 0.15-0.3 s a solve; issue 13).
+    map's interfaces share their incident wave (``reproduce --full``'s validity map
+    solves each of its 3 precompressed waves for 16 points; a solve takes a fraction of
+    a second).
     Four entries: a wave is at most 2^22 points (32 MB), in practice ≤ 1e5.
     """
     w, hist, total, n_dom, sigma2 = _solve_precompressed(target, kind, ppg, tol, max_iter,
@@ -343,7 +344,7 @@ def _solve_precompressed(target, kind, ppg, tol, max_iter, exponent=1.5):
     if kind == "velocity":  # long-wave estimate v ≈ V ξ  →  σ ε ≈ target
         for _ in range(30):
             eps = target / nesterenko_speed(1.0, 1.0, eps, exponent=n)
-    from scipy.fft import next_fast_len  # lazy: scipy costs 0.4 s of start-up (issue 17)
+    from scipy.fft import next_fast_len  # lazy: importing scipy is slow, keep it off start-up
     from scipy.optimize import brentq
 
     mu = nesterenko_speed(1.0, 1.0, eps, exponent=n) ** 2 / n - 1.0
@@ -478,7 +479,7 @@ class DiscreteSolitaryWave:
         wave energy of the chain, linear term kept).  Evaluated on the grains with the
         peak at fractional position ``phase`` (in [0, 1)); the exact wave's energy is
         conserved, so independent of the phase up to the spectral sampling's round-off
-        (measured 7e-15 relative).
+        (7e-15 relative).
         """
         n_dom = self.z.size // self.points_per_grain
         st = self.sample(n_dom, n_dom // 2 + float(phase))

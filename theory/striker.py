@@ -11,18 +11,18 @@ amplitude or the number of waves as functions of M/m was found in these sources.
 
 The model here (derived for this package; tested against the discrete chain).  Assume a
 geometric train, peak velocities v_j = v_1 ρ^{j-1}, and that the striker ends at rest
-(measured: ≤ 0.3 % of its velocity for M/m ≤ 32).  Each wave is the exact lattice wave,
-with energy C_E m v_j² and momentum C_P m v_j
+(in the discrete chain it keeps ≤ 0.3 % of its velocity for M/m ≤ 32).  Each wave is the
+exact lattice wave, with energy C_E m v_j² and momentum C_P m v_j
 (:func:`theory.profiles.sonic_vacuum_wave_constants`: C_E = 1.0693, C_P = 1.6700 for
-Hertz).  Energy and momentum conservation,
-Σ C_E m v_j² = ½ M v0² and Σ C_P m v_j = M v0, fix both unknowns:
+Hertz).  Energy and momentum conservation, Σ C_E m v_j² = ½ M v0² and
+Σ C_P m v_j = M v0, fix both unknowns:
 
 .. math:: \frac{1-\rho}{1+\rho} = \frac{C_P^2}{2 C_E\, r}, \qquad
           v_1 = \frac{C_P\, r}{C_E\, r + C_P^2/2}\, v_0, \qquad r = M/m .
 
 For r < C_P²/(2C_E) (1.30 for Hertz) ρ < 0: one wave, and the same v_1 is then the wave of
 the one-wave-plus-recoiling-striker balance.  As r → ∞, v_1 → (C_P/C_E) v0 = 1.56 v0 and
-ρ → 1 - C_P²/(C_E r).  Measured on the discrete Hertz chain (docs/physics.md §14): v_1 within
+ρ → 1 - C_P²/(C_E r).  Against the discrete Hertz chain (docs/physics.md §14): v_1 within
 0.6, 0.3, 2.9, 6.8, 11, 14 % (low) at r = 1, 2, 4, 8, 16, 32; the ratio of successive
 amplitudes tends to ρ along the train (0.719 against 0.720 at r = 8), while the leading
 waves are larger than geometric.

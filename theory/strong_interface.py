@@ -30,7 +30,7 @@ of the chain alone (docs/physics.md §16):
   (no root) scatters by lattice acoustics (:mod:`theory.lattice_interface`) at its own
   amplitude; its energy is reported as ``remainder_energy``.
 
-What the quasi-particle picture leaves out (measured, docs/physics.md §16.5): the
+What the quasi-particle picture leaves out (docs/physics.md §16.5): the
 grains at the interface keep a slow recoil that carries momentum (up to −0.16 P of the
 incident at α_ρ = 4) but almost no energy, and linear (acoustic) waves under
 precompression.  Energy and momentum conservation with solitary waves alone cannot see

@@ -22,7 +22,7 @@ Agui, Wu & Vivanco, Granular Matter 4 (2003) 167; Doney & Sen, Phys. Rev. Lett. 
 The published comparisons (Harbola et al. 2009: the BCA pulse velocity "quantitatively
 accurate"; Machado, Rosas & Lindenberg, Eur. Phys. J. E (2013), arXiv:1307.1191: the BCA
 captures the trends of the momentum and energy along tapered chains, not their values)
-give no numerical tolerance; the measured agreement with the discrete chain is in
+give no numerical tolerance; the agreement with the discrete chain is in
 docs/physics.md §12.
 
 The adiabatic wave scales the exact lattice wave at δ0 = 0 with its dimensionless
@@ -278,7 +278,7 @@ def adiabatic_taper_wave(masses, k_contacts, diameters, energy: float, *,
     (v_i √(m_i/k_i))^{(n-1)/(n+1)}, and the wave passes grain i at
     t_i = Σ_{j=start+1}^{i} ½(d_{j-1} + d_j)/(½(V_{j-1} + V_j)).  Energy conservation
     holds to leading order in the slow variation; the wave also sheds a tail (a
-    first-order loss, measured in docs/physics.md §12).
+    first-order loss, quantified in docs/physics.md §12).
 
     Parameters
     ----------

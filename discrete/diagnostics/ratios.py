@@ -321,8 +321,8 @@ def phase_averaged_ratios(
     is the same profile one transit time T = d/V later, shifted by one grain; in between,
     the section sums K = Σ m v²/2 and P = Σ (contact energy - static) of its sampled
     profile oscillate with period T around their means, in antiphase (K + P is conserved).
-    Measured at point P, δ0 = 0 (impact, v0 = 1 m/s, ~5-grain wave): amplitude ~1e-2 of
-    the incident energy for the incident and the transmitted wave, ~1e-3 for the
+    The oscillation's amplitude at point P, δ0 = 0 (impact, v0 = 1 m/s, ~5-grain wave) is
+    ~1e-2 of the incident energy for the incident and the transmitted wave, ~1e-3 for the
     reflected one; at δ0/d = 1e-3 (~20-grain wave) ~1e-12.  The split read at one row
     therefore depends on the phase of that row, which moves with dt and the row spacing:
     an rtol run cannot bound it.  The phase-free quantity is the time mean of K and P over
@@ -436,8 +436,8 @@ def interface_activity(energy: ArrayLike, interface: int, halfwidth: int = 5, *,
         Grains on each side.
     overwrite : bool
         ``energy`` is a float64 array the caller no longer needs: |e| is taken in place
-        (the same values, without a second array; measured, issue 13: a 256-row block
-        of 1,900 grains is 3.9 MB, a fresh mapping and its page faults per call).
+        (the same values, without a second array: a 256-row block of 1,900 grains is
+        3.9 MB, which would otherwise be a fresh mapping and its page faults per call).
     """
     e = _f(energy, "energy")
     if e.ndim != 2:

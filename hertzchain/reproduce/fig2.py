@@ -39,15 +39,14 @@ FULL = {"n_grains": {0.0: 2_000, 1e-3: 20_000},
 """``rtol``: the precompressed runs (δ0/d = 1e-3: no gaps, so the 4th-order methods keep
 their order) are run at that stated accuracy (``[run] rtol``, ``integrator = "auto"``,
 :mod:`discrete.timestep`) and read the refined maxima (``record.vmax_refined``, between
-the steps) instead of velocity Verlet's samples at the default dt.  Measured
-(``benchmarks/full_dt.py --fig2``, AMD EPYC Zen 4, load 5-6, 2026-11-27): the three
-20,000-grain runs take 24.8 s CPU instead of 56.1 s (Blanes–Moan 4 at dt ≈ 6e-7 s,
-13.6× the default's 4.4e-8 s), and v̄max/v0 is within 1.6e-7 (relative) of a converged
-reference (rtol = 1e-7, refined maxima), where the default dt's sampled maxima were
-1.1e-4 high for the paper's k_n and 1.5e-4 for the printed one (Verlet's O(dt²) error,
-:mod:`discrete.timestep`): the --full values move by that much, -1.1e-4 and -1.5e-4
-(0.082182 to 0.082172), with the same plateau ranges, std and slope.  δ0 = 0 (gaps:
-the 4th-order methods lose their order) keeps the default dt (2,000 grains, ~1 s)."""
+the steps) instead of velocity Verlet's samples at the default dt.  The step chosen is
+Blanes–Moan 4 at dt ≈ 6e-7 s, 13.6× the default's 4.4e-8 s, which about halves the
+runs' cost, and v̄max/v0 is within 1.6e-7 (relative) of a converged reference
+(rtol = 1e-7, refined maxima), where the default dt's sampled maxima are 1.1e-4 high
+for the paper's k_n and 1.5e-4 for the printed one (Verlet's O(dt²) error,
+:mod:`discrete.timestep`; ``benchmarks/full_dt.py --fig2``, timings in
+docs/benchmarks.md).  δ0 = 0 (gaps: the 4th-order methods lose their order) keeps the
+default dt (2,000 grains, ~1 s)."""
 RTOL = 1e-4
 """Plateau criterion: every v_max from the start of the range on within this (relative)
 of the settled value."""

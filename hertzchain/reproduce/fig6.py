@@ -51,14 +51,12 @@ FULL = {"alphas": tuple(float(a) for a in np.round(np.geomspace(0.2, 5.0, 13), 4
 """``dt_fraction``: velocity Verlet at 0.004·2π/ω_max, twice the default step (``[run]
 dt_fraction``; the passage times are exact to one step, so a coarser step coarsens them
 in proportion, whatever the method: Blanes–Moan 4 at 0.024-0.096 moved the nearest
-window's V/c0^L by 7e-3-2e-2).  Measured (``benchmarks/full_dt.py --fig6``, AMD EPYC
-Zen 4, load 3-5, 2026-11-27), the 26 runs against the default step: 16.9 s CPU instead
-of 34.8 s; largest change of the farthest window's V/V_Eq.5 (the figure, printed to 4
-decimals) 1.4e-5, of any window's V/c0^L 1.1e-3 (the nearest window, two passages 25
-grains apart: its own step error, against half the default step, is 4.1e-4), of ξ_max/ξ0
-1.6e-4 (the snapshot is up to one step after the passage); the report's bounds 1.53 % →
-1.52 % (nearest) and 0.03 % (farthest), the monodisperse chain's V/V_Eq.5 − 1 −2.0e-5 →
-−2.6e-5 (at half the default step −1.7e-5)."""
+window's V/c0^L by 7e-3-2e-2).  Twice the default step halves the cost of the 26 runs;
+against the default step it changes the farthest window's V/V_Eq.5 (the figure, printed
+to 4 decimals) by at most 1.4e-5, any window's V/c0^L by at most 1.1e-3 (the nearest
+window, two passages 25 grains apart: its own step error, against half the default
+step, is 4.1e-4) and ξ_max/ξ0 by at most 1.6e-4 (the snapshot is up to one step after
+the passage); ``benchmarks/full_dt.py --fig6``, numbers in docs/benchmarks.md."""
 DELTA0_OVER_D = 1e-3
 HALF = 15
 """Contacts on each side of the passing peak searched for ξ_max."""

@@ -40,15 +40,12 @@ FULL = {"grid": 20, "lim": (0.2, 5.0), "backend": "loop",
 """--full: the 408 points in this process (``backend="loop"``) with Blanes–Moan 4 at
 0.048·2π/ω_max (``run``: keys of every point's ``[run]``; 24× velocity Verlet's default
 dt, 1/4 of its force evaluations; the chains are precompressed, no gaps, the method keeps
-its order).  Measured (AMD EPYC Zen 4, shared, 2026-11-27): the 408 labels are those of
-velocity Verlet at the default dt, every one (also at 0.096; ``benchmarks/full_dt.py
---fig7``, load 3.5-4.7: the points' runs 19.7 s CPU against 40.5 s at the default dt);
-the item, ``benchmarks/full_items.py fig7`` (its own process, load 9.5), 41.0 s CPU
-against 86.6 s before on a local Dask cluster of two processes (``backend="sweep"``:
-worker start-up, imports, kernel loading, scheduler; in a two-lane ``--full`` its two
-workers also competed with Fig. 5's lane for the two cores), of which 7.7 s settle the
-incident wave (shared with Fig. 6 in a whole reproduction) — 22.7 s CPU for the 408
-points after that (load 8).
+its order).  The 408 labels are those of velocity Verlet at the default dt, every one
+(also at 0.096; ``benchmarks/full_dt.py --fig7``), at half its cost.  The points run in
+this process because a local Dask cluster (``backend="sweep"``) adds worker start-up,
+imports, kernel loading and scheduling, and in a two-lane ``--full`` its workers compete
+with Fig. 5's lane for the cores: in-process the item costs about half
+(``benchmarks/full_items.py fig7``; numbers in docs/benchmarks.md).
 
 ``record``: keys of every point's ``[record]``: an energy-grid row every 16 steps (a few
 incident transits d/V) instead of the runner's automatic spacing (rows every 1/(r_max+1)
@@ -56,11 +53,10 @@ transit, :func:`hertzchain.runner.split_row_spacing`, here every 1-2 steps).  Fi
 reads only the labels, classified on the final state; the grid decides only whether the
 waves have separated (the summary's rule; the phase-averaged split its dense rows are
 for is Table 2's, not printed here, and is aliased on these rows).  Recording the dense
-grid was ~70 % of a point's integration (a point at α = (0.5, 2): 40 ms CPU with it, 20
-at every 8 steps, 12 without a grid).  Measured (issue 13, AMD EPYC Zen 4, load ~2): the
-408 labels are those of the automatic grid, every one, at 8, 16 and 32 steps per row;
-the item 29.2 s → 18.1 s CPU at 8 and 15.2 s at 32 (its own process, warm, with the
-block-wise interface activity and the memoised incident strain)."""
+grid is most of a point's integration (a point at α = (0.5, 2) costs twice as much with
+it as with a row every 8 steps, three times as much as without a grid).  The 408 labels
+are those of the automatic grid, every one, at 8, 16 and 32 steps per row (item timings
+in docs/benchmarks.md)."""
 BASE = {
     "chain": {"delta0_over_d": 1e-3, "material": "paper",
               "sections": [{"n": 500}, {"n": 1400, "alpha_rho": 1.0, "alpha_kn": 1.0}]},

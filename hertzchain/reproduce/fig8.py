@@ -36,7 +36,7 @@ MAP_DTYPE = np.float16
 """Precision of the maps kept for drawing (2^-11 relative; the figure's colours resolve
 2^-8): :mod:`.table2` stores them so, and a fresh run holds them so too (as float32), so
 that a run and a rerun reusing the stored maps draw the same figure, at half the memory
-of float64 maps (issue 13: 19 → 9 MiB over the four points in ``--quick``)."""
+of float64 maps (9 instead of 19 MiB over the four points of ``--quick``)."""
 PERCENTILES = (0.05, 99.95)
 """Colour limits of a column: these percentiles of the normalised values, over the
 points (:func:`_limits`)."""

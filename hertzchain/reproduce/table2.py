@@ -66,9 +66,9 @@ RUN_ORDER = ("Q", "M", "N", "P")
 order): the largest run first, while the process holds least.  Q's right section is
 the stiffest (α_kn = 4), so its time step is the smallest and its energy grid the
 largest: 4,879 rows against 2,488 for M, N, P in ``--quick`` (37 against 19 MB per
-kind), and its run needs ~150 MiB on top of what the process holds (issue 13).
-Measured, Fig. 8 first in a process (AMD EPYC Zen 4, load 8-13): peak RSS 369 MiB
-with Q last, 341 MiB with Q first."""
+kind), and its run needs ~150 MiB on top of what the process holds, so running it
+first lowers the process's peak memory (by ~30 MiB when Fig. 8 runs first in the
+process; docs/benchmarks.md, "Design measurements")."""
 
 
 def in_run_order(points) -> list[str]:

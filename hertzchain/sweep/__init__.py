@@ -18,7 +18,7 @@ import importlib
 
 # Names are imported from their submodules when first used (PEP 562): the CLI needs
 # only ``add_sweep_parsers`` to build its parser, and must not pay for h5py, Dask and
-# the store when it runs something else (start-up of ``hertzchain run``, issue 17).
+# the store when it runs something else (the start-up of ``hertzchain run``).
 _WHERE = {
     "Agreement": "analysis", "classification_agreement": "analysis",
     "fission_parameter": "analysis", "predicted_labels": "analysis",
