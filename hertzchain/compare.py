@@ -96,7 +96,7 @@ import numpy as np
 
 from . import measure as M
 from .measure import CROSSING_GRAINS, FIT_FROM, SEPARATION, grain_energies
-from .models import ModelRun, Run, run
+from .models import FORMED_GRAINS, ModelRun, Run, run
 from .scenario import Scenario, load_scenario
 
 __all__ = ["Comparison", "ModelSeries", "compare", "analyse", "compare_point", "THRESHOLDS",
@@ -480,13 +480,18 @@ def analyse(result: Run) -> Comparison:
     est = result.estimates
     hit = est.t_hit if est is not None and est.has_interface else math.inf
     i_hit = int(np.searchsorted(ref.times, hit, side="right"))
+    x_formed = min(M.first_grain(chain) + FORMED_GRAINS, M.incident_grain(chain))
     for m in sampled:
         part = _partition(chain, m, iface, incident)
         fr, pk, st = M.sample_fronts(chain, m.v, m.strain, iface, ref_ek, i_cross)
         before = slice(0, min(i_hit, i_compare + 1))
         after = slice(min(i_cross, i_compare + 1), i_compare + 1)  # crossed, comparable
-        speeds = {"incident": M.fit_sample_speed(m.times[before], fr["incident"][before],
-                                                 x_if, d, 1),
+        # an impact's incident front is fitted once its wave has formed (from the grain
+        # where it is measured, hertzchain.measure.incident_grain, or FORMED_GRAINS)
+        x_in = fr["incident"][before]
+        if result.scenario.initial.kind == "impact":
+            x_in = np.where(x_in >= x_formed, x_in, np.nan)
+        speeds = {"incident": M.fit_sample_speed(m.times[before], x_in, x_if, d, 1),
                   "transmitted": M.fit_sample_speed(m.times[after],
                                                     fr["transmitted"][after], x_if, d, 1),
                   "reflected": M.fit_sample_speed(m.times[after], fr["reflected"][after],

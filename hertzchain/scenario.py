@@ -110,7 +110,8 @@ class Key:
         ``"number"``, ``"integer"``, ``"bool"``, ``"string"``, ``"choice"``, ``"numbers"``
         (list of numbers), ``"integers"`` (list of integers), ``"material"`` (a name or a
         table), ``"auto_number"`` (``"auto"`` or a number), ``"auto_integer"``,
-        ``"continuum"`` (a model name or ``false``).
+        ``"continuum"`` (a model name or ``false``), ``"wall"`` (a keyword of
+        ``choices`` or a material name).
     default : object
         Value when the key is absent (None: no value).
     doc : str
@@ -180,6 +181,10 @@ MATERIAL_KEYS = ("density", "youngs_modulus", "poisson_ratio")
 LAWS = ("power", "viscoelastic_hertz")
 """Values of ``[chain] law`` (the names of :data:`discrete.laws.LAWS`)."""
 
+WALLS = ("paper", "hertz", "flat", "free")
+"""The wall keywords of ``[chain] left_wall``/``right_wall``; any other value is a material
+name of :data:`theory.MATERIALS`: a flat wall of that material."""
+
 PROFILES = ("uniform", "tapered", "periodic")
 """Values of ``[[chain.sections]] profile``."""
 
@@ -196,11 +201,12 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "theory.MATERIALS (\"paper\": Hertz constant, ν = 0.30, reproduces the paper; "
             "\"table1\": ν = 0.25; \"steel\", \"brass\", \"ptfe\", …: `hertzchain "
             "materials`) or a table {density (kg/m³), youngs_modulus (Pa), poisson_ratio}"),
-        Key("left_wall", "choice", "paper", "left end: \"paper\" (as a grain–grain "
-            "contact), \"hertz\" (rigid flat) or \"free\" (only at δ0 = 0)",
-            choices=("paper", "hertz", "free")),
-        Key("right_wall", "choice", "paper", "right end (as left_wall)",
-            choices=("paper", "hertz", "free")),
+        Key("left_wall", "wall", "paper", "left end: \"paper\" (as a grain–grain "
+            "contact), \"hertz\" (a rigid flat), \"flat\" (a flat wall of the adjacent "
+            "grain's own material), a material name (a flat wall of that material: "
+            "\"steel\", \"brass\", …, `hertzchain materials`) or \"free\" (only at "
+            "δ0 = 0)", choices=WALLS),
+        Key("right_wall", "wall", "paper", "right end (as left_wall)", choices=WALLS),
         Key("law", "choice", "power", "contact law (discrete.laws): \"power\" F = k δ^n "
             "(n = exponent; 3/2 is Hertz, paper Eq. 1) or \"viscoelastic_hertz\" F = "
             "max(0, k (δ^{3/2} + A δ^{1/2} dδ/dt)) (Kuwabara & Kono 1987)",
@@ -478,6 +484,30 @@ def _read_material(val, where: str):
     return out
 
 
+def _read_wall(key: Key, val, where: str) -> str:
+    """A wall: a keyword of :data:`WALLS` or a material name (its :data:`theory.MATERIALS` key).
+
+    A material name is a flat wall of that material, whose contact constant takes both
+    materials (:func:`theory.hertz_constant_wall`; :func:`hertzchain.runner.build_chain`).
+    Errors name the closest keywords and materials (did you mean).
+    """
+    if not isinstance(val, str):
+        raise ScenarioError(f"[{where}] {key.name} must be a string: one of "
+                            f"{', '.join(repr(c) for c in key.choices)} or a material name "
+                            f"(`hertzchain materials`) (got {val!r})")
+    if val in key.choices:
+        return val
+    from theory import MATERIALS, resolve_material_name
+
+    try:
+        return resolve_material_name(val)
+    except ValueError:
+        known = (*key.choices, *MATERIALS)
+        raise ScenarioError(f"[{where}] {key.name} = {val!r}{did_you_mean(val, known)} "
+                            f"(allowed: {', '.join(repr(c) for c in key.choices)} or a "
+                            "material name, `hertzchain materials`)") from None
+
+
 def _read_value(key: Key, val, where: str):
     """One value of ``key`` validated (ScenarioError naming the key otherwise)."""
     k = key.kind
@@ -506,6 +536,8 @@ def _read_value(key: Key, val, where: str):
         return tuple(read(key, x, where, f"{key.name}[{i}]") for i, x in enumerate(val))
     if k == "material":
         return _read_material(val, where)
+    if k == "wall":
+        return _read_wall(key, val, where)
     if k == "auto_number":
         return None if val == "auto" else _read_number(key, val, where)
     if k == "continuum":
