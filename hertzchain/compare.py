@@ -755,13 +755,12 @@ def _theory_beyond(cmp: Comparison, th) -> None:
     The theory's error is the largest relative difference of these quantities; NaN,
     with the reasons, if none was measured.
     """
-    disc = cmp.series["discrete"]
     ct = th.chain_theory
     rows: dict[str, tuple] = {}
     primary: list[str] = []
     why: list[str] = []
     if ct is None or ct.front != "incident":
-        rows["speed_incident"] = _relative(disc.speeds["incident"], th.speed_in)
+        rows["speed_incident"] = _relative(_incident_speed(cmp), th.speed_in)
         primary.append("speed_incident")
         if not math.isfinite(rows["speed_incident"][2]):
             why.append("no incident front speed (fewer than 3 samples of the front "
@@ -775,10 +774,6 @@ def _theory_beyond(cmp: Comparison, th) -> None:
         why.append(th.chain_theory_note)
     if th.has_interface and th.interface_note:
         why.append(f"the interface: {th.interface_note}")
-    win = _windows(cmp)
-    if win["all"]:
-        rows = {k: (math.nan,) * 3 for k in rows}
-        why.insert(0, win["all"])
     cmp.differences["theory"] = rows
     errs = [abs(rows[k][2]) for k in primary if math.isfinite(rows[k][2])]
     err = max(errs) if errs else math.nan
@@ -787,11 +782,68 @@ def _theory_beyond(cmp: Comparison, th) -> None:
     cmp.errors["theory"] = {"energy": math.nan, "speed": err, "error": float(err)}
 
 
+def _discrete_window(cmp: Comparison) -> np.ndarray:
+    """The samples of the discrete run before a wave reached a chain end (bool mask).
+
+    The theory is compared with the discrete chain in the discrete run's own window
+    (its summary's ``t_end_reached``, :func:`hertzchain.measure.windows`), not in the
+    continuum's (:attr:`hertzchain.models.ModelRun.valid_until`).
+    """
+    result, disc = cmp.run, cmp.series["discrete"]
+    summary = result.discrete.summary if result.discrete is not None else {}
+    return disc.times < float(summary.get("t_end_reached", math.inf))
+
+
+def _incident_speed(cmp: Comparison) -> float:
+    """The discrete chain's incident front speed in its own window, m/s.
+
+    :func:`hertzchain.measure.fit_sample_speed` of the sampled incident front
+    (:func:`hertzchain.measure.sample_fronts`) before its peak reaches the interface and
+    before a wave reached a chain end; an impact's once its wave has formed.
+    """
+    result, disc = cmp.run, cmp.series["discrete"]
+    chain, iface = result.chain, result.interface
+    est = result.estimates
+    x = np.where(_discrete_window(cmp), disc.fronts["incident"], np.nan)
+    if est is not None and est.has_interface:
+        x = np.where(disc.times <= est.t_hit, x, np.nan)
+    if result.scenario.initial.kind == "impact":
+        x_formed = min(M.first_grain(chain) + FORMED_GRAINS, M.incident_grain(chain))
+        x = np.where(x >= x_formed, x, np.nan)
+    return M.fit_sample_speed(disc.times, x, None if iface is None else iface - 0.5,
+                              float(chain.diameter[0]), 1)
+
+
+def _cell_peak_force(cmp: Comparison, ct, xa: float, xb: float, ia: int, ib: int,
+                     final_ok: bool) -> float:
+    """The periodic wave's peak contact force in the window, N.
+
+    With the running maxima of the overlaps (``[record] strain_maxima``) and no wave at
+    an end before the run's end: per contact of the cell, the mean over the cells
+    between the window's grains of k_j r_max,j^n, and the largest of these (the
+    measurement of docs/physics.md §14, "Dimers and trimers"); otherwise the largest
+    contact force of the section in the window's samples.
+    """
+    result = cmp.run
+    ch, n, q = result.chain, ct.params["exponent"], ct.params["cell_grains"]
+    sim = result.simulation
+    rmax = getattr(sim.record, "overlap_max", None) if sim is not None else None
+    lo, hi = int(math.ceil(xa)), int(math.floor(xb))
+    if rmax is not None and final_ok and hi - lo >= 2 * q:
+        lo = ct.first + ((lo - ct.first) // q + 1) * q  # a cell boundary
+        cells = (hi - lo) // q
+        f = ch.k[lo:lo + cells * q] * np.maximum(rmax[lo:lo + cells * q], 0.0) ** n
+        return float(f.reshape(cells, q).mean(axis=0).max())
+    j = slice(ct.first + 1, ct.last)
+    r = ch.delta0[j] + result.discrete.strain[ia:ib + 1, j]
+    return float(np.max(ch.k[j] * np.maximum(r, 0.0) ** n))
+
+
 def _chain_theory_rows(cmp: Comparison, ct) -> tuple[dict, list[str], list[str]]:
     """Rows of a :class:`hertzchain.models.ChainTheory` against the discrete chain.
 
-    Window: the samples (up to the comparison time, before a wave reached a chain end
-    — the run summary's ``t_end_reached``, :mod:`hertzchain.measure`) whose sampled
+    Window: the samples before a wave reached a chain end (the run summary's
+    ``t_end_reached``, :func:`_discrete_window`) whose sampled
     front (:func:`hertzchain.measure.sample_fronts`) lies in the grains the theory
     describes, [first, last − 3].  From the first such sample (a) to the last (b):
 
@@ -815,9 +867,7 @@ def _chain_theory_rows(cmp: Comparison, ct) -> tuple[dict, list[str], list[str]]
     t_end = float(summary.get("t_end_reached", math.inf))
     key = ct.quantity
     t, x = disc.times, disc.fronts[ct.front]
-    idx = np.arange(t.size)
-    ok = (np.isfinite(x) & (t < t_end) & (idx <= cmp.i_compare)
-          & (x >= ct.first) & (x <= ct.last - 3))
+    ok = (np.isfinite(x) & _discrete_window(cmp) & (x >= ct.first) & (x <= ct.last - 3))
     if ok.sum() < 2:
         return ({key: (math.nan,) * 3},
                 [f"{ct.kind}: fewer than 2 samples of the {ct.front} front in grains "
@@ -835,26 +885,30 @@ def _chain_theory_rows(cmp: Comparison, ct) -> tuple[dict, list[str], list[str]]
             else float(disc.peaks[ct.front][ia])
         force = math.nan
         if ct.kind == "periodic":
-            ch, n = result.chain, ct.params["exponent"]
-            j = slice(ct.first + 1, ct.last)
-            r = ch.delta0[j] + result.discrete.strain[ia:ib + 1, j]
-            force = float(np.max(ch.k[j] * np.maximum(r, 0.0) ** n))
+            force = _cell_peak_force(cmp, ct, xa, xb, ia, ib, final_ok)
         rows[key] = _relative(t[ib] - t[ia], ct.travel_time(xa, xb, v_a, force))
     else:
         a = ct.first
         b = int(math.floor(xb)) - 3
-        if vmax is None or not final_ok or b <= a:
+        if vmax is not None and final_ok and b > a and vmax[a] > 0:
+            # running maxima: phase-independent peaks, grain by grain
+            v_a, v_b = float(vmax[a]), float(vmax[b])
+            where = f"running maxima of grains {a} and {b}"
+        else:  # the refined peaks of the sampled front (within the lattice phase)
+            a, b = int(round(xa)), int(round(xb))
+            v_a, v_b = float(disc.peaks[ct.front][ia]), float(disc.peaks[ct.front][ib])
+            where = (f"sampled peaks at grains {xa:.1f} and {xb:.1f} (a wave reached a "
+                     "chain end before the run's end: no running maxima)")
+        if not (v_a > 0 and v_b > 0 and b > a):
             rows[key] = (math.nan,) * 3
-            why.append(f"{ct.kind}: no running maxima of the grain velocities before a "
-                       "wave reached a chain end" if b > a else
-                       f"{ct.kind}: the front did not travel past grain {a + 3}")
+            why.append(f"{ct.kind}: the front did not travel past grain {a}")
         elif key == "peak_velocity":
-            rows[key] = _relative(vmax[b], ct.peak_velocity(a, b, float(vmax[a])))
-            cmp.theory_window += f"; peak velocities at grains {a} and {b}"
+            rows[key] = _relative(v_b, ct.peak_velocity(a, b, v_a))
+            cmp.theory_window += f"; peak velocities: {where}"
         else:
             train = ct.striker
-            rows[key] = _relative(vmax[b], train.velocity_max)
-            cmp.theory_window += f"; leading peak at grain {b}"
+            rows[key] = _relative(v_b, train.velocity_max)
+            cmp.theory_window += f"; leading peak: {where}"
             if final_ok:
                 from .models import STRIKER_COUNT_FRACTION
 

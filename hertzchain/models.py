@@ -480,6 +480,11 @@ class ChainTheory:
       ``travel_time``;
     * ``"periodic"``: the homogenised cell's Nesterenko speed at the wave's peak contact
       force (:func:`theory.dimers.cell_solitary_speed`) — ``travel_time``;
+    * ``"linear"`` (F = k δ, one uniform section struck at grain 0): Schrödinger's (1914)
+      solution v_i = v0 J_{2i}(ωt), ω = 2√(k/m), whose velocity peak passes grain i when
+      ωt is the first maximum of J_{2i}, 2i + 0.8086 (2i)^{1/3} + O(i^{-1/3})
+      (Abramowitz & Stegun 9.5.16; the Airy head of docs/physics.md §14) —
+      ``travel_time``;
     * ``"drag"``, ``"viscoelastic"``: the first-order decay of the leading solitary wave
       (:func:`theory.dissipation.drag_wave_decay`,
       :func:`theory.dissipation.kuwabara_kono_wave_decay`) — ``peak_velocity``;
@@ -552,6 +557,13 @@ class ChainTheory:
             grains = np.arange(ch.n)
             return float(np.interp(b, grains, w.arrival_time)
                          - np.interp(a, grains, w.arrival_time))
+        if self.kind == "linear":
+            # the first maximum of J_ν(x) at x = ν + 0.8086165 ν^{1/3} + O(ν^{-1/3})
+            # (Abramowitz & Stegun 9.5.16), ν = 2i (grain i)
+            def peak(i: float) -> float:
+                nu = 2.0 * i
+                return (nu + 0.8086165 * nu ** (1.0 / 3.0)) / p["omega"]
+            return peak(b) - peak(a)
         if self.kind == "periodic":
             cell = self._cell()
             f0 = p["static_force"]
@@ -601,9 +613,10 @@ def chain_theory(scenario: Scenario, chain: discrete.Chain, init) -> tuple[
     n = chain_exponent(chain)
     s0 = M.first_grain(chain)
     bounds = np.r_[s0, np.asarray(interfaces(chain), dtype=int), chain.n]
-    uniform = [s.uniform and (s.diameter is None or s.diameter == spec.diameter)
-               for s in spec.sections]
-    formed = s0 + (FORMED_GRAINS if ini.kind == "impact" else 0)
+    uniform = [s.uniform for s in spec.sections]
+    x0 = M.incident_peak(chain, np.asarray(init.v))[0] if ini.kind != "impact" else s0
+    formed = (s0 + FORMED_GRAINS if ini.kind == "impact"
+              else int(math.ceil(x0 if math.isfinite(x0) else s0)) + 3)
     p: dict[str, Any] = {"exponent": n}
     sonic = spec.delta0_over_d == 0 and spec.gravity == 0
     if ini.kind == "impact" and ini.striker_mass != 1.0:
@@ -646,6 +659,13 @@ def chain_theory(scenario: Scenario, chain: discrete.Chain, init) -> tuple[
                      "(theory.dissipation.kuwabara_kono_wave_decay)")
         return ChainTheory(kind, label, 0.03, formed, int(bounds[1]), "incident",
                            "peak_velocity", p, chain), ""
+    if n == 1.0 and len(spec.sections) == 1 and uniform[0] and ini.kind == "impact" \
+            and not ini.striker_grains:
+        k, m = float(chain.k[s0 + 1]), float(chain.mass[s0])
+        p["omega"] = 2.0 * math.sqrt(k / m)
+        return ChainTheory("linear", "Schrödinger's Bessel-function front of a linear "
+                           "chain, J_2i(ωt)", 0.02, formed, chain.n, "incident",
+                           "travel_time", p, chain), ""
     for i, sec in enumerate(spec.sections):
         if sec.profile == "uniform":
             continue
@@ -656,6 +676,9 @@ def chain_theory(scenario: Scenario, chain: discrete.Chain, init) -> tuple[
         front = "incident" if i == 0 else "transmitted"
         start = max(first, formed) + (M.FIT_FROM if i > 0 else 0)
         if sec.profile == "tapered":
+            # the exact wave of the local grains from a few grains on (docs/physics.md
+            # §14: the adiabatic wave holds from grain 5 of an impact)
+            start = first + M.FIT_FROM if i > 0 else s0 + 5
             if spec.delta0_over_d > 0:
                 return None, ("the adiabatic taper wave (theory.tapers) is the exact wave "
                               "at δ0 = 0; no theory for a precompressed taper")
@@ -688,9 +711,10 @@ def interface_applies(scenario: Scenario) -> tuple[str, str]:
         if not s.uniform:
             why.append(f"[chain.sections[{i}]] is not uniform (profile {s.profile!r}"
                        + (", disorder" if s.profile == "uniform" else "") + ")")
-        if s.diameter is not None and s.diameter != spec.diameter:
-            why.append(f"[chain.sections[{i}]] diameter = {s.diameter!r} differs (the "
-                       "interface theories are for equal diameters)")
+    d_left, d_right = (s.diameter or spec.diameter for s in spec.sections[:2])
+    if d_left != d_right:
+        why.append(f"the diameters differ ({d_left!r}, {d_right!r} m; the interface "
+                   "theories are for equal diameters)")
     if spec.law != "power" or spec.drag:
         why.append("the contact law dissipates (no interface theory with losses)")
     if spec.gravity:
