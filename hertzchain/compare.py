@@ -39,7 +39,13 @@ What is measured, on every sampled model, with the discrete chain's definitions
   (relative) and L∞ (over the incident peak velocity) of v at every display time.
 * **Theory**: its fronts and energy partition (:class:`hertzchain.models.TheoryModel`),
   and the speeds of Nesterenko's relation (Eq. 5 / Eq. 8 limits) at each model's
-  measured transmitted and reflected amplitudes.
+  measured transmitted and reflected amplitudes; at an interface also the strongly
+  nonlinear theory (``theory_strong``: quasi-particle or lattice acoustics, named with
+  its regime, docs/physics.md §16).  On a chain beyond the paper
+  (:func:`_theory_beyond`) the incident wave's speed for the law's exponent and the
+  chain's own theory (:class:`hertzchain.models.ChainTheory`: travel times, a damped
+  peak, a striker's train) in the discrete run's own window, and for an interface no
+  theory describes, null and the reason.
 
 The comparison time is the last common sample at which no wave has reached a chain end
 where the continuum's end condition differs from the discrete chain's

@@ -17,8 +17,16 @@ scenario —, the validity map from the shipped sweep's points).  For a
    amplitude of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN` × δ0 and Eq. 7 above it
    and at δ0 = 0) from the same grain state interpolated onto its grid
    (:func:`continuum.from_grains`), to the discrete run's end time — cached too;
-4. evaluates the **theory** (:class:`TheoryModel`: wave speeds of Eq. 5, Eq. 8 and
-   Nesterenko's general relation, the linear-acoustic interface of Eqs. 9–13).
+4. evaluates the **theory** (:class:`TheoryModel`: Nesterenko's wave speeds for the law's
+   exponent n — Eqs. 5 and 8 for Hertz —, the linear-acoustic interface of Eqs. 9–13
+   and the strongly nonlinear one of docs/physics.md §16 where they apply, and the
+   theory of a chain beyond the paper, :class:`ChainTheory`: gravity, tapers, periodic
+   cells, dissipation, a striker, a linear chain; null with the reason elsewhere).
+
+Which of the continuum and the theory run is decided by
+:func:`hertzchain.scenario.model_applies` (``[models]`` not given: where they apply,
+:meth:`hertzchain.scenario.Scenario.with_default_models`; :attr:`Run.skipped` says why
+a model is off).
 
 Common sample times
 -------------------
@@ -80,8 +88,9 @@ from .measure import interfaces
 from .runner import build_chain, build_initial_checked, build_law, check_size, run_simulation
 from .scenario import ModelsSpec, Scenario, ScenarioError
 
-__all__ = ["ModelRun", "IncidentWave", "TheoryModel", "Run", "run", "sample_grid",
-           "incident_wave", "strain_from_velocity", "FORMAT"]
+__all__ = ["ModelRun", "IncidentWave", "TheoryModel", "ChainTheory", "Run", "run",
+           "sample_grid", "incident_wave", "strain_from_velocity", "chain_theory",
+           "interface_applies", "chain_exponent", "FORMED_GRAINS", "FORMAT"]
 
 FORMAT = "hertzchain.continuum-samples/2"
 """``format`` attribute of a continuum result file."""

@@ -26,11 +26,15 @@ Eq. 7 (:class:`continuum.NesterenkoPDE`, which keeps the full Hertz force, with 
 without precompression) above it and at δ0 = 0 (docs/physics.md §2–4);
 a model that does not fit the regime (Eq. 4 or KdV at δ0 = 0; KdV, which is
 unidirectional, on more than one section) is an error naming ``[models] continuum``.
-Both the continuum and the theory are derived for the paper's chain — the lossless Hertz
-law in uniform sections of one diameter without gravity — and are refused (naming the
-model's key and the chain keys that leave that chain) for another law, drag, gravity, a
-tapered or periodic profile, disorder or a section of another diameter; the discrete
-chain runs all of them (examples: ``hertzchain/scenarios/examples/``).
+Where each model applies is decided in one place, :func:`model_applies`: the continuum
+is derived for the paper's chain — the lossless Hertz law in uniform sections of one
+diameter without gravity (:func:`continuum_applies`); the theory describes every chain
+but one with a disordered first section (:func:`theory_applies`).  Left out of
+``[models]``, each runs where it applies — the theory in every command, the continuum
+in ``hertzchain compare`` only (:meth:`Scenario.with_default_models`) — and is otherwise
+off with the reason (:meth:`Scenario.skipped_models`); an explicit request for a model
+that does not apply is an error naming why.  The discrete chain runs every chain
+(examples: ``hertzchain/scenarios/examples/``).
 The continuum steps with ``[models] integrator``, a splitting method of
 :mod:`theory.splitting` (default Yoshida-4 drift first, today's; ``order`` is its
 deprecated alias), at ``dt_safety`` × velocity Verlet's limit 2/ω_max (ω_max with the
