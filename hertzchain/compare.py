@@ -424,6 +424,10 @@ class Comparison:
             for key, (_, _, diff) in diffs.items():
                 if isinstance(diff, float | int):
                     out[f"{name}_d_{key}"] = float(diff)
+        for name, note in self.notes.items():
+            out.setdefault(f"{name}_note", note)
+        if self.theory_window:
+            out["theory_window"] = self.theory_window
         out["t_compare"] = self.t_compare
         out["t_cross"] = self.t_cross
         out["t_separated_by_compare"] = self.t_separated
@@ -444,6 +448,9 @@ class Comparison:
                 "profile_errors": self.profile_errors,
                 "speeds": {m: s.speeds for m, s in self.series.items()},
                 "theory": self.run.theory.to_dict() if self.run.theory else None,
+                "theory_labels": {name: self.theory_label(name) for name in
+                                  ("theory", "theory_strong") if name in self.errors},
+                "skipped": dict(self.run.skipped),
                 "verdict": self.verdict()}
 
     # ------------------------------------------------------------------ output

@@ -34,7 +34,10 @@ def scenario(ar=0.5, ak=2.0, *, models=None, n=(150, 250), t_end=6e-4, d0=1e-3, 
 # -- [models] ---------------------------------------------------------------------------
 def test_models_defaults_and_auto():
     sc = scenario()
-    assert sc.models.names == ("discrete", "theory")
+    assert sc.models.theory is None and sc.models.continuum is None  # not given
+    assert sc.with_default_models().models.names == ("discrete", "theory")
+    assert sc.with_default_models(compare=True).models.names == ("discrete", "continuum",
+                                                                 "theory")
     assert sc.models.continuum_model(1e-3) is None
     auto = scenario(models={"continuum": "auto"}).models
     assert auto.continuum_model(1e-3) == "eq4" and auto.continuum_model(0.0) == "eq7"
