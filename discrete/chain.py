@@ -30,7 +30,10 @@ from theory import Material
 
 __all__ = ["Chain", "Section", "Tapered", "Periodic", "Disorder", "WallKind"]
 
-WallKind = Literal["paper", "hertz"] | None
+WallKind = Literal["paper", "hertz", "flat"] | Material | None
+"""A wall contact: ``"paper"`` (the grain–grain constant), ``"hertz"`` (a rigid flat),
+``"flat"`` (a flat of the adjacent grain's own material), a :class:`theory.Material`
+(a flat of that material) or None (a free end)."""
 
 
 @dataclass(frozen=True)
@@ -237,14 +240,31 @@ def _array(name: str, value, size: int, *, positive=False, nonneg=False) -> np.n
 
 
 def _wall_k(kind: WallKind, side: str, diameter: float, material: Material) -> float:
-    """Constant of the wall contact of a grain (diameter m, material), N/m^{3/2}."""
+    """Constant of the wall contact of a grain (diameter m, material), N/m^{3/2}.
+
+    A flat wall of a material (``"flat"``: the grain's own; a :class:`theory.Material`)
+    has R* = d/2 and E* from both materials (Johnson 1985, Eq. 4.22;
+    :func:`theory.hertz_constant_wall`).
+    """
     if kind is None:
         return 0.0
+    if isinstance(kind, Material):
+        return float(theory.hertz_constant_wall(float(diameter), material, kind))
     if kind == "paper":
         return float(theory.hertz_constant(float(diameter), material))
     if kind == "hertz":
         return float(theory.hertz_constant_wall(float(diameter), material))
-    raise ValueError(f"{side}_wall must be 'paper', 'hertz' or None (got {kind!r})")
+    if kind == "flat":
+        return float(theory.hertz_constant_wall(float(diameter), material, material))
+    raise ValueError(f"{side}_wall must be 'paper', 'hertz', 'flat', a Material or None "
+                     f"(got {kind!r})")
+
+
+def _wall_param(kind: WallKind):
+    """A wall kind as JSON-able chain parameters (a material: its name and values)."""
+    if isinstance(kind, Material):
+        return {"flat": _material_dict(kind)}
+    return kind
 
 
 def _pair_k(d1, m1, d2, m2) -> np.ndarray:
@@ -443,8 +463,9 @@ class Chain:
         wall_force : float, optional
             Alternatively the static force F0, N (>= 0): with gravity, the force on the
             top wall (0 for a free top).  Default: δ0 = 0.
-        left_wall, right_wall : {"paper", "hertz", None}
-            Kind of wall contact (with gravity the right wall is the floor: required).
+        left_wall, right_wall : {"paper", "hertz", "flat"}, Material or None
+            Kind of wall contact (:data:`WallKind`; with gravity the right wall is the
+            floor: required).
         exponent : float
             Exponent n of the contact law whose static forces k δ0^n balance (3/2: Hertz,
             the paper's; the constants k are Hertz's in any case).
@@ -520,8 +541,8 @@ class Chain:
             "kind": "sections",
             "sections": [s.to_dict() for s in sections],
             "delta0": float(d0[ref]),
-            "left_wall": left_wall,
-            "right_wall": right_wall,
+            "left_wall": _wall_param(left_wall),
+            "right_wall": _wall_param(right_wall),
         }
         if exponent != 1.5:
             params["exponent"] = float(exponent)

@@ -212,12 +212,19 @@ _ROWS = (
     ("front_reflected", "reflected front at t_compare (grain)", ".2f", "+.2f"),
     ("arrival_time", "arrival time of the transmitted front (s)", ".5g", "+.2e"),
     ("front_at_arrival", "transmitted front then (grain)", ".2f", "+.2f"),
+    ("travel_time", "travel time of the leading wave in the window (s)", ".5g", "+.2%"),
+    ("peak_velocity", "leading peak velocity at the window's end (m/s)", ".4g", "+.2%"),
+    ("leading_peak", "leading peak velocity of the striker's train (m/s)", ".4g", "+.2%"),
+    ("wave_count", "waves of the train above 5 % of the leading one", ".0f", "+.0f"),
 )
+
+_MODELS = ("continuum", "theory", "theory_strong")
+"""The models compared with the discrete chain, in the order of the tables."""
 
 
 def difference_rows(cmp) -> list[list[str]]:
     """Rows of the difference table: quantity, discrete, then value and Δ per model."""
-    models = [m for m in ("continuum", "theory") if m in cmp.differences]
+    models = [m for m in _MODELS if m in cmp.differences]
     rows = []
     whole = cmp.run.interface is None
     for key, text, vfmt, dfmt in _ROWS:
@@ -296,7 +303,24 @@ def write_report(cmp, out: Path, figs: list[tuple[Path, str]]) -> tuple[Path, Pa
         rep.paragraph(f"**Not verified to rtol**: the discrete run's "
                       f"{', '.join(cmp.unverified)} is false; `hertzchain compare` exits 4 "
                       "(docs/guide/exit_status.md).")
-    models = [m for m in ("continuum", "theory") if m in cmp.differences]
+    if res.theory is not None or res.skipped:
+        rep.heading("Models")
+        lines = []
+        if res.theory is not None:
+            lines.append(f"Theory: {cmp.theory_label('theory').removeprefix('the ')}"
+                         + (f" — window: {cmp.theory_window}" if cmp.theory_window else ""))
+            if res.theory.strong is not None:
+                lines.append(f"Interface: {cmp.theory_label('theory_strong')[4:]} "
+                             "(theory.strong_interface.predict_strong; column "
+                             "theory_strong)")
+            for name in ("theory", "theory_strong"):
+                if cmp.notes.get(name):
+                    lines.append(f"Not compared ({name}): {cmp.notes[name]}")
+        for m, why in res.skipped.items():
+            lines.append(f"Not run: the {m} — {why}")
+        for line in lines:
+            rep.paragraph(line)
+    models = [m for m in _MODELS if m in cmp.differences]
     if models:
         rep.heading("Differences to the discrete chain")
         header = ["quantity", "discrete at t_compare"]

@@ -17,8 +17,16 @@ scenario —, the validity map from the shipped sweep's points).  For a
    amplitude of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN` × δ0 and Eq. 7 above it
    and at δ0 = 0) from the same grain state interpolated onto its grid
    (:func:`continuum.from_grains`), to the discrete run's end time — cached too;
-4. evaluates the **theory** (:class:`TheoryModel`: wave speeds of Eq. 5, Eq. 8 and
-   Nesterenko's general relation, the linear-acoustic interface of Eqs. 9–13).
+4. evaluates the **theory** (:class:`TheoryModel`: Nesterenko's wave speeds for the law's
+   exponent n — Eqs. 5 and 8 for Hertz —, the linear-acoustic interface of Eqs. 9–13
+   and the strongly nonlinear one of docs/physics.md §16 where they apply, and the
+   theory of a chain beyond the paper, :class:`ChainTheory`: gravity, tapers, periodic
+   cells, dissipation, a striker, a linear chain; null with the reason elsewhere).
+
+Which of the continuum and the theory run is decided by
+:func:`hertzchain.scenario.model_applies` (``[models]`` not given: where they apply,
+:meth:`hertzchain.scenario.Scenario.with_default_models`; :attr:`Run.skipped` says why
+a model is off).
 
 Common sample times
 -------------------
@@ -65,6 +73,11 @@ import numpy as np
 
 import discrete
 import theory
+import theory.dimers
+import theory.dissipation
+import theory.gravity
+import theory.striker
+import theory.tapers
 from discrete import diagnostics as D
 from theory import integrity
 
@@ -75,8 +88,9 @@ from .measure import interfaces
 from .runner import build_chain, build_initial_checked, build_law, check_size, run_simulation
 from .scenario import ModelsSpec, Scenario, ScenarioError
 
-__all__ = ["ModelRun", "IncidentWave", "TheoryModel", "Run", "run", "sample_grid",
-           "incident_wave", "strain_from_velocity", "FORMAT"]
+__all__ = ["ModelRun", "IncidentWave", "TheoryModel", "ChainTheory", "Run", "run",
+           "sample_grid", "incident_wave", "strain_from_velocity", "chain_theory",
+           "interface_applies", "chain_exponent", "FORMED_GRAINS", "FORMAT"]
 
 FORMAT = "hertzchain.continuum-samples/2"
 """``format`` attribute of a continuum result file."""
@@ -176,26 +190,44 @@ class IncidentWave:
 
 
 # -- theory --------------------------------------------------------------------------
+def chain_exponent(chain: discrete.Chain) -> float:
+    """Exponent n of the chain's elastic contact law F = k δ^n (3/2: Hertz)."""
+    return float(chain.params.get("exponent", 1.5))
+
+
 def _side(chain: discrete.Chain, grain: int, contact: int) -> dict[str, float]:
+    """A section's grain and contact constants and its wave speeds at one grain/contact.
+
+    ``c_mat`` = √(k d^{n+1}/m) and ``c0`` = d √(n k δ0^{n-1}/m) for the chain's exponent
+    n (:meth:`theory.laws.ContactLaw.long_wave`; paper Eqs. 4 and 7 for n = 3/2), m/s.
+    """
     d = float(chain.diameter[grain])
     m, k, d0 = float(chain.mass[grain]), float(chain.k[contact]), float(chain.delta0[contact])
-    return {"mass": m, "k": k, "delta0": d0, "d": d, "xi0": d0 / d,
-            "c_mat": float(theory.c_mat(k, m, d)),
-            "c0": float(theory.c0(k, m, d, d0)) if d0 > 0 else 0.0}
+    n = chain_exponent(chain)
+    return {"mass": m, "k": k, "delta0": d0, "d": d, "xi0": d0 / d, "exponent": n,
+            "c_mat": float(theory.c_mat(k, m, d, exponent=n)),
+            "c0": float(theory.c0(k, m, d, d0, exponent=n)) if d0 > 0 else 0.0}
 
 
 def _speed(side: dict, xi: float) -> float:
-    """Nesterenko's solitary-wave speed (Nesterenko 2001, Eq. 1.4.28) at strain ξ, m/s."""
+    """Nesterenko's solitary-wave speed for F = k δ^n at dynamic strain ξ, m/s.
+
+    :func:`theory.nesterenko_speed` (Nesterenko 2001, Eq. 1.4.28 for n = 3/2; any n,
+    docs/physics.md §15): Eq. 5 to first order under precompression, the compacton's
+    speed (Eq. 8 for Hertz) at δ0 = 0; the sound speed c0 for ξ = 0.
+    """
     if not (xi > 0 and math.isfinite(xi)):
         return side["c0"] if side["c0"] > 0 else math.nan
-    return float(theory.nesterenko_speed(side["c_mat"], side["xi0"], xi))
+    return float(theory.nesterenko_speed(side["c_mat"], side["xi0"], xi,
+                                         exponent=side.get("exponent", 1.5)))
 
 
 def _strain_of_force(side: dict, force_change: float) -> float:
-    """Dynamic strain of a contact whose force changes by ``force_change`` (N), Eq. 1."""
-    f0 = side["k"] * side["delta0"] ** 1.5
+    """Dynamic strain of a contact whose force changes by ``force_change`` (N), F = k δ^n."""
+    n = side.get("exponent", 1.5)
+    f0 = side["k"] * side["delta0"] ** n
     f = max(f0 + force_change, 0.0)
-    return ((f / side["k"]) ** (2.0 / 3.0) - side["delta0"]) / side["d"]
+    return ((f / side["k"]) ** (1.0 / n) - side["delta0"]) / side["d"]
 
 
 @dataclass
@@ -231,12 +263,43 @@ class TheoryModel:
     energies_in: dict = field(default_factory=dict)
     alpha_rho: float = 1.0
     alpha_kn: float = 1.0
+    interface_note: str = ""
+    strong_note: str = ""
+    chain_theory: ChainTheory | None = None
+    chain_theory_note: str = ""
 
     # derived ------------------------------------------------------------------------
     @property
     def has_interface(self) -> bool:
         """Whether a second section follows the first."""
         return self.interface is not None and self.right is not None
+
+    @property
+    def interface_theory(self) -> bool:
+        """Whether Eqs. 9–13 describe the first interface (:attr:`interface_note`: why not)."""
+        return self.has_interface and not self.interface_note
+
+    @property
+    def strong(self):
+        """The strongly nonlinear interface theory's prediction, or None (:attr:`strong_note`).
+
+        :func:`theory.strong_interface.predict_strong` at the incident amplitude over δ0
+        (inf at δ0 = 0): the quasi-particle theory from
+        :data:`theory.strong_interface.STRONG_THRESHOLD` and in the sonic vacuum,
+        lattice acoustics below (docs/physics.md §16); the answer names its theory and
+        regime.
+        """
+        if self.interface is None or self.right is None or self.strong_note:
+            return None
+        from theory.strong_interface import predict_strong
+
+        xi0 = self.left["xi0"]
+        amp = self.incident.amplitude
+        if not (math.isfinite(amp) and amp > 0):
+            return None
+        eps = amp / xi0 if xi0 > 0 else math.inf
+        return predict_strong(self.alpha_rho, self.alpha_kn, eps,
+                              exponent=self.left.get("exponent", 1.5))
 
     @property
     def gamma_c0(self) -> float:
@@ -255,10 +318,11 @@ class TheoryModel:
 
     @property
     def force_in(self) -> float:
-        """Peak dynamic contact force of the incident wave, N (Eq. 1)."""
+        """Peak dynamic contact force of the incident wave, N (F = k δ^n; Eq. 1 for Hertz)."""
         s = self.left
+        n = s.get("exponent", 1.5)
         d = s["delta0"] + self.incident.strain * s["d"]
-        return s["k"] * (d**1.5 - s["delta0"] ** 1.5)
+        return s["k"] * (d**n - s["delta0"] ** n)
 
     @property
     def strain_tr(self) -> float:
@@ -317,7 +381,7 @@ class TheoryModel:
     @property
     def ratios(self) -> dict[str, float]:
         """Table-2 energy ratios (Eqs. 9–13, :func:`theory.table2_prediction`)."""
-        if not self.has_interface or not self.energies_in:
+        if not self.interface_theory or not self.energies_in:
             return {}
         e = self.energies_in
         if e["linear"] + e["quadratic"] <= 0:  # no potential energy (an impact at t = 0)
@@ -364,7 +428,7 @@ class TheoryModel:
 
     def classes(self) -> dict[str, Any]:
         """Predicted classes (Fig. 7 region, fracture/squeeze, reflected wave)."""
-        if not self.has_interface:
+        if not self.interface_theory:
             return {}
         pred = theory.predict(self.alpha_rho, self.alpha_kn)
         return {"region": pred.region,
@@ -379,13 +443,300 @@ class TheoryModel:
         out = {"incident": dataclasses.asdict(self.incident), "interface": self.interface,
                "alpha_rho": self.alpha_rho, "alpha_kn": self.alpha_kn,
                "speed_in": self.speed_in, "left": self.left, "right": self.right,
-               "energies_in": self.energies_in}
-        if self.has_interface:
+               "energies_in": self.energies_in, "interface_note": self.interface_note,
+               "strong_note": self.strong_note,
+               "chain_theory": (self.chain_theory.to_dict() if self.chain_theory
+                                else None),
+               "chain_theory_note": self.chain_theory_note}
+        strong = self.strong
+        if strong is not None:
+            d = strong.to_dict()
+            d.pop("waves", None)
+            out["strong"] = d
+        if self.interface_theory:
             out.update(gamma_c0=self.gamma_c0, gamma_rg=self.gamma_rg,
                        strain_tr=self.strain_tr, strain_re=self.strain_re,
                        speed_tr=self.speed_tr, speed_re=self.speed_re, t_hit=self.t_hit,
                        ratios=self.ratios, classes=self.classes())
         return out
+
+
+# -- the theory of chains beyond the paper ------------------------------------------------
+FORMED_GRAINS = 20
+"""Grains an impact's wave needs to form (an equal-mass impact's wave is the settled
+solitary wave within ~20 grains, paper Fig. 2): the theory of a chain is compared from
+there on."""
+
+STRIKER_COUNT_FRACTION = 0.05
+"""A striker's train counts the waves above this fraction of the leading one's peak
+velocity (docs/physics.md §14, "A heavy striker"; :func:`discrete.waves.split_train`'s
+default threshold)."""
+
+
+@dataclass
+class ChainTheory:
+    """The theory of the leading wave of a chain beyond the paper's (docs/physics.md §14).
+
+    One published (or here derived and tested) closed form per kind of chain, each
+    compared with the discrete chain by :mod:`hertzchain.compare` on one quantity:
+
+    * ``"gravity"``: arrival times along a vertical chain, the adiabatic solitary wave
+      at the local static load (:func:`theory.gravity.solitary_wave_descent`), or the
+      weak pulse's WKB + Airy front (:func:`theory.gravity.weak_pulse_arrival_times`)
+      when the wave is weak (A < δ0) at the first contact — ``travel_time``;
+    * ``"taper"``: the adiabatic solitary wave of the local grains carrying the energy
+      of the wave that enters the taper (:func:`theory.tapers.adiabatic_taper_wave`) —
+      ``travel_time``;
+    * ``"periodic"``: the homogenised cell's Nesterenko speed at the wave's peak contact
+      force (:func:`theory.dimers.cell_solitary_speed`) — ``travel_time``;
+    * ``"linear"`` (F = k δ, one uniform section struck at grain 0): Schrödinger's (1914)
+      solution v_i = v0 J_{2i}(ωt), ω = 2√(k/m), whose velocity peak passes grain i when
+      ωt is the first maximum of J_{2i}, 2i + 0.8086 (2i)^{1/3} + O(i^{-1/3})
+      (Abramowitz & Stegun 9.5.16; the Airy head of docs/physics.md §14) —
+      ``travel_time``;
+    * ``"drag"``, ``"viscoelastic"``: the first-order decay of the leading solitary wave
+      (:func:`theory.dissipation.drag_wave_decay`,
+      :func:`theory.dissipation.kuwabara_kono_wave_decay`) — ``peak_velocity``;
+    * ``"striker"``: the geometric train of a heavy striker (:func:`theory.striker.striker_train`)
+      — ``leading_peak`` and ``wave_count``.
+
+    Attributes
+    ----------
+    kind : str
+        One of the kinds above.
+    label : str
+        The theory and its function, for reports.
+    accuracy : float
+        Its measured relative accuracy against the discrete chain (docs/physics.md §14),
+        the scale of its comparison.
+    first, last : int
+        The grains [first, last) the theory describes (a section).
+    front : str
+        ``"incident"`` or ``"transmitted"``: the sampled front that carries the wave there
+        (:func:`hertzchain.measure.sample_fronts`).
+    quantity : str
+        ``"travel_time"``, ``"peak_velocity"`` or ``"leading_peak"``.
+    params : dict
+        The numbers it is evaluated with (JSON-able).
+    """
+
+    kind: str
+    label: str
+    accuracy: float
+    first: int
+    last: int
+    front: str
+    quantity: str
+    params: dict = field(default_factory=dict)
+    chain: Any = field(default=None, repr=False)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain numbers (JSON-able)."""
+        return {"kind": self.kind, "label": self.label, "accuracy": self.accuracy,
+                "first": self.first, "last": self.last, "front": self.front,
+                "quantity": self.quantity, "params": self.params}
+
+    def travel_time(self, a: float, b: float, velocity_a: float = math.nan,
+                    force_max: float = math.nan) -> float:
+        """Time the wave's peak needs from grain position ``a`` to ``b`` (grains), s.
+
+        ``velocity_a``: its peak grain velocity at ``a`` (m/s; the taper's energy),
+        ``force_max``: its peak contact force (N; the periodic cell's speed).  Arrival
+        times are interpolated linearly between grains.
+        """
+        ch, p = self.chain, self.params
+        n = p["exponent"]
+        if self.kind == "gravity":
+            m, k, d = float(ch.mass[0]), float(ch.k[1]), float(ch.diameter[0])
+            if p["weak"]:
+                t = theory.gravity.weak_pulse_arrival_times(
+                    ch.n, m, k, d, p["gravity"], exponent=n, top_force=p["top_force"])
+            else:
+                t = theory.gravity.solitary_wave_descent(
+                    ch.n, m, k, d, p["gravity"], p["energy"], exponent=n,
+                    top_force=p["top_force"]).arrival_time
+            grains = np.arange(ch.n)
+            return float(np.interp(b, grains, t) - np.interp(a, grains, t))
+        if self.kind == "taper":
+            start = int(math.floor(a))
+            c_e = theory.tapers.sonic_vacuum_wave_constants(n).energy
+            energy = c_e * float(ch.mass[start]) * velocity_a ** 2
+            w = theory.tapers.adiabatic_taper_wave(ch.mass, ch.k[1:-1], ch.diameter, energy,
+                                                   exponent=n, start=start)
+            grains = np.arange(ch.n)
+            return float(np.interp(b, grains, w.arrival_time)
+                         - np.interp(a, grains, w.arrival_time))
+        if self.kind == "linear":
+            # the first maximum of J_ν(x) at x = ν + 0.8086165 ν^{1/3} + O(ν^{-1/3})
+            # (Abramowitz & Stegun 9.5.16), ν = 2i (grain i)
+            def peak(i: float) -> float:
+                nu = 2.0 * i
+                return (nu + 0.8086165 * nu ** (1.0 / 3.0)) / p["omega"]
+            return peak(b) - peak(a)
+        if self.kind == "periodic":
+            cell = self._cell()
+            f0 = p["static_force"]
+            if not force_max > f0:
+                return math.nan
+            speed = float(theory.dimers.cell_solitary_speed(cell, force_max, f0))
+            return (b - a) * cell.length / p["cell_grains"] / speed
+        raise ValueError(f"{self.kind}: no travel time")  # pragma: no cover
+
+    def _cell(self):
+        ch, p = self.chain, self.params
+        i, q = self.first, p["cell_grains"]
+        return theory.dimers.homogenise_cell(ch.mass[i:i + q], ch.k[i + 1:i + q + 1],
+                                             float(ch.diameter[i:i + q].sum()),
+                                             exponent=p["exponent"])
+
+    def peak_velocity(self, a: int, b: int, velocity_a: float) -> float:
+        """Peak grain velocity (m/s) of the damped wave at grain ``b``, ``velocity_a`` at ``a``."""
+        ch, p = self.chain, self.params
+        m, k = float(ch.mass[a]), float(ch.k[a + 1])
+        if self.kind == "drag":
+            return float(theory.dissipation.drag_wave_decay(b - a, velocity_a, k, m,
+                                                            p["drag"], exponent=p["exponent"]))
+        if self.kind == "viscoelastic":
+            return float(theory.dissipation.kuwabara_kono_wave_decay(
+                b - a, velocity_a, k, m, p["damping_time"]))
+        raise ValueError(f"{self.kind}: no decay")  # pragma: no cover
+
+    @property
+    def striker(self):
+        """The striker's train (:class:`theory.striker.StrikerTrain`), or None."""
+        if self.kind != "striker":
+            return None
+        return theory.striker.striker_train(self.params["mass_ratio"], self.params["v0"],
+                                            exponent=self.params["exponent"])
+
+
+def chain_theory(scenario: Scenario, chain: discrete.Chain, init) -> tuple[
+        ChainTheory | None, str]:
+    """The :class:`ChainTheory` of a scenario's chain, or (None, why) where none applies.
+
+    (None, "") for the paper's chain and for uniform lossless power-law chains, whose
+    leading wave is the steady solitary wave of :class:`TheoryModel` (its speed is
+    compared as it stands).
+    """
+    spec, ini = scenario.chain, scenario.initial
+    n = chain_exponent(chain)
+    s0 = M.first_grain(chain)
+    bounds = np.r_[s0, np.asarray(interfaces(chain), dtype=int), chain.n]
+    uniform = [s.uniform for s in spec.sections]
+    x0 = M.incident_peak(chain, np.asarray(init.v))[0] if ini.kind != "impact" else s0
+    formed = (s0 + FORMED_GRAINS if ini.kind == "impact"
+              else int(math.ceil(x0 if math.isfinite(x0) else s0)) + 3)
+    p: dict[str, Any] = {"exponent": n}
+    sonic = spec.delta0_over_d == 0 and spec.gravity == 0
+    if ini.kind == "impact" and ini.striker_mass != 1.0:
+        if not (sonic and spec.law == "power" and not spec.drag and uniform[0]):
+            return None, ("the striker's train is known for a lossless uniform power-law "
+                          "chain at δ0 = 0 only (theory.striker)")
+        p.update(mass_ratio=ini.striker_mass, v0=ini.v0)
+        return ChainTheory("striker", "geometric train of exact solitary waves "
+                           "(theory.striker.striker_train)", 0.03, s0 + 1, int(bounds[1]),
+                           "incident", "leading_peak", p, chain), ""
+    if spec.gravity > 0:
+        if len(spec.sections) > 1 or not uniform[0] or spec.law != "power" or spec.drag:
+            return None, ("the gravity theory (theory.gravity) is for one section of "
+                          "identical grains with a lossless power law")
+        v0 = float(np.max(np.abs(init.v)))
+        m, k = float(chain.mass[0]), float(chain.k[1])
+        energy = 0.5 * m * v0 ** 2
+        d01 = float(chain.delta0[1])
+        amp = float(theory.gravity.solitary_wave_amplitude(energy, k, d01, exponent=n))
+        p.update(gravity=spec.gravity, top_force=spec.top_force, energy=energy,
+                 weak=bool(amp < d01))
+        label = ("weak pulse, WKB + Airy front (theory.gravity.weak_pulse_arrival_times)"
+                 if p["weak"] else "adiabatic solitary wave at the local static load "
+                 "(theory.gravity.solitary_wave_descent)")
+        return ChainTheory("gravity", label, 0.02, formed, chain.n, "incident",
+                           "travel_time", p, chain), ""
+    if spec.drag > 0 or spec.law == "viscoelastic_hertz":
+        kind = "drag" if spec.drag > 0 else "viscoelastic"
+        if spec.drag > 0 and spec.law != "power":
+            return None, "drag with a dissipative law: no closed form combines the two"
+        if spec.delta0_over_d > 0 or not uniform[0]:
+            return None, (f"the decay of a {kind}-damped solitary wave is known at δ0 = 0 "
+                          "in a uniform section (theory.dissipation)")
+        if kind == "drag":
+            p["drag"] = spec.drag
+            label = "first-order drag decay (theory.dissipation.drag_wave_decay)"
+        else:
+            p["damping_time"] = spec.damping_time
+            label = ("first-order Kuwabara–Kono decay "
+                     "(theory.dissipation.kuwabara_kono_wave_decay)")
+        return ChainTheory(kind, label, 0.03, formed, int(bounds[1]), "incident",
+                           "peak_velocity", p, chain), ""
+    if n == 1.0 and len(spec.sections) == 1 and uniform[0] and ini.kind == "impact" \
+            and not ini.striker_grains:
+        k, m = float(chain.k[s0 + 1]), float(chain.mass[s0])
+        p["omega"] = 2.0 * math.sqrt(k / m)
+        return ChainTheory("linear", "Schrödinger's Bessel-function front of a linear "
+                           "chain, J_2i(ωt)", 0.02, formed, chain.n, "incident",
+                           "travel_time", p, chain), ""
+    for i, sec in enumerate(spec.sections):
+        if sec.profile == "uniform":
+            continue
+        if i > 1 or any(not u for u in uniform[:i]):
+            return None, (f"[chain.sections[{i}]]: the theory follows the wave through one "
+                          "profiled section after a uniform one")
+        first, last = int(bounds[i]), int(bounds[i + 1])
+        front = "incident" if i == 0 else "transmitted"
+        start = max(first, formed) + (M.FIT_FROM if i > 0 else 0)
+        if sec.profile == "tapered":
+            # the exact wave of the local grains from a few grains on (docs/physics.md
+            # §14: the adiabatic wave holds from grain 5 of an impact)
+            start = first + M.FIT_FROM if i > 0 else s0 + 5
+            if spec.delta0_over_d > 0:
+                return None, ("the adiabatic taper wave (theory.tapers) is the exact wave "
+                              "at δ0 = 0; no theory for a precompressed taper")
+            return ChainTheory("taper", "adiabatic solitary wave of the local grains "
+                               "(theory.tapers.adiabatic_taper_wave)", 0.015, start, last,
+                               front, "travel_time", p, chain), ""
+        cell = len(sec.cell_diameters)
+        p.update(cell_grains=cell, static_force=float(chain.k[first + 1]
+                                                      * chain.delta0[first + 1] ** n))
+        return ChainTheory("periodic", "homogenised cell, Nesterenko's speed at the peak "
+                           "contact force (theory.dimers.cell_solitary_speed)", 0.02,
+                           start, last, front, "travel_time", p, chain), ""
+    return None, ""
+
+
+def interface_applies(scenario: Scenario) -> tuple[str, str]:
+    """Why the linear (Eqs. 9–13) and the strong interface theory do not apply ("" if they do).
+
+    Both are derived for two uniform sections of equal diameters joined by a lossless
+    contact law without gravity: Eqs. 9–13 for Hertz (their exponents 1/2, 1/3 are
+    Hertz's), the strongly nonlinear theory for Hertz at any precompression and for
+    any exponent in the sonic vacuum (:func:`theory.strong_interface.predict_strong`).
+    """
+    spec = scenario.chain
+    if len(spec.sections) < 2:
+        return "one section: no interface", "one section: no interface"
+    why = []
+    for i in (0, 1):
+        s = spec.sections[i]
+        if not s.uniform:
+            why.append(f"[chain.sections[{i}]] is not uniform (profile {s.profile!r}"
+                       + (", disorder" if s.profile == "uniform" else "") + ")")
+    d_left, d_right = (s.diameter or spec.diameter for s in spec.sections[:2])
+    if d_left != d_right:
+        why.append(f"the diameters differ ({d_left!r}, {d_right!r} m; the interface "
+                   "theories are for equal diameters)")
+    if spec.law != "power" or spec.drag:
+        why.append("the contact law dissipates (no interface theory with losses)")
+    if spec.gravity:
+        why.append("gravity loads the chain non-uniformly")
+    if scenario.initial.striker_grains:
+        why.append("a striker's train, not one solitary wave, meets the interface")
+    common = "; ".join(why)
+    linear = common or ("" if spec.exponent == 1.5 else
+                        f"Eqs. 9–13 are Hertz's (exponent 1.5; [chain] exponent = "
+                        f"{spec.exponent!r})")
+    strong = common or ("" if spec.exponent == 1.5 or spec.delta0_over_d == 0 else
+                        "the precompressed solitary waves are known for Hertz only")
+    return linear, strong
 
 
 def strain_from_velocity(side: dict, velocity: float) -> float:
@@ -402,13 +753,15 @@ def strain_from_velocity(side: dict, velocity: float) -> float:
     under cProfile).
     """
     return _strain_from_velocity(float(side["c_mat"]), float(side["xi0"]),
-                                 float(side["c0"]), float(velocity))
+                                 float(side["c0"]), float(velocity),
+                                 float(side.get("exponent", 1.5)))
 
 
 @functools.lru_cache(maxsize=256)
-def _strain_from_velocity(c_mat: float, xi0: float, c0: float, velocity: float) -> float:
-    """:func:`strain_from_velocity` of the side's wave speeds (m/s; ξ0 = δ0/d)."""
-    side = {"c_mat": c_mat, "xi0": xi0, "c0": c0}
+def _strain_from_velocity(c_mat: float, xi0: float, c0: float, velocity: float,
+                          exponent: float = 1.5) -> float:
+    """:func:`strain_from_velocity` of the side's wave speeds (m/s; ξ0 = δ0/d; exponent n)."""
+    side = {"c_mat": c_mat, "xi0": xi0, "c0": c0, "exponent": exponent}
     if not velocity > 0:
         return math.nan
     hi = 1e-12
@@ -491,8 +844,24 @@ def incident_from_run(sim: discrete.Simulation, left: dict,
 
 
 def _theory(chain: discrete.Chain, init, incident: IncidentWave, ifaces: list[int],
-            left: dict) -> TheoryModel:
-    """The theory of the first interface, from the built chain and the initial state."""
+            left: dict, scenario: Scenario | None = None) -> TheoryModel:
+    """The theory of the chain and its first interface, from the built chain and initial state.
+
+    With ``scenario``: which interface theories apply (:func:`interface_applies`) and
+    the theory of the chain beyond the paper (:func:`chain_theory`).
+    """
+    tm = _theory_paper(chain, init, incident, ifaces, left)
+    if scenario is not None:
+        tm.interface_note, tm.strong_note = interface_applies(scenario)
+        if not ifaces:
+            tm.interface_note = tm.strong_note = ""
+        tm.chain_theory, tm.chain_theory_note = chain_theory(scenario, chain, init)
+    return tm
+
+
+def _theory_paper(chain: discrete.Chain, init, incident: IncidentWave, ifaces: list[int],
+                  left: dict) -> TheoryModel:
+    """The theory of the first interface (Eqs. 9–13), from the built chain and initial state."""
     en = D.chain_energies_of(chain, np.asarray(init.v), u=np.asarray(init.u),
                              wall_left=init.wall_left, wall_right=init.wall_right)
     if ifaces:  # the incident wave's energy: everything left of the interface
@@ -975,6 +1344,9 @@ class Run:
     estimates : TheoryModel
         The theory's numbers even if ``[models] theory`` is off (arrival times, speeds:
         used to place samples and to tell incident from reflected waves).
+    skipped : dict
+        The models left off because they do not apply to this chain: {model: reason}
+        (:meth:`hertzchain.scenario.Scenario.skipped_models`).
     """
 
     scenario: Scenario
@@ -988,6 +1360,7 @@ class Run:
     simulation: discrete.Simulation | None = None
     wall_time: float = 0.0
     estimates: TheoryModel | None = None
+    skipped: dict[str, str] = field(default_factory=dict)
 
     @property
     def interface(self) -> int | None:
@@ -1012,6 +1385,8 @@ class Run:
             out.setdefault("completed", self.discrete.completed)
             out.setdefault("stopped_by", self.discrete.stopped_by)
         out["models"] = ",".join(self.scenario.models.names)
+        for name, why in self.skipped.items():
+            out[f"{name}_skipped"] = why
         # the incident wave's peak dynamic strain ξ_m/d, measured on its state
         # (hertzchain.measure.incident_strain; NaN, with the note, where it was not) and,
         # under precompression, ξ_m/δ0 (the amplitude axis of the model-validity map;
@@ -1030,7 +1405,7 @@ class Run:
             out["continuum_stopped_by"] = c.stopped_by
             out["continuum_energy_drift"] = float(c.summary.get("energy_drift", math.nan))
             out["continuum_wall_time"] = float(c.summary.get("wall_time", math.nan))
-        if self.theory is not None and self.theory.has_interface:
+        if self.theory is not None and self.theory.interface_theory:
             th = self.theory
             out["theory_gamma_c0"] = th.gamma_c0
             out["theory_gamma_rg"] = th.gamma_rg
@@ -1039,6 +1414,13 @@ class Run:
             out["theory_speed_tr"] = th.speed_tr
             out["theory_speed_re"] = th.speed_re
             out["theory_region"] = th.classes()["region"]
+        if self.theory is not None:
+            strong = self.theory.strong
+            if strong is not None:
+                out["theory_strong_theory"] = strong.theory
+                out["theory_strong_regime"] = strong.regime
+            if self.theory.chain_theory is not None:
+                out["theory_chain"] = self.theory.chain_theory.label
         out["wall_time_all"] = self.wall_time
         return out
 
@@ -1048,7 +1430,7 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         checkpoint_interval: float | None = None, resume: bool = True,
         progress: bool = False, threads: int | None = None, check: bool = True,
         log=None, wave_cache: str | Path | None = None, samples: bool | None = None,
-        save_discrete: bool = True) -> Run:
+        save_discrete: bool = True, compare: bool = False) -> Run:
     """Run every model of ``scenario`` from one initial grain state (module docstring).
 
     Parameters
@@ -1090,6 +1472,10 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         names only the run's checkpoint; a finished file already there is still reused,
         otherwise the discrete :class:`ModelRun` has no ``path`` and the caller keeps
         what it needs of :attr:`Run.simulation`.
+    compare : bool
+        Resolve the ``[models]`` not given as ``hertzchain compare`` does (the
+        continuum on where it applies) rather than as ``run`` does
+        (:meth:`hertzchain.scenario.Scenario.with_default_models`).
 
     Returns
     -------
@@ -1104,6 +1490,8 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
         From the discrete run (:func:`hertzchain.runner.run_simulation`).
     """
     t0 = time.perf_counter()
+    skipped = scenario.skipped_models(compare=compare)
+    scenario = scenario.with_default_models(compare=compare)
     stem = stem or scenario.name or "run"
     cache = None if cache is None else Path(cache)
     wave_cache = wave_cache if wave_cache is not None else cache
@@ -1120,12 +1508,12 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
     # depends on it), measured on the discrete run below
     incident = incident_wave(chain, init, scenario.initial.kind, left,
                              *build_law(scenario.chain))
-    tm = _theory(chain, init, incident, ifaces, left)
+    tm = _theory(chain, init, incident, ifaces, left, scenario)
     models = scenario.models
     sampled = bool(models.continuum) if samples is None else samples
     times = sample_grid(scenario, tm, chain)[0] if sampled or not models.discrete \
         else np.zeros(0)
-    result = Run(scenario, chain, init, ifaces, tm.incident)
+    result = Run(scenario, chain, init, ifaces, tm.incident, skipped=skipped)
     d_run = None
     if models.discrete:
         d_run, sim = _run_discrete(

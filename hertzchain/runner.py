@@ -188,6 +188,19 @@ def build_law(spec: ChainSpec) -> tuple[discrete.ContactLaw, float]:
     return discrete.PowerLaw(spec.exponent), spec.drag
 
 
+def _wall(kind: str):
+    """A scenario wall as a :data:`discrete.chain.WallKind`: a keyword, or a named material.
+
+    ``"free"`` is None (no contact); ``"paper"``, ``"hertz"``, ``"flat"`` pass through; any
+    other value is a material name (validated by the scenario): a flat wall of it.
+    """
+    if kind == "free":
+        return None
+    if kind in ("paper", "hertz", "flat"):
+        return kind
+    return theory.get_material(kind)
+
+
 def build_chain(spec: ChainSpec) -> discrete.Chain:
     """The :class:`discrete.Chain` of a chain spec: the one mapping of ``[chain]``.
 
@@ -199,12 +212,11 @@ def build_chain(spec: ChainSpec) -> discrete.Chain:
     """
     base = _material(spec.material)
     sections = [build_section(s, base, spec.diameter) for s in spec.sections]
-    walls = {"paper": "paper", "hertz": "hertz", "free": None}
     law, _ = build_law(spec)
     kwargs = ({"gravity": spec.gravity, "wall_force": spec.top_force} if spec.gravity > 0
               else {"delta0": spec.delta0_over_d * float(sections[0].diameter)})
     chain = discrete.Chain.from_sections(
-        sections, left_wall=walls[spec.left_wall], right_wall=walls[spec.right_wall],
+        sections, left_wall=_wall(spec.left_wall), right_wall=_wall(spec.right_wall),
         exponent=law.exponent, **kwargs)
     return chain.with_params(scenario_chain=json.loads(canonical_json(
         {"sections": [vars(s) for s in spec.sections], "diameter": spec.diameter,

@@ -26,11 +26,15 @@ Eq. 7 (:class:`continuum.NesterenkoPDE`, which keeps the full Hertz force, with 
 without precompression) above it and at δ0 = 0 (docs/physics.md §2–4);
 a model that does not fit the regime (Eq. 4 or KdV at δ0 = 0; KdV, which is
 unidirectional, on more than one section) is an error naming ``[models] continuum``.
-Both the continuum and the theory are derived for the paper's chain — the lossless Hertz
-law in uniform sections of one diameter without gravity — and are refused (naming the
-model's key and the chain keys that leave that chain) for another law, drag, gravity, a
-tapered or periodic profile, disorder or a section of another diameter; the discrete
-chain runs all of them (examples: ``hertzchain/scenarios/examples/``).
+Where each model applies is decided in one place, :func:`model_applies`: the continuum
+is derived for the paper's chain — the lossless Hertz law in uniform sections of one
+diameter without gravity (:func:`continuum_applies`); the theory describes every chain
+but one with a disordered first section (:func:`theory_applies`).  Left out of
+``[models]``, each runs where it applies — the theory in every command, the continuum
+in ``hertzchain compare`` only (:meth:`Scenario.with_default_models`) — and is otherwise
+off with the reason (:meth:`Scenario.skipped_models`); an explicit request for a model
+that does not apply is an error naming why.  The discrete chain runs every chain
+(examples: ``hertzchain/scenarios/examples/``).
 The continuum steps with ``[models] integrator``, a splitting method of
 :mod:`theory.splitting` (default Yoshida-4 drift first, today's; ``order`` is its
 deprecated alias), at ``dt_safety`` × velocity Verlet's limit 2/ω_max (ω_max with the
@@ -80,6 +84,9 @@ __all__ = [
     "ModelsSpec",
     "Scenario",
     "load_scenario",
+    "model_applies",
+    "continuum_applies",
+    "theory_applies",
     "parse_scenario",
     "read_toml",
     "read_key",
@@ -107,7 +114,8 @@ class Key:
         ``"number"``, ``"integer"``, ``"bool"``, ``"string"``, ``"choice"``, ``"numbers"``
         (list of numbers), ``"integers"`` (list of integers), ``"material"`` (a name or a
         table), ``"auto_number"`` (``"auto"`` or a number), ``"auto_integer"``,
-        ``"continuum"`` (a model name or ``false``).
+        ``"continuum"`` (a model name or ``false``), ``"wall"`` (a keyword of
+        ``choices`` or a material name).
     default : object
         Value when the key is absent (None: no value).
     doc : str
@@ -177,6 +185,10 @@ MATERIAL_KEYS = ("density", "youngs_modulus", "poisson_ratio")
 LAWS = ("power", "viscoelastic_hertz")
 """Values of ``[chain] law`` (the names of :data:`theory.laws.LAWS`)."""
 
+WALLS = ("paper", "hertz", "flat", "free")
+"""The wall keywords of ``[chain] left_wall``/``right_wall``; any other value is a material
+name of :data:`theory.MATERIALS`: a flat wall of that material."""
+
 PROFILES = ("uniform", "tapered", "periodic")
 """Values of ``[[chain.sections]] profile``."""
 
@@ -193,11 +205,12 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "theory.MATERIALS (\"paper\": Hertz constant, ν = 0.30, reproduces the paper; "
             "\"table1\": ν = 0.25; \"steel\", \"brass\", \"ptfe\", …: `hertzchain "
             "materials`) or a table {density (kg/m³), youngs_modulus (Pa), poisson_ratio}"),
-        Key("left_wall", "choice", "paper", "left end: \"paper\" (as a grain–grain "
-            "contact), \"hertz\" (rigid flat) or \"free\" (only at δ0 = 0)",
-            choices=("paper", "hertz", "free")),
-        Key("right_wall", "choice", "paper", "right end (as left_wall)",
-            choices=("paper", "hertz", "free")),
+        Key("left_wall", "wall", "paper", "left end: \"paper\" (as a grain–grain "
+            "contact), \"hertz\" (a rigid flat), \"flat\" (a flat wall of the adjacent "
+            "grain's own material), a material name (a flat wall of that material: "
+            "\"steel\", \"brass\", …, `hertzchain materials`) or \"free\" (only at "
+            "δ0 = 0)", choices=WALLS),
+        Key("right_wall", "wall", "paper", "right end (as left_wall)", choices=WALLS),
         Key("law", "choice", "power", "contact law (theory.laws): \"power\" F = k δ^n "
             "(n = exponent; 3/2 is Hertz, paper Eq. 1) or \"viscoelastic_hertz\" F = "
             "max(0, k (δ^{3/2} + A δ^{1/2} dδ/dt)) (Kuwabara & Kono 1987)",
@@ -311,12 +324,16 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
     ),
     "models": (
         Key("discrete", "bool", True, "the discrete chain (paper Eq. 2; the reference)"),
-        Key("continuum", "continuum", False, "long-wave continuum: \"auto\" (Eq. 4 if δ0 > 0 "
+        Key("continuum", "continuum", None, "long-wave continuum: \"auto\" (Eq. 4 if δ0 > 0 "
             f"and the incident strain / δ0 <= {AUTO_EQ4_MAX_STRAIN:g}, otherwise Eq. 7), "
             "\"eq4\", \"eq7\", "
-            "\"kdv\" (one precompressed section) or false", example="auto"),
-        Key("theory", "bool", True, "closed-form theory: wave speeds (Eq. 5, 8, Nesterenko), "
-            "linear-acoustic interface (Eqs. 9–13)"),
+            "\"kdv\" (one precompressed section) or false; not given: \"auto\" in "
+            "`hertzchain compare` where it applies, off in run and sweep (its cost)",
+            example="auto"),
+        Key("theory", "bool", None, "closed-form theory: wave speeds of the law's exponent, "
+            "the interface (Eqs. 9–13 and the strongly nonlinear theory), the theories of "
+            "gravity, tapers, dimers, dissipation and strikers; not given: on where it "
+            "applies"),
         Key("nodes_per_grain", "integer", 5, "continuum grid nodes per grain (odd)", low=1,
             low_open=False),
         Key("integrator", "choice", None, "the continuum's splitting method "
@@ -471,6 +488,30 @@ def _read_material(val, where: str):
     return out
 
 
+def _read_wall(key: Key, val, where: str) -> str:
+    """A wall: a keyword of :data:`WALLS` or a material name (its :data:`theory.MATERIALS` key).
+
+    A material name is a flat wall of that material, whose contact constant takes both
+    materials (:func:`theory.hertz_constant_wall`; :func:`hertzchain.runner.build_chain`).
+    Errors name the closest keywords and materials (did you mean).
+    """
+    if not isinstance(val, str):
+        raise ScenarioError(f"[{where}] {key.name} must be a string: one of "
+                            f"{', '.join(repr(c) for c in key.choices)} or a material name "
+                            f"(`hertzchain materials`) (got {val!r})")
+    if val in key.choices:
+        return val
+    from theory import MATERIALS, resolve_material_name
+
+    try:
+        return resolve_material_name(val)
+    except ValueError:
+        known = (*key.choices, *MATERIALS)
+        raise ScenarioError(f"[{where}] {key.name} = {val!r}{did_you_mean(val, known)} "
+                            f"(allowed: {', '.join(repr(c) for c in key.choices)} or a "
+                            "material name, `hertzchain materials`)") from None
+
+
 def _read_value(key: Key, val, where: str):
     """One value of ``key`` validated (ScenarioError naming the key otherwise)."""
     k = key.kind
@@ -499,6 +540,8 @@ def _read_value(key: Key, val, where: str):
         return tuple(read(key, x, where, f"{key.name}[{i}]") for i, x in enumerate(val))
     if k == "material":
         return _read_material(val, where)
+    if k == "wall":
+        return _read_wall(key, val, where)
     if k == "auto_number":
         return None if val == "auto" else _read_number(key, val, where)
     if k == "continuum":
@@ -683,13 +726,15 @@ class RecordSpec:
 class ModelsSpec:
     """The models run side by side and the continuum's settings.
 
-    ``continuum`` is ``False`` or one of :data:`CONTINUUM_MODELS`; :meth:`continuum_model`
-    resolves ``"auto"`` for a chain.
+    ``continuum`` is ``False``, one of :data:`CONTINUUM_MODELS` or None (not given: the
+    default of the command, :meth:`Scenario.with_default_models`); ``theory`` is a bool
+    or None (not given: on where it applies).  :meth:`continuum_model` resolves
+    ``"auto"`` for a chain.
     """
 
     discrete: bool = True
-    continuum: str | bool = False
-    theory: bool = True
+    continuum: str | bool | None = None
+    theory: bool | None = None
     nodes_per_grain: int = 5
     integrator: str | None = None
     order: int | None = None
@@ -734,7 +779,11 @@ class ModelsSpec:
 
     @property
     def names(self) -> tuple[str, ...]:
-        """The models run, in order ("discrete", "continuum", "theory")."""
+        """The models run, in order ("discrete", "continuum", "theory").
+
+        Of a resolved spec (:meth:`Scenario.with_default_models`); a model not given
+        (None) counts as off here.
+        """
         return tuple(n for n, on in (("discrete", self.discrete),
                                      ("continuum", bool(self.continuum)),
                                      ("theory", self.theory)) if on)
@@ -785,6 +834,43 @@ class Scenario:
                 sec.pop("alpha_rho", None)
                 sec.pop("alpha_kn", None)
         return out
+
+    def skipped_models(self, *, compare: bool = False) -> dict[str, str]:
+        """The models not given in ``[models]`` that do not apply here, with the reason.
+
+        {model: one-line reason} (:func:`model_applies`, the one place that decides);
+        a model given explicitly that does not apply is refused when the scenario is
+        parsed.  ``compare``: for ``hertzchain compare`` (the continuum's default is on
+        there; in ``run`` and ``sweep`` it is off whether or not it applies, and not
+        listed).
+        """
+        out = {}
+        for name in ("continuum", "theory"):
+            if getattr(self.models, name) is not None or (name == "continuum"
+                                                          and not compare):
+                continue
+            why = model_applies(name, self.chain, self.initial)
+            if why:
+                out[name] = why
+        return out
+
+    def with_default_models(self, *, compare: bool = False) -> Scenario:
+        """A copy whose ``[models]`` not given are resolved (the defaults' one rule).
+
+        ``theory`` not given: on where it applies (:func:`model_applies`).
+        ``continuum`` not given: with ``compare`` (``hertzchain compare``) ``"auto"``
+        where it applies, otherwise off (``hertzchain run``, sweeps and ``reproduce`` run
+        the continuum only when asked: it costs more than the discrete run).  The
+        reasons for what stays off: :meth:`skipped_models`.
+        """
+        m = self.models
+        values = {}
+        if m.theory is None:
+            values["theory"] = not model_applies("theory", self.chain, self.initial)
+        if m.continuum is None:
+            values["continuum"] = "auto" if compare and not model_applies(
+                "continuum", self.chain, self.initial) else False
+        return replace(self, models=replace(m, **values)) if values else self
 
     def with_values(self, values: dict[str, Any]) -> Scenario:
         """A validated copy with keys set by dotted path (``"chain.sections.1.alpha_rho"``).
@@ -937,10 +1023,79 @@ def _check_record(spec: RecordSpec, n: int, t_end: float | None,
         raise ScenarioError("[record] strain_maxima = true needs running_max = true")
 
 
-def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
+# -- where each model applies: the one place -------------------------------------------
+def _last_section_without_contact(chain: ChainSpec) -> str:
+    """The reason a one-grain last section before a free end has no k_n ("" if not)."""
+    last = chain.sections[-1]
+    if len(chain.sections) > 1 and last.n == 1 and chain.right_wall == "free":
+        i = len(chain.sections) - 1
+        return (f"[chain.sections[{i}]] n = 1 with [chain] right_wall = 'free': the last "
+                "section has no contact of its own (its grain touches only the "
+                "interface), so there is no contact constant k_n for it")
+    return ""
+
+
+def continuum_applies(chain: ChainSpec, initial: InitialSpec) -> str:
+    """Why the long-wave continuum does not apply to this chain ("" where it does).
+
+    Today's rule: the continuum's equations (corrected Eqs. 4 and 7, KdV,
+    :mod:`continuum`) are derived for the paper's chain, the lossless Hertz law in
+    uniform sections of one diameter without gravity (:meth:`ChainSpec.beyond_paper`),
+    and need a contact constant in every section.  This function is the one place
+    that says so; when :mod:`continuum` exposes its own applicability for a law,
+    exponent and medium, it is asked here instead.  ``initial`` is not used by
+    today's rule.
+    """
+    beyond = chain.beyond_paper()
+    if beyond:
+        return ("the long-wave equations are derived for the lossless Hertz law in "
+                f"uniform sections of one diameter without gravity, and {', '.join(beyond)}")
+    return _last_section_without_contact(chain)
+
+
+def theory_applies(chain: ChainSpec, initial: InitialSpec) -> str:
+    """Why the closed-form theory does not apply to this chain ("" where it does).
+
+    The theory (:class:`hertzchain.models.TheoryModel`) describes the leading wave of
+    the first section — for any power-law exponent, with dissipation, gravity, a taper
+    or a periodic cell (:mod:`theory.gravity`, :mod:`theory.tapers`,
+    :mod:`theory.dimers`, :mod:`theory.dissipation`, :mod:`theory.striker`) — and says
+    for each quantity it cannot predict why (null with a reason).  It does not apply
+    where it has nothing to predict: a disordered first section (no published
+    closed form for the wave of a random chain) or a last section without a contact.
+    """
+    first = chain.sections[0]
+    for name in ("disorder_mass", "disorder_stiffness", "disorder_diameter"):
+        if getattr(first, name):
+            return (f"[chain.sections[0]] {name} = {getattr(first, name)!r}: no closed "
+                    "form describes the wave of a disordered section")
+    return _last_section_without_contact(chain)
+
+
+_APPLIES = {"continuum": continuum_applies, "theory": theory_applies}
+
+
+def model_applies(model: str, chain: ChainSpec, initial: InitialSpec) -> str:
+    """Why ``model`` (``"continuum"`` or ``"theory"``) does not apply ("" where it does).
+
+    The single place where applicability is decided: the parser refuses an explicit
+    request with this reason, and a model not given is left off with it
+    (:meth:`Scenario.skipped_models`, printed by ``hertzchain compare`` and stored in
+    its JSON).  The discrete chain applies to every chain.
+    """
+    if model == "discrete":
+        return ""
+    if model not in _APPLIES:
+        raise ValueError(f"model must be 'discrete', 'continuum' or 'theory' (got {model!r})")
+    return _APPLIES[model](chain, initial)
+
+
+def _check_models(spec: ModelsSpec, chain: ChainSpec, initial: InitialSpec) -> None:
     from theory.splitting import ORDER_METHODS, STABILITY_LIMITS, get_splitting
 
-    if not (spec.discrete or spec.continuum or spec.theory):
+    theory_on = spec.theory if spec.theory is not None else not model_applies(
+        "theory", chain, initial)
+    if not (spec.discrete or spec.continuum or theory_on):
         raise ScenarioError("[models] every model is off: set discrete, continuum or theory")
     if spec.nodes_per_grain % 2 == 0:
         raise ScenarioError(f"[models] nodes_per_grain = {spec.nodes_per_grain} must be odd "
@@ -963,28 +1118,13 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec) -> None:
                             f"stability limit of integrator {method.name!r}: allowed (0, "
                             f"{limit:.4g}) (ω_max Δt = 2 dt_safety < "
                             f"{STABILITY_LIMITS[method.name]:g})")
-    beyond = chain.beyond_paper()
-    if spec.continuum and beyond:
-        raise ScenarioError(
-            f"[models] continuum = {spec.continuum!r} does not apply to this chain: the "
-            "long-wave equations are derived for the lossless Hertz law in uniform sections "
-            f"of one diameter without gravity, and {', '.join(beyond)}; set [models] "
-            "continuum = false")
-    if spec.theory and beyond:
-        raise ScenarioError(
-            "[models] theory = true does not apply to this chain: the closed-form wave "
-            "speeds and interface coefficients are the lossless Hertz chain's, and "
-            f"{', '.join(beyond)}; set [models] theory = false")
-    last = chain.sections[-1]
-    if (spec.theory or spec.continuum) and len(chain.sections) > 1 and last.n == 1 \
-            and chain.right_wall == "free":
-        i = len(chain.sections) - 1
-        raise ScenarioError(
-            f"[chain.sections[{i}]] n = 1 with [chain] right_wall = 'free': the last "
-            "section has no contact of its own (its grain touches only the interface), so "
-            "the theory and the continuum have no contact constant k_n for it; give it "
-            "n >= 2, a wall (right_wall = 'paper' or 'hertz'), or set [models] theory = "
-            "false and continuum = false")
+    for name in ("continuum", "theory"):  # an explicit request must apply
+        why = model_applies(name, chain, initial) if getattr(spec, name) else ""
+        if why:
+            value = "true" if getattr(spec, name) is True else repr(getattr(spec, name))
+            raise ScenarioError(f"[models] {name} = {value} does not apply to this chain: "
+                                f"{why}; set [models] {name} = false, or leave it out (it "
+                                "then runs where it applies)")
     d0 = chain.delta0_over_d
     model = spec.continuum_model(d0)
     if model in ("eq4", "kdv") and d0 == 0:
@@ -1049,7 +1189,7 @@ def parse_scenario(data: dict) -> Scenario:
     _check_record(record, n_run, run.t_end, initial)
     raw_models = data.get("models", {})
     models = ModelsSpec(**_read_table(raw_models, "models"))
-    _check_models(models, chain)
+    _check_models(models, chain, initial)
     return Scenario(chain=chain, initial=initial, run=run, record=record, models=models,
                     name=values["name"])
 

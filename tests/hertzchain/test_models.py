@@ -34,7 +34,10 @@ def scenario(ar=0.5, ak=2.0, *, models=None, n=(150, 250), t_end=6e-4, d0=1e-3, 
 # -- [models] ---------------------------------------------------------------------------
 def test_models_defaults_and_auto():
     sc = scenario()
-    assert sc.models.names == ("discrete", "theory")
+    assert sc.models.theory is None and sc.models.continuum is None  # not given
+    assert sc.with_default_models().models.names == ("discrete", "theory")
+    assert sc.with_default_models(compare=True).models.names == ("discrete", "continuum",
+                                                                 "theory")
     assert sc.models.continuum_model(1e-3) is None
     auto = scenario(models={"continuum": "auto"}).models
     assert auto.continuum_model(1e-3) == "eq4" and auto.continuum_model(0.0) == "eq7"
@@ -348,3 +351,59 @@ def test_strain_from_velocity_solves_v_equals_V_xi_and_is_memoised():
         assert M.strain_from_velocity(dict(side), 0.5) == xi
         assert M._strain_from_velocity.cache_info().hits == hits + 1
     assert math.isnan(M.strain_from_velocity(side, 0.0))
+
+
+# -- walls of a material ------------------------------------------------------------------
+def _wall_scenario(left="free", right="brass", material="steel"):
+    return parse_scenario({"chain": {"material": material, "left_wall": left,
+                                     "right_wall": right, "sections": [{"n": 2}]},
+                           "run": {"t_end": 1e-4}})
+
+
+def test_wall_of_a_named_material_takes_both_materials():
+    # k of a sphere on a flat of another material: (4/3) E* √(d/2), E* from both
+    # (Johnson 1985, Eq. 4.22; theory.hertz_constant_wall), not the grain-grain k nor
+    # the rigid flat's.
+    from hertzchain.runner import build_chain
+
+    steel, brass = theory.get_material("steel"), theory.get_material("brass")
+    sc = _wall_scenario(left="flat", right="Brass")
+    assert sc.chain.right_wall == "brass"  # the material's key
+    ch = build_chain(sc.chain)
+    d = float(ch.diameter[0])
+    assert ch.k[-1] == pytest.approx(theory.hertz_constant_wall(d, steel, brass), rel=1e-14)
+    assert ch.k[0] == pytest.approx(theory.hertz_constant_wall(d, steel, steel), rel=1e-14)
+    assert ch.k[-1] < ch.k[0] < theory.hertz_constant_wall(d, steel)  # brass is softer
+    assert ch.params["right_wall"]["flat"]["youngs_modulus"] == brass.youngs_modulus
+
+
+@pytest.mark.parametrize("wall, match", [("bras", "did you mean 'brass'"),
+                                         ("hertzz", "did you mean 'hertz'"),
+                                         (3, "must be a string")])
+def test_a_bad_wall_names_the_key_and_the_closest(wall, match):
+    with pytest.raises(ScenarioError, match=r"\[chain\] right_wall") as err:
+        _wall_scenario(right=wall)
+    assert err.match(match)
+
+
+def test_wall_force_and_impulse_are_the_two_body_collision():
+    # One grain (m, at v toward the wall) meets a flat brass wall; its neighbour, at rest
+    # behind it, separates at once (no overlap), so the wall contact is an isolated
+    # two-body collision with m2 = ∞: peak force k_w (5 m v²/(4 k_w))^{3/5} (Johnson
+    # 1985 §11.4; theory.tapers.wall_impact_force) and impulse 2 m v (an elastic
+    # rebound).  Velocity Verlet at dt_fraction 0.002 puts the sampled peak within
+    # (π·0.002·2)²-ish of the true one: tolerance 1e-4 (force), 1e-6 (impulse: the
+    # trapezoid sum of a smooth pulse sampled every step).
+    import discrete
+    from hertzchain.runner import build_chain
+    from theory.tapers import wall_impact_force
+
+    ch = build_chain(_wall_scenario().chain)
+    m, kw, v = float(ch.mass[1]), float(ch.k[-1]), 0.3
+    init = discrete.initial.Initial(ch, np.zeros(2), np.array([0.0, v]))
+    sim = init.simulation(record=discrete.Recording(wall_forces=True, series_every=1))
+    t_c = 3.5 * (m ** 2 / (kw ** 2 * v)) ** 0.2  # > the collision time 3.2 (m²/k²v)^{1/5}
+    sim.run(t_c, progress=False)
+    t, f = np.asarray(sim.record.series_t), np.asarray(sim.record.wall_force)[..., 1].ravel()
+    assert np.max(f) == pytest.approx(wall_impact_force(m, kw, v), rel=1e-4)
+    assert np.trapezoid(f, t) == pytest.approx(2 * m * v, rel=1e-5)
