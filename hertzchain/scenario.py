@@ -650,30 +650,6 @@ class ChainSpec:
         """The paper's lossless Hertz law (power law, n = 3/2, no drag)."""
         return self.law == "power" and self.exponent == 1.5 and self.drag == 0
 
-    def beyond_paper(self) -> list[str]:
-        """The keys that take this chain outside the paper's, as ``"[table] key = value"``.
-
-        The paper's chain: the lossless Hertz law, uniform sections of one diameter, no
-        gravity (where the continuum and the closed-form theory apply).
-        """
-        out = []
-        if self.law != "power":
-            out.append(f"[chain] law = {self.law!r}")
-        elif self.exponent != 1.5:
-            out.append(f"[chain] exponent = {self.exponent!r}")
-        for name in ("drag", "gravity"):
-            if getattr(self, name):
-                out.append(f"[chain] {name} = {getattr(self, name)!r}")
-        for i, s in enumerate(self.sections):
-            if s.profile != "uniform":
-                out.append(f"[chain.sections[{i}]] profile = {s.profile!r}")
-            for name in ("disorder_mass", "disorder_stiffness", "disorder_diameter"):
-                if getattr(s, name):
-                    out.append(f"[chain.sections[{i}]] {name} = {getattr(s, name)!r}")
-            if s.diameter is not None and s.diameter != self.diameter:
-                out.append(f"[chain.sections[{i}]] diameter = {s.diameter!r}")
-        return out
-
 
 @dataclass(frozen=True)
 class InitialSpec:
@@ -1038,18 +1014,20 @@ def _last_section_without_contact(chain: ChainSpec) -> str:
 def continuum_applies(chain: ChainSpec, initial: InitialSpec) -> str:
     """Why the long-wave continuum does not apply to this chain ("" where it does).
 
-    Today's rule: the continuum's equations (corrected Eqs. 4 and 7, KdV,
-    :mod:`continuum`) are derived for the paper's chain, the lossless Hertz law in
-    uniform sections of one diameter without gravity (:meth:`ChainSpec.beyond_paper`),
-    and need a contact constant in every section.  This function is the one place
-    that says so; when :mod:`continuum` exposes its own applicability for a law,
-    exponent and medium, it is asked here instead.  ``initial`` is not used by
-    today's rule.
+    The continuum (:mod:`continuum`, docs/physics.md §19) discretises the chain's own
+    per-grain and per-contact coefficients (:class:`theory.medium.Medium`): any contact
+    law under precompression (Eq. 4, Rosenau form), a power-law elastic part at any
+    precompression (Eq. 7 for exponent n), sections, tapers, disorder, gravity,
+    dissipative laws and drag (the viscous long-wave term) and periodic cells
+    (homogenised).  It does not describe an impact on a linear chain (n = 1): no
+    solitary wave forms, and the struck grain's pulse spreads at the grid scale (the
+    Bessel-function front of the harmonic lattice), outside every long-wave equation.
+    This function is the one place that says where the continuum applies.
     """
-    beyond = chain.beyond_paper()
-    if beyond:
-        return ("the long-wave equations are derived for the lossless Hertz law in "
-                f"uniform sections of one diameter without gravity, and {', '.join(beyond)}")
+    if chain.exponent == 1.0 and initial.kind == "impact":
+        return ("[chain] exponent = 1.0 with [initial] kind = 'impact': a linear chain "
+                "forms no solitary wave, and the impact's pulse spreads at the grid scale "
+                "(the lattice's Bessel front), outside the long-wave equations")
     return _last_section_without_contact(chain)
 
 
