@@ -153,9 +153,10 @@ def test_models_errors_name_the_key(models, extra, match):
     ({"kind": "exact_wave", "center": 75, "velocity_max": 0.08, "strain_max": 1e-4}, {}, {},
      r"exactly one of"),
     ({}, {"dt": 1e-8, "dt_fraction": 0.01}, {}, r"\[run\] give dt or dt_fraction"),
-    ({}, {"integrator": "rk4"}, {}, r"\[models\] integrator = 'rk4' \(allowed: 'verlet'"),
+    ({}, {"integrator": "rk4"}, {}, r"\[run\] integrator = 'rk4' \(allowed: 'verlet'"),
     ({}, {"dt_fraction": 2.0}, {}, r"dt_fraction = 2.0 is outside"),
-    ({}, {}, {"snapshot_grains": [400]}, r"snapshot_grains must lie in \[0, 399\]"),
+    ({}, {}, {"snapshot_grains": [400]},
+     r"snapshot_grains = \[400\]: 400 is not a grain; allowed range \[0, 399\]"),
     ({}, {}, {"series_every": 0}, r"series_every = 0 must be >= 1"),
     ({}, {}, {"energy_grid": 1}, r"energy_grid must be true or false"),
 ])
