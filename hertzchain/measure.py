@@ -197,10 +197,9 @@ def end_arrival_row(fraction_at_end: np.ndarray, *, fraction: float = END_FRACTI
       forms, and leaves drifting grains there (0.1–1 % of the energy at δ0 = 0): they
       are no arrival, a returning wave is.  For an end quiet at the start this is
       "exceeds ``fraction``" to within the share it held;
-    * ``"arrived"`` (two models whose end conditions differ, :func:`valid_until`): an
-      end not quiet (share ≥ ``fraction``) at the first row counts as reached then
-      (the models differ there from the start); otherwise the first row at which the
-      share reaches ``fraction``.
+    * ``"arrived"`` (a wall's echo, :mod:`hertzchain.reproduce.table2`): an end not
+      quiet (share ≥ ``fraction``) at the first row counts as reached then; otherwise
+      the first row at which the share reaches ``fraction``.
     """
     f = np.asarray(fraction_at_end, dtype=float)
     if f.size == 0:
@@ -697,19 +696,29 @@ def valid_until(chain: Any, times: np.ndarray, v: np.ndarray, strain: np.ndarray
     The continuum's ends (``ends``: ``"wall"`` or ``"free"``) against the discrete
     chain's ``walls``; inf when they are the same.  Per sample (``times`` s, ``v`` and
     ``strain`` of the discrete chain) the energy of the :data:`END_GRAINS` grains at
-    each end over the chain's, :func:`end_arrival_row` with ``active_start="arrived"``:
-    an end not quiet at the first sample (a wave placed against it) gives that sample's
-    time — the models differ there from the start.
+    each end over the chain's (:func:`grain_energies`).  An end condition acts on the
+    chain only through the force of its end contact, so
+
+    * an end whose end contact carries at least :data:`END_FRACTION` of the chain's
+      energy at the first sample (a wave placed against it) gives that sample's time:
+      the models differ there from the start;
+    * any other end counts from the first sample at which a wave *arrives* there,
+      :func:`end_arrival_row` with ``active_start="rise"`` (the discrete run's own rule,
+      :func:`windows`): an impact's struck grain moves away from its end, whose share
+      falls from ~1 to the grains left drifting there (no force on the end), and only
+      a wave coming back (or, at a quiet end, any wave reaching it) closes the window.
     """
     if ends == "wall" and "free" not in walls:
         return math.inf
     kin, pot = grain_energies(chain, v, strain)
     e = np.abs(kin) + 0.5 * np.abs(pot[:, :-1] + pot[:, 1:])
     total = e.sum(axis=1)
+    safe = np.where(total > 0, total, 1.0)
     out = math.inf
-    for sl in (slice(0, END_GRAINS), slice(-END_GRAINS, None)):
-        frac = e[:, sl].sum(axis=1) / np.where(total > 0, total, 1.0)
-        row = end_arrival_row(frac, active_start="arrived")
+    for sl, contact in ((slice(0, END_GRAINS), 0), (slice(-END_GRAINS, None), -1)):
+        if abs(pot[0, contact]) >= END_FRACTION * safe[0]:
+            return float(times[0])
+        row = end_arrival_row(e[:, sl].sum(axis=1) / safe, active_start="rise")
         if row is not None:
             out = min(out, float(times[row]))
     return out

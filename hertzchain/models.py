@@ -16,7 +16,9 @@ scenario —, the validity map from the shipped sweep's points).  For a
    :mod:`continuum`; ``"auto"`` picks Eq. 4 under precompression up to an incident strain
    amplitude of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN` × δ0 and Eq. 7 above it
    and at δ0 = 0) from the same grain state interpolated onto its grid
-   (:func:`continuum.from_grains`), to the discrete run's end time — cached too;
+   (:func:`continuum.from_grains`: cubic splines for a placed wave, per grain for an
+   impact, whose struck grain is a velocity jump a spline would ring on), to the discrete
+   run's end time — cached too;
 4. evaluates the **theory** (:class:`TheoryModel`: Nesterenko's wave speeds for the law's
    exponent n — Eqs. 5 and 8 for Hertz —, the linear-acoustic interface of Eqs. 9–13
    and the strongly nonlinear one of docs/physics.md §16 where they apply, and the
@@ -1059,7 +1061,8 @@ def _continuum_key(scenario: Scenario, model: str, times: np.ndarray, t_final: f
             "integrator": m.continuum_method, "dt_safety": m.dt_safety,
             "nonlinearity": m.nonlinearity, "delta_floor": m.delta_floor,
             "dispersion_cap": m.dispersion_cap,
-            "times": [float(t) for t in times], "t_final": float(t_final)}
+            "times": [float(t) for t in times], "t_final": float(t_final),
+            **({"interpolation": "grains"} if scenario.initial.kind == "impact" else {})}
 
 
 def _read_continuum(path: Path) -> ModelRun:
@@ -1292,7 +1295,11 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
                 ts, vs, ss, own, info = _kdv_run(med, models, init, chain, times, t_final, d)
             else:
                 pde = _pde(model, med, models, ends, incident, d)
-                state = continuum.from_grains(pde, init.u, init.v)
+                # an impact's state jumps (one struck grain): per grain, so the
+                # continuum starts with the grains' momentum and energy
+                state = continuum.from_grains(
+                    pde, init.u, init.v, interpolation="grains"
+                    if scenario.initial.kind == "impact" else "spline")
                 iface = interfaces(chain)
 
                 def sample(s):

@@ -210,8 +210,9 @@ def test_a_wave_that_has_not_crossed_is_not_compared():
     assert done.errors["continuum"]["error"] < 0.01
 
 
-def test_an_end_not_quiet_at_the_start_leaves_nothing_to_compare():
-    # a wave against a free continuum end from t = 0: the models differ there at once
+def test_the_continuum_window_closes_when_a_wave_arrives_at_an_end():
+    # a wave pressing on an end contact from t = 0 (a free continuum end against the
+    # discrete wall): the models differ there at once
     from hertzchain.measure import END_GRAINS, valid_until
     from hertzchain.runner import build_chain
 
@@ -219,12 +220,26 @@ def test_an_end_not_quiet_at_the_start_leaves_nothing_to_compare():
     ch = build_chain(sc.chain)
     t = np.linspace(0.0, 1e-4, 5)
     v = np.zeros((5, ch.n))
-    v[:, 3] = 0.05  # energy at the left end in every sample
     v[:, 100] = 0.05
     strain = np.zeros((5, ch.n + 1))
+    strain[0, 0] = 0.5 * ch.delta0[0]  # the left wall contact loaded at the first sample
     assert valid_until(ch, t, v, strain, "free", ("paper", "paper")) == 0.0
-    v[0, 3] = 0.0  # quiet at first, then a wave arrives: that sample's time
-    assert valid_until(ch, t, v, strain, "free", ("paper", "paper")) == t[1]
+    # an impact at the left end: its energy leaves the end (1 -> drifting grains,
+    # the end contact unloaded) — no arrival, whatever the share at t = 0 ...
+    strain[0, 0] = 0.0
+    v[:, 100] = 0.0
+    v[0, 0], v[1:, 100] = 0.05, 0.05
+    v[1:, 2] = 0.05 * 0.03  # ~1e-3 of the energy left drifting at the struck end
+    assert valid_until(ch, t, v, strain, "free", ("paper", "paper")) == math.inf
+    # ... a wave coming back to it does close the window, at that sample
+    v[3:, 5] = 0.05
+    assert valid_until(ch, t, v, strain, "free", ("paper", "paper")) == t[3]
+    # a wave arriving at the far end, quiet until then, closes it at its arrival
+    v[3:, 5] = 0.0
+    v[2:, ch.n - 3] = 0.05
+    assert valid_until(ch, t, v, strain, "free", ("paper", "paper")) == t[2]
+    # the same ends (walls at rest on both models): no window
+    assert valid_until(ch, t, v, strain, "wall", ("paper", "paper")) == math.inf
     assert END_GRAINS == 10
 
 
@@ -261,3 +276,24 @@ def test_continuum_own_energy_is_its_conserved_functional():
     assert mid["Et_tr"] == pytest.approx(0.25 * a["Et_tr"] + 0.75 * b["Et_tr"], rel=1e-12)
     with pytest.raises(ValueError, match="no own energy"):
         cmp.series["discrete"].ratios_at(i, own=True)
+
+
+def test_an_impact_compares_its_continuum_until_the_far_end():
+    # an impact strikes grain 0 at the left end: its own start there is no arrival, so
+    # the continuum is compared (a finite profile error) up to the wave's arrival at the
+    # right end, the first sample at or after the discrete run's own end window (read
+    # on its dense energy grid, measure.windows)
+    sc = parse_scenario({
+        "name": "impact-window", "chain": {"right_wall": "free", "sections": [{"n": 60}]},
+        "initial": {"kind": "impact", "v0": 1.0}, "run": {"t_end": 1.2e-3},
+        "models": {"continuum": "auto", "nodes_per_grain": 3, "samples": 25}})
+    cmp = analyse(run(sc, samples=True))
+    until = cmp.run.continuum.valid_until
+    t = cmp.run.continuum.times
+    t_end = cmp.run.discrete.summary["t_end_reached"]
+    assert cmp.run.discrete.summary["end_reached"] == "right"
+    assert 0.0 < cmp.t_compare < until
+    assert t_end <= until <= t_end + (t[1] - t[0])
+    assert math.isfinite(cmp.errors["continuum"]["profile_l2"])
+    assert "could not be compared with the discrete chain (a wave reached" not in \
+        cmp.verdict()
