@@ -39,8 +39,10 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import importlib
+import signal
 import time
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -119,7 +121,8 @@ class TaskOutcome:
 
     ``value``: a part's result, or ``(result, figures, numbers)`` of an item;
     ``interrupted``: the fields of a :class:`hertzchain.checkpoint.Interrupted` raised in
-    a worker process (signal, checkpoint, t, steps, note), which does not pickle.
+    a worker process (signal, checkpoint, t, steps, note), which does not pickle;
+    ``started``: False for a task a stopping worker did not start.
     """
 
     task: Task
@@ -130,6 +133,7 @@ class TaskOutcome:
     notes: dict = field(default_factory=dict)
     compile_seconds: float = 0.0
     interrupted: tuple | None = None
+    started: bool = True
 
 
 class WorkerDied(ChildProcessError):
@@ -269,7 +273,15 @@ def _run(ctx, task: Task, parts: list):
 
 
 def _remote_task(template, task, inputs, threads, position, start) -> TaskOutcome:
-    """:func:`run_task` in a worker process (the Dask task)."""
+    """:func:`run_task` in a worker process (the Dask task).
+
+    Not started once the worker was told to stop (:func:`_stop_on_signals`); an
+    exception that would not pickle is raised as a RuntimeError with its message.
+    """
+    from ..checkpoint import stop_requested
+
+    if stop_requested() is not None:
+        return TaskOutcome(task, started=False)
     try:
         return run_task(template, task, inputs, threads=threads, position=position,
                         start=start, pickled=True)
@@ -281,6 +293,18 @@ def _remote_task(template, task, inputs, threads, position, start) -> TaskOutcom
         except Exception:  # noqa: BLE001 (raised again below, as a plain RuntimeError)
             raise RuntimeError(f"{type(exc).__name__}: {exc}") from None
         raise
+
+
+def _stop_on_signals() -> None:
+    """Make SIGINT stop this worker process's runs instead of the process.
+
+    Run in the worker's main thread: each run stops at its next segment end after
+    writing its checkpoint (:func:`hertzchain.checkpoint.request_stop`).  SIGTERM keeps
+    its default (the cluster ends its workers with it).
+    """
+    from ..checkpoint import request_stop
+
+    signal.signal(signal.SIGINT, lambda signum, frame: request_stop(signum))
 
 
 def _item_runs(names, outcomes: dict[str, TaskOutcome]) -> list[ItemRun]:
@@ -313,13 +337,13 @@ def _on_cluster(ctx, tasks: list[Task], workers: int, threads, positions, start)
 
     A task is submitted once the tasks it needs have finished (a ``"combine"`` task
     receives its parts' futures), in plan order, so that the scheduler hands them out
-    in that order as workers become free.
+    in that order as workers become free.  On SIGINT/SIGTERM (or a task interrupted by
+    one) the workers are told to stop (:func:`_wind_down`).
     """
     import uuid
 
     from distributed import as_completed
 
-    from ..checkpoint import Interrupted
     from ..sweep.engine import local_client
 
     names = {t.name for t in tasks}
@@ -327,7 +351,9 @@ def _on_cluster(ctx, tasks: list[Task], workers: int, threads, positions, start)
     outcomes: dict[str, TaskOutcome] = {}
     futures: dict[str, object] = {}
     waiting = list(tasks)
-    with local_client(workers, dashboard=False, config=_CLUSTER_CONFIG) as client:
+    with local_client(workers, dashboard=False, config=_CLUSTER_CONFIG) as client, \
+            _sigterm_raises():
+        pids = client.run(_stop_on_signals_pid)
         running = as_completed()
 
         def submit_ready() -> None:
@@ -342,18 +368,94 @@ def _on_cluster(ctx, tasks: list[Task], workers: int, threads, positions, start)
                 futures[task.key] = fut
                 running.add(fut)
 
-        submit_ready()
         try:
+            submit_ready()
             for fut in running:
                 task = next(t for t in tasks if futures.get(t.key) is fut)
                 out = _result(fut, task)
                 if out.interrupted is not None:
-                    raise Interrupted(*out.interrupted[:4], note=out.interrupted[4])
+                    raise _interrupted(out)
                 outcomes[task.key] = out
                 submit_ready()
+        except KeyboardInterrupt as exc:  # also Interrupted, and SIGTERM here
+            _wind_down(pids.values(), getattr(exc, "signum", signal.SIGINT), futures,
+                       tasks, exc)
         finally:
             client.cancel(list(futures.values()))
     return {t.key: outcomes[t.key] for t in tasks}
+
+
+STOP_GRACE = 60.0
+"""Seconds a reproduction waits, after SIGINT/SIGTERM, for its workers to stop their
+runs with a checkpoint; a second SIGINT stops at once."""
+
+
+def _wind_down(pids, signum: int, futures: dict, tasks: list[Task], exc: BaseException):
+    """Stop the workers after ``exc`` (``signum`` here, or a task interrupted), then raise.
+
+    Each worker gets SIGINT (its runs stop at their next segment end, each after
+    writing its checkpoint: :func:`_stop_on_signals`) and its tasks up to
+    :data:`STOP_GRACE` s to return; raised: the first interrupted task's
+    :class:`~hertzchain.checkpoint.Interrupted` in plan order (with ``signum``), else
+    ``exc``.
+    """
+    import os
+
+    from distributed import wait
+
+    for pid in pids:
+        try:
+            os.kill(pid, signal.SIGINT)
+        except ProcessLookupError:
+            pass
+    with contextlib.suppress(TimeoutError):
+        wait(list(futures.values()), timeout=STOP_GRACE)
+    done = {key: f.result() for key, f in futures.items() if f.status == "finished"}
+    stopped = [done[t.key] for t in tasks if t.key in done and done[t.key].interrupted]
+    if stopped:
+        raise _interrupted(stopped[0], signum) from None
+    raise exc
+
+
+def _interrupted(out: TaskOutcome, signum: int | None = None):
+    from ..checkpoint import Interrupted
+
+    sig, checkpoint, t, steps, note = out.interrupted
+    return Interrupted(sig if signum is None else signum, checkpoint, t, steps, note=note)
+
+
+
+def _stop_on_signals_pid() -> int:
+    """:func:`_stop_on_signals` (run on each worker by ``client.run``); the worker's pid."""
+    import os
+
+    _stop_on_signals()
+    return os.getpid()
+
+
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM received by the process that waits for the workers."""
+
+    signum = signal.SIGTERM
+
+
+@contextmanager
+def _sigterm_raises():
+    """Inside the block, SIGTERM raises :class:`_Terminated` (in the main thread)."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise _Terminated("terminated")
+
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 _CLUSTER_CONFIG = {"distributed.scheduler.allowed-failures": 0,
@@ -367,13 +469,16 @@ def _result(fut, task: Task) -> TaskOutcome:
     """The outcome of ``fut``; its worker's death as :class:`WorkerDied`, naming the task."""
     from distributed import KilledWorker
 
+    what = task.name if task.kind == "item" else f"{task.name} ({task.part or 'figures'})"
     try:
         return fut.result()
     except KilledWorker:
-        what = task.name if task.kind == "item" else f"{task.name} ({task.part or 'figures'})"
         raise WorkerDied(f"the worker process running {what} died (killed, out of memory "
                          "or crashed); the finished simulations are kept: rerun the same "
                          "command to continue") from None
+    except Exception as exc:
+        exc.add_note(f"(in the reproduce task {task.key})")
+        raise
 
 
 def reproduce(items=None, *, mode: str = "quick", out: str | Path = "hertzchain-reproduce",
