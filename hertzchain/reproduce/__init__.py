@@ -54,7 +54,7 @@ __all__ = ["ITEMS", "ORDER", "AFTER", "ItemRun", "Task", "TaskOutcome", "WorkerD
 ITEMS = ("fig2", "fig3", "fig4", "fig5", "fig6", "fig7", "fig8", "table2", "validity")
 """Items in report order."""
 
-ORDER = ("fig2", "fig7", "fig8", "fig5", "fig6", "validity", "fig3", "table2", "fig4")
+ORDER = ("fig7", "fig2", "fig6", "fig5", "fig8", "validity", "fig3", "fig4", "table2")
 """Items in the order their tasks are handed to the workers: by decreasing cost, so that
 with several workers the last tasks to start are short ones (longest processing time
 first, a greedy schedule within 4/3 of the best)."""
