@@ -114,6 +114,12 @@ class Task:
         return self.name if self.kind == "item" else \
             f"{self.name}:{self.part if self.kind == 'part' else 'combine'}"
 
+    @property
+    def label(self) -> str:
+        """For messages: ``fig5``, ``fig5 (a)``, ``fig5 (figures)``."""
+        return self.name if self.kind == "item" else \
+            f"{self.name} ({self.part if self.kind == 'part' else 'figures'})"
+
 
 @dataclass
 class TaskOutcome:
@@ -243,8 +249,7 @@ def run_task(template, task: Task, inputs=(), *, threads: int | None = None,
     out = TaskOutcome(task)
     t0 = time.perf_counter()
     if start is not None:
-        what = task.name if task.kind == "item" else f"{task.name} ({task.part or 'figures'})"
-        ctx.log(f"[{position}] {what} ({time.time() - start:.0f} s elapsed)")
+        ctx.log(f"[{position}] {task.label} ({time.time() - start:.0f} s elapsed)")
     try:
         with kernel_threads(threads), _compile_timer(ctx), \
                 announce_compilation(enabled=ctx.progress, log=ctx.log):
@@ -336,9 +341,10 @@ def _on_cluster(ctx, tasks: list[Task], workers: int, threads, positions, start)
     """Run ``tasks`` on a local cluster of ``workers`` processes; outcomes by key.
 
     A task is submitted once the tasks it needs have finished (a ``"combine"`` task
-    receives its parts' futures), in plan order, so that the scheduler hands them out
-    in that order as workers become free.  On SIGINT/SIGTERM (or a task interrupted by
-    one) the workers are told to stop (:func:`_wind_down`).
+    receives its parts' futures), with a priority from its place in the plan, so that
+    the scheduler hands the tasks out in plan order as workers become free.  On
+    SIGINT/SIGTERM (or a task interrupted by one) the workers are told to stop
+    (:func:`_wind_down`).
     """
     import uuid
 
@@ -364,7 +370,8 @@ def _on_cluster(ctx, tasks: list[Task], workers: int, threads, positions, start)
                     if task.kind == "combine" else []
                 fut = client.submit(_remote_task, ctx, task, inputs, threads,
                                     positions[task.name], start,
-                                    key=f"reproduce-{task.key}-{token}", pure=False)
+                                    key=f"reproduce-{task.key}-{token}", pure=False,
+                                    priority=len(tasks) - tasks.index(task))
                 futures[task.key] = fut
                 running.add(fut)
 
@@ -469,11 +476,10 @@ def _result(fut, task: Task) -> TaskOutcome:
     """The outcome of ``fut``; its worker's death as :class:`WorkerDied`, naming the task."""
     from distributed import KilledWorker
 
-    what = task.name if task.kind == "item" else f"{task.name} ({task.part or 'figures'})"
     try:
         return fut.result()
     except KilledWorker:
-        raise WorkerDied(f"the worker process running {what} died (killed, out of memory "
+        raise WorkerDied(f"the worker process running {task.label} died (killed, out of memory "
                          "or crashed); the finished simulations are kept: rerun the same "
                          "command to continue") from None
     except Exception as exc:
