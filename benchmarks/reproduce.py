@@ -143,14 +143,25 @@ def main(argv=None) -> int:
     print(table)
     if args.write_docs:
         notes = (f"`hertzchain reproduce --{mode} --json --out <fresh dir> [--workers W]`, "
-                 "warm kernel cache, every simulation computed; rows in the order run "
+                 "warm kernel cache"
+                 + (f" (DIR: a checkout of other code, here {codes[1][1].name}, run with "
+                    "`PYTHONPATH=DIR`)" if args.against else "")
+                 + ", every simulation computed; rows in the order run "
                  "(alternating, so that load drifts hit every variant alike); median wall "
                  f"(ratio to the first variant): {ratio}.  The load is the one-minute "
                  "load average before each run.  Peak RSS is the kernel's high-water mark "
                  "(`ru_maxrss`, worker processes included); PSS is sampled every 0.1 s "
                  "(pages shared between processes counted once).  The `--json` output "
                  "was byte-identical in every run.")
-        write_section(f"reproduce-{mode}", section(table, load=(load0, load1), notes=notes))
+        # (the command as the docs show it: the paths given are outside the repository)
+        argv, sys.argv = sys.argv, [
+            {"--against": "DIR", "--reference": "FILE"}.get(prev, a)
+            for prev, a in zip([None, *sys.argv[:-1]], sys.argv, strict=True)]
+        try:
+            body = section(table, load=(load0, load1), notes=notes)
+        finally:
+            sys.argv = argv
+        write_section(f"reproduce-{mode}", body)
     return 0
 
 

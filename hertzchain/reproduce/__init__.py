@@ -313,13 +313,14 @@ def _stop_on_signals() -> None:
 
 
 def _item_runs(names, outcomes: dict[str, TaskOutcome]) -> list[ItemRun]:
-    """The items' runs in report order from the outcomes of their tasks (by key)."""
+    """The items' runs in report order from the outcomes of their tasks.
+
+    ``outcomes`` is in plan order: an item's parts, then the task that made the item.
+    """
     runs = []
     for name in names:
         mine = [o for o in outcomes.values() if o.task.name == name]
-        mine.sort(key=lambda o: (o.task.kind != "part", list(outcomes).index(o.task.key)))
-        last = mine[-1]
-        result, figs, numbers = last.value
+        result, figs, numbers = mine[-1].value
         runs.append(ItemRun(name, result, figs, numbers, sum(o.seconds for o in mine),
                             [p for o in mine for p in o.computed],
                             [p for o in mine for p in o.reused]))
