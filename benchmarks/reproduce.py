@@ -1,33 +1,31 @@
-"""Wall time, CPU time and memory of ``hertzchain reproduce --quick`` or ``--full``, 1 or 2 workers.
+"""Wall time, CPU time and memory of ``hertzchain reproduce --quick`` (or ``--full``).
 
 What is measured: the command itself (``python -m hertzchain reproduce --quick --json
---out <fresh dir> --workers W``), warm (numba's kernel cache filled by a first run,
-which is not timed), into a fresh output directory each time, so every simulation is
-computed.  Rounds alternate ``--workers 1`` and ``--workers 2`` (ABBA…) so that the
-machine's load drifts equally over both; the ratio of the median walls is printed.
-Memory: the largest process's peak RSS, exact (the kernel's high-water mark, ``ru_maxrss``
-of ``wait4``: what ``/usr/bin/time -v`` reports), and, sampled every 0.1 s over the whole
-process tree (the command and its forked worker), the sum of RSS (counts pages the two
-processes share twice), of PSS (shared pages split between the processes: the physical
-memory the tree uses) and of USS, and the largest single RSS.  Every run's ``--json``
-output must be byte-identical to the first one's, and to ``--reference`` if given (else
-the script fails).
+--out <fresh dir> [--workers W]``), warm (numba's kernel cache filled by a first run of
+each variant, which is not timed), into a fresh output directory each time, so every
+simulation is computed.  A variant is a worker count (``--workers``, several allowed;
+default: the command's own default) of this checkout's code or, with ``--against DIR``,
+of another checkout's (run with ``PYTHONPATH=DIR``, e.g. the main branch): the variants
+run in alternating order (A B B A ...), so that drifts of the machine's load hit them
+alike, and the ratio of each variant's median wall time to the first one's is printed.
+Memory: the largest process's peak RSS, exact (the kernel's high-water mark,
+``ru_maxrss`` of ``wait4``, which covers the reaped worker processes: what
+``/usr/bin/time -v`` reports), and, sampled every 0.1 s over the whole process tree,
+the sum of PSS (shared pages split between the processes: the physical memory the tree
+uses).  Every run's ``--json`` output must be byte-identical to the first one's, and to
+``--reference`` if given (else the script fails).
 
-The machine is shared: the CPU model and the load average before and after are printed;
-compare only ratios within one run.
-
-``--full`` measures ``reproduce --full`` the same way (its two workers are
-:data:`hertzchain.reproduce.FULL_LANES`; a run takes minutes, so ``--rounds 1`` is the
-practical choice).  ``--write-docs`` writes the table into its section of
-``docs/benchmarks.md`` (``reproduce-quick`` or ``reproduce-full``).
+The machine may be shared: the CPU model and the one-minute load average before each run
+are printed; compare only ratios within one run of this script.
 
 Usage::
 
-    python benchmarks/reproduce.py                 # 2 rounds (1, 2, 2, 1)
-    python benchmarks/reproduce.py --rounds 1 --skip-warmup
+    python benchmarks/reproduce.py                           # 2 rounds, default workers
+    python benchmarks/reproduce.py --workers 1 2 --rounds 1 --skip-warmup
+    python benchmarks/reproduce.py --against ../main         # this code against main's
     python benchmarks/reproduce.py --full --rounds 1 --skip-warmup
-    python benchmarks/reproduce.py --reference main.json   # numbers unchanged?
-    python benchmarks/reproduce.py --write-docs    # also into docs/benchmarks.md
+    python benchmarks/reproduce.py --reference main.json     # numbers unchanged?
+    python benchmarks/reproduce.py --write-docs              # also into docs/benchmarks.md
 """
 
 from __future__ import annotations
@@ -42,20 +40,23 @@ import time
 from pathlib import Path
 
 import psutil
-from _docs import markdown_table, section, write_section
+from _docs import ROOT, markdown_table, section, write_section
 from _machine import cpu_name
 
 
-def run_once(out: Path, workers: int, mode: str = "quick") -> dict:
-    """One ``reproduce --<mode>`` into ``out``: wall, CPU (s), memory peaks (bytes), JSON."""
+def run_once(out: Path, workers: int | None, mode: str = "quick",
+             code: Path = ROOT) -> dict:
+    """One ``reproduce --<mode>`` of the code in ``code`` into ``out``: wall, CPU, memory."""
     cmd = [sys.executable, "-m", "hertzchain", "reproduce", f"--{mode}", "--json", "--out",
-           str(out), "--workers", str(workers)]
+           str(out)] + ([] if workers is None else ["--workers", str(workers)])
+    env = dict(os.environ, PYTHONPATH=str(code))
+    load = os.getloadavg()[0]
     before = os.times()
     t0 = time.perf_counter()
     with tempfile.TemporaryFile() as out_file:
-        p = subprocess.Popen(cmd, stdout=out_file, stderr=subprocess.DEVNULL)
+        p = subprocess.Popen(cmd, stdout=out_file, stderr=subprocess.DEVNULL, env=env)
         top = psutil.Process(p.pid)
-        peak = {"rss_sum": 0, "pss_sum": 0, "uss_sum": 0, "rss_max1": 0}
+        pss = 0
         while True:
             # (reaped here, not by Popen: wait4 gives the kernel's high-water mark)
             pid, status, usage = os.wait4(p.pid, os.WNOHANG)
@@ -63,13 +64,9 @@ def run_once(out: Path, workers: int, mode: str = "quick") -> dict:
                 break
             try:
                 mem = [q.memory_full_info() for q in [top, *top.children(recursive=True)]]
+                pss = max(pss, sum(m.pss for m in mem))
             except psutil.Error:  # (a process exited mid-sample)
-                time.sleep(0.1)
-                continue
-            peak["rss_sum"] = max(peak["rss_sum"], sum(m.rss for m in mem))
-            peak["pss_sum"] = max(peak["pss_sum"], sum(m.pss for m in mem))
-            peak["uss_sum"] = max(peak["uss_sum"], sum(m.uss for m in mem))
-            peak["rss_max1"] = max(peak["rss_max1"], max(m.rss for m in mem))
+                pass
             time.sleep(0.1)
         p.returncode = os.waitstatus_to_exitcode(status)
         out_file.seek(0)
@@ -77,20 +74,25 @@ def run_once(out: Path, workers: int, mode: str = "quick") -> dict:
     wall = time.perf_counter() - t0
     after = os.times()
     if p.returncode:
-        raise SystemExit(f"reproduce failed (exit {p.returncode}): {' '.join(cmd)}")
+        raise SystemExit(f"reproduce failed (exit {p.returncode}): PYTHONPATH={code} "
+                         f"{' '.join(cmd)}")
     cpu = (after.children_user + after.children_system
            - before.children_user - before.children_system)
-    # ru_maxrss (kB): the largest peak RSS of the command and its (reaped) worker,
-    # exact, where the 0.1 s samples may miss a short peak
-    return {"workers": workers, "wall": wall, "cpu": cpu, **peak,
-            "hwm": usage.ru_maxrss * 1024, "json": stdout}
+    return {"wall": wall, "cpu": cpu, "pss_sum": pss, "hwm": usage.ru_maxrss * 1024,
+            "load": load, "json": stdout}
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--rounds", type=int, default=2, help="ABBA rounds (default 2)")
+    ap.add_argument("--rounds", type=int, default=2,
+                    help="rounds, each variant once per round, in alternating order "
+                         "(default 2)")
+    ap.add_argument("--workers", type=int, nargs="+", default=[None], metavar="W",
+                    help="worker counts to measure (default: the command's default)")
+    ap.add_argument("--against", metavar="DIR",
+                    help="also run another checkout's code (PYTHONPATH=DIR), e.g. main's")
     ap.add_argument("--skip-warmup", action="store_true",
-                    help="do not run once first to fill numba's kernel cache")
+                    help="do not run each code once first to fill numba's kernel cache")
     ap.add_argument("--full", action="store_true", help="measure reproduce --full")
     ap.add_argument("--reference", metavar="FILE",
                     help="the --json output of a reference version (e.g. main: "
@@ -100,21 +102,26 @@ def main(argv=None) -> int:
                          "'reproduce-quick' or 'reproduce-full')")
     args = ap.parse_args(argv)
     mode = "full" if args.full else "quick"
+    codes = [("this", ROOT)] + ([("against", Path(args.against).resolve())]
+                                if args.against else [])
+    variants = [(name, code, w) for name, code in codes for w in args.workers]
+    label = {v: f"{'this checkout' if v[0] == 'this' else v[1].name}, "
+                f"{'default' if v[2] is None else v[2]} workers" for v in variants}
     load0 = os.getloadavg()[0]
     print(f"reproduce --{mode}; CPU: {cpu_name()}; load average before {load0:.1f}")
     rows = []
     with tempfile.TemporaryDirectory(prefix="bench-reproduce-") as tmp:
         if not args.skip_warmup:
-            run_once(Path(tmp) / "warmup", 1, mode)
-        order = [w for r in range(args.rounds) for w in ((1, 2) if r % 2 == 0 else (2, 1))]
-        for k, w in enumerate(order):
-            rows.append(run_once(Path(tmp) / f"run{k}", w, mode))
-            r = rows[-1]
-            print(f"  workers={w}: wall {r['wall']:6.1f} s  CPU {r['cpu']:6.1f} s  "
-                  f"peak MB: largest process (VmHWM) {r['hwm'] / 1e6:4.0f}; sampled: PSS "
-                  f"sum {r['pss_sum'] / 1e6:4.0f}, USS sum {r['uss_sum'] / 1e6:4.0f}, RSS "
-                  f"sum {r['rss_sum'] / 1e6:4.0f}, largest RSS {r['rss_max1'] / 1e6:4.0f}  "
-                  f"(load {os.getloadavg()[0]:.1f})", flush=True)
+            for name, code in codes:
+                run_once(Path(tmp) / f"warmup-{name}", None, mode, code)
+        order = [v for r in range(args.rounds)
+                 for v in (variants if r % 2 == 0 else variants[::-1])]
+        for k, v in enumerate(order):
+            r = run_once(Path(tmp) / f"run{k}", v[2], mode, v[1]) | {"variant": v}
+            rows.append(r)
+            print(f"  {label[v]}: wall {r['wall']:6.1f} s  CPU {r['cpu']:6.1f} s  peak MB: "
+                  f"largest process {r['hwm'] / 1e6:4.0f}, PSS sum {r['pss_sum'] / 1e6:4.0f}"
+                  f"  (load before {r['load']:.1f})", flush=True)
     if any(r["json"] != rows[0]["json"] for r in rows):
         raise SystemExit("FAIL: the --json output differs between runs")
     print("--json output byte-identical in every run")
@@ -122,25 +129,39 @@ def main(argv=None) -> int:
         if Path(args.reference).read_text() != rows[0]["json"]:
             raise SystemExit(f"FAIL: the --json output differs from {args.reference}")
         print(f"--json output byte-identical to {args.reference}")
-    med = {w: statistics.median(r["wall"] for r in rows if r["workers"] == w) for w in (1, 2)}
+    med = {v: statistics.median(r["wall"] for r in rows if r["variant"] == v)
+           for v in variants}
     load1 = os.getloadavg()[0]
-    ratio = (f"median wall: workers=1 {med[1]:.1f} s, workers=2 {med[2]:.1f} s; ratio "
-             f"{med[1] / med[2]:.2f}x")
-    print(f"{ratio}; load average after {load1:.1f}")
+    ratio = "; ".join(f"{label[v]} {med[v]:.1f} s ({med[v] / med[variants[0]]:.2f}×)"
+                      for v in variants)
+    print(f"median wall: {ratio}; load average after {load1:.1f}")
     table = markdown_table(
-        ["`--workers`", "wall s", "CPU s", "largest process peak RSS (MB)",
+        ["code, workers", "load before", "wall s", "CPU s", "largest process peak RSS (MB)",
          "PSS over all processes (MB)"],
-        [[r["workers"], f"{r['wall']:.1f}", f"{r['cpu']:.1f}", f"{r['hwm'] / 1e6:.0f}",
-          f"{r['pss_sum'] / 1e6:.0f}"] for r in rows])
+        [[label[r["variant"]], f"{r['load']:.1f}", f"{r['wall']:.1f}", f"{r['cpu']:.1f}",
+          f"{r['hwm'] / 1e6:.0f}", f"{r['pss_sum'] / 1e6:.0f}"] for r in rows])
     print(table)
     if args.write_docs:
-        notes = (f"`hertzchain reproduce --{mode} --json --out <fresh dir> --workers W`, "
-                 "warm kernel cache, every simulation computed; rows in the order run "
-                 f"(alternating, so that load drifts hit both counts alike); {ratio}.  "
-                 "Peak RSS is the kernel's high-water mark (`ru_maxrss`); PSS is sampled "
-                 "every 0.1 s (pages shared by the two processes counted once).  The "
-                 "`--json` output was byte-identical in every run.")
-        write_section(f"reproduce-{mode}", section(table, load=(load0, load1), notes=notes))
+        notes = (f"`hertzchain reproduce --{mode} --json --out <fresh dir> [--workers W]`, "
+                 "warm kernel cache"
+                 + (f" (DIR: a checkout of other code, here {codes[1][1].name}, run with "
+                    "`PYTHONPATH=DIR`)" if args.against else "")
+                 + ", every simulation computed; rows in the order run "
+                 "(alternating, so that load drifts hit every variant alike); median wall "
+                 f"(ratio to the first variant): {ratio}.  The load is the one-minute "
+                 "load average before each run.  Peak RSS is the kernel's high-water mark "
+                 "(`ru_maxrss`, worker processes included); PSS is sampled every 0.1 s "
+                 "(pages shared between processes counted once).  The `--json` output "
+                 "was byte-identical in every run.")
+        # (the command as the docs show it: the paths given are outside the repository)
+        argv, sys.argv = sys.argv, [
+            {"--against": "DIR", "--reference": "FILE"}.get(prev, a)
+            for prev, a in zip([None, *sys.argv[:-1]], sys.argv, strict=True)]
+        try:
+            body = section(table, load=(load0, load1), notes=notes)
+        finally:
+            sys.argv = argv
+        write_section(f"reproduce-{mode}", body)
     return 0
 
 

@@ -145,12 +145,11 @@ import marshal
 import os
 from typing import NamedTuple
 
-# Threads that wait at the end of a parallel region sleep instead of spinning.  On a
-# shared machine (other processes on the cores) a spinning thread takes the core from
-# the thread it waits for: measured 2-thread / 1-thread ratio 0.3-0.6 with libgomp's
-# default spinning, 1.0 passive (benchmarks/README.md); the cost, a ~10 µs wake-up per
-# region, is small at two regions per block of 256 substeps.  Read by libgomp when numba
-# first starts its OpenMP threads; an explicit setting is kept.
+# Threads that wait at the end of a parallel region sleep instead of spinning: on a
+# shared machine a spinning thread takes the core from the thread it waits for
+# (docs/benchmarks.md, "Kernel threads on a shared machine").  libgomp reads this when
+# numba first starts its threads (any numba.get_num_threads() call), so it is set before
+# numba is imported; a setting of the user's is kept.
 os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
 import numba  # noqa: E402

@@ -63,6 +63,7 @@ from .cache import CACHE_SCHEMA, canonical_json, is_stale_temporary, param_hash
 
 __all__ = ["DEFAULT_INTERVAL", "CHECKPOINT_SCHEMA", "CheckpointError", "Interrupted",
            "OutputBusy", "OutputWriteError", "checkpoint_path", "deferred_signals",
+           "request_stop", "stop_requested",
            "lock_path", "output_lock", "remove_stale_temporaries", "run_key",
            "segment_steps",
            "write_checkpoint", "read_checkpoint", "run_segmented"]
@@ -296,16 +297,38 @@ def read_checkpoint(path: str | Path, key: str, *, threads: int | None = None
     return sim, extra
 
 
+_STOP_REQUESTS: list[int] = []
+"""Signals passed to :func:`request_stop`: the flag of every run outside the main thread."""
+
+
+def request_stop(signum: int) -> None:
+    """Stop the segmented runs of this process's other threads as on ``signum``.
+
+    For a process whose runs go on outside its main thread (a Dask worker), where
+    :func:`deferred_signals` cannot set handlers: its own SIGINT/SIGTERM handler calls
+    this, and every such run stops at the end of its segment, writes its checkpoint
+    and raises :class:`Interrupted`, as a run in the main thread would.
+    """
+    if signum not in _STOP_REQUESTS:
+        _STOP_REQUESTS.append(int(signum))
+
+
+def stop_requested() -> int | None:
+    """The first signal passed to :func:`request_stop` in this process, or None."""
+    return _STOP_REQUESTS[0] if _STOP_REQUESTS else None
+
+
 @contextlib.contextmanager
 def deferred_signals(enabled: bool = True) -> Iterator[list[int]]:
     """Turn the first SIGINT/SIGTERM into a flag (the yielded list); restore on exit.
 
-    Only in the main thread (elsewhere signals cannot be handled: no-op).  A second
-    signal gets the previous handler (Ctrl-C twice interrupts at once).
+    Only in the main thread; elsewhere signals cannot be handled, and the list yielded
+    is that of :func:`request_stop`.  A second signal gets the previous handler (Ctrl-C
+    twice interrupts at once).
     """
     flag: list[int] = []
     if not enabled or threading.current_thread() is not threading.main_thread():
-        yield flag
+        yield flag if not enabled else _STOP_REQUESTS
         return
     previous = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
 

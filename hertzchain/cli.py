@@ -592,9 +592,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv : sequence of str, optional
         The arguments without the program name.  None (the ``hertzchain`` console
         script, ``python -m hertzchain``) reads ``sys.argv`` and means that the process
-        ends when ``main`` returns: the garbage collector is then tuned for start-up and
-        exit (see :func:`_process_gc`).  A caller passing ``argv`` (tests, scripts) keeps
-        its collector as it was.
+        ends when ``main`` returns: the garbage collector's youngest generation is then
+        collected every :data:`GC_THRESHOLD0` allocations, and everything alive is
+        frozen (:func:`gc.freeze`) when ``main`` returns, so that the interpreter's
+        collections at exit skip the ~10^5 objects of the imports (NumPy, numba,
+        SciPy), which the operating system reclaims anyway: much of a small run's
+        CPU time (docs/benchmarks.md, "Start-up of a small run").  A caller passing
+        ``argv`` (tests, scripts) keeps its collector as it was.
 
     Returns
     -------
@@ -603,51 +607,19 @@ def main(argv: Sequence[str] | None = None) -> int:
     """
     whole_process = argv is None
     if whole_process:
-        gc.disable()
+        gc.set_threshold(GC_THRESHOLD0, *gc.get_threshold()[1:])
     try:
         return _main(argv, whole_process)
     finally:
         if whole_process:
-            _process_gc("exit")
-
-
-def _process_gc(stage: str) -> None:
-    """Garbage-collector settings of a process that is one ``hertzchain`` command.
-
-    Start-up (issue 17): importing NumPy, numba, SciPy and the solver creates ~10^5
-    objects that the collector tracks and that live until the process ends; its passes
-    over them (during the imports, during numba's first kernel load and again at
-    interpreter exit) cost ~0.4 s of CPU in a 1.6 s small run.  :func:`main` therefore disables
-    the collector while it parses and imports, then (``"started"``) moves everything
-    alive into the permanent generation (:func:`gc.freeze`) and re-enables it, so later
-    collections, of the run's own objects, never scan the imported ones; at exit
-    (``"exit"``) it freezes again, so the interpreter's final collections skip objects
-    that the operating system reclaims anyway.  ``atexit`` handlers (h5py closing
-    its files, Dask, temporary directories) run as usual; only objects in reference
-    cycles left at exit are not finalised, which CPython does not promise either.
-
-    At ``"started"`` the youngest generation's threshold is also raised to
-    :data:`GC_THRESHOLD0` allocations (CPython's default is 700): numba's first kernel
-    load (its target, the extension hook that imports rocket-fft and ``scipy.fft``)
-    comes after the imports and creates ~10^5 long-lived objects, which at the default
-    ran ~150 young collections (~0.1 s CPU in a small run, measured under load) and at
-    2e4 about 5.  Only the timing of collections changes: cyclic garbage is still
-    freed, a little later (at most 2e4 allocations).
-
-    Parameters
-    ----------
-    stage : {"started", "exit"}
-        ``"started"``: the imports are done; ``"exit"``: ``main`` returns.
-    """
-    gc.freeze()
-    if stage == "started":
-        gc.set_threshold(GC_THRESHOLD0, *gc.get_threshold()[1:])
-        gc.enable()
+            gc.freeze()
 
 
 GC_THRESHOLD0 = 20_000
 """Young-generation threshold (allocations) of a process that is one ``hertzchain``
-command, from the imports on (:func:`_process_gc`)."""
+command (CPython's default is 700): numba's first kernel load creates ~10^5 long-lived
+objects, over which young collections would pass again and again.  Cyclic garbage is
+still freed, at most this many allocations later."""
 
 
 def _main(argv: Sequence[str] | None, whole_process: bool) -> int:
@@ -656,8 +628,6 @@ def _main(argv: Sequence[str] | None, whole_process: bool) -> int:
     if getattr(args, "func", None) is None:
         parser.print_help()
         return 0
-    if whole_process:
-        _process_gc("started")
     return run_command(args, whole_process=whole_process)
 
 

@@ -8,8 +8,8 @@ bar opens only once a run has lasted a second).  Checked in a fresh interpreter:
 test's own process has imported everything already.
 
 A process that is one ``hertzchain`` command (``main()`` reading ``sys.argv``) runs with
-the garbage collector frozen after its imports (``hertzchain.cli._process_gc``); a caller
-of ``main(argv)`` keeps its own collector.
+the collector's young threshold raised and freezes it when ``main`` returns
+(``hertzchain.cli.main``); a caller of ``main(argv)`` keeps its own collector.
 """
 
 import json
@@ -89,8 +89,8 @@ def _gc_after(call: str, tmp_path) -> tuple[bool, int, bool, int]:
 
 
 def test_command_line_process_freezes_the_collector(tmp_path):
-    # main() of the process's own command line (argv None): collector re-enabled after
-    # the imports, everything alive frozen (never scanned again, skipped at exit)
+    # main() of the process's own command line (argv None): collector enabled, young
+    # threshold raised, everything alive frozen when main returns (skipped at exit)
     argv = ["hertzchain", "theory", "--alpha-rho", "2", "--alpha-kn", "1", "--json"]
     from hertzchain.cli import GC_THRESHOLD0
 

@@ -9,7 +9,7 @@ import argparse
 import math
 import sys
 
-from .._argtypes import nonnegative_float
+from .._argtypes import nonnegative_float, positive_int
 from . import ITEMS, check_items
 
 __all__ = ["add_arguments", "run_command", "jsonable"]
@@ -34,11 +34,11 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--force", action="store_true",
                    help="recompute every simulation even if its HDF5 file exists "
                         "(discards checkpoints)")
-    p.add_argument("--workers", type=int, choices=(1, 2), default=None,
-                   help="processes: 2 runs the items in two lanes at once, each on one "
-                        "kernel thread (the same numbers bit for bit; ~0.1 GB more "
-                        "memory; the default on two or more cores; --full: Fig. 5 in "
-                        "one lane, the rest in the other), 1 one after the other")
+    p.add_argument("--workers", type=positive_int, default=None, metavar="N",
+                   help="processes running the items' tasks at once, each on one core "
+                        "(the same numbers, bit for bit, for every N; default: the "
+                        "machine's cores); 1 runs them one after the other in this "
+                        "process")
     p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
                    metavar="SECONDS",
                    help="wall time between checkpoints of a simulation, s (>= 0; default "
@@ -86,8 +86,8 @@ def _text(result: dict) -> str:
     if result["compile_seconds"] >= 0.5:  # a cold kernel cache: say what it cost
         lines.append(f"numba spent {result['compile_seconds']:.0f} s compiling kernels "
                      "(the first run after installing or after a change of the code; "
-                     "cached afterwards; with two processes the sum of both, which "
-                     "compile at the same time)")
+                     "cached afterwards; with several workers the sum over them, "
+                     "which compile at the same time)")
     for p in result["report"]:
         lines.append(f"written: {p}")
     return "\n".join(lines)

@@ -11,7 +11,7 @@ re-run reuses every finished file and ``--force`` recomputes.  :class:`Context` 
 the output directory, the mode (``quick`` or ``full``) and counts what was computed and
 what was reused (the tests check it).
 
-Checkpoints (issue 8): a simulation is integrated in segments
+Checkpoints: a simulation is integrated in segments
 (:func:`hertzchain.checkpoint.run_segmented`, bit for bit one ``Simulation.run`` call)
 and written every ``Context.checkpoint_interval`` seconds of wall time to its HDF5 file's
 name + ``.ckpt`` (:func:`hertzchain.checkpoint.checkpoint_path`), keyed by the same
@@ -24,13 +24,10 @@ checkpoint and raise :class:`hertzchain.checkpoint.Interrupted` (exit status 130
 
 from __future__ import annotations
 
-import gc
 import json
 import math
-import os
 import sys
 from collections.abc import Iterable
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -49,8 +46,7 @@ __all__ = ["MODES", "Context", "run_models", "run_scenario_cached", "run_point_c
            "replace_by_reduced",
            "paper_scenario", "ContinuumProfile", "continuum_profile", "plot_continuum",
            "continuum_sentence", "DIFF_SHOWN", "new_figure", "save_figure", "log_ticks",
-           "tqdm_iter", "DIAMETER", "V0", "MATERIAL", "json_float", "trim_heap",
-           "map_large_arrays", "MMAP_THRESHOLD"]
+           "tqdm_iter", "DIAMETER", "V0", "MATERIAL", "json_float"]
 
 MODES = ("quick", "full")
 MATERIAL = theory.PAPER_MATERIAL
@@ -89,11 +85,7 @@ class Context:
     notes: dict[str, str] = field(default_factory=dict)
     compile_seconds: float = 0.0
     """Seconds numba spent compiling kernels during the items (a cold cache: the first run
-    after installing), summed over the processes (``reproduce``'s ``_compile_timer``)."""
-    claims: Path | None = None
-    """Directory of the claim files through which two lanes share an item's parts
-    (:func:`claim`, :func:`claim_if_free`; set by ``reproduce`` with two workers), None:
-    one process, nothing to share."""
+    after installing), summed over the worker processes."""
 
     def __post_init__(self) -> None:
         self.out = Path(self.out)
@@ -173,58 +165,6 @@ def _count(ctx: Context, run_) -> None:
         if m.path is None or not (m.completed or m.cached):
             continue
         (ctx.reused if m.cached else ctx.computed).append(Path(m.path))
-
-
-@contextmanager
-def claim(ctx: Context, key: str):
-    """Hold the claim on the part ``key`` of an item while the block runs (waits for it).
-
-    With two lanes (``ctx.claims`` set) the other lane may be running this part (it
-    took it with :func:`claim_if_free` while idle): the block then starts when that run
-    is over, and finds its files finished (:func:`run_models` reuses them).  An
-    exclusive ``flock`` on ``<claims>/<key>.lock``, released when the block ends or the
-    process dies; no-op in one process.
-    """
-    if ctx.claims is None:
-        yield
-        return
-    import fcntl
-
-    fd = os.open(ctx.claims / f"{key}.lock", os.O_RDWR | os.O_CREAT, 0o600)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
-        yield
-    finally:
-        os.close(fd)
-
-
-@contextmanager
-def claim_if_free(ctx: Context, key: str):
-    """Claim the part ``key`` only if no lane has claimed it before; yields whether it did.
-
-    For a lane with nothing left to do: the part is its own (True) unless the lane that
-    owns the item has started it or finished it (its :func:`claim` created the claim
-    file), or holds it right now; False in one process.  Never waits.
-    """
-    if ctx.claims is None:
-        yield False
-        return
-    import fcntl
-
-    try:
-        fd = os.open(ctx.claims / f"{key}.lock", os.O_RDWR | os.O_CREAT | os.O_EXCL, 0o600)
-    except FileExistsError:
-        yield False
-        return
-    try:
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:  # the owner opened the new file and locked it first
-            yield False
-            return
-        yield True
-    finally:
-        os.close(fd)
 
 
 def run_models(ctx: Context, stem: str, scenario, *, samples: bool | None = None,
@@ -551,67 +491,3 @@ def json_float(x: Any) -> Any:
         return None
     x = float(x)
     return x if np.isfinite(x) else None
-
-
-MMAP_THRESHOLD = 2**20
-"""Bytes from which glibc's ``malloc`` maps an allocation on its own (:func:`map_large_arrays`).
-
-1 MiB: a simulation's energy-row blocks (3.3 MB in Table 2's runs) and grids are mapped
-and returned when freed; smaller temporaries stay in the heap, where they are reused
-without page faults.  Measured (issue 13, Figs. 2, 5, 7 in one process, AMD EPYC Zen
-4, two runs side by side): system CPU 2.9 s at 1 MiB, 3.4-4.1 s at glibc's initial
-128 kB, 2.7-2.9 s with glibc's dynamic threshold; user CPU the same within 1 %; Fig. 8's
-peak RSS the same at 1 MiB and 128 kB (369 MiB)."""
-
-
-def map_large_arrays(threshold: int = MMAP_THRESHOLD) -> bool:
-    """Have every allocation of at least ``threshold`` bytes mapped on its own (glibc).
-
-    glibc maps a large block (an array) with ``mmap`` and returns it to the system on
-    ``free``, but raises that threshold to the size of every mapped block freed (up to
-    32 MB): after the first big temporary, blocks of up to that size (a simulation's
-    3 MB energy-row blocks, a 20 MB grid) come from the heap, where freed pages stay
-    resident until :func:`trim_heap` and holes pin the heap's top.  ``mallopt
-    (M_MMAP_THRESHOLD)`` fixes the threshold (:data:`MMAP_THRESHOLD` by default) and
-    with it the heap-trim threshold.  Measured (issue 13, Fig. 8 alone, AMD EPYC Zen 4):
-    peak RSS 408 → 369 MiB.  Process-wide; returns False where it is not available
-    (not glibc).
-
-    Raises
-    ------
-    ValueError
-        ``threshold`` not an integer in [4096, 32 MiB] (glibc's range).
-    """
-    if int(threshold) != threshold or not 4096 <= threshold <= 32 * 2**20:
-        raise ValueError(f"threshold must be an integer number of bytes in [4096, "
-                         f"{32 * 2**20}] (got {threshold!r})")
-    try:
-        import ctypes
-
-        return bool(ctypes.CDLL(None).mallopt(-3, int(threshold)))  # M_MMAP_THRESHOLD
-    except (OSError, AttributeError):
-        return False
-
-
-def trim_heap(collect: bool = True) -> None:
-    """Give the C heap's free pages back to the system (glibc ``malloc_trim``; else no-op).
-
-    Arrays below glibc's mmap threshold (a recorded energy-grid row: 8 kB) live in the
-    heap; freed, they leave holes that ``free`` does not return, so a process would carry
-    an item's largest temporaries into every later item.  Costs milliseconds.
-
-    With ``collect`` (the default; after each item), first a full collection of
-    reference cycles: a saved matplotlib figure is such a cycle (figure, axes, artists,
-    its canvas), freed only by the collector's rare full passes.  Measured (issue 13,
-    ``--quick`` in two processes, AMD EPYC Zen 4): 19 MiB freed after Fig. 8 (12
-    panels, ~55,000 objects), 2-12 MiB after the others; the calling process's peak
-    RSS 403 → 361 MiB; 0.1-0.2 s of CPU per item.
-    """
-    if collect:
-        gc.collect()
-    try:
-        import ctypes
-
-        ctypes.CDLL(None).malloc_trim(0)
-    except (OSError, AttributeError):
-        pass

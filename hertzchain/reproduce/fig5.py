@@ -22,7 +22,6 @@ it is large.
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -36,8 +35,6 @@ from .common import (
     V0,
     Context,
     ContinuumProfile,
-    claim,
-    claim_if_free,
     continuum_profile,
     continuum_sentence,
     new_figure,
@@ -48,7 +45,7 @@ from .common import (
 )
 
 __all__ = ["QUICK", "FULL", "CASES", "CaseResult", "scenario", "estimate_cost", "run",
-           "run_spare", "plot_case", "figures", "report", "to_json"]
+           "parts", "run_part", "combine", "plot_case", "figures", "report", "to_json"]
 
 QUICK = {"n_grains": 10_000, "interface": 7_000, "snapshot": 9_900, "lead": 300}
 FULL = {"n_grains": 50_000, "interface": 35_000, "snapshot": 49_900, "lead": 300,
@@ -137,15 +134,6 @@ def estimate_cost(ctx: Context, case: str, s: dict) -> dict:
             "seconds": updates / UPDATES_PER_SECOND}
 
 
-def _run_case(ctx: Context, case: str, s: dict):
-    """Run the models of case ``case`` at the sizes ``s`` (:func:`.common.run_models`).
-
-    The one call of both :func:`_case` and :func:`run_spare`: both run the same
-    scenario, so the item reuses the files :func:`run_spare` wrote.
-    """
-    return run_models(ctx, "fig5", scenario(case, s))
-
-
 def _case(ctx: Context, case: str, s: dict) -> CaseResult:
     ar, ak = theory.PAPER_POINTS[case]
     p = {"case": case, **s}
@@ -155,8 +143,7 @@ def _case(ctx: Context, case: str, s: dict) -> CaseResult:
                 f"~{cost['grain_updates']:.2g} grain updates, estimated "
                 f"~{cost['seconds']:.0f} s at {UPDATES_PER_SECOND:.0e} updates/s "
                 "(if not cached)")
-    with claim(ctx, f"fig5-{case}"):  # (the other lane may be running it: run_spare)
-        r = _run_case(ctx, case, s)
+    r = run_models(ctx, "fig5", scenario(case, s))
     sim, path = r.simulation, r.discrete.path
     n_left = r.interface  # (hertzchain.measure.interfaces: the scenario's p["interface"])
     chain = sim.chain
@@ -190,42 +177,37 @@ def _case(ctx: Context, case: str, s: dict) -> CaseResult:
     return CaseResult(case, ar, ak, v, sim.t, n_left, numbers, path, cont)
 
 
-def run(ctx: Context, cases=CASES, **overrides) -> list[CaseResult]:
-    """Run the cases a–d of Fig. 5 (mode defaults, overridable: ``n_grains`` ...)."""
+def _sizes(ctx: Context, overrides: dict) -> dict:
     s = ctx.pick(QUICK, FULL) | overrides
     if not s["interface"] < s["snapshot"] < s["n_grains"]:
         raise ValueError("need interface < snapshot < n_grains")
+    return s
+
+
+def run(ctx: Context, cases=CASES, **overrides) -> list[CaseResult]:
+    """Run the cases a–d of Fig. 5 (mode defaults, overridable: ``n_grains`` ...)."""
+    s = _sizes(ctx, overrides)
     return [_case(ctx, c, s) for c in cases]
 
 
-def run_spare(ctx: Context, stop=None) -> None:
-    """Run the cases that the lane running this item has not started, last first.
+def parts(ctx: Context) -> tuple[str, ...]:
+    """The cases, which ``reproduce`` runs as separate tasks.
 
-    Called by the other lane of a two-process ``reproduce`` once its own items are done
-    (``--full``: Fig. 5 alone takes longer than all the other items together); each case
-    it takes (:func:`.common.claim_if_free`) is computed into the run files, which the
-    item's own :func:`_case` then reuses (it waits while a case is being run).  The
-    same scenarios as :func:`run` with the mode's defaults, through the one run path;
-    nothing in one process.  It starts once the item's lane has claimed a case (it
-    waits for that, asking ``stop()``; a lane that does not run this item claims none),
-    and ``stop()`` is asked before each case: True ends the sharing (the worker has
-    finished or died: its error is not kept waiting).
+    Fig. 5 is the largest item of ``--full``; as four tasks it spreads over the workers.
     """
-    if ctx.claims is None:
-        return
-    while not any(ctx.claims.glob("fig5-*.lock")):
-        if stop is None or stop():
-            return
-        time.sleep(0.05)
-    s = ctx.pick(QUICK, FULL)
-    for case in reversed(CASES):
-        if stop is not None and stop():
-            return
-        with claim_if_free(ctx, f"fig5-{case}") as mine:
-            if mine:
-                ctx.log(f"fig5 ({case}): run here, while the other process runs the "
-                        "earlier cases")
-                _run_case(ctx, case, s)
+    return CASES
+
+
+def run_part(ctx: Context, case: str) -> CaseResult:
+    """One case at the mode's sizes (:func:`run` of that case)."""
+    if case not in CASES:
+        raise ValueError(f"case must be one of {CASES} (got {case!r})")
+    return _case(ctx, case, _sizes(ctx, {}))
+
+
+def combine(ctx: Context, results: list[CaseResult]) -> list[CaseResult]:
+    """The item's result from its cases' (:func:`run_part`, in :func:`parts` order)."""
+    return list(results)
 
 
 def plot_case(ax, res: CaseResult, *, label: str | None = None, zoom: int = 250) -> None:

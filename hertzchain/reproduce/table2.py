@@ -55,7 +55,7 @@ from theory import integrity
 from ..cache import cache_path, canonical_json
 from ..measure import end_arrival_row, interfaces, separated_row, total_energy_rows
 from ..paper import TABLE2, TABLE2_KEYS
-from .common import Context, replace_by_reduced, run_models, trim_heap
+from .common import Context, replace_by_reduced, run_models
 
 __all__ = ["QUICK", "FULL", "POINTS", "RUN_ORDER", "in_run_order", "DISTANCES",
            "PointResult", "point_scenario", "run_point", "run", "report", "to_json"]
@@ -166,7 +166,6 @@ def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
     _write_point(store, params, res)
     replace_by_reduced(ctx, path, store)
     res.path = store
-    trim_heap(collect=False)  # (before the next point's run: the heap's freed pages back)
     return res
 
 

@@ -54,6 +54,7 @@ __all__ = [
     "points_to_run",
     "tiny_scenario",
     "default_workers",
+    "local_client",
 ]
 
 DEFAULT_POINT_FUNCTION = "hertzchain.runner:run_scenario"
@@ -338,17 +339,36 @@ def _dask_client(client, scheduler: str | None, workers: int | None,
     if client is not None:
         yield client
         return
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     if scheduler is not None:
         with Client(scheduler, timeout="30s") as c:
             c.wait_for_workers(1, timeout=120)
             yield c
         return
+    with local_client(workers, processes=processes) as c:
+        yield c
+
+
+@contextlib.contextmanager
+def local_client(workers: int | None = None, *, processes: bool = True,
+                 dashboard: bool = True, config: Mapping[str, Any] | None = None
+                 ) -> Iterator[Any]:
+    """A client of a new :class:`distributed.LocalCluster`, closed with the block.
+
+    ``workers`` workers (default :func:`default_workers`) of one thread each: worker
+    processes (``processes``), or threads of this process.  ``dashboard``: serve the
+    dashboard on a free port; ``config``: Dask settings in force while the cluster
+    runs (e.g. ``{"distributed.scheduler.allowed-failures": 0}``).
+    """
+    import dask
+    from distributed import Client, LocalCluster
+
     n = workers or default_workers()
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
-            Client(cluster) as c:
+    with dask.config.set(dict(config or {})), \
+            LocalCluster(n_workers=n, threads_per_worker=1, processes=processes,
+                         dashboard_address=":0" if dashboard else None,
+                         silence_logs=logging.ERROR) as cluster, Client(cluster) as c:
         yield c
 
 

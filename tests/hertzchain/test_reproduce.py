@@ -72,24 +72,24 @@ def test_check_items_and_jsonable():
 
 
 def test_kernel_threads_quick_default_and_restore(tmp_path, monkeypatch):
-    # --quick runs its items on one kernel thread (QUICK_THREADS: the plain kernel only,
-    # results bitwise the same), --full on numba's own count; the count is restored after
+    # --quick runs its tasks on one kernel thread (the serial kernel only, results
+    # bitwise the same), --full in one process on numba's own count; restored after
     import numba
 
     import hertzchain.reproduce as R
 
     seen = []
 
-    def fake_item(ctx, name):
+    def fake_run(ctx, task, parts):
         seen.append((ctx.mode, numba.get_num_threads()))
-        return R.ItemRun(name, None, None)
+        return None, [], {}
 
-    monkeypatch.setattr(R, "run_item", fake_item)
+    monkeypatch.setattr(R, "_run", fake_run)
     before = numba.get_num_threads()
     for mode in ("quick", "full"):
         reproduce(["fig4"], mode=mode, out=tmp_path, progress=False, report=False)
     reproduce(["fig4"], mode="full", out=tmp_path, progress=False, report=False, threads=1)
-    assert seen == [("quick", R.QUICK_THREADS), ("full", before), ("full", 1)]
+    assert seen == [("quick", 1), ("full", before), ("full", 1)]
     assert numba.get_num_threads() == before
     with pytest.raises(ValueError, match="threads"), R.kernel_threads(0):
         pass
@@ -181,7 +181,7 @@ def test_tiny_report(tiny):
     runs = []
     for name, mod in mods.items():
         figs = mod.figures(ctx, res[name]) if hasattr(mod, "figures") else []
-        runs.append(ItemRun(name, mod, res[name], figs, mod.to_json(res[name])))
+        runs.append(ItemRun(name, res[name], figs, mod.to_json(res[name])))
     md, html = write_report(ctx, runs, 1.0)
     text = md.read_text()
     for heading in ("## Summary", "## Fig. 2", "## Fig. 5", "## Fig. 6", "## Fig. 7",

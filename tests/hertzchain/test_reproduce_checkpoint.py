@@ -1,7 +1,8 @@
-"""``hertzchain reproduce``: checkpoint and resume, bit for bit (issue 8).
+"""``hertzchain reproduce``: checkpoint and resume, bit for bit.
 
-Tiny configurations of the items (their ``QUICK`` defaults patched, in this process or
-in the subprocess), compared with an uninterrupted run (``checkpoint_interval=None``:
+Tiny configurations of the items (their ``QUICK`` defaults patched, in this process, in
+the subprocess or in the worker processes), compared with an uninterrupted run
+(``checkpoint_interval=None``:
 one ``Simulation.run`` call per simulation, the code path of the cached results before
 checkpoints): every dataset and attribute of every HDF5 file in ``runs/`` (but the
 ``wall_time`` attribute) and the ``--json`` output, exactly.
@@ -15,6 +16,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -22,6 +24,7 @@ import h5py
 import numpy as np
 import pytest
 
+import hertzchain.reproduce as R
 from hertzchain import checkpoint as C
 from hertzchain.cli import main
 from hertzchain.reproduce import fig2, fig6, reproduce, table2
@@ -265,6 +268,60 @@ def test_real_process_sigkill_sigint_resume(tmp_path, monkeypatch):
     assert proc.returncode == 0, err
     assert stdout.strip() == ref_json
     assert _assert_same_runs(tmp_path / "ref" / "runs", runs) == 2
+    assert not [p for p in out.rglob("*") if p.name.endswith((".tmp", ".ckpt"))]
+
+
+def test_two_workers_sigint_checkpoint_and_resume(tmp_path, monkeypatch):
+    # `reproduce(["fig4", "fig6"], workers=2)` with Fig. 6 tiny in the worker processes:
+    # SIGINT (here, as Ctrl-C or a kill would send it) once Fig. 6's first checkpoint
+    # is on disk: the workers' runs stop, each after writing its checkpoint, and the
+    # call raises Interrupted (exit status 130, "rerun ... to resume"); the same call
+    # again resumes from the checkpoint; its numbers and every HDF5 file equal an
+    # uninterrupted run's, bit for bit.
+    monkeypatch.setattr(fig6, "QUICK", FIG6_TINY)
+    ref = reproduce(["fig4", "fig6"], out=tmp_path / "ref", progress=False, report=False,
+                    checkpoint_interval=None, workers=1)
+    out = tmp_path / "run"
+    runs = out / "runs"
+    shutil.copytree(tmp_path / "ref" / "cache", out / "cache")  # the settled wave
+
+    def task(*args):  # the Dask task, with Fig. 6 tiny in the worker
+        import importlib
+
+        importlib.import_module("hertzchain.reproduce.fig6").QUICK = FIG6_TINY
+        return importlib.import_module("hertzchain.reproduce")._remote_task(*args)
+
+    monkeypatch.setattr(R, "_remote_task", task)
+
+    def interrupt():
+        end = time.monotonic() + 120
+        while time.monotonic() < end and not list(runs.glob("fig6-*.ckpt")):
+            time.sleep(0.005)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    sigint = signal.getsignal(signal.SIGINT)
+    killer = threading.Thread(target=interrupt)
+    killer.start()
+    try:
+        with pytest.raises(C.Interrupted) as info:
+            reproduce(["fig4", "fig6"], out=out, progress=False, report=False,
+                      checkpoint_interval=0.0, workers=2)
+    finally:
+        killer.join()
+    exc = info.value
+    assert exc.exit_code == 130 and exc.checkpoint is not None
+    assert exc.checkpoint.exists() and exc.checkpoint.parent == runs
+    assert "rerun the same command to resume" in str(exc)
+    steps = _ckpt_steps(exc.checkpoint)
+    assert steps > 0 and signal.getsignal(signal.SIGINT) is sigint
+    assert not list(runs.glob("fig6-passages-*")), "Fig. 6 finished before the signal"
+
+    got = reproduce(["fig4", "fig6"], out=out, progress=False, report=False,
+                    checkpoint_interval=0.0, workers=2)
+    assert json.dumps(jsonable(got["items"])) == json.dumps(jsonable(ref["items"]))
+    assert sorted(p.name for p in got["computed"] + got["reused"]) == \
+        sorted(p.name for p in ref["computed"])
+    assert _assert_same_runs(tmp_path / "ref" / "runs", runs) == 4
     assert not [p for p in out.rglob("*") if p.name.endswith((".tmp", ".ckpt"))]
 
 

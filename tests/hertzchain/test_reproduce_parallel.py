@@ -1,205 +1,186 @@
-"""``reproduce(workers=2)``: the items in two lanes, one in a forked worker process.
+"""``reproduce(workers=N)``: the items' tasks on a local Dask cluster of worker processes.
 
-What must hold (issue 13): the numbers, the files and the computed/reused counts are
-those of one process, bit for bit and in report order; an interrupted or failing worker
-is reported by the calling process; bad ``workers``/``threads`` are clear errors.
-The lanes are set to two cheap items (Figs. 3 and 4, a few seconds) for the real run;
-the rest uses a stand-in ``run_item`` (inherited by the forked worker).
+What must hold: the numbers, the files and the computed/reused counts are those of one
+process, bit for bit and in report order, for every worker count; Fig. 5's cases are
+tasks of their own; a task's error, or its worker's death, is a clear error naming the
+task; bad ``workers`` are clear errors.  The real items run on tiny sizes: the workers
+are new processes, so the sizes are set there by a wrapper of the Dask task
+(:func:`_in_workers`) as well as here (for ``workers=1``).
 """
 
+import importlib
 import json
-import multiprocessing
 import os
-import signal
-import time
-from contextlib import nullcontext
 
 import pytest
 
 import hertzchain.reproduce as R
-from hertzchain.checkpoint import Interrupted
-from hertzchain.reproduce import reproduce
+from hertzchain.cli import main
+from hertzchain.reproduce import Task, WorkerDied, plan, reproduce
 from hertzchain.reproduce.command import jsonable
-from hertzchain.sweep.engine import default_workers
+from hertzchain.reproduce.common import Context
 
-pytestmark = pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
-
-
-def test_lanes_split_and_order():
-    # one process: Fig. 8 and Table 2 first (R.FIRST: the peak memory), then report order
-    assert R.lanes(list(R.ITEMS), 1) == [["fig8", "table2", "fig2", "fig3", "fig4", "fig5",
-                                          "fig6", "fig7", "validity"]]
-    assert R.lanes(["fig2", "table2"], 1) == [["table2", "fig2"]]
-    # two processes: the worker forked after Fig. 3, then Fig. 8 and Table 2 here
-    assert R.LANES[1][0] == "fig3" and R.LANES[1][1:3] == R.FIRST
-    assert R.lanes(list(R.ITEMS), 2) == [list(R.LANES[0]), list(R.LANES[1])]
-    assert R.lanes(["fig2", "fig7"], 2) == [["fig7"], ["fig2"]]
-    assert R.lanes(["fig8", "table2"], 2) == [["fig8", "table2"]]  # one lane: serial
-    # every item in exactly one lane; Table 2 in Fig. 8's lane, after it (it reuses
-    # Fig. 8's point files)
-    assert sorted(R.LANES[0] + R.LANES[1]) == sorted(R.ITEMS)
-    lane = next(la for la in R.LANES if "fig8" in la)
-    assert lane.index("fig8") < lane.index("table2")
+FIG5_TINY = {"n_grains": 1200, "interface": 900, "snapshot": 1150, "lead": 100}
 
 
-def test_full_lanes_split_and_order():
-    # --full: Fig. 5 alone in the worker; the same rules as --quick's lanes (every item
-    # once, Table 2 after Fig. 8 in one lane, Fig. 3 first in the calling process)
-    assert R.lanes(list(R.ITEMS), 2, "full") == [list(R.FULL_LANES[0]),
-                                                 list(R.FULL_LANES[1])]
-    assert R.FULL_LANES[0] == ("fig5",)
-    assert R.lanes(["fig2", "fig5"], 2, "full") == [["fig5"], ["fig2"]]
-    assert R.lanes(["fig5", "fig7"], 2, "full") == [["fig5"], ["fig7"]]
-    # one process: FIRST (Fig. 8, Table 2: the memory peak on the lowest floor) first,
-    # then the rest in report order, as in --quick
-    assert R.lanes(list(R.ITEMS), 1, "full") == [
-        list(R.FIRST) + [n for n in R.ITEMS if n not in R.FIRST]]
-    assert sorted(R.FULL_LANES[0] + R.FULL_LANES[1]) == sorted(R.ITEMS)
-    assert R.FULL_LANES[1][0] == "fig3"
-    lane = next(la for la in R.FULL_LANES if "fig8" in la)
-    assert lane.index("fig8") < lane.index("table2")
+def _in_workers(monkeypatch, patches, before=None):
+    """Set ``patches`` ((module, attribute, value), ...) here and in every worker process.
+
+    The Dask task is wrapped by a function pickled by value (a closure), which sets them
+    in the worker and then runs the worker's own task; ``before(task)``, if given, runs
+    first there (to fail or die on a task).
+    """
+    for mod, attr, value in patches:
+        monkeypatch.setattr(importlib.import_module(mod), attr, value)
+
+    def task(*args):
+        import importlib
+
+        for mod, attr, value in patches:
+            setattr(importlib.import_module(mod), attr, value)
+        if before is not None:
+            before(args[1])
+        return importlib.import_module("hertzchain.reproduce")._remote_task(*args)
+
+    monkeypatch.setattr(R, "_remote_task", task)
 
 
-def test_two_workers_same_numbers_files_and_counts(tmp_path, monkeypatch):
-    # the real items, fig4 in the worker: JSON byte for byte, counts and files in
-    # report order, as one process
-    one = reproduce(["fig3", "fig4"], out=tmp_path / "one", progress=False, report=False,
-                    workers=1)
-    monkeypatch.setattr(R, "LANES", (("fig4",), ("fig3",)))
-    two = reproduce(["fig3", "fig4"], out=tmp_path / "two", progress=False, report=True,
-                    workers=2)
+def test_plan_order_parts_and_needs(tmp_path):
+    tasks = plan(R.ITEMS, Context(tmp_path))
+    assert sorted(R.ORDER) == sorted(R.ITEMS)
+    keys = [t.key for t in tasks]
+    assert len(set(keys)) == len(keys)
+    # Fig. 5: a task per case, then the task that combines them and draws the figure
+    assert [t for t in tasks if t.name == "fig5"] == [
+        *(Task("fig5", "part", c) for c in "abcd"), Task("fig5", "combine")]
+    # Table 2 after Fig. 8 (it reuses its point files); otherwise in ORDER
+    assert keys.index("table2") > keys.index("fig8")
+    items = list(dict.fromkeys(t.name for t in tasks))
+    assert [n for n in items if n != "table2"] == [n for n in R.ORDER if n != "table2"]
+    assert [t.key for t in plan(["table2", "fig2"], Context(tmp_path))] == ["fig2", "table2"]
+    assert [t.key for t in plan(["fig8", "table2"], Context(tmp_path))] == ["fig8", "table2"]
+
+
+def test_one_and_two_workers_same_numbers_files_and_counts(tmp_path, monkeypatch):
+    # the real items (Fig. 5 on 1,200 grains): JSON byte for byte, files and counts in
+    # report order, with one worker (this process) and two (worker processes)
+    _in_workers(monkeypatch, [("hertzchain.reproduce.fig5", "QUICK", FIG5_TINY)])
+    items = ["fig4", "fig5"]
+    one = reproduce(items, out=tmp_path / "one", progress=False, report=False, workers=1)
+    two = reproduce(items, out=tmp_path / "two", progress=False, report=True, workers=2)
+    assert one["workers"] == 1 and two["workers"] == 2
     assert json.dumps(jsonable(two["items"])) == json.dumps(jsonable(one["items"]))
-    assert [r.name for r in two["runs"]] == ["fig3", "fig4"]
-    assert [p.name for p in two["computed"]] == [p.name for p in one["computed"]]
-    assert not two["reused"] and not one["reused"]
-    assert set(two["context"].timings) == {"fig3", "fig4"}
+    assert [r.name for r in two["runs"]] == items
+    names = [p.name for p in one["computed"]]
+    assert len(names) == 2 + 2 * 4  # Fig. 4: two runs; Fig. 5: discrete and continuum
+    assert [p.name for p in two["computed"]] == names and not two["reused"]
+    assert [p.parent for p in two["computed"]] == [tmp_path / "two" / "runs"] * len(names)
+    assert set(two["context"].timings) == set(items)
     assert all(p.exists() for p in two["report"])
-    # a second call reuses every file, in both lanes
-    again = reproduce(["fig3", "fig4"], out=tmp_path / "two", progress=False,
-                      report=False, workers=2)
-    assert not again["computed"]
-    assert [p.name for p in again["reused"]] == [p.name for p in one["computed"]]
+    assert (tmp_path / "two" / "figures" / "fig5.png").stat().st_size > 1000
+    # a second call reuses every file
+    again = reproduce(items, out=tmp_path / "two", progress=False, report=False, workers=2)
+    assert not again["computed"] and [p.name for p in again["reused"]] == names
     assert again["items"] == two["items"]
 
 
-def _fake(fail):
-    def run_item(ctx, name):
-        if name == fail[0]:
-            raise fail[1]
-        path = ctx.runs / f"{name}.h5"
-        ctx.computed.append(path)
-        return R.ItemRun(name, None, {"pid": os.getpid()}, [], {"n": len(name)},
-                         computed=[path])
-    return run_item
+def _fake_task(template, task, inputs, threads, position, start):
+    """A stand-in task: the worker's pid as result, parts passed on in order."""
+    import os
+    import time
+
+    from hertzchain.reproduce import TaskOutcome
+
+    time.sleep(0.3)
+    if task.kind == "part":
+        return TaskOutcome(task, (task.part, os.getpid()), computed=[f"{task.key}.h5"])
+    parts = [i.value for i in inputs]
+    return TaskOutcome(task, ({"pid": os.getpid(), "parts": parts, "threads": threads},
+                              [], {"n": len(task.name)}), computed=[f"{task.key}.h5"])
 
 
-def test_worker_runs_in_another_process_results_in_report_order(tmp_path, monkeypatch):
-    monkeypatch.setattr(R, "run_item", _fake((None, None)))
+def test_tasks_run_in_worker_processes_results_in_report_order(tmp_path, monkeypatch):
+    monkeypatch.setattr(R, "_remote_task", _fake_task)
     got = reproduce(["fig2", "fig5", "fig6", "fig7"], out=tmp_path, progress=False,
                     report=False, workers=2)
     assert [r.name for r in got["runs"]] == ["fig2", "fig5", "fig6", "fig7"]
-    pids = {r.name: r.result["pid"] for r in got["runs"]}
-    assert pids["fig2"] == pids["fig6"] == os.getpid() != pids["fig5"] == pids["fig7"]
-    assert [p.name for p in got["computed"]] == ["fig2.h5", "fig5.h5", "fig6.h5", "fig7.h5"]
-    assert got["runs"][1].module is R.importlib.import_module("hertzchain.reproduce.fig5")
+    pids = {r.result["pid"] for r in got["runs"]}
+    fig5 = got["runs"][1].result
+    pids |= {pid for _, pid in fig5["parts"]}
+    assert os.getpid() not in pids and len(pids) == 2  # both workers used
+    assert [c for c, _ in fig5["parts"]] == list("abcd")
+    assert {r.result["threads"] for r in got["runs"]} == {1}
+    assert got["computed"] == ["fig2.h5", "fig5:a.h5", "fig5:b.h5", "fig5:c.h5", "fig5:d.h5",
+                               "fig5:combine.h5", "fig6.h5", "fig7.h5"]
+    assert got["runs"][1].module is importlib.import_module("hertzchain.reproduce.fig5")
 
 
-def test_worker_interrupted_is_raised_here(tmp_path, monkeypatch):
-    exc = Interrupted(signal.SIGINT, tmp_path / "x.ckpt", 1.5e-3, 42, note="resume so")
-    monkeypatch.setattr(R, "run_item", _fake(("fig7", exc)))
-    with pytest.raises(Interrupted) as info:
-        reproduce(["fig2", "fig7"], out=tmp_path, progress=False, report=False, workers=2)
-    e = info.value
-    assert (e.signum, e.checkpoint, e.t, e.steps) == (signal.SIGINT, tmp_path / "x.ckpt",
-                                                        1.5e-3, 42)
-    assert str(e) == str(exc)
+def test_task_error_is_raised_here_naming_the_task(tmp_path, monkeypatch):
+    def fail(task):
+        if task.key == "fig5:b":
+            raise ValueError("bad fig5")
+
+    _in_workers(monkeypatch, [("hertzchain.reproduce.fig5", "QUICK", FIG5_TINY)], fail)
+    with pytest.raises(ValueError, match="bad fig5") as info:
+        reproduce(["fig5"], out=tmp_path, progress=False, report=False, workers=2)
+    assert "(in the reproduce task fig5:b)" in info.value.__notes__
 
 
-def test_worker_error_is_raised_here(tmp_path, monkeypatch):
-    monkeypatch.setattr(R, "run_item", _fake(("fig5", ValueError("bad fig5"))))
-    with pytest.raises(ValueError, match="bad fig5"):
-        reproduce(["fig2", "fig5"], out=tmp_path, progress=False, report=False, workers=2)
+def test_worker_death_is_a_clean_error_naming_the_item(tmp_path, monkeypatch, capsys):
+    def die(task):
+        if task.name == "fig4":
+            import os
 
+            os._exit(3)
 
-def test_error_here_stops_the_worker(tmp_path, monkeypatch):
-    # the calling process fails while the worker is busy: after the grace time the
-    # worker gets SIGTERM and is reaped, and the error is raised
-    fake = _fake(("fig6", RuntimeError("bad fig6")))
-
-    def run_item(ctx, name):
-        if name == "fig5":
-            time.sleep(60)
-        return fake(ctx, name)
-
-    monkeypatch.setattr(R, "run_item", run_item)
-    monkeypatch.setattr(R, "_JOIN_GRACE", 0.5)
-    start = time.monotonic()
-    with pytest.raises(RuntimeError, match="bad fig6"):
-        reproduce(["fig2", "fig5", "fig6"], out=tmp_path, progress=False, report=False,
+    _in_workers(monkeypatch, [], die)
+    with pytest.raises(WorkerDied, match="the worker process running fig4 died"):
+        reproduce(["fig3", "fig4"], out=tmp_path / "api", progress=False, report=False,
                   workers=2)
-    assert time.monotonic() - start < 30
-    assert not multiprocessing.active_children()
+    # the command: "hertzchain: error: ..." and exit status 2
+    assert main(["reproduce", "fig4", "fig3", "--workers", "2", "--json", "--out",
+                 str(tmp_path / "cli")]) == 2
+    err = capsys.readouterr().err
+    assert "hertzchain: error: the worker process running fig4 died" in err
+    assert "rerun the same command" in err
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"workers": 3}, "workers must be 1 or 2"),
-    ({"workers": 0}, "workers must be 1 or 2"),
-    ({"workers": True}, "workers must be 1 or 2"),
-    ({"workers": 2, "threads": 2}, "threads=1"),
-    ({"workers": 2, "mode": "full", "threads": 2}, "threads=1"),
-])
-def test_bad_workers(tmp_path, kwargs, match):
-    with pytest.raises(ValueError, match=match):
-        reproduce(["fig2", "fig5"], out=tmp_path, progress=False, report=False, **kwargs)
-
-
-def test_default_is_one_process_and_cli_option(tmp_path, monkeypatch, capsys):
-    # QUICK_WORKERS (2, capped at the cores): two lanes by default; --workers 2 forks
-    from hertzchain.cli import main
-
+def test_workers_default_and_bad_values(tmp_path, monkeypatch, capsys):
     seen = []
-    real = R._run_parallel
 
-    def spy(*args):
-        seen.append("parallel")
-        return real(*args)
+    def on_cluster(ctx, tasks, workers, threads, positions, start):
+        seen.append((workers, threads))
+        return {t.key: _fake_task(ctx, t, [], threads, "", start) for t in tasks}
 
-    monkeypatch.setattr(R, "_run_parallel", spy)
-    monkeypatch.setattr(R, "run_item", _fake((None, None)))
+    monkeypatch.setattr(R, "_on_cluster", on_cluster)
+    monkeypatch.setattr(R, "_in_process", lambda ctx, tasks, threads, *a: seen.append(
+        (1, threads)) or {t.key: _fake_task(ctx, t, [], threads, "", 0) for t in tasks})
+    monkeypatch.setattr("hertzchain.sweep.engine.default_workers", lambda: 4)
     monkeypatch.setattr("hertzchain.reproduce.report.write_report", lambda *a: ())
-    reproduce(["fig2", "fig5"], out=tmp_path, progress=False, report=False)
-    assert seen == ["parallel"] * (min(R.QUICK_WORKERS, default_workers()) == 2)
-    seen.clear()
-    # --full: FULL_WORKERS (2, capped at the cores) on one kernel thread each; one
-    # process if more threads are asked for
-    threads = []
-    monkeypatch.setattr(R, "kernel_threads", lambda t: (threads.append(t), nullcontext())[1])
-    reproduce(["fig2", "fig5"], mode="full", out=tmp_path, progress=False, report=False)
-    assert seen == ["parallel"] * (min(R.FULL_WORKERS, default_workers()) == 2)
-    assert set(threads) == ({1} if seen else {None})
-    seen.clear()
-    threads.clear()
-    reproduce(["fig2", "fig5"], mode="full", out=tmp_path, progress=False, report=False,
-              threads=2)
-    assert seen == [] and set(threads) == {2}
-    threads.clear()
-    # items of one lane only (e.g. --full fig5): one process, on numba's threads
-    reproduce(["fig5"], mode="full", out=tmp_path, progress=False, report=False)
-    assert seen == [] and threads == [None]
-    assert main(["reproduce", "fig2", "fig5", "--json", "--workers", "2", "--out",
+    # default: the cores (4 here), at most the tasks (2, and 5 for Fig. 5's cases)
+    reproduce(["fig3", "fig4"], out=tmp_path, progress=False, report=False)
+    reproduce(["fig5"], out=tmp_path, progress=False, report=False)
+    reproduce(["fig4"], out=tmp_path, progress=False, report=False)  # one task: here
+    # any N >= 1; one kernel thread per worker (--full with one worker: numba's count)
+    reproduce(["fig4"], out=tmp_path, progress=False, report=False, workers=7)
+    reproduce(["fig4"], mode="full", out=tmp_path, progress=False, report=False, workers=1)
+    assert seen == [(2, 1), (4, 1), (1, 1), (7, 1), (1, None)]
+    for bad in (0, -1, True, 1.5):
+        with pytest.raises(ValueError, match="workers must be an integer >= 1"):
+            reproduce(["fig4"], out=tmp_path, progress=False, report=False, workers=bad)
+    with pytest.raises(SystemExit):
+        main(["reproduce", "--workers", "0", "--out", str(tmp_path)])
+    assert "--workers: must be an integer >= 1" in capsys.readouterr().err
+    assert main(["reproduce", "fig2", "fig5", "--json", "--workers", "3", "--out",
                  str(tmp_path)]) == 0
     assert json.loads(capsys.readouterr().out) == {"fig2": {"n": 4}, "fig5": {"n": 4}}
-    assert seen == ["parallel"]
-    with pytest.raises(SystemExit):
-        main(["reproduce", "--workers", "3", "--out", str(tmp_path)])
+    assert seen[-1] == (3, 1)
 
 
 def test_compile_seconds_count_real_compiles_only(tmp_path):
     # the summary's "numba spent N s compiling": numba's compile events, which fire for a
     # compilation and not for a call of an already compiled (or cache-loaded) kernel
     import numba
-
-    from hertzchain.reproduce.common import Context
 
     @numba.njit
     def fresh(x):  # a new function: its first call compiles
@@ -213,59 +194,3 @@ def test_compile_seconds_count_real_compiles_only(tmp_path):
     with R._compile_timer(ctx):
         assert fresh(2.0) == 5.0  # compiled already: no event
     assert ctx.compile_seconds == first
-
-
-def test_idle_lane_takes_fig5_cases_same_numbers_and_counts(tmp_path, monkeypatch, capsys):
-    # Fig. 5 in the worker, the calling lane idle after Fig. 3: it runs the cases the
-    # worker has not started (last first) and the worker reuses them; the numbers, the
-    # files and the computed/reused counts are those of one process
-    from hertzchain.reproduce import fig5
-
-    monkeypatch.setattr(fig5, "QUICK", {"n_grains": 1200, "interface": 900,
-                                        "snapshot": 1150, "lead": 100})
-    one = reproduce(["fig3", "fig5"], out=tmp_path / "one", progress=False, report=False,
-                    workers=1)
-    monkeypatch.setattr(R, "LANES", (("fig5",), ("fig3",)))
-    capsys.readouterr()
-    two = reproduce(["fig3", "fig5"], out=tmp_path / "two", progress=True, report=False,
-                    workers=2)
-    here = capsys.readouterr().err
-    assert "fig5 (d): run here" in here  # the worker starts with (a): (d) is free
-    assert json.dumps(jsonable(two["items"])) == json.dumps(jsonable(one["items"]))
-    assert sorted(p.name for p in two["computed"]) == sorted(p.name for p in one["computed"])
-    assert not two["reused"] and not one["reused"]
-    assert two["context"].claims is None  # the claim files are gone with the call
-    again = reproduce(["fig3", "fig5"], out=tmp_path / "two", progress=False,
-                      report=False, workers=2)
-    assert not again["computed"] and again["items"] == two["items"]
-
-
-def test_claims(tmp_path):
-    # claim_if_free takes a part only if nobody claimed it; claim waits for the holder
-    import threading
-
-    from hertzchain.reproduce.common import Context, claim, claim_if_free
-
-    ctx = Context(tmp_path, claims=tmp_path)
-    with claim_if_free(ctx, "x") as mine:
-        assert mine
-        got = []
-        t = threading.Thread(target=lambda: got.append(_wait_claim(ctx, "x")))
-        t.start()
-        t.join(0.3)
-        assert t.is_alive() and not got  # blocked while the part is held
-    t.join(10)
-    assert got == [True]
-    with claim_if_free(ctx, "x") as mine:  # claimed (and done) before: not free
-        assert not mine
-    with claim(ctx, "y"), claim_if_free(ctx, "y") as mine:
-        assert not mine
-    with claim_if_free(Context(tmp_path), "z") as mine:  # one process: nothing to share
-        assert not mine
-
-
-def _wait_claim(ctx, key):
-    from hertzchain.reproduce.common import claim
-
-    with claim(ctx, key):
-        return True
