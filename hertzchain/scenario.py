@@ -900,6 +900,13 @@ def _check_sections(values: dict, where: str, raw: dict) -> None:
 def _check_chain(spec: ChainSpec) -> None:
     if spec.n < 2:
         raise ScenarioError(f"[chain] the chain needs >= 2 grains (got {spec.n})")
+    last = spec.sections[-1]
+    if len(spec.sections) > 1 and last.n == 1 and spec.right_wall == "free":
+        i = len(spec.sections) - 1
+        raise ScenarioError(
+            f"[chain.sections[{i}]] n = 1 with [chain] right_wall = 'free': the last "
+            "section has no contact of its own (its grain touches only the interface), so "
+            "it has no contact constant k_n; give it >= 2 grains or a right wall")
     if spec.delta0_over_d > 0 and "free" in (spec.left_wall, spec.right_wall):
         raise ScenarioError("[chain] a precompressed chain (delta0_over_d > 0) needs two "
                             "walls; left_wall/right_wall = 'free' is only allowed at 0")
@@ -1000,17 +1007,6 @@ def _check_record(spec: RecordSpec, n: int, t_end: float | None,
 
 
 # -- where each model applies: the one place -------------------------------------------
-def _last_section_without_contact(chain: ChainSpec) -> str:
-    """The reason a one-grain last section before a free end has no k_n ("" if not)."""
-    last = chain.sections[-1]
-    if len(chain.sections) > 1 and last.n == 1 and chain.right_wall == "free":
-        i = len(chain.sections) - 1
-        return (f"[chain.sections[{i}]] n = 1 with [chain] right_wall = 'free': the last "
-                "section has no contact of its own (its grain touches only the "
-                "interface), so there is no contact constant k_n for it")
-    return ""
-
-
 def continuum_applies(chain: ChainSpec, initial: InitialSpec) -> str:
     """Why the long-wave continuum does not apply to this chain ("" where it does).
 
@@ -1028,7 +1024,7 @@ def continuum_applies(chain: ChainSpec, initial: InitialSpec) -> str:
         return ("[chain] exponent = 1.0 with [initial] kind = 'impact': a linear chain "
                 "forms no solitary wave, and the impact's pulse spreads at the grid scale "
                 "(the lattice's Bessel front), outside the long-wave equations")
-    return _last_section_without_contact(chain)
+    return ""
 
 
 def theory_applies(chain: ChainSpec, initial: InitialSpec) -> str:
@@ -1047,7 +1043,7 @@ def theory_applies(chain: ChainSpec, initial: InitialSpec) -> str:
         if getattr(first, name):
             return (f"[chain.sections[0]] {name} = {getattr(first, name)!r}: no closed "
                     "form describes the wave of a disordered section")
-    return _last_section_without_contact(chain)
+    return ""
 
 
 _APPLIES = {"continuum": continuum_applies, "theory": theory_applies}

@@ -370,21 +370,23 @@ def test_record_and_initial_keys_checked():
     ({"gravity": 9.81}, {}, "[chain] gravity = 9.81"),
     ({}, {"profile": "tapered", "mass_ratio": 0.9}, "profile = 'tapered'"),
     ({}, {"disorder_mass": 0.1}, "disorder_mass = 0.1"),
+    ({"exponent": 1.0}, {}, "[chain] exponent = 1.0"),
 ])
-def test_models_refuse_where_they_do_not_apply(chain, section, named):
-    # the continuum is the paper chain's; the theory describes every one of these chains
-    # but a disordered first section (hertzchain.scenario.model_applies)
+def test_models_apply_where_they_describe_the_chain(chain, section, named):
+    # the continuum describes every one of these chains but an impact on a linear chain
+    # (no solitary wave forms); the theory every one but a disordered first section
+    # (hertzchain.scenario.model_applies)
     data = _base(**chain)
     data["chain"]["sections"][0].update(section)
     parse_scenario(data)  # the discrete chain alone is fine
-    refused = [({"continuum": "eq7", "theory": False}, "[models] continuum")]
-    if "disorder" in named:
-        refused.append(({"theory": True}, "[models] theory"))
-    else:
-        data["models"] = {"theory": True}
-        assert parse_scenario(data).models.theory is True
-    for models, key in refused:
+    cases = [({"continuum": "eq7", "theory": False}, "[models] continuum",
+              "exponent = 1.0" in named),
+             ({"theory": True}, "[models] theory", "disorder" in named)]
+    for models, key, refused in cases:
         data["models"] = models
+        if not refused:
+            parse_scenario(data)
+            continue
         with pytest.raises(ScenarioError) as err:
             parse_scenario(data)
         assert key in str(err.value) and named in str(err.value)
