@@ -888,10 +888,6 @@ def _check_initial_law(spec: InitialSpec, chain: ChainSpec) -> None:
         raise ScenarioError(f"[initial] kind = 'cut_wave' is a settled Hertz wave; [chain] "
                             f"exponent = {chain.exponent!r} needs kind = 'impact' or "
                             "'exact_wave'")
-    if spec.kind == "exact_wave" and chain.exponent != 1.5 and chain.delta0_over_d > 0:
-        raise ScenarioError(f"[initial] kind = 'exact_wave' with [chain] exponent = "
-                            f"{chain.exponent!r} needs delta0_over_d = 0 (the exact wave of "
-                            "a power law other than Hertz is solved without precompression)")
     if spec.kind == "impact" and spec.striker_mass != 1.0 and chain.gravity > 0:
         raise ScenarioError("[initial] striker_mass != 1 with [chain] gravity > 0: a striker "
                             "grain is not part of the chain's static equilibrium; give "
