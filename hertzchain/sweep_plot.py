@@ -552,8 +552,12 @@ def _positions(amp: np.ndarray) -> tuple[np.ndarray, list[float], list[str], flo
     return xs, ticks, labels, math.nan
 
 
-def _amplitude_axis(ax, amp: np.ndarray, *, ylabel: bool = True) -> np.ndarray:
-    """Set up ``ax`` for error (%) against strain/δ0; return the rows' x positions."""
+def _amplitude_axis(ax, amp: np.ndarray, *, ylabel: bool = True) -> tuple[np.ndarray, float]:
+    """Set up ``ax`` for error (%) against strain/δ0; the rows' x positions and the break.
+
+    The break is the x left of the sonic vacuum's column (the axis' right end without
+    one).
+    """
     xs, ticks, labels, brk = _positions(amp)
     lo, hi = _thresholds()
     ax.set_yscale("log")
@@ -576,7 +580,7 @@ def _amplitude_axis(ax, amp: np.ndarray, *, ylabel: bool = True) -> np.ndarray:
     ax.set_xlabel(r"incident strain / $\delta_0$")
     if ylabel:
         ax.set_ylabel("error against the discrete chain (%)")
-    return xs
+    return xs, (brk if math.isfinite(brk) else ticks[-1] + 0.5)
 
 
 def _interfaces(results: SweepResults, sel: np.ndarray):
@@ -603,23 +607,24 @@ def _interface_style(results: SweepResults, sel: np.ndarray):
     return style, handles
 
 
-def _regimes(ax, model: str, xs: np.ndarray, names: list[str]) -> None:
+def _regimes(ax, model: str, xs: np.ndarray, names: list[str], right: float) -> None:
     """Name, over the panel, the equation or theory that ran on each side of its switch.
 
     The switch (dashed line) is ``"auto"``'s Eq. 4 → Eq. 7 strain/δ0
     (:data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`) for the continuum and
     :data:`theory.strong_interface.STRONG_THRESHOLD` (lattice acoustics → quasi-particle)
     for the theory; the names are those the points recorded (``xs``: their positions,
-    log10 of strain/δ0, ``names``: what ran there).
+    log10 of strain/δ0, ``names``: what ran there; ``right``: the x where the finite
+    amplitudes end).
     """
     from theory.strong_interface import STRONG_THRESHOLD
 
     from .scenario import AUTO_EQ4_MAX_STRAIN
 
     switch = math.log10(AUTO_EQ4_MAX_STRAIN if model == "continuum" else STRONG_THRESHOLD)
-    lo, hi = ax.get_xlim()
+    lo = ax.get_xlim()[0]
     ax.axvline(switch, color="0.45", lw=0.8, ls="--")
-    for side, (a, b) in (("below", (lo, switch)), ("above", (switch, hi))):
+    for side, (a, b) in (("below", (lo, switch)), ("above", (switch, right))):
         here = (xs < switch) if side == "below" else (xs >= switch)
         found = sorted({n for n, h in zip(names, here, strict=True) if h and n})
         if found:
@@ -682,7 +687,7 @@ def plot_validity_amplitude(ax, results: SweepResults, *, model: str = "theory",
         ax.text(0.5, 0.5, f"no {model} error for this law", ha="center",
                 transform=ax.transAxes)
         return False
-    xs = _amplitude_axis(ax, amp[sel])
+    xs, right = _amplitude_axis(ax, amp[sel])
     xs_all = np.full(len(results), np.nan)
     xs_all[sel] = xs
     codes = _validity_codes(err, _applies(results, model))
@@ -711,7 +716,7 @@ def plot_validity_amplitude(ax, results: SweepResults, *, model: str = "theory",
                     fontsize="small", color="0.35", style="italic")
     names = [_REGIME_NAMES.get(n, n) for n in
              _text(results, _REGIME_COLUMN[model], sel & (codes <= 2))]
-    _regimes(ax, model, xs_all[sel & (codes <= 2)], names)
+    _regimes(ax, model, xs_all[sel & (codes <= 2)], names, right)
     law = "" if (exponent, damping) == (1.5, 0.0) else \
         f", n = {exponent:g}" + (rf", $\beta t_{{end}}$ = {damping:g}" if damping else "")
     ax.set_title(f"{_MODEL_LABELS[model]}{law}", fontsize="medium", pad=14)
@@ -763,7 +768,7 @@ def plot_validity_laws(ax, results: SweepResults, *, model: str = "theory",
         ax.text(0.5, 0.5, f"no {model} error for n = {exponent:g}", ha="center",
                 transform=ax.transAxes)
         return False
-    xs = _amplitude_axis(ax, amp[sel])
+    xs = _amplitude_axis(ax, amp[sel])[0]
     xs_all = np.full(len(results), np.nan)
     xs_all[sel] = xs
     codes = _validity_codes(err, _applies(results, model))
