@@ -21,9 +21,9 @@ wave's speed, its energies are taken at face value.  It is lossless: on the damp
 axis the map measures how far a lossless prediction holds.
 
 **The continuum** runs wherever hertzchain admits it: the point's scenario with
-``[models] continuum = "auto"`` is validated by :func:`hertzchain.scenario.parse_scenario`
-(the one applicability rule, :meth:`hertzchain.scenario.ChainSpec.beyond_paper`); a
-refusal is the point's "does not apply" reason.
+``[models] continuum = "auto"`` is validated by :func:`hertzchain.scenario.parse_scenario`,
+which refuses a model that does not apply to the chain with the reason of hertzchain's
+one applicability rule; that refusal is the point's "does not apply" reason.
 
 Each point is the shipped sweep's scenario (``hertzchain/sweeps/model_validity.toml``,
 its linked rows :func:`law_rows`) run through the one run path
