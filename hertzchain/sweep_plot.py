@@ -537,6 +537,7 @@ def _positions(amp: np.ndarray) -> tuple[np.ndarray, list[float], list[str], flo
     (NaN without a sonic vacuum).  The sonic vacuum (inf) sits 1.5 decades right of the
     largest finite amplitude (at least 10²), past a break.
     """
+    amp = _rounded(amp)  # a measured 9.99e-4 is the map's 1e-3
     finite = amp[np.isfinite(amp) & (amp > 0)]
     lo = math.floor(np.log10(finite.min())) if finite.size else -1
     hi = max(math.ceil(np.log10(finite.max())) if finite.size else 0, 2)
@@ -687,9 +688,9 @@ def plot_validity_amplitude(ax, results: SweepResults, *, model: str = "theory",
         ax.text(0.5, 0.5, f"no {model} error for this law", ha="center",
                 transform=ax.transAxes)
         return False
-    xs, right = _amplitude_axis(ax, amp[sel])
-    xs_all = np.full(len(results), np.nan)
-    xs_all[sel] = xs
+    xs_all, right = _amplitude_axis(ax, amp)  # one axis for every law of the table
+    xs_all = np.where(sel, xs_all, np.nan)
+    xs = xs_all[sel]
     codes = _validity_codes(err, _applies(results, model))
     style, handles = _interface_style(results, sel)
     ur, uk = _interfaces(results, sel)
@@ -768,9 +769,8 @@ def plot_validity_laws(ax, results: SweepResults, *, model: str = "theory",
         ax.text(0.5, 0.5, f"no {model} error for n = {exponent:g}", ha="center",
                 transform=ax.transAxes)
         return False
-    xs = _amplitude_axis(ax, amp[sel])[0]
-    xs_all = np.full(len(results), np.nan)
-    xs_all[sel] = xs
+    xs_all = np.where(sel, _amplitude_axis(ax, amp)[0], np.nan)  # every law's axis
+    xs = xs_all[sel]
     codes = _validity_codes(err, _applies(results, model))
     levels = np.unique(xs)
     dampings = sorted(set(damp[sel]))
@@ -821,7 +821,8 @@ def validity_figure(results: SweepResults) -> Figure:
     exponents = sorted({n for n, _ in laws}) if len(laws) > 1 else []
     models = [m for m in VALIDITY_MODELS if f"{m}_error" in results] or list(VALIDITY_MODELS)
     rows = 1 + len(exponents)
-    fig = Figure(figsize=(4.3 * len(models) + 1.9, 3.7 * rows + 0.5), layout="constrained")
+    fig = Figure(figsize=(max(4.3 * len(models) + 1.9, 10.5), 3.7 * rows + 0.5),
+                 layout="constrained")
     grid = fig.add_gridspec(rows, len(models) + 1, width_ratios=[1.0] * len(models) + [0.42])
     handles = []
     for col, model in enumerate(models):
