@@ -209,8 +209,8 @@ class ModelSeries:
         return out
 
 
-def _partition(chain, mrun: ModelRun, iface: int | None, incident: dict) -> dict:
-    kin, pot = grain_energies(chain, mrun.v, mrun.strain)
+def _partition(chain, mrun: ModelRun, iface: int | None, incident: dict, law=None) -> dict:
+    kin, pot = grain_energies(chain, mrun.v, mrun.strain, law)
     n = chain.n
     i = n if iface is None else iface
     gw = (np.arange(n) < i).astype(float)
@@ -241,8 +241,9 @@ def _own_partition(mrun: ModelRun) -> dict[str, np.ndarray]:
     return out
 
 
-def _incident_energies(chain, first: ModelRun, iface: int | None) -> dict[str, float]:
-    kin, pot = grain_energies(chain, first.v[:1], first.strain[:1])
+def _incident_energies(chain, first: ModelRun, iface: int | None, law=None
+                       ) -> dict[str, float]:
+    kin, pot = grain_energies(chain, first.v[:1], first.strain[:1], law)
     i = chain.n if iface is None else iface
     k = float(kin[0, :i].sum())
     p = float(pot[0, :i].sum() + (0.5 * pot[0, i] if iface is not None else pot[0, i]))
@@ -361,6 +362,15 @@ class Comparison:
                                 "a wave reached a chain end",
             "run_labels": f"the discrete run's final state, t = {s.get('t', math.nan):.6g} s"}
 
+    def windows(self) -> dict[str, str]:
+        """Why each kind of difference is outside its measurement window ("" inside).
+
+        Keys ``all``, ``energy``, ``after``, ``reflected`` (module docstring,
+        "Measurement windows"): the rule every model's error is held to, for a
+        prediction made outside this comparison (the validity map's theory).
+        """
+        return _windows(self)
+
     def verdict(self) -> str:
         """One sentence: where the continuum and the theory hold for this scenario."""
         parts = []
@@ -472,7 +482,8 @@ def analyse(result: Run) -> Comparison:
     if ref is None:
         raise ValueError("no model produced samples to analyse (the discrete chain did "
                          "not run or did not complete)")
-    incident = _incident_energies(chain, ref, iface)
+    law = _elastic_law(result)
+    incident = _incident_energies(chain, ref, iface, law)
     m_left = float(chain.mass[max(0, (iface or chain.n) // 2)])
     ref_ek = 0.5 * m_left * result.incident.velocity ** 2
     # a placed wave's extent, on the common initial state (an impact's forms later)
@@ -495,7 +506,7 @@ def analyse(result: Run) -> Comparison:
     i_hit = int(np.searchsorted(ref.times, hit, side="right"))
     x_formed = min(M.first_grain(chain) + FORMED_GRAINS, M.incident_grain(chain))
     for m in sampled:
-        part = _partition(chain, m, iface, incident)
+        part = _partition(chain, m, iface, incident, law)
         fr, pk, st = M.sample_fronts(chain, m.v, m.strain, iface, ref_ek, i_cross)
         before = slice(0, min(i_hit, i_compare + 1))
         after = slice(min(i_cross, i_compare + 1), i_compare + 1)  # crossed, comparable
@@ -520,6 +531,18 @@ def analyse(result: Run) -> Comparison:
                      t_cross=t_cross, window=window, t_separated=t_sep)
     _differences(cmp)
     return cmp
+
+
+def _elastic_law(result: Run):
+    """The chain's contact law for its potential energy; None: Hertz (n = 3/2).
+
+    :func:`hertzchain.measure.grain_energies` evaluates Hertz's energy in closed form
+    (:func:`theory.wave_contact_energy`) and another exponent with the law's own.
+    """
+    from .runner import build_law
+
+    law = build_law(result.scenario.chain)[0]
+    return None if law.exponent == 1.5 else law
 
 
 def _display(result: Run, times: np.ndarray, i_cross: int, i_compare: int) -> list[int]:

@@ -676,16 +676,20 @@ def incident_strain(chain: Any, v: np.ndarray, overlaps: np.ndarray, law: Any,
 
 
 # -- energies of samples -----------------------------------------------------------------
-def grain_energies(chain: Any, v: np.ndarray, strain: np.ndarray
+def grain_energies(chain: Any, v: np.ndarray, strain: np.ndarray, law: Any = None
                    ) -> tuple[np.ndarray, np.ndarray]:
     """Kinetic energy per grain and potential energy per contact, J (docs/physics.md §6).
 
     ``v`` (…, N) m/s and ``strain`` (…, N+1) m (δ − δ0); the potential energy is the
-    contact energy minus the static energy of the same contact,
-    (2/5) k ([δ]_+^{5/2} − δ0^{5/2}) (:func:`theory.wave_contact_energy`).
+    contact energy minus the static energy of the same contact: for Hertz (``law``
+    None) (2/5) k ([δ]_+^{5/2} − δ0^{5/2}) (:func:`theory.wave_contact_energy`), for
+    another law (:class:`theory.laws.ContactLaw`) its :meth:`~theory.laws.ContactLaw.energy`,
+    k/(n+1) ([δ]_+^{n+1} − δ0^{n+1}) for F = k δ^n.
     """
     kin = 0.5 * chain.mass * np.asarray(v) ** 2
-    pot = theory.wave_contact_energy(chain.delta0 + np.asarray(strain), chain.k, chain.delta0)
+    r = chain.delta0 + np.asarray(strain)
+    pot = theory.wave_contact_energy(r, chain.k, chain.delta0) if law is None \
+        else law.energy(r, chain.k, chain.delta0)
     return kin, pot
 
 

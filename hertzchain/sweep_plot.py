@@ -31,7 +31,7 @@ __all__ = [
     "save_sweep_figures",
     "VALIDITY_MODELS",
     "validity_summary",
-    "plot_validity_map",
+    "plot_validity_laws",
     "plot_validity_amplitude",
     "validity_figure",
     "plot_ensemble",
@@ -383,14 +383,16 @@ def save_sweep_figures(results: SweepResults | str | Path, out: str | Path | Non
     return [path for path, _ in figures]
 
 
-# -- the model-validity map (issue 12) ---------------------------------------------------
+# -- the model-validity map ----------------------------------------------------------------
 VALIDITY_MODELS = ("continuum", "theory")
 """Models whose error against the discrete chain a sweep can record (columns
-``<model>_error`` of :func:`hertzchain.compare.compare_point`)."""
-_VALIDITY_CLASSES = (("within 1 %", "#009E73"), ("within 10 %", "#F0E442"),
-                     ("beyond 10 %", "#D55E00"),
-                     ("not compared (did not run or complete, or a window did not hold)",
-                      "#8C8C8C"))
+``<model>_error`` of :func:`hertzchain.compare.compare_point` and
+:func:`hertzchain.reproduce.validity.validity_point`)."""
+_SHADES = ((0.01, "#009E73"), (0.10, "#F0E442"))
+"""Bands under the thresholds (within 1 %, within 10 %), drawn faintly."""
+_NOT_COMPARED = "#8C8C8C"
+_INTERFACE_MARKERS = "os^Dv<>ph*"
+_NA_LABEL = "n/a"
 
 
 def _thresholds() -> tuple[float, float]:
@@ -399,13 +401,16 @@ def _thresholds() -> tuple[float, float]:
     return THRESHOLDS
 
 
-def _validity_codes(err: np.ndarray) -> np.ndarray:
+def _validity_codes(err: np.ndarray, applies: np.ndarray | None = None) -> np.ndarray:
+    """0 within 1 %, 1 within 10 %, 2 beyond, 3 not compared, 4 does not apply."""
     lo, hi = _thresholds()
     codes = np.full(err.shape, 3)
     ok = np.isfinite(err)
     codes[ok & (err <= lo)] = 0
     codes[ok & (err > lo) & (err <= hi)] = 1
     codes[ok & (err > hi)] = 2
+    if applies is not None:
+        codes[~applies] = 4
     return codes
 
 
@@ -422,41 +427,78 @@ def _amplitude(results: SweepResults) -> np.ndarray:
     return col if col is not None else np.full(len(results), np.nan)
 
 
-def validity_summary(results: SweepResults) -> list[dict]:
-    """Per model and amplitude: how many points are within 1 % and 10 % of the chain.
+def _rounded(x: np.ndarray) -> np.ndarray:
+    """Values to two significant digits (inf, NaN and 0 kept): the map's group keys."""
+    return np.array([float(f"{a:.2g}") if np.isfinite(a) else a for a in x])
 
-    Rows are grouped by the incident strain / δ0 (column ``incident_strain_over_delta0``,
-    rounded to two significant digits; inf = sonic vacuum).  Each entry has ``model``,
+
+def _law(results: SweepResults) -> tuple[np.ndarray, np.ndarray]:
+    """Exponent n and drag level β·t_end per row (1.5 and 0 where the table has none)."""
+    n = _column(results, "exponent")
+    g = _column(results, "damping")
+    size = len(results)
+    return (np.full(size, 1.5) if n is None else n,
+            np.zeros(size) if g is None else _rounded(np.nan_to_num(g)))
+
+
+def _applies(results: SweepResults, model: str) -> np.ndarray:
+    """Whether ``model`` applies at each row (column ``<model>_applies``; True if absent)."""
+    if f"{model}_applies" not in results:
+        return np.ones(len(results), dtype=bool)
+    return np.asarray(results[f"{model}_applies"]).astype(bool)
+
+
+def validity_summary(results: SweepResults) -> list[dict]:
+    """Per model, law and amplitude: how many points are within 1 % and 10 % of the chain.
+
+    Rows are grouped by the contact law's exponent (column ``exponent``, 1.5 if absent),
+    the drag level (``damping`` = β·t_end, 0 if absent) and the incident strain / δ0
+    (column ``incident_strain_over_delta0``; both rounded to two significant digits;
+    inf = sonic vacuum).  Each entry has ``model``, ``exponent``, ``damping``,
     ``strain_over_delta0``, ``n`` (points), ``within_1``, ``within_10``, ``beyond_10``,
-    ``not_compared``, ``max_error`` (over the compared points), ``equation`` (the
-    continuum equations that ran, column ``continuum_model``: e.g. "eq4"; "" for the
-    theory) and ``reasons`` (why points were not compared: the distinct first clauses of
+    ``not_compared`` (a measurement window did not hold, or the model did not complete),
+    ``does_not_apply`` (column ``<model>_applies`` false), ``max_error`` and
+    ``median_error`` (over the compared points), ``equation`` (the continuum equations
+    that ran, column ``continuum_model``: e.g. "eq4"; "" for the theory), ``theories``
+    (the theories that answered, column ``theory_model``; "" for the continuum),
+    ``reasons`` (why points were not compared: the distinct first clauses of
     ``<model>_note``, or of ``continuum_stopped_by`` for a continuum that did not
-    complete).
+    complete) and ``does_not_apply_reasons`` (the distinct reasons, numbers elided).
     """
-    amp = _amplitude(results)
-    key = np.array([float(f"{a:.2g}") if np.isfinite(a) else a for a in amp])
+    amp = _rounded(_amplitude(results))
+    expo, damp = _law(results)
     out = []
     for model in VALIDITY_MODELS:
         err = _column(results, f"{model}_error")
         if err is None:
             continue
-        codes = _validity_codes(err)
-        groups = sorted({float(k) for k in key if not np.isnan(k)}) or [math.nan]
-        for g in groups:
-            sel = key == g if not np.isnan(g) else np.isnan(key)
-            e = err[sel]
-            out.append({"model": model, "strain_over_delta0": g, "n": int(sel.sum()),
-                        "within_1": int((codes[sel] == 0).sum()),
-                        "within_10": int((codes[sel] <= 1).sum()),
-                        "beyond_10": int((codes[sel] == 2).sum()),
-                        "not_compared": int((codes[sel] == 3).sum()),
-                        "max_error": float(np.nanmax(e)) if np.isfinite(e).any()
-                        else math.nan,
-                        "equation": "/".join(sorted(set(_text(results, "continuum_model",
-                                                              sel)) - {""}))
-                        if model == "continuum" else "",
-                        "reasons": _reasons(results, model, sel & (codes == 3))})
+        codes = _validity_codes(err, _applies(results, model))
+        laws = sorted({(float(a), float(b)) for a, b in zip(expo, damp, strict=True)})
+        groups = sorted({float(k) for k in amp if not np.isnan(k)}) or [math.nan]
+        for n, g in laws:
+            for a in groups:
+                sel = (expo == n) & (damp == g) & (amp == a if not np.isnan(a)
+                                                   else np.isnan(amp))
+                if not sel.any():
+                    continue
+                e = err[sel & (codes <= 2)]
+                out.append({
+                    "model": model, "exponent": n, "damping": g, "strain_over_delta0": a,
+                    "n": int(sel.sum()), "within_1": int((codes[sel] == 0).sum()),
+                    "within_10": int((codes[sel] <= 1).sum()),
+                    "beyond_10": int((codes[sel] == 2).sum()),
+                    "not_compared": int((codes[sel] == 3).sum()),
+                    "does_not_apply": int((codes[sel] == 4).sum()),
+                    "max_error": float(np.max(e)) if e.size else math.nan,
+                    "median_error": float(np.median(e)) if e.size else math.nan,
+                    "equation": "/".join(sorted(set(_text(results, "continuum_model",
+                                                          sel & (codes <= 2))) - {""}))
+                    if model == "continuum" else "",
+                    "theories": "/".join(sorted(set(_text(results, "theory_model",
+                                                          sel & (codes <= 2))) - {""}))
+                    if model == "theory" else "",
+                    "reasons": _reasons(results, model, sel & (codes == 3)),
+                    "does_not_apply_reasons": _na_reasons(results, model, sel & (codes == 4))})
     return out
 
 
@@ -478,141 +520,344 @@ def _reasons(results: SweepResults, model: str, sel: np.ndarray) -> str:
     return "; ".join(sorted(first - {""}))
 
 
-def plot_validity_map(ax, results: SweepResults, *, model: str = "continuum",
-                      amplitude: float | None = None, legend: bool = True) -> bool:
-    """Draw where ``model`` is within 1 % / 10 % of the discrete chain over (α_ρ, α_kn).
+def _na_reasons(results: SweepResults, model: str, sel: np.ndarray) -> str:
+    """Distinct reasons why ``model`` does not apply at the selected rows (numbers elided).
+
+    The note's text after "does not apply: ", up to a trailing "; set ..." (how to
+    switch the model off), with the values after "= " of the chain's keys replaced by
+    "…" (one reason for every drag level or exponent).
+    """
+    import re
+
+    out = set()
+    for note in _text(results, f"{model}_note", sel):
+        text = note.removeprefix("does not apply: ").split("; set ")[0]
+        out.add(re.sub(r"(\[chain\] \w+) = [^,;)]+", r"\1 = …", text))
+    return "; ".join(sorted(out - {""}))
+
+
+def _positions(amp: np.ndarray) -> tuple[np.ndarray, list[float], list[str], float]:
+    """Horizontal positions of amplitudes: log10(strain/δ0), the sonic vacuum on its tick.
+
+    Returns the positions, the tick positions and labels, and the x of the axis break
+    (NaN without a sonic vacuum).  The sonic vacuum (inf) sits 1.5 decades right of the
+    largest finite amplitude (at least 10²), past a break.
+    """
+    amp = _rounded(amp)  # a measured 9.99e-4 is the map's 1e-3
+    finite = amp[np.isfinite(amp) & (amp > 0)]
+    lo = math.floor(np.log10(finite.min())) if finite.size else -1
+    hi = max(math.ceil(np.log10(finite.max())) if finite.size else 0, 2)
+    x_sv = hi + 1.5
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xs = np.where(np.isinf(amp), x_sv, np.log10(np.where(amp > 0, amp, np.nan)))
+    ticks = [float(t) for t in range(lo, hi + 1)]
+    labels = [f"$10^{{{t}}}$" if t not in (0, 1) else f"{10 ** t:g}" for t in range(lo, hi + 1)]
+    if np.isinf(amp).any():
+        ticks.append(x_sv)
+        labels.append("sonic\nvacuum")
+        return xs, ticks, labels, hi + 0.75
+    return xs, ticks, labels, math.nan
+
+
+def _amplitude_axis(ax, amp: np.ndarray, *, ylabel: bool = True) -> tuple[np.ndarray, float]:
+    """Set up ``ax`` for error (%) against strain/δ0; the rows' x positions and the break.
+
+    The break is the x left of the sonic vacuum's column (the axis' right end without
+    one).
+    """
+    xs, ticks, labels, brk = _positions(amp)
+    lo, hi = _thresholds()
+    ax.set_yscale("log")
+    ax.set_xticks(ticks, labels)
+    ax.set_xlim(ticks[0] - 0.5, ticks[-1] + 0.5)
+    floor = 1e-4
+    ax.set_ylim(floor, 100.0)
+    ax.axhspan(floor, 100 * lo, color=_SHADES[0][1], alpha=0.10, lw=0)
+    ax.axhspan(100 * lo, 100 * hi, color=_SHADES[1][1], alpha=0.16, lw=0)
+    for level in (lo, hi):
+        ax.axhline(100 * level, color="0.35", lw=0.7, ls=":")
+    ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    if math.isfinite(brk):  # the sonic vacuum is no point of the log axis: its own column
+        ax.axvspan(brk, ticks[-1] + 0.5, color="0.5", alpha=0.08, lw=0)
+        for y in (0.0, 1.0):
+            for x in (brk - 0.05, brk + 0.05):
+                ax.plot([x - 0.05, x + 0.05], [y - 0.02, y + 0.02], color="k", lw=0.9,
+                        transform=ax.get_xaxis_transform(), clip_on=False)
+    ax.set_xlabel(r"incident strain / $\delta_0$")
+    if ylabel:
+        ax.set_ylabel("error against the discrete chain (%)")
+    return xs, (brk if math.isfinite(brk) else ticks[-1] + 0.5)
+
+
+def _interfaces(results: SweepResults, sel: np.ndarray):
+    """(α_ρ values, α_kn values) of the selected rows, sorted; None if there are none."""
+    ar, ak = _column(results, "alpha_rho"), _column(results, "alpha_kn")
+    if ar is None or ak is None or not sel.any():
+        return None
+    return np.unique(_rounded(ar[sel])), np.unique(_rounded(ak[sel]))
+
+
+def _interface_style(results: SweepResults, sel: np.ndarray):
+    """Colour (by α_ρ) and marker (by α_kn) of each selected row, and the legend handles."""
+    ar, ak = _rounded(_column(results, "alpha_rho")), _rounded(_column(results, "alpha_kn"))
+    ur, uk = _interfaces(results, sel)
+    cmap = __import__("matplotlib").colormaps["plasma"]
+    colours = {a: cmap(0.1 + 0.75 * i / max(ur.size - 1, 1)) for i, a in enumerate(ur)}
+    markers = {a: _INTERFACE_MARKERS[i % len(_INTERFACE_MARKERS)] for i, a in enumerate(uk)}
+    rows = np.flatnonzero(sel)
+    style = {int(j): (colours[ar[j]], markers[ak[j]]) for j in rows}
+    handles = ([Line2D([], [], ls="", marker="o", color=colours[a], ms=6,
+                       label=rf"$\alpha_\rho$ = {a:g}") for a in ur]
+               + [Line2D([], [], ls="", marker=markers[a], mfc="none", mec="0.2", ms=6,
+                         label=rf"$\alpha_{{k_n}}$ = {a:g}") for a in uk])
+    return style, handles
+
+
+def _regimes(ax, model: str, xs: np.ndarray, names: list[str], right: float) -> None:
+    """Name, over the panel, the equation or theory that ran on each side of its switch.
+
+    The switch (dashed line) is ``"auto"``'s Eq. 4 → Eq. 7 strain/δ0
+    (:data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`) for the continuum and
+    :data:`theory.strong_interface.STRONG_THRESHOLD` (lattice acoustics → quasi-particle)
+    for the theory; the names are those the points recorded (``xs``: their positions,
+    log10 of strain/δ0, ``names``: what ran there; ``right``: the x where the finite
+    amplitudes end).
+    """
+    from theory.strong_interface import STRONG_THRESHOLD
+
+    from .scenario import AUTO_EQ4_MAX_STRAIN
+
+    switch = math.log10(AUTO_EQ4_MAX_STRAIN if model == "continuum" else STRONG_THRESHOLD)
+    lo = ax.get_xlim()[0]
+    ax.axvline(switch, color="0.45", lw=0.8, ls="--")
+    for side, (a, b) in (("below", (lo, switch)), ("above", (switch, right))):
+        here = (xs < switch) if side == "below" else (xs >= switch)
+        found = sorted({n for n, h in zip(names, here, strict=True) if h and n})
+        if found:
+            ax.text(0.5 * (a + b), 1.01, " / ".join(found), transform=ax.get_xaxis_transform(),
+                    ha="center", va="bottom", fontsize="x-small", color="0.25")
+
+
+_MODEL_LABELS = {"continuum": "continuum", "theory": "theory"}
+_REGIME_COLUMN = {"continuum": "continuum_model", "theory": "theory_model"}
+_REGIME_NAMES = {"eq4": "Eq. 4", "eq7": "Eq. 7", "kdv": "KdV"}
+
+
+def _median_line(ax, x: np.ndarray, y: np.ndarray, sonic: bool, **style) -> None:
+    """A line through (x, y); the sonic vacuum (the last x, if ``sonic``) a bar of its own."""
+    last = x.size - 1 if sonic else x.size
+    ax.plot(x[:last], y[:last], "-", **style)
+    if sonic:
+        ax.plot([x[-1] - 0.22, x[-1] + 0.22], [y[-1], y[-1]], "-", **style)
+
+
+def plot_validity_amplitude(ax, results: SweepResults, *, model: str = "theory",
+                            exponent: float = 1.5, damping: float = 0.0,
+                            legend: bool = False) -> bool:
+    """Error of ``model`` against the incident strain / δ0, one marker per interface.
 
     Parameters
     ----------
     ax : matplotlib.axes.Axes
         Target axes.
     results : SweepResults
-        A sweep whose points ran :func:`hertzchain.compare.compare_point`.
+        A sweep (or reproduce's table) with ``<model>_error`` columns
+        (:func:`hertzchain.reproduce.validity.validity_point`).
     model : {"continuum", "theory"}
-        Whose error (column ``<model>_error``: the largest of |ΔE_T|, |ΔE_R| over the
-        incident energy and the relative transmitted front speed).
-    amplitude : float, optional
-        Incident strain / δ0 of the rows drawn (nearest; inf = sonic vacuum); default
-        the smallest in the table.
+        Whose error (the largest of |ΔE_T|, |ΔE_R| over the incident energy and the
+        relative transmitted front speed), in % on a log axis.
+    exponent, damping : float
+        The law drawn: contact exponent n and drag level β·t_end (rows of other laws
+        are left out).
     legend : bool
-        Draw the class legend.
+        Add the interface legend (colour α_ρ, marker α_kn) right of the axes.
+
+    Notes
+    -----
+    x: log10 of the strain/δ0, the sonic vacuum on its own labelled tick past a break;
+    black line: the median over the interfaces compared; grey ×: not compared (a window
+    did not hold); "n/a": the model does not apply there; shaded: within 1 % and 10 %;
+    over the panel: the equation or theory that ran (columns ``continuum_model``,
+    ``theory_model``).
 
     Returns
     -------
     bool
-        False (and a note on the axes) if the table has no such error or no α grid.
+        False (and a note on the axes) if the table has no such error or law.
     """
     err = _column(results, f"{model}_error")
-    xr, yk = _column(results, "alpha_rho"), _column(results, "alpha_kn")
-    if err is None or xr is None or yk is None:
-        ax.text(0.5, 0.5, f"no {model} error in this sweep", ha="center",
+    amp = _amplitude(results)
+    expo, damp = _law(results)
+    sel = (expo == exponent) & (damp == float(f"{damping:.2g}")) & ~np.isnan(amp)
+    if err is None or not sel.any() or _interfaces(results, sel) is None:
+        ax.text(0.5, 0.5, f"no {model} error for this law", ha="center",
                 transform=ax.transAxes)
         return False
-    amp = _amplitude(results)
-    levels = np.unique(amp[~np.isnan(amp)])
-    sel = np.ones(len(results), dtype=bool)
-    if levels.size:
-        target = levels[0] if amplitude is None else amplitude
-        near = levels[np.argmin(np.abs(np.log(levels) - np.log(target)))] \
-            if np.isfinite(target) else levels[-1]
-        sel = np.isclose(amp, near, rtol=0.05) | (np.isinf(amp) & np.isinf(near))
-        ratio = "sonic vacuum" if np.isinf(near) else rf"$\xi_m/\delta_0$ = {near:.2g}"
-    else:
-        ratio = ""
-    codes = _validity_codes(err[sel])
-    cmap = ListedColormap([c for _, c in _VALIDITY_CLASSES])
-    ax.scatter(xr[sel], yk[sel], c=codes, cmap=cmap, vmin=-0.5, vmax=3.5, s=140,
-               marker="s", edgecolors="k", linewidths=0.4)
-    for x, y, e in zip(xr[sel], yk[sel], err[sel], strict=True):
-        if np.isfinite(e):
-            ax.annotate(f"{100 * e:.2g}", (x, y), ha="center", va="center", fontsize=6)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    _log_ticks(ax.xaxis)
-    _log_ticks(ax.yaxis)
-    ax.margins(0.12)
-    ax.set_xlabel(_LABELS["alpha_rho"])
-    ax.set_ylabel(_LABELS["alpha_kn"])
-    ax.set_title(f"{model} vs discrete, error in % ({ratio})", fontsize="small")
+    xs_all, right = _amplitude_axis(ax, amp)  # one axis for every law of the table
+    xs_all = np.where(sel, xs_all, np.nan)
+    xs = xs_all[sel]
+    codes = _validity_codes(err, _applies(results, model))
+    style, handles = _interface_style(results, sel)
+    ur, uk = _interfaces(results, sel)
+    spread = 0.12 * (np.arange(ur.size * uk.size) / max(ur.size * uk.size - 1, 1) - 0.5) \
+        if ur.size * uk.size > 1 else np.zeros(1)
+    ar, ak = _rounded(_column(results, "alpha_rho")), _rounded(_column(results, "alpha_kn"))
+    for j in np.flatnonzero(sel & (codes <= 2)):
+        dx = spread[int(np.searchsorted(ur, ar[j])) * uk.size + int(np.searchsorted(uk, ak[j]))]
+        colour, marker = style[int(j)]
+        ax.plot(xs_all[j] + dx, 100 * err[j], marker, color=colour, ms=5.5, mec="k",
+                mew=0.3, ls="")
+    levels = np.unique(xs)
+    med = np.array([np.median(err[sel & (codes <= 2) & (xs_all == x)]) if
+                    (sel & (codes <= 2) & (xs_all == x)).any() else np.nan for x in levels])
+    _median_line(ax, levels, 100 * med, np.isinf(amp[sel]).any(), color="k", lw=1.1,
+                 zorder=1)
+    bottom = ax.get_ylim()[0]
+    for x in levels:
+        here = sel & (xs_all == x)
+        if (codes[here] == 3).any():
+            ax.plot(x, bottom * 1.6, "x", color=_NOT_COMPARED, ms=6, mew=1.2)
+        if (codes[here] == 4).all():
+            ax.text(x, bottom * 1.6, _NA_LABEL, ha="center", va="bottom",
+                    fontsize="small", color="0.35", style="italic")
+    names = [_REGIME_NAMES.get(n, n) for n in
+             _text(results, _REGIME_COLUMN[model], sel & (codes <= 2))]
+    _regimes(ax, model, xs_all[sel & (codes <= 2)], names, right)
+    law = "" if (exponent, damping) == (1.5, 0.0) else \
+        f", n = {exponent:g}" + (rf", $\beta t_{{end}}$ = {damping:g}" if damping else "")
+    ax.set_title(f"{_MODEL_LABELS[model]}{law}", fontsize="medium", pad=14)
     if legend:
-        ax.legend(handles=[Patch(facecolor=c, edgecolor="k", label=lbl)
-                           for lbl, c in _VALIDITY_CLASSES],
-                  fontsize="x-small", loc="upper left", bbox_to_anchor=(1.02, 1.0),
+        extra = [Line2D([], [], color="k", lw=1.1, label="median"),
+                 Line2D([], [], ls="", marker="x", color=_NOT_COMPARED, mew=1.2,
+                        label="not compared")]
+        ax.legend(handles=handles + extra, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                  fontsize="x-small", frameon=False)
+    return True
+
+
+def plot_validity_laws(ax, results: SweepResults, *, model: str = "theory",
+                       exponent: float = 1.5, legend: bool = True) -> bool:
+    """Median and largest error of ``model`` over the interfaces, per drag level, for one n.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Target axes.
+    results : SweepResults
+        A sweep (or reproduce's table) with ``<model>_error``, ``exponent`` and
+        ``damping`` columns.
+    model : {"continuum", "theory"}
+        Whose error, in % on a log axis against the strain/δ0 (axis as
+        :func:`plot_validity_amplitude`).
+    exponent : float
+        The contact law's n drawn.
+    legend : bool
+        Add the legend of the drag levels.
+
+    Notes
+    -----
+    One colour per drag level β·t_end (black: lossless): line and filled marker the
+    median over the interfaces compared, open triangle the largest; "n/a" where the
+    model does not apply to any point of that amplitude (and "(n/a)" after a drag level
+    where it applies nowhere).
+
+    Returns
+    -------
+    bool
+        False (and a note on the axes) if the table has no such error or exponent.
+    """
+    err = _column(results, f"{model}_error")
+    amp = _amplitude(results)
+    expo, damp = _law(results)
+    sel = (expo == exponent) & ~np.isnan(amp)
+    if err is None or not sel.any():
+        ax.text(0.5, 0.5, f"no {model} error for n = {exponent:g}", ha="center",
+                transform=ax.transAxes)
+        return False
+    xs_all = np.where(sel, _amplitude_axis(ax, amp)[0], np.nan)  # every law's axis
+    xs = xs_all[sel]
+    codes = _validity_codes(err, _applies(results, model))
+    levels = np.unique(xs)
+    dampings = sorted(set(damp[sel]))
+    cmap = __import__("matplotlib").colormaps["viridis"]
+    bottom = ax.get_ylim()[0]
+    for i, g in enumerate(dampings):
+        colour = "k" if g == 0 else cmap(0.15 + 0.7 * (i - (0 in dampings)) /
+                                         max(len(dampings) - 1 - (0 in dampings), 1))
+        med, top = [], []
+        for x in levels:
+            e = err[sel & (damp == g) & (xs_all == x) & (codes <= 2)]
+            med.append(np.median(e) if e.size else np.nan)
+            top.append(np.max(e) if e.size else np.nan)
+        label = "lossless" if g == 0 else rf"$\beta t_{{end}}$ = {g:g}"
+        if (codes[sel & (damp == g)] == 4).all():
+            label += f" ({_NA_LABEL})"
+        _median_line(ax, levels, 100 * np.asarray(med), np.isinf(amp[sel]).any(),
+                     color=colour, lw=1.1)
+        ax.plot(levels, 100 * np.asarray(med), "o", color=colour, ms=4, label=label)
+        ax.plot(levels, 100 * np.asarray(top), "^", color=colour, mfc="none", ms=5)
+    for x in levels:
+        here = sel & (xs_all == x)
+        if (codes[here] == 4).all():
+            ax.text(x, bottom * 1.6, _NA_LABEL, ha="center", va="bottom",
+                    fontsize="small", color="0.35", style="italic")
+        elif (codes[here] == 3).any():
+            ax.plot(x, bottom * 1.6, "x", color=_NOT_COMPARED, ms=6, mew=1.2)
+    ax.set_title(f"{_MODEL_LABELS[model]}, n = {exponent:g}", fontsize="medium")
+    if legend:
+        ax.legend(handles=ax.get_legend_handles_labels()[0]
+                  + [Line2D([], [], ls="", marker="^", mfc="none", color="0.3",
+                            label="largest")], fontsize="x-small", loc="upper left",
                   frameon=False)
     return True
 
 
-def plot_validity_amplitude(ax, results: SweepResults) -> bool:
-    """Largest and median error of each model over the α grid against strain / δ0.
-
-    The sonic vacuum (δ0 = 0, strain/δ0 = ∞) is drawn at the right edge, one decade past
-    the largest finite amplitude.  Dashed lines: the 1 % and 10 % thresholds.
-    """
-    amp = _amplitude(results)
-    finite = amp[np.isfinite(amp)]
-    if not np.isfinite(amp).any() and not np.isinf(amp).any():
-        ax.text(0.5, 0.5, "no amplitude column", ha="center", transform=ax.transAxes)
-        return False
-    x_inf = 10 * finite.max() if finite.size else 1.0
-    xs = np.where(np.isinf(amp), x_inf, amp)
-    drawn = False
-    for model, colour in zip(VALIDITY_MODELS, ("#0072B2", "#D55E00"), strict=True):
-        err = _column(results, f"{model}_error")
-        if err is None:
-            continue
-        levels = np.unique(xs[np.isfinite(xs)])
-        worst = [np.nanmax(err[xs == v]) if np.isfinite(err[xs == v]).any() else np.nan
-                 for v in levels]
-        median = [np.nanmedian(err[xs == v]) if np.isfinite(err[xs == v]).any() else np.nan
-                  for v in levels]
-        ax.plot(levels, worst, "o-", color=colour, label=f"{model}: largest")
-        ax.plot(levels, median, "s--", color=colour, mfc="none", label=f"{model}: median")
-        drawn = True
-    for level in _thresholds():
-        ax.axhline(level, color="0.4", lw=0.8, ls=":")
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel(r"incident strain / $\delta_0$ (last point: sonic vacuum)")
-    ax.set_ylabel("error vs discrete chain")
-    if drawn:
-        ax.legend(fontsize="x-small")
-    return drawn
-
-
 def validity_figure(results: SweepResults) -> Figure:
-    """The validity map: each model over (α_ρ, α_kn) per amplitude; error vs amplitude.
+    """The validity map: each model's error against strain/δ0, per interface and per law.
 
-    One row per model (continuum, theory) of :func:`plot_validity_map` panels, one
-    column per incident strain / δ0 in the table (the sonic vacuum last), and
-    :func:`plot_validity_amplitude` on the right.
+    Top row, one panel per model (continuum, theory): :func:`plot_validity_amplitude`
+    for the lossless Hertz chain (the table's first law if it has none), the interface
+    legend on the right.  If the table has other laws (exponents, drag levels), one
+    more row per exponent: :func:`plot_validity_laws` for each model.
     """
-    amp = _amplitude(results)
-    levels = [float(a) for a in np.unique(amp[~np.isnan(amp)])] or [math.nan]
-    n = len(levels)
-    fig = Figure(figsize=(2.3 * n + 5.0, 5.2), layout="constrained")
-    grid = fig.add_gridspec(2, n + 1, width_ratios=[1.0] * n + [2.2])
-    for row, model in enumerate(VALIDITY_MODELS):
-        for col, level in enumerate(levels):
-            ax = fig.add_subplot(grid[row, col])
-            drawn = plot_validity_map(ax, results, model=model,
-                                      amplitude=None if math.isnan(level) else level,
-                                      legend=False)
-            if not drawn:
-                continue
-            where = "sonic vacuum" if math.isinf(level) else rf"$\xi_m/\delta_0$ = {level:.2g}"
-            ax.set_title(f"{model}, {where}", fontsize="x-small")
-            ax.tick_params(labelsize="xx-small")
-            ax.xaxis.label.set_size("x-small")
-            ax.yaxis.label.set_size("x-small")
+    expo, damp = _law(results)
+    laws = sorted({(float(a), float(b)) for a, b in zip(expo, damp, strict=True)})
+    main = (1.5, 0.0) if (1.5, 0.0) in laws else (laws[0] if laws else (1.5, 0.0))
+    exponents = sorted({n for n, _ in laws}) if len(laws) > 1 else []
+    models = [m for m in VALIDITY_MODELS if f"{m}_error" in results] or list(VALIDITY_MODELS)
+    rows = 1 + len(exponents)
+    fig = Figure(figsize=(max(4.3 * len(models) + 1.9, 10.5), 3.7 * rows + 0.5),
+                 layout="constrained")
+    grid = fig.add_gridspec(rows, len(models) + 1, width_ratios=[1.0] * len(models) + [0.42])
+    handles = []
+    for col, model in enumerate(models):
+        ax = fig.add_subplot(grid[0, col])
+        plot_validity_amplitude(ax, results, model=model, exponent=main[0], damping=main[1])
+        if col:
+            ax.set_ylabel("")
+        for row, n in enumerate(exponents, start=1):
+            lax = fig.add_subplot(grid[row, col], sharey=ax)
+            plot_validity_laws(lax, results, model=model, exponent=n, legend=col == 0)
             if col:
-                ax.set_ylabel("")
-            if row == 0:
-                ax.set_xlabel("")
-    side = fig.add_subplot(grid[:, n])
-    plot_validity_amplitude(side, results)
-    side.legend(handles=side.get_legend_handles_labels()[0]
-                + [Patch(facecolor=c, edgecolor="k", label=lbl)
-                   for lbl, c in _VALIDITY_CLASSES], fontsize="xx-small")
+                lax.set_ylabel("")
+            if row < rows - 1:
+                lax.set_xlabel("")
+        if rows > 1:
+            ax.set_xlabel("")
+    expo_ok = (expo == main[0]) & (damp == main[1])
+    if _interfaces(results, expo_ok) is not None:
+        handles = _interface_style(results, expo_ok)[1]
+    lax = fig.add_subplot(grid[0, len(models)])
+    lax.axis("off")
+    lo, hi = _thresholds()
+    lax.legend(handles=handles + [
+        Line2D([], [], color="k", lw=1.1, label="median"),
+        Line2D([], [], ls="", marker="x", color=_NOT_COMPARED, mew=1.2, label="not compared"),
+        Patch(facecolor=_SHADES[0][1], alpha=0.25, label=f"within {100 * lo:.0f} %"),
+        Patch(facecolor=_SHADES[1][1], alpha=0.35, label=f"within {100 * hi:.0f} %")],
+        loc="upper left", fontsize="x-small", frameon=False, title="interface",
+        title_fontsize="x-small")
     fig.suptitle(_title(results) + " — error against the discrete chain, in % (1 % and "
                  "10 % thresholds)", fontsize="small")
     return fig

@@ -251,8 +251,8 @@ SUMMARY_KEPT = "runner-summary/1"
 """What :func:`run_scenario_cached` keeps of a point: the runner's summary (version 1)."""
 
 
-def run_point_cached(ctx: Context, stem: str, scenario, reduce, *, kept: str
-                     ) -> tuple[dict, Path]:
+def run_point_cached(ctx: Context, stem: str, scenario, reduce, *, kept: str,
+                     samples: bool | None = None) -> tuple[dict, Path]:
     """What an item keeps of one scenario's models, cached in a small HDF5 file.
 
     For items of many points that print a few numbers per point (Fig. 7's labels, the
@@ -280,6 +280,9 @@ def run_point_cached(ctx: Context, stem: str, scenario, reduce, *, kept: str
         Names what ``reduce`` keeps and its version (e.g. ``"validity-row/1"``): change
         it whenever ``reduce`` changes, so that no file of the old reduction is reused
         (a cached row is never recomputed otherwise).
+    samples : bool, optional
+        Passed to :func:`hertzchain.models.run` (True: sample the discrete chain at the
+        common times even without a continuum, for :func:`hertzchain.compare.analyse`).
 
     Returns
     -------
@@ -308,7 +311,7 @@ def run_point_cached(ctx: Context, stem: str, scenario, reduce, *, kept: str
             return got, path
     try:  # no output file, no checkpoint: the finished points are cached
         got = reduce(run(sc, progress=ctx.progress, wave_cache=ctx.cache,
-                         checkpoint_interval=ctx.checkpoint_interval))
+                         checkpoint_interval=ctx.checkpoint_interval, samples=samples))
     except C.Interrupted as exc:
         raise _retell(exc, ctx, f"this point is not saved, the {stem} points before it "
                       "are") from None
