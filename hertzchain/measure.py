@@ -678,14 +678,34 @@ def incident_strain(chain: Any, v: np.ndarray, overlaps: np.ndarray, law: Any,
 # -- energies of samples -----------------------------------------------------------------
 def grain_energies(chain: Any, v: np.ndarray, strain: np.ndarray
                    ) -> tuple[np.ndarray, np.ndarray]:
-    """Kinetic energy per grain and potential energy per contact, J (docs/physics.md §6).
+    r"""Kinetic energy per grain and potential energy per contact, J (docs/physics.md §6).
 
     ``v`` (…, N) m/s and ``strain`` (…, N+1) m (δ − δ0); the potential energy is the
     contact energy minus the static energy of the same contact,
-    (2/5) k ([δ]_+^{5/2} − δ0^{5/2}) (:func:`theory.wave_contact_energy`).
+    (2/5) k ([δ]_+^{5/2} − δ0^{5/2}) (:func:`theory.wave_contact_energy`), the linear
+    term F0 (δ − δ0) kept (Table 2).
+
+    Under gravity (a body force m_i g on every grain, ``chain.gravity``) the energy the
+    equations of motion conserve also holds the body force's potential −g Σ_i m_i u_i
+    (:meth:`discrete.Simulation.energy`, which books it per grain from the displacements).
+    From strains alone it is written per contact: with δ_j − δ0_j = u_{j-1} − u_j and
+    the walls at rest (the bottom wall carries the weight), Σ_i m_i g u_i =
+    Σ_j W_j (δ_j − δ0_j), W_j = g Σ_{i<j} m_i the weight above contact j (summation by
+    parts; W_0 = 0).  So contact j's potential energy is
+    U(δ_j) − U(δ0_j) − W_j (δ_j − δ0_j): summed over the chain it is the conserved
+    energy of the discrete run, for the discrete chain's samples and a continuum's
+    alike (without it the linear term g Σ m u, first order in the strain and weighted
+    by the depth's static force, made the whole chain's energy of a 100-grain vertical
+    chain swing from 0.93 to 3.5 of E_in as the wave went down).  Without gravity
+    W = 0: the definition above, unchanged.
     """
+    strain = np.asarray(strain)
     kin = 0.5 * chain.mass * np.asarray(v) ** 2
-    pot = theory.wave_contact_energy(chain.delta0 + np.asarray(strain), chain.k, chain.delta0)
+    pot = theory.wave_contact_energy(chain.delta0 + strain, chain.k, chain.delta0)
+    g = float(getattr(chain, "gravity", 0.0))
+    if g:
+        weight_above = g * np.r_[0.0, np.cumsum(chain.mass)]
+        pot = pot - weight_above * strain
     return kin, pot
 
 

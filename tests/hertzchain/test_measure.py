@@ -447,3 +447,25 @@ def test_handover_row_is_the_first_row_from_which_the_striker_stays_below():
     assert handover_row(ek, ep, 1, 2, fraction=1e-3) == 2
     assert handover_row(ek, ep, 1, 3, fraction=1e-3) is None
     assert handover_row(ek, ep, 1, 5, fraction=0.9) == 0
+
+
+def test_sampled_energy_under_gravity_is_the_simulation_s_conserved_energy():
+    # measure.grain_energies writes the body force's potential energy −g Σ m_i u_i per
+    # contact (−W_j (δ_j − δ0_j), summation by parts): summed, it is the energy the run
+    # conserves (discrete.Simulation.energy, which books −m_i g u_i per grain from the
+    # displacements) to round-off — an independent route through the displacements
+    from hertzchain.measure import grain_energies
+    from hertzchain.runner import run_simulation
+
+    sc = _sc([{"n": 60}], {"kind": "impact", "v0": 0.01}, {"t_end": 4e-4},
+             chain={"gravity": 9.81, "top_force": 0.0})
+    _, sim = run_simulation(sc, save=False)
+    chain = sim.chain
+    kin, pot = grain_energies(chain, sim.v, sim.overlaps() - chain.delta0)
+    e = float(kin.sum() + pot.sum())
+    assert e == pytest.approx(sim.energy(), rel=1e-9)
+    assert pytest.approx(sim.energy(), rel=1e-6) == sim.energy0
+    # and the gravity term matters: without it the sum is off by g Σ m u
+    plain = float(kin.sum() + (pot + 9.81 * np.r_[0.0, np.cumsum(chain.mass)]
+                              * (sim.overlaps() - chain.delta0)).sum())
+    assert abs(plain - e) > 1e-2 * abs(e)
