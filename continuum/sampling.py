@@ -12,6 +12,12 @@ continuum run and a DEM run are compared with identical definitions:
   contact, U(δ_j) - U(δ0_j) with U the law's elastic energy (Hertz: (2/5) k_j
   ([δ_j]_+^{5/2} - δ0_j^{5/2})), J (paper Table 2, docs/physics.md §6 — it keeps the
   linear term F0_j (δ_j - δ0_j), so an expansive wave has negative potential energy);
+* under gravity (a body force m_i g per grain) the potential energy of contact j also
+  holds the body force's share, −W_j (δ_j − δ0_j) with W_j = g Σ_{i<j} m_i the weight
+  above it: summed over the chain (walls at rest) it is −g Σ_i m_i u_i, the body force's
+  potential energy, so that the sum is the energy the discrete chain conserves
+  (:func:`hertzchain.measure.grain_energies` uses the same definition); zero without
+  gravity;
 * energy of grain i: kinetic plus half of each of its two contacts.
 
 In a homogenised periodic section (:mod:`continuum.cells`) the equation carries the
@@ -50,7 +56,7 @@ class GrainSample:
         ½ m v², J.
     potential : numpy.ndarray, shape (N+1,)
         U(δ) - U(δ0) per contact (the law's elastic energy; Hertz (2/5) k ([δ]_+^{5/2}
-        - δ0^{5/2})), J.
+        - δ0^{5/2})), minus W (δ - δ0) under gravity (module docstring), J.
     force : numpy.ndarray, shape (N+1,)
         Elastic contact force F_el(δ) (Hertz k [δ]_+^{3/2}), N.
     delta0 : numpy.ndarray, shape (N+1,)
@@ -109,10 +115,14 @@ def sample_grains(pde, state) -> GrainSample:
         force = law.elastic(eff.delta0[cells] + du[cells], eff.k[cells])
         overlap[cells] = np.where(force > 0, law.static_overlap(force, med.k[cells]),
                                   eff.delta0[cells] + du[cells])
+    potential = law.energy(overlap, med.k, med.delta0)
+    if med.gravity:  # the body force's potential energy, per contact (module docstring)
+        potential = potential - med.gravity * np.r_[0.0, np.cumsum(med.mass)] * (
+            overlap - med.delta0)
     return GrainSample(
         u=u, v=v, overlap=overlap,
         kinetic=0.5 * med.mass * v * v,
-        potential=law.energy(overlap, med.k, med.delta0),
+        potential=potential,
         force=law.elastic(overlap, med.k),
         delta0=med.delta0.copy(),
         force0=med.f0,

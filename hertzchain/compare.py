@@ -217,6 +217,8 @@ def _partition(chain, mrun: ModelRun, iface: int | None, incident: dict, law=Non
     cw = (np.arange(n + 1) < i).astype(float)
     if iface is not None:
         cw[i] = 0.5
+    else:  # one section: the whole chain, its end contacts too (as _incident_energies)
+        cw[:] = 1.0
     out = {}
     for side, g, c in (("left", gw, cw), ("right", 1 - gw, 1 - cw)):
         k, p = kin @ g, pot @ c
@@ -505,11 +507,16 @@ def analyse(result: Run) -> Comparison:
     hit = est.t_hit if est is not None and est.has_interface else math.inf
     i_hit = int(np.searchsorted(ref.times, hit, side="right"))
     x_formed = min(M.first_grain(chain) + FORMED_GRAINS, M.incident_grain(chain))
+    # every front speed is fitted on the samples before a wave reached a chain end in
+    # the discrete run (its summary's t_end_reached, the measure owner's end rule), for
+    # every model alike: after it the leading pulse is a wall's echo or grains piling up
+    # at a free end, whether or not the models' ends differ
+    i_fit = min(i_compare + 1, _samples_before_end(result, ref.times))
     for m in sampled:
         part = _partition(chain, m, iface, incident, law)
         fr, pk, st = M.sample_fronts(chain, m.v, m.strain, iface, ref_ek, i_cross)
-        before = slice(0, min(i_hit, i_compare + 1))
-        after = slice(min(i_cross, i_compare + 1), i_compare + 1)  # crossed, comparable
+        before = slice(0, min(i_hit, i_fit))
+        after = slice(min(i_cross, i_fit), i_fit)  # crossed, comparable, before an end
         # an impact's incident front is fitted once its wave has formed (from the grain
         # where it is measured, hertzchain.measure.incident_grain, or FORMED_GRAINS)
         x_in = fr["incident"][before]
@@ -818,6 +825,20 @@ def _theory_beyond(cmp: Comparison, th) -> None:
     cmp.errors["theory"] = {"energy": math.nan, "speed": err, "error": float(err)}
 
 
+def _t_end_reached(result: Run) -> float:
+    """When a wave reached a chain end in the discrete run, s (inf: none, or no run).
+
+    Its summary's ``t_end_reached`` (:func:`hertzchain.measure.windows`).
+    """
+    summary = result.discrete.summary if result.discrete is not None else {}
+    return float(summary.get("t_end_reached", math.inf))
+
+
+def _samples_before_end(result: Run, times: np.ndarray) -> int:
+    """How many of the samples at ``times`` (s) precede :func:`_t_end_reached`."""
+    return int(np.searchsorted(times, _t_end_reached(result), side="left"))
+
+
 def _discrete_window(cmp: Comparison) -> np.ndarray:
     """The samples of the discrete run before a wave reached a chain end (bool mask).
 
@@ -825,9 +846,8 @@ def _discrete_window(cmp: Comparison) -> np.ndarray:
     (its summary's ``t_end_reached``, :func:`hertzchain.measure.windows`), not in the
     continuum's (:attr:`hertzchain.models.ModelRun.valid_until`).
     """
-    result, disc = cmp.run, cmp.series["discrete"]
-    summary = result.discrete.summary if result.discrete is not None else {}
-    return disc.times < float(summary.get("t_end_reached", math.inf))
+    disc = cmp.series["discrete"]
+    return disc.times < _t_end_reached(cmp.run)
 
 
 def _incident_speed(cmp: Comparison) -> float:

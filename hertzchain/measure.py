@@ -64,12 +64,12 @@ from discrete import diagnostics as D
 __all__ = [
     "ACTIVITY_ROWS", "CROSSING_GRAINS", "END_FRACTION", "END_GRAINS", "EXIT_ERROR",
     "EXIT_INCOMPLETE", "EXIT_NOT_VERIFIED", "EXIT_OK", "EXIT_PENDING", "FIT_FROM",
-    "FRONT_ROWS_RTOL", "FRONT_THRESHOLD", "SEPARATION", "SEPARATION_FRACTIONS",
+    "FRONT_ROWS_RTOL", "FRONT_THRESHOLD", "HANDOVER_FRACTION", "SEPARATION", "SEPARATION_FRACTIONS",
     "TRANSMITTED_FLOOR", "Windows", "classification_amplitude", "crossing_time",
     "end_arrival_row", "first_grain", "fit_sample_speed", "front_speed",
-    "front_speed_from_maxima", "grain_energies", "incident_extent", "incident_grain",
-    "incident_peak", "incident_strain", "interfaces", "sample_fronts", "separated_by",
-    "separated_row", "summarise", "total_energy_rows", "unverified", "valid_until",
+    "front_speed_from_maxima", "grain_energies", "handover_row", "incident_extent",
+    "incident_grain", "incident_peak", "incident_strain", "interfaces", "sample_fronts",
+    "separated_by", "separated_row", "summarise", "total_energy_rows", "unverified", "valid_until",
     "windows",
 ]
 
@@ -678,18 +678,38 @@ def incident_strain(chain: Any, v: np.ndarray, overlaps: np.ndarray, law: Any,
 # -- energies of samples -----------------------------------------------------------------
 def grain_energies(chain: Any, v: np.ndarray, strain: np.ndarray, law: Any = None
                    ) -> tuple[np.ndarray, np.ndarray]:
-    """Kinetic energy per grain and potential energy per contact, J (docs/physics.md §6).
+    r"""Kinetic energy per grain and potential energy per contact, J (docs/physics.md §6).
 
     ``v`` (…, N) m/s and ``strain`` (…, N+1) m (δ − δ0); the potential energy is the
     contact energy minus the static energy of the same contact: for Hertz (``law``
     None) (2/5) k ([δ]_+^{5/2} − δ0^{5/2}) (:func:`theory.wave_contact_energy`), for
     another law (:class:`theory.laws.ContactLaw`) its :meth:`~theory.laws.ContactLaw.energy`,
     k/(n+1) ([δ]_+^{n+1} − δ0^{n+1}) for F = k δ^n.
+    The linear term F0 (δ − δ0) is kept (Table 2).
+
+    Under gravity (a body force m_i g on every grain, ``chain.gravity``) the energy the
+    equations of motion conserve also holds the body force's potential −g Σ_i m_i u_i
+    (:meth:`discrete.Simulation.energy`, which books it per grain from the displacements).
+    From strains alone it is written per contact: with δ_j − δ0_j = u_{j-1} − u_j and
+    the walls at rest (the bottom wall carries the weight), Σ_i m_i g u_i =
+    Σ_j W_j (δ_j − δ0_j), W_j = g Σ_{i<j} m_i the weight above contact j (summation by
+    parts; W_0 = 0).  So contact j's potential energy is
+    U(δ_j) − U(δ0_j) − W_j (δ_j − δ0_j): summed over the chain it is the conserved
+    energy of the discrete run, for the discrete chain's samples and a continuum's
+    alike (without it the linear term g Σ m u, first order in the strain and weighted
+    by the depth's static force, made the whole chain's energy of a 100-grain vertical
+    chain swing from 0.93 to 3.5 of E_in as the wave went down).  Without gravity
+    W = 0: the definition above, unchanged.
     """
+    strain = np.asarray(strain)
     kin = 0.5 * chain.mass * np.asarray(v) ** 2
     r = chain.delta0 + np.asarray(strain)
     pot = theory.wave_contact_energy(r, chain.k, chain.delta0) if law is None \
         else law.energy(r, chain.k, chain.delta0)
+    g = float(getattr(chain, "gravity", 0.0))
+    if g:
+        weight_above = g * np.r_[0.0, np.cumsum(chain.mass)]
+        pot = pot - weight_above * np.asarray(strain)
     return kin, pot
 
 
@@ -882,12 +902,54 @@ def _dissipated_between(sim: Any, t: np.ndarray, ek: np.ndarray, ep: np.ndarray,
     return mean(a0, a1) - mean(b0, b1)
 
 
-def _normalisation(sim: Any, e_in: float, spans) -> str:
+HANDOVER_FRACTION = 1e-3
+"""The incident window holds only once the striker keeps at most this fraction of the
+chain's energy (:func:`handover_row`)."""
+
+
+def handover_row(ek: np.ndarray, ep: np.ndarray, columns: int, i_incident: int,
+                 fraction: float = HANDOVER_FRACTION) -> int | None:
+    """First grid row from which a striker has handed its energy to the chain.
+
+    ``ek``, ``ep``: the energy grid (J, (T, Nc)); ``columns``: the first columns, which
+    hold the striker (section -1 of :func:`discrete.initial.impact`).  Their Σ|e| over
+    the chain's Σ|e| per row: the first row from which it stays at or below
+    ``fraction`` through row ``i_incident``; None if it is above at ``i_incident``.
+
+    A striker heavier than the grains gives its energy not to one wave but to a train
+    of decreasing waves, unloading nearly exponentially, and ends almost at rest (Job,
+    Melo, Sokolow & Sen, Granular Matter 10 (2007) 13; Sen et al., Phys. Rep. 462
+    (2008) 21; docs/physics.md, "A heavy striker").  Until it has, the energy of section
+    0 is not the incident energy: what is still in the striker enters the chain later
+    and crosses the interface after the incident window (E_T + E_R of a lossless chain
+    was 1.03 for a 3-mass striker on 20 grains).  From the returned row on, at most
+    ``fraction`` of the energy is still to be handed over.
+    """
+
+    def share(e):
+        a = np.abs(e, out=e)
+        tot = a.sum(axis=1)
+        return np.divide(a[:, :columns].sum(axis=1), tot, out=np.zeros_like(tot),
+                         where=tot > 0)
+
+    f = total_energy_rows(ek[:i_incident + 1], ep[:i_incident + 1], share)
+    above = np.flatnonzero(f > fraction)
+    if above.size and above[-1] == i_incident:
+        return None
+    return int(above[-1] + 1) if above.size else 0
+
+
+def _normalisation(sim: Any, e_in: float, spans, striker: bool = False) -> str:
     """What the energy ratios are normalised to, in words (the summary's key)."""
     (a0, a1), (b0, b1) = spans
-    text = (f"E_in = {e_in:.6g} J, the energy of section 0 averaged over t = "
+    where = ("section 0 and the striker" if striker else "section 0")
+    text = (f"E_in = {e_in:.6g} J, the energy of {where} averaged over t = "
             f"{a0 * 1e3:.4g}-{a1 * 1e3:.4g} ms (before the incident wave reached the "
-            f"interface); E_T, E_R averaged over t = {b0 * 1e3:.4g}-{b1 * 1e3:.4g} ms")
+            "interface")
+    if striker:
+        text += (f", after the striker had handed over all but {HANDOVER_FRACTION:g} of "
+                 "the chain's energy; E_R counts the striker with section 0")
+    text += f"); E_T, E_R averaged over t = {b0 * 1e3:.4g}-{b1 * 1e3:.4g} ms"
     rec = sim.record
     if sim.dissipated() > 0 and len(rec.monitor_t):
         before = float(np.interp(a1, rec.monitor_t, rec.monitor_dissipated))
@@ -975,11 +1037,21 @@ def summarise(chain: Any, sim: Any, incident: float | None = None, *,
         meets(est, v)
         return out
     iface = win.interface
-    block_section = chain.section[::coarsen][: ek.shape[1]]
+    # (a striker, section -1, is on the incident side: it counts with section 0)
+    block_section = np.maximum(chain.section[::coarsen][: ek.shape[1]], 0)
     i_in, i_out = win.i_incident, win.i_separated
+    i_lo = 0
+    if s0 > 0 and i_in is not None:
+        i_lo = handover_row(ek, ep, math.ceil(s0 / coarsen), i_in)
     if i_in is None:
         out["ratios_note"] = ("the incident wave was at the interface already at t = 0: "
                               "no incident energy to normalise to")
+    elif i_lo is None:
+        out["ratios_note"] = (
+            f"the striker still held more than {HANDOVER_FRACTION:g} of the chain's "
+            f"energy when the incident wave reached the interface (t = "
+            f"{win.t_incident * 1e3:.4g} ms): the wave train had not left it, and the "
+            "energy of section 0 was not yet the incident energy")
     elif i_out is None:
         out["ratios_note"] = ("the waves did not separate from the interface on the "
                               "recorded grid (the energy within 5 grains of it stayed "
@@ -988,7 +1060,9 @@ def summarise(chain: Any, sim: Any, incident: float | None = None, *,
         # the kinetic/potential split averaged over the lattice phase in windows of
         # SPLIT_WINDOW_TRANSITS incident transits before i_in and after i_out (a single
         # row's split depends on its phase, which moves with dt: docs/physics.md §6)
-        r, split_est = D.phase_averaged_ratios(t, ek, ep, block_section, i_in, i_out,
+        # (the incident window starts no earlier than the striker's handover, i_lo)
+        r, split_est = D.phase_averaged_ratios(t[i_lo:], ek[i_lo:], ep[i_lo:],
+                                               block_section, i_in - i_lo, i_out - i_lo,
                                                coarsen=coarsen)
         ratios = {k: float(v) for k, v in r.as_dict().items() if k in _RATIOS}
         if all(math.isfinite(v) for v in ratios.values()):
@@ -997,7 +1071,7 @@ def summarise(chain: Any, sim: Any, incident: float | None = None, *,
             out.update(ratios, separated=True, separation_fraction=win.separation_fraction,
                        split_estimate=split_est, t_separated=win.t_separated, Ed=ed)
             (a0, a1), (b0, b1) = r.windows
-            out["ratios_normalised_to"] = _normalisation(sim, e_in, r.windows)
+            out["ratios_normalised_to"] = _normalisation(sim, e_in, r.windows, s0 > 0)
             if win.end_reached and win.i_end <= int(np.searchsorted(t, b1)):
                 # (said, and weighed: the window's edges carry little weight, and the
                 # split's estimate compares it with a window 3/4 as long about the same

@@ -297,3 +297,47 @@ def test_an_impact_compares_its_continuum_until_the_far_end():
     assert math.isfinite(cmp.errors["continuum"]["profile_l2"])
     assert "could not be compared with the discrete chain (a wave reached" not in \
         cmp.verdict()
+
+
+# -- gravity: fits stop at the discrete run's end arrival; one energy definition ---------
+GRAVITY = {"chain": {"gravity": 9.81, "top_force": 0.0, "sections": [{"n": 100}]},
+           "initial": {"kind": "impact", "v0": 0.01}, "run": {"t_end": 1.4e-3},
+           "models": {"continuum": "auto", "theory": True}}
+
+
+def test_a_vertical_chain_compares_its_front_speed_before_the_bottom_wall():
+    # chain_gravity (100 grains, walls at both ends, impact at the top): the continuum's
+    # window never closes (its ends are the discrete chain's), and the speed fit spanned
+    # the wall's echo at ~1.15 ms: front speed 88.5 % off although the fronts matched.
+    # Fitted before the discrete run's t_end_reached for every model: within 3.3e-3 (the
+    # continuum's measured peak-speed accuracy under gravity at v0 = 1e-2 m/s,
+    # docs/physics.md §19; measured 2.6e-3).
+    result = run(parse_scenario(GRAVITY), samples=True)
+    cmp = analyse(result)
+    s = result.discrete.summary
+    assert s["end_reached"] == "right" and s["t_end_reached"] < cmp.t_compare
+    v_d = cmp.series["discrete"].speeds["incident"]
+    v_c = cmp.series["continuum"].speeds["incident"]
+    assert abs(v_c / v_d - 1) <= 3.3e-3, (v_c, v_d)
+    assert cmp.errors["continuum"]["speed"] <= 3.3e-3
+    # one energy definition (hertzchain.measure.grain_energies, with the body force's
+    # potential energy): the discrete chain's whole-chain energy is the conserved one on
+    # every sample (it swung 0.93 ... 3.5 of E_in), to its drift
+    e_d = cmp.series["discrete"].energy["total_left"]
+    assert np.max(np.abs(e_d - 1)) <= 1e-4 + s["energy_drift"], e_d
+    # the continuum's grain-sampled energy agrees to the accuracy of a sampled energy of
+    # a narrow wave (docs/physics.md §19, continuum.sampling: up to 10 % for a
+    # sonic-vacuum wave; δ0 = 0 at the top) on the samples before the discrete run's end
+    # arrival once the wave is 1/4 of the way down (measured: at most 4.4 %, mean 2 %,
+    # the sampling phase of a ~5-grain wave; it was 1.126 against 0.934)
+    t = cmp.series["discrete"].times
+    ok = (t >= 0.25 * s["t_end_reached"]) & (t < s["t_end_reached"])
+    e_c = cmp.series["continuum"].energy["total_left"]
+    assert ok.sum() >= 10
+    assert np.max(np.abs(e_c - e_d)[ok]) <= 0.10, e_c[ok]
+    assert np.mean(np.abs(e_c - e_d)[ok]) <= 0.031, e_c[ok]
+    # the kinetic energies agree to 1e-3 at the comparison time (measured 3.5e-4)
+    i = cmp.i_compare
+    k_d = cmp.series["discrete"].energy["kinetic_left"][i]
+    k_c = cmp.series["continuum"].energy["kinetic_left"][i]
+    assert abs(k_c - k_d) <= 1e-3
