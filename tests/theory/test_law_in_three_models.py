@@ -198,9 +198,12 @@ def test_theory_numbers_match_the_discrete_run(law, setup, discrete_run):
     a = n d²/(6(n+1)) = d²/8, 1e-14), and the exact lattice wave's speed is the
     compacton's times the ratio σ_n/√(2/(n+1)) of the lattice speed constant
     (:func:`theory.discrete_speed_constant`, exponent 3) to the long-wave one (1e-6:
-    the Petviashvili solve's residual).  The discrete run's measured speed (v² centroid
-    over 25 grains) then equals that theory speed to 1e-4 (measured 4e-6): the discrete
-    model, the long-wave theory and the exact lattice theory agree on one law."""
+    the Petviashvili solve's residual).  The discrete run's measured speed (the v²
+    centroid's displacement over 25 grains) then equals that theory speed to 5e-4
+    (measured 1.4e-4: the centroid of grain-sampled v² depends on the peak's sub-grain
+    phase by a few thousandths of a grain; test (a) removes that by comparing with the
+    exact wave at the same time): the discrete model, the long-wave theory and the
+    exact lattice theory agree on one law."""
     chain, wave, k, m = setup
     lw = law.long_wave(k, m, D)
     assert lw.exponent == N
@@ -216,4 +219,4 @@ def test_theory_numbers_match_the_discrete_run(law, setup, discrete_run):
     sim = discrete_run
     start = _centroid(wave.sample(N_GRAINS, START).velocity)
     measured = (_centroid(sim.v) - start) / sim.t * D
-    assert measured == pytest.approx(theory_speed, rel=1e-4)
+    assert measured == pytest.approx(theory_speed, rel=5e-4)
