@@ -25,6 +25,7 @@ import discrete
 import theory
 from continuum import BoussinesqPDE, Medium, NesterenkoPDE, from_grains, run
 from continuum.nesterenko import coercivity_cap, dispersion_coefficient
+from theory.laws import compile_piece
 
 from ._compare import transmitted, two_section_chain
 from ._helpers import two_section
@@ -82,10 +83,46 @@ def test_coefficients_come_from_the_law(name):
 def test_non_power_elastic_part_is_refused_by_eq7():
     """Eq. 7's dispersive term is Nesterenko's only for an elastic part k δ^n."""
     class Softened(theory.PowerLaw):
+        """0.9 k δ^{3/2} written as its own elastic part (every piece of ELASTIC_PIECES
+        overridden, as the law base class requires): not the base class's k δ^n."""
+
         name = "softened-test"
 
+        def make_elastic(self):
+            base = super().make_elastic()
+
+            def elastic(r, k):
+                return base(r, 0.9 * k)
+            return compile_piece(elastic)
+
         def elastic(self, r, k):
-            return super().elastic(r, k) * 0.9
+            return super().elastic(r, 0.9 * np.asarray(k))
+
+        def make_energy(self):
+            base = super().make_energy()
+
+            def energy(r, k, d0):
+                return base(r, 0.9 * k, d0)
+            return compile_piece(energy)
+
+        def energy(self, r, k, d0):
+            return super().energy(r, 0.9 * np.asarray(k), d0)
+
+        def make_stiffness(self):
+            base = super().make_stiffness()
+
+            def stiffness(r, k):
+                return base(r, 0.9 * k)
+            return compile_piece(stiffness)
+
+        def stiffness(self, r, k):
+            return super().stiffness(r, 0.9 * np.asarray(k))
+
+        def overlap_with_energy(self, r, e, k):
+            return super().overlap_with_energy(r, e, 0.9 * np.asarray(k))
+
+        def static_overlap(self, force, k):
+            return super().static_overlap(force, 0.9 * np.asarray(k))
 
     with pytest.raises(ValueError, match="power-law elastic part"):
         NesterenkoPDE(Medium.uniform(10, 0.0, law=Softened(1.5)), 3, delta_floor=1e-9)

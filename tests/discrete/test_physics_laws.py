@@ -199,7 +199,7 @@ def test_law_from_restitution_gives_that_restitution_in_the_chain(e):
     # order ~1.5 (the √t onset of the damping force, test above): measured |Δe| =
     # 1.7e-5, 7.4e-5, 8.4e-5 at the default dt (β = 0.09, 0.70, 2.1), 2.7-2.9 times less
     # at half of it.  Tolerances 2e-4 and a ratio in (2.2, 3.5).  The booked dissipated
-    # energy is ½μg²(1 - e²) to 2e-4.
+    # energy is the spheres' loss ½μg²(1 - ε²) at the ε they come out with, to 1e-4.
     ch = _two_spheres()
     k, mu, g = ch.k[1], ch.mass[0] / 2, 0.5
     law = ViscoelasticHertz.from_restitution(e, g, mu, k)
@@ -211,8 +211,12 @@ def test_law_from_restitution_gives_that_restitution_in_the_chain(e):
                          record=Recording(maxima=False, monitor_every=10**6))
         sim.run(max(10.0, 10.0 * beta) * (mu / k) ** 0.4 * g**-0.2, progress=False)
         assert sim.overlaps()[1] < 0 and sim.v[1] > sim.v[0]  # apart, separating
-        errors.append(abs((sim.v[1] - sim.v[0]) / g - e))
-        assert sim.dissipated() == pytest.approx(0.5 * mu * g**2 * (1 - e**2), rel=2e-4)
+        eps = (sim.v[1] - sim.v[0]) / g
+        errors.append(abs(eps - e))
+        # the energy balance of the run itself: what was booked is what the two spheres
+        # lost, ½μg²(1 - ε²) with the ε they came out with (≤ 2.1e-5 apart at the default
+        # dt: the split step's booking is second order; 1e-4 leaves room for it)
+        assert sim.dissipated() == pytest.approx(0.5 * mu * g**2 * (1 - eps**2), rel=1e-4)
     assert errors[0] < 2e-4 and 2.2 < errors[0] / errors[1] < 3.5
 
 
