@@ -17,6 +17,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ._argtypes import nonnegative_float, positive_float, positive_int, scenario_number
+from .faults import FailedWrites, is_disk_full, is_disk_full_text
 
 __all__ = ["main", "build_parser", "run_command", "print_json", "resolve_run_out",
            "progress_wanted", "is_disk_full_text"]
@@ -631,72 +632,13 @@ def _main(argv: Sequence[str] | None, whole_process: bool) -> int:
     return run_command(args, whole_process=whole_process)
 
 
-def is_disk_full_text(text: str) -> bool:
-    """A message of a write that failed for lack of space (HDF5's, the OS's, ours)."""
-    return any(m in text for m in ("errno = 28", "No space left", "File too large",
-                                   "disk full", "errno = 27"))
-
-
-def _is_disk_full(exc: BaseException | None) -> bool:
-    """A write failed for lack of space (ENOSPC, EFBIG), here or in a cause of ``exc``."""
-    seen = 0
-    while exc is not None and seen < 10:
-        if isinstance(exc, OSError) and exc.errno in (errno.ENOSPC, errno.EFBIG):
-            return True
-        if is_disk_full_text(str(exc)):
-            return True
-        exc = exc.__cause__ or exc.__context__
-        seen += 1
-    return False
-
-
-class _FailedWrites:
-    """HDF5's failed writes while a command runs: counted, not shown.
-
-    On a full disk h5py reports every failed flush from an object's destructor, twice:
-    a traceback through ``sys.excepthook`` (Cython prints it before) and ``Exception
-    ignored in h5py._objects.ObjectID.__dealloc__`` through ``sys.unraisablehook`` —
-    tens to hundreds of them before the one message that matters.  Both hooks are
-    replaced while the command runs: disk-full errors are counted (the command ends with
-    one message naming the disk), any other error is shown as usual.
-    """
-
-    def __init__(self) -> None:
-        self.count = 0
-        self.example = ""
-        self._unraisable = self._except = None
-
-    def __enter__(self):
-        self._unraisable, self._except = sys.unraisablehook, sys.excepthook
-        sys.unraisablehook, sys.excepthook = self.unraisable_hook, self.except_hook
-        return self
-
-    def __exit__(self, *exc) -> None:
-        sys.unraisablehook, sys.excepthook = self._unraisable, self._except
-
-    def _absorb(self, exc: BaseException | None) -> bool:
-        if not _is_disk_full(exc):
-            return False
-        self.count += 1
-        self.example = self.example or str(exc).splitlines()[0]
-        return True
-
-    def unraisable_hook(self, unraisable) -> None:
-        if not self._absorb(unraisable.exc_value):
-            self._unraisable(unraisable)
-
-    def except_hook(self, kind, value, tb) -> None:
-        if not self._absorb(value):
-            self._except(kind, value, tb)
-
-
 def run_command(args: argparse.Namespace, *, whole_process: bool = False) -> int:
     """Run a parsed command; every user error becomes one message and an exit status.
 
     ``hertzchain: error: ...`` on stderr and exit status 2 for invalid input, I/O errors
     and instabilities (no traceback); 130 on Ctrl-C (a checkpointed run: its own
     status).  On a full disk the HDF5 library's destructor tracebacks are suppressed
-    (:class:`_FailedWrites`) and, in a process that is one command, the process ends at
+    (:class:`FailedWrites`) and, in a process that is one command, the process ends at
     once after the message (HDF5 objects of a failed write can crash the interpreter
     when they are freed).
     """
@@ -705,7 +647,7 @@ def run_command(args: argparse.Namespace, *, whole_process: bool = False) -> int
 
     from .checkpoint import Interrupted
 
-    with _FailedWrites() as failed:
+    with FailedWrites() as failed:
         try:
             with announce_compilation():  # a cold kernel cache is announced before compiling
                 status = int(args.func(args) or 0)
@@ -717,7 +659,7 @@ def run_command(args: argparse.Namespace, *, whole_process: bool = False) -> int
                 exc = MemoryError("out of memory: the chain or its recording does not fit "
                                   "(lower [chain.sections] n, t_end or the recording)")
             print(f"hertzchain: error: {exc}", file=sys.stderr)
-            status, disk_full = 2, _is_disk_full(exc)
+            status, disk_full = 2, is_disk_full(exc)
         except Interrupted as exc:  # SIGINT/SIGTERM during a checkpointed run
             print(f"hertzchain: {exc}", file=sys.stderr)
             return exc.exit_code

@@ -125,7 +125,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
 def _disk_full_points(out: Path) -> list[str]:
     """The errors of the failed points that are a full disk (from ``records.jsonl``)."""
-    from ..cli import is_disk_full_text
+    from ..faults import is_disk_full_text
     from .store import RecordStore
 
     records = RecordStore(Path(out) / "records.jsonl").load()

@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from ..cache import atomic_path
+from ..faults import FailedWrites
 from ..measure import unverified
 from ..scenario import Scenario, ScenarioError, parse_scenario
 from .spec import Point, SweepError, SweepSpec, load_sweep_spec, parse_sweep_spec
@@ -236,19 +237,24 @@ def run_point(point_function: PointFunction, scenario: Scenario, point_id: str,
     rec: dict[str, Any] = {"id": point_id, "values": dict(values),
                            "worker": f"{socket.gethostname()}:{os.getpid()}",
                            "full_output": ""}
-    try:
-        summary = point_function(scenario, out=None if out is None else Path(out),
-                                 progress=False)
-        summary = _check_summary(summary)
-        bad = unverified(summary)  # not verified to rtol: reported, but not "ok"
-        rec.update(status="unverified" if bad else "ok",
-                   error=f"not verified to rtol: {', '.join(bad)} false" if bad else "",
-                   summary=summary)
-        if out is not None and Path(out).exists():
-            rec["full_output"] = str(out)
-    except Exception as exc:  # noqa: BLE001 - a failed point must not stop the sweep
-        rec.update(status="failed", error=f"{type(exc).__name__}: {exc}", summary={},
-                   traceback="".join(traceback.format_exc(limit=-6)))
+    with FailedWrites() as failed:  # h5py's destructor tracebacks on a full disk: counted
+        try:
+            summary = point_function(scenario, out=None if out is None else Path(out),
+                                     progress=False)
+            summary = _check_summary(summary)
+            bad = unverified(summary)  # not verified to rtol: reported, but not "ok"
+            rec.update(status="unverified" if bad else "ok",
+                       error=f"not verified to rtol: {', '.join(bad)} false" if bad else "",
+                       summary=summary)
+            if out is not None and Path(out).exists():
+                rec["full_output"] = str(out)
+        except Exception as exc:  # noqa: BLE001 - a failed point must not stop the sweep
+            rec.update(status="failed", error=f"{type(exc).__name__}: {exc}", summary={},
+                       traceback="".join(traceback.format_exc(limit=-6)))
+    if failed.count and rec["status"] != "failed":  # a write failed, and was absorbed
+        rec.update(status="failed", summary={},
+                   error=f"OSError: disk full: {failed.count} HDF5 write(s) failed "
+                         f"({failed.example})")
     rec["point_wall_time"] = time.perf_counter() - t0
     return rec
 

@@ -476,3 +476,28 @@ def test_theory_with_materials(capsys):
     assert main(["theory", "--right", "brss"]) == 2
     assert "--right" in capsys.readouterr().err
     assert math.isfinite(out["gamma_c0"])
+
+
+def test_a_sweep_point_on_a_full_disk_is_one_failed_record(capsys):
+    """A sweep's point whose HDF5 objects fail to flush on a full disk: h5py reports it
+    from destructors (sys.unraisablehook), which in a Dask worker printed a traceback per
+    object.  run_point counts them (hertzchain.faults.FailedWrites): one failed record
+    naming the disk, nothing on stderr."""
+    import errno
+
+    from hertzchain.sweep.engine import run_point
+    from hertzchain.sweep.store import SUMMARY_FIELDS
+
+    class Dataset:  # stands in for an h5py object whose flush fails in __del__
+        def __del__(self):
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+    def point(scenario, out=None, progress=False):
+        d = Dataset()
+        del d  # the destructor's error goes to sys.unraisablehook
+        return {**{key: 0.0 for key in SUMMARY_FIELDS}, "completed": True}
+
+    rec = run_point(point, None, "p0", {})
+    err = capsys.readouterr().err
+    assert rec["status"] == "failed" and "disk full: 1 HDF5 write(s) failed" in rec["error"]
+    assert "Traceback" not in err and "No space left" not in err
