@@ -126,9 +126,8 @@ Compile time: numba inlines an ``inline="always"`` function by copying its IR in
 every caller before typing, so the first compile grows with the inlined code.  The
 one-per-substep or rarer pieces (``piece``, ``energy_row``, ``take_row``, ``block``,
 ``dissipate``) are separate compiled functions (LLVM may still inline them); the
-per-grain helpers stay inlined so that the fused loops vectorise.  Measured (first run
-of a 200-grain chain with maxima and an energy grid, cold cache, CPU s, Zen 4 under
-load 4): 17.0 s with everything inlined, 8.9 s so.
+per-grain helpers stay inlined so that the fused loops vectorise.  This about halves the
+first compile (docs/benchmarks.md, "Design measurements").
 
 Arguments are grouped in tuples (numba passes them at no cost): ``st = (u, v, a, dis)``
 the state (displacements m, velocities m/s, accelerations m/s², dissipated energy
@@ -274,9 +273,8 @@ def _raised(g, x):
     : g is that instruction's definition, operands in this order) plus the load and
     the store.  g goes through :func:`_opaque`: otherwise LLVM sees a store of either
     x or the value just loaded from the same address and turns it back into a
-    conditional (masked) store of x, ``vmaskmovpd`` with AVX2, microcoded on AMD
-    (measured: the recording kernel 0.55-0.57x of the bare one with the Zen 3 code
-    path).
+    conditional (masked) store of x, which is microcoded on some processors and made
+    the recording kernel markedly slower (docs/benchmarks.md, "Design measurements").
     """
     g = _opaque(g)
     return x if x > g else g
@@ -609,14 +607,10 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     # ``track``; c2 = 0 for the closing step of a chunk and for the intermediate kicks
     # of composition methods (adding 0·a is exact).  Two loop variants per constant
     # layout (track or not: the untracked one vectorises); both inline.  The running
-    # maximum is :func:`_raised` stored at every grain, one ``maxpd`` with AVX2 and
-    # AVX-512 alike (the conditional store ``if v > vmax: vmax = v``, the same bits,
-    # vectorises to a masked store: ``vmaskmovpd`` with AVX2, microcoded on AMD).
-    # Measured with ``benchmarks/kernel.py --roofline --cpu native --cpu znver3``
-    # (10,000 grains, Zen 4, load 5-9, four runs each): the recording kernel 0.82-0.89x
-    # of the bare one with the Zen 3 code path (0.57x with the masked store, 0.75-0.80x
-    # with the earlier select that also tested g == g: two blends), 0.88-0.95x natively
-    # (0.69-0.88x with the masked store).
+    # maximum is :func:`_raised` stored at every grain, one vector max instruction (the
+    # conditional store ``if v > vmax: vmax = v``, the same bits, vectorises to a masked
+    # store that is slower on some processors; ``benchmarks/kernel.py --roofline``
+    # compares the recording kernel with the bare one).
     @jit(**_INLINE)
     def loop_const(uw, vw, vmw, rmw, aw, m, un, phi_l, dc, c1, c2, im, kr, d0r, f0r, p,
                    track, trk_r):

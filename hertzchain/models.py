@@ -751,8 +751,7 @@ def strain_from_velocity(side: dict, velocity: float) -> float:
 
     Memoised on what it depends on, (c_mat, ξ0, c0, v) of ``side``: a sweep's points
     share their incident wave (Fig. 7's 408 points one cut wave), and the bisection
-    costs ~60 speed evaluations (measured, issue 13: 2.7 s of Fig. 7 --full's 39 s
-    under cProfile).
+    costs ~60 speed evaluations.
     """
     return _strain_from_velocity(float(side["c_mat"]), float(side["xi0"]),
                                  float(side["c0"]), float(velocity),
@@ -772,7 +771,7 @@ def _strain_from_velocity(c_mat: float, xi0: float, c0: float, velocity: float,
         if hi > 1.0:
             return math.nan
     # bisection of the increasing V(ξ)ξ - v on [0, hi] to 1e-13 relative (not scipy's
-    # brentq: importing scipy.optimize cost 0.3-0.5 s of every run's start-up, issue 17)
+    # brentq: importing scipy.optimize would add to every run's start-up)
     lo = hi / 4.0 if hi > 1e-12 else 0.0
     while hi - lo > 1e-13 * hi:
         mid = 0.5 * (lo + hi)

@@ -6,7 +6,7 @@ summary: the Table 2 energy ratios (transmitted/reflected over incident, docs/ph
 front speeds of the transmitted and reflected waves (Fig. 6), the classification of
 Fig. 7, the energy drift and the cost.  The same summary is a row of a sweep.
 
-Reliability (issue 8): :func:`build_simulation` validates what needs the built chain
+Reliability: :func:`build_simulation` validates what needs the built chain
 (dt against the stability bound, the wave fits the chain and the Hertz range, the stop
 event can happen) and names the scenario key in a :class:`ScenarioError`;
 :func:`run_scenario` can integrate in checkpointed segments with a bit-for-bit identical
@@ -34,7 +34,7 @@ kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN unless they are measured;
 the front speeds are converged to it in the grid's rows (None without rtol or unless
 measured; False: not verified — ``hertzchain run`` then exits 4, docs/guide/exit_status.md).
 
-How the run ended (issue 14): ``stopped_by`` names what ended it (``t_end``,
+How the run ended: ``stopped_by`` names what ended it (``t_end``,
 ``until_front_at`` or ``max_steps``) and ``completed`` says whether that is what the
 scenario asked for (:func:`run_outcome`; ``incomplete_reason`` says why not).  A
 ``t_end`` or snapshot time that ``max_steps`` cannot reach, and a ``t_end`` shorter than
@@ -79,7 +79,7 @@ from the refined peak times, :func:`hertzchain.measure.front_speed_from_maxima`)
 There the summary reads only the transmitted front speed from the grid (arrival times
 refined by a parabola through three rows, a straight-line fit over the grains), and
 the rows, whose count does not shrink with the step, were most of the cost that did
-not (issue 17: 21 µs a row at 5,000 grains, 0.17 s of a 0.41 s run).  Measured on
+not (about 40 % of a small run).  Measured on
 impacts (δ0 = 0, until the front reaches 0.75 N, rows not coarsened), the front speed
 at 0.5, 1, 2 and 4 transits a row against 0.25: 2,000 grains, default dt: 8e-8,
 5.6e-7, 6.8e-7, 9.3e-6; 600 grains (fewer grains in the fit): 5e-7, 5.7e-6, 2.9e-5
