@@ -84,19 +84,29 @@ def test_one_and_two_workers_same_numbers_files_and_counts(tmp_path, monkeypatch
     assert again["items"] == two["items"]
 
 
-def _fake_task(template, task, inputs, threads, position, start):
-    """A stand-in task: the worker's pid as result, parts passed on in order."""
-    import os
-    import time
+def _local_fake_task():
+    """The stand-in task as a local function: Dask sends it to its workers by value
+    (cloudpickle), where this test module is not importable (a fresh clone's tests/
+    directory is not on the workers' sys.path)."""
 
-    from hertzchain.reproduce import TaskOutcome
+    def _fake_task(template, task, inputs, threads, position, start):
+        """A stand-in task: the worker's pid as result, parts passed on in order."""
+        import os
+        import time
 
-    time.sleep(0.3)
-    if task.kind == "part":
-        return TaskOutcome(task, (task.part, os.getpid()), computed=[f"{task.key}.h5"])
-    parts = [i.value for i in inputs]
-    return TaskOutcome(task, ({"pid": os.getpid(), "parts": parts, "threads": threads},
-                              [], {"n": len(task.name)}), computed=[f"{task.key}.h5"])
+        from hertzchain.reproduce import TaskOutcome
+
+        time.sleep(0.3)
+        if task.kind == "part":
+            return TaskOutcome(task, (task.part, os.getpid()), computed=[f"{task.key}.h5"])
+        parts = [i.value for i in inputs]
+        return TaskOutcome(task, ({"pid": os.getpid(), "parts": parts, "threads": threads},
+                                  [], {"n": len(task.name)}), computed=[f"{task.key}.h5"])
+
+    return _fake_task
+
+
+_fake_task = _local_fake_task()
 
 
 def test_tasks_run_in_worker_processes_results_in_report_order(tmp_path, monkeypatch):
