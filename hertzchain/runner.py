@@ -325,14 +325,22 @@ def build_initial_checked(scenario: Scenario, chain: discrete.Chain, *, cache_di
     law = build_law(scenario.chain)[0]
     if ini.kind in ("impact", "cut_wave"):
         _check_amplitude(chain, impact(chain, ini.v0), "v0", ini.v0, law)
+    overflow = (f"[initial] kind = {ini.kind!r}: the initial state's scales leave double "
+                "precision for this chain (grain masses "
+                f"{chain.mass.min():.3g}-{chain.mass.max():.3g} kg, contact constants up to "
+                f"{chain.k.max():.3g} N/m^n): check [chain.sections] alpha_rho and alpha_kn")
     try:
         init = build_initial(scenario, chain, cache_dir=cache_dir)
+    except ArithmeticError as exc:  # FloatingPointError (numpy set to raise), OverflowError
+        raise ScenarioError(f"{overflow} ({exc})") from None
     except ValueError as exc:
         if ini.kind == "impact":
             raise ScenarioError(f"[initial] kind = 'impact': {exc}") from None
         raise ScenarioError(
             f"[initial] center = {ini.center} (kind = {ini.kind!r}): the requested wave does "
             f"not fit in the chain or in one section: {exc}") from None
+    if not (np.all(np.isfinite(init.u)) and np.all(np.isfinite(init.v))):
+        raise ScenarioError(overflow)
     if ini.kind == "exact_wave":
         key = "velocity_max" if ini.strain_max is None else "strain_max"
         _check_amplitude(init.chain, init, key, getattr(ini, key), law)

@@ -378,3 +378,15 @@ def test_random_conservative_chains_are_time_reversible(drawn):
     ulen = max(float(np.max(np.abs(fwd.u))), 1e-300)
     assert float(np.max(np.abs(back.u))) <= 1e-11 * ulen
     assert float(np.max(np.abs(-back.v - v0))) <= 1e-11 * float(np.max(np.abs(v0)))
+
+
+def test_an_exact_wave_whose_scales_leave_double_precision_is_a_scenario_error():
+    # found by test_random_scenarios_run_or_are_rejected: alpha_rho = 1e-300 (inside the
+    # schema's range) made the exact wave's scale √(k/m) overflow inside theory.profiles
+    # (a FloatingPointError under this suite's np.seterr, NaNs otherwise); now a
+    # ScenarioError naming the keys, whatever numpy's error mode
+    data = {"chain": {"sections": [{"n": 21, "alpha_rho": 1e-300}]},
+            "initial": {"kind": "exact_wave", "center": 10, "velocity_max": 0.5},
+            "run": {"max_steps": MAX_STEPS, "t_end": 4e-3}}
+    outcome = _attempt(data, None)
+    assert outcome[0] == "rejected" and "alpha_rho" in outcome[1], outcome
