@@ -1,12 +1,20 @@
 """Shared pytest configuration, in the manner of py-pde's ``tests/conftest.py``."""
 
 import logging
+import os
 
 import matplotlib
 import numpy as np
 import pytest
+from hypothesis import settings
 
 matplotlib.use("agg")
+
+# Property tests draw the same examples in every run (a red CI is the code's, not the
+# draw's); HYPOTHESIS_PROFILE=explore draws new ones, to search for failures.
+settings.register_profile("repeatable", derandomize=True, print_blob=True)
+settings.register_profile("explore", derandomize=False, print_blob=True)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "repeatable"))
 
 
 @pytest.fixture(autouse=True)
