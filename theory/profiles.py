@@ -688,8 +688,9 @@ def sonic_vacuum_wave_constants(exponent: float = 1.5) -> SonicVacuumWave:
     For Hertz: energy 1.0693, momentum 1.6700.  The kinetic fraction is (n+1)/(n+3)
     (5/9 for Hertz): the virial theorem for a homogeneous potential of degree n+1,
     2⟨K⟩ = (n+1)⟨U⟩ averaged over the passage of a grain (Landau & Lifshitz, *Mechanics*,
-    §10), which the computed wave satisfies to 1e-14.  ``rate``/``amplitude``^{(n-1)/2} is
-    :func:`discrete_speed_constant`.  Used by the adiabatic taper wave, the striker's
+    §10), which the computed wave satisfies to 1e-14.  ``rate`` divided by
+    ``amplitude`` to the power (n-1)/2 is :func:`discrete_speed_constant`.  Used by the
+    adiabatic taper wave, the striker's
     train and the damped waves (:mod:`theory.tapers`, :mod:`theory.striker`,
     :mod:`theory.dissipation`).
 
