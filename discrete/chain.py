@@ -27,6 +27,7 @@ import numpy as np
 
 import theory
 from theory import Material
+from theory._validate import check_array
 
 __all__ = ["Chain", "Section", "Tapered", "Periodic", "Disorder", "WallKind"]
 
@@ -220,25 +221,6 @@ def _positive_scalar(name: str, value) -> float:
     return x
 
 
-def _array(name: str, value, size: int, *, positive=False, nonneg=False) -> np.ndarray:
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be an array of reals (got {value!r})") from exc
-    if a.ndim == 0:
-        a = np.full(size, float(a))
-    if a.shape != (size,):
-        raise ValueError(f"{name} must have shape ({size},) (got {a.shape})")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite (got NaN or inf)")
-    if positive and np.any(a <= 0):
-        raise ValueError(f"{name} must be > 0 (min {a.min()!r}); allowed range (0, inf)")
-    if nonneg and np.any(a < 0):
-        raise ValueError(f"{name} must be >= 0 (min {a.min()!r}); allowed range [0, inf)")
-    a.setflags(write=False)
-    return a
-
-
 def _wall_k(kind: WallKind, side: str, diameter: float, material: Material) -> float:
     """Constant of the wall contact of a grain (diameter m, material), N/m^{3/2}.
 
@@ -329,10 +311,11 @@ class Chain:
         if m.ndim != 1 or m.size < 2:
             raise ValueError(f"a chain needs N >= 2 grains (got mass of shape {m.shape})")
         n = m.size
-        object.__setattr__(self, "mass", _array("mass", self.mass, n, positive=True))
-        object.__setattr__(self, "k", _array("k", self.k, n + 1, nonneg=True))
-        object.__setattr__(self, "delta0", _array("delta0", self.delta0, n + 1, nonneg=True))
-        object.__setattr__(self, "diameter", _array("diameter", self.diameter, n, positive=True))
+        object.__setattr__(self, "mass", check_array("mass", self.mass, n, positive=True))
+        object.__setattr__(self, "k", check_array("k", self.k, n + 1, nonneg=True))
+        object.__setattr__(self, "delta0", check_array("delta0", self.delta0, n + 1, nonneg=True))
+        object.__setattr__(self, "diameter",
+                           check_array("diameter", self.diameter, n, positive=True))
         sec = np.array(self.section, dtype=np.int64)
         if sec.ndim == 0:
             sec = np.full(n, int(sec))
@@ -420,7 +403,7 @@ class Chain:
         mass = np.asarray(mass, dtype=float)
         if mass.ndim != 1 or mass.size < 2:
             raise ValueError(f"a chain needs N >= 2 grains (got mass of shape {mass.shape})")
-        k = _array("k", k, mass.size + 1, nonneg=True)
+        k = check_array("k", k, mass.size + 1, nonneg=True)
         if np.ndim(delta0) == 0:
             d0 = float(delta0)
             if not math.isfinite(d0) or d0 < 0:

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_finite", "check_positive", "check_range", "check_nonnegative", "check_exponent"]
+__all__ = ["check_finite", "check_positive", "check_range", "check_nonnegative", "check_exponent",
+           "check_array"]
 
 
 def _describe(value) -> str:
@@ -68,3 +69,30 @@ def check_exponent(value, *, low: float = 1.0, closed_low: bool = True) -> float
     a nonlinear force).
     """
     return float(check_range("exponent", value, low, 10.0, closed=(closed_low, True)))
+
+
+def check_array(name: str, value, size: int, *, positive: bool = False,
+                nonneg: bool = False) -> np.ndarray:
+    """``value`` as a read-only float array of shape (size,) (a scalar is broadcast).
+
+    ValueError naming ``name`` if it is not real, of another shape, not finite, or
+    (``positive``/``nonneg``) outside (0, inf) / [0, inf).  The per-grain and
+    per-contact coefficients of a chain (:class:`theory.medium.Medium`,
+    :class:`discrete.Chain`) are checked with it.
+    """
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be an array of reals (got {value!r})") from exc
+    if a.ndim == 0:
+        a = np.full(size, float(a))
+    if a.shape != (size,):
+        raise ValueError(f"{name} must have shape ({size},) (got {a.shape})")
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite (got NaN or inf)")
+    if positive and np.any(a <= 0):
+        raise ValueError(f"{name} must be > 0 (min {a.min()!r}); allowed range (0, inf)")
+    if nonneg and np.any(a < 0):
+        raise ValueError(f"{name} must be >= 0 (min {a.min()!r}); allowed range [0, inf)")
+    a.setflags(write=False)
+    return a

@@ -38,6 +38,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import check_array
 from .laws import ContactLaw, as_law
 from .materials import PAPER_DIAMETER, PAPER_MATERIAL, Material, grain_mass, hertz_constant
 
@@ -45,21 +46,6 @@ __all__ = ["Medium", "EQUILIBRIUM_RTOL"]
 
 EQUILIBRIUM_RTOL = 1e-9
 """Relative tolerance (of the largest static force) of the static-balance check."""
-
-
-def _array(name: str, value, size: int) -> np.ndarray:
-    try:
-        a = np.array(value, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be an array of reals (got {value!r})") from exc
-    if a.ndim == 0:
-        a = np.full(size, float(a))
-    if a.shape != (size,):
-        raise ValueError(f"{name} must have shape ({size},) (got {a.shape})")
-    if not np.all(np.isfinite(a)):
-        raise ValueError(f"{name} must be finite (got NaN or inf)")
-    a.setflags(write=False)
-    return a
 
 
 def _scalar(name: str, value, unit: str) -> float:
@@ -118,10 +104,10 @@ class Medium:
             raise ValueError(f"mass must be a 1-d array of N >= 1 grain masses "
                              f"(got shape {m.shape})")
         n = m.size
-        mass = _array("mass", self.mass, n)
-        k = _array("k", self.k, n + 1)
-        d0 = _array("delta0", self.delta0, n + 1)
-        diam = _array("diameter", self.diameter, n)
+        mass = check_array("mass", self.mass, n)
+        k = check_array("k", self.k, n + 1)
+        d0 = check_array("delta0", self.delta0, n + 1)
+        diam = check_array("diameter", self.diameter, n)
         if np.any(mass <= 0):
             raise ValueError(f"mass must be > 0 kg (min {mass.min()!r}); allowed: (0, inf)")
         if np.any(diam <= 0):
