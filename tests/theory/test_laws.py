@@ -12,7 +12,7 @@ import sys
 import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
-from scipy.special import erf, gamma
+from scipy.special import erf
 
 import theory
 from theory.laws import (
@@ -319,8 +319,8 @@ def test_precompressed_speed_any_exponent(n):
 
 
 # ------------------------------------------------------- restitution of the KK law
-C1 = gamma(0.6) * np.sqrt(np.pi) / (2**0.2 * 5**0.4 * gamma(2.1))  # = 1.15344
-C2 = 0.6 * C1**2  # = 0.79826
+# Schwager & Pöschel's series coefficients (theory.dissipation, tested there)
+C1, C2 = theory.dissipation.RESTITUTION_C1, theory.dissipation.RESTITUTION_C2
 
 
 def _restitution_independent(beta):
