@@ -30,7 +30,7 @@ and process, and compiled lazily: a run compiles (or loads from numba's disk cac
 only the entry points it calls.  Numba's own cache cannot key a closure (it pickles
 the closed-over dispatchers, whose pickle changes every process), so each entry point
 gets a cache keyed by the law's key and a digest of the kernel sources
-(:class:`_KeyedCache`).
+(:func:`theory.jitcache.keyed_njit`).
 
 Time stepping
 -------------
@@ -139,9 +139,8 @@ parameters with the drag rate β (1/s) last.
 from __future__ import annotations
 
 import hashlib
-import inspect
-import marshal
 import os
+import sys
 from typing import NamedTuple
 
 # Threads that wait at the end of a parallel region sleep instead of spinning: on a
@@ -156,6 +155,7 @@ import numba.extending  # noqa: E402
 import numpy as np  # noqa: E402
 
 from theory import jitcache  # noqa: E402
+from theory.jitcache import keyed_njit, source_digest  # noqa: E402
 from theory.laws import N_PARAMS, ContactLaw, as_law  # noqa: E402
 
 from .interpolation import hermite_max_from  # noqa: E402
@@ -326,42 +326,14 @@ def _series_row(ts_out, row, ts_idx, vals, pos, moving, u, d0, wl, wr):
 
 
 # ----------------------------------------------------------------- keyed disk cache
-try:  # numba's cache classes (stable since numba 0.49); without them: no disk cache
-    from numba.core.caching import FunctionCache as _FunctionCache
-except ImportError:  # pragma: no cover
-    _FunctionCache = None
-
-
-if _FunctionCache is not None:
-    class _KeyedCache(_FunctionCache):
-        """numba's function cache with the index key taken from the law, not a pickle.
-
-        numba keys a closure's cache entry by a pickle of the closed-over values; those
-        are dispatchers here, whose pickle holds a per-process id, so every process
-        would miss (and grow the index).  The key is instead the bytecode, the law's
-        :meth:`~theory.laws.ContactLaw.key` and a digest of the kernel sources
-        (:func:`_source_digest`): a changed law or kernel recompiles.
-        """
-
-        def __init__(self, py_func, key: str) -> None:
-            self._law_key = key
-            super().__init__(py_func)
-
-        def _index_key(self, sig, codegen):
-            code = self._py_func.__code__.co_code
-            h = hashlib.sha256(code + self._law_key.encode()).hexdigest()
-            return (sig, codegen.magic_tuple(), (h, ""))
-
-
 def _entry(py_func, key: str, **options):
-    """Compile ``py_func`` (a closure) as a kernel entry point with the keyed disk cache."""
-    disp = numba.njit(**_INNER, **options)(py_func)
-    if _FunctionCache is not None:
-        try:
-            disp._cache = _KeyedCache(py_func, key)
-        except Exception:  # pragma: no cover - numba internals changed: run uncached
-            pass
-    return disp
+    """Compile ``py_func`` (a closure) as a kernel entry point with the keyed disk cache.
+
+    :func:`theory.jitcache.keyed_njit`: numba would key a closure's cache entry by a
+    pickle of the law's compiled pieces it closes over, which differs in every process;
+    the entry is keyed by the bytecode and ``key`` instead.
+    """
+    return keyed_njit(py_func, key, **_INNER, **options)
 
 
 _DIGESTS: dict[type, str] = {}
@@ -371,30 +343,15 @@ def _source_digest(law: ContactLaw) -> str:
     """SHA-256 of the sources the compiled kernels of ``law`` are made of.
 
     This module and the source file of the law's class and of each of its bases that
-    is a :class:`~theory.laws.ContactLaw` (``inspect.getsourcefile``: the law's own
-    file and ``theory/laws/base.py``); a class whose file cannot be read (defined by
-    ``exec``) contributes the bytecode of its functions instead.  Part of every
-    kernel's cache key, so that editing a law or the kernels recompiles.  Computed once
-    per law class.
+    is a :class:`~theory.laws.ContactLaw` (:func:`theory.jitcache.source_digest`: the
+    law's own file and ``theory/laws/base.py``; a class defined by ``exec`` contributes
+    its bytecode).  Part of every kernel's cache key, so that editing a law or the
+    kernels recompiles.  Computed once per law class.
     """
     cls = type(law)
     if cls not in _DIGESTS:
-        h = hashlib.sha256()
-        with open(os.path.abspath(__file__), "rb") as f:
-            h.update(f.read())
-        for base in cls.__mro__:
-            if not (isinstance(base, type) and issubclass(base, ContactLaw)):
-                continue
-            try:
-                path = inspect.getsourcefile(base)
-                with open(path, "rb") as f:  # type: ignore[arg-type]
-                    h.update(f.read())
-            except (TypeError, OSError):
-                for name, attr in sorted(vars(base).items()):
-                    func = getattr(attr, "__func__", attr)
-                    if hasattr(func, "__code__"):
-                        h.update(name.encode() + marshal.dumps(func.__code__))
-        _DIGESTS[cls] = h.hexdigest()
+        bases = [b for b in cls.__mro__ if isinstance(b, type) and issubclass(b, ContactLaw)]
+        _DIGESTS[cls] = source_digest(sys.modules[__name__], *bases)
     return _DIGESTS[cls]
 
 
