@@ -435,6 +435,31 @@ def _nesterenko_kick(v, L, R, beta, bc, h, gidx, gcoef, fh, inv_m):
 
 
 @nb.njit(inline="always", **_JIT)
+def _shrink_window(v, dl, lo, hi, tau_v, tau_d, win):
+    """Shrink the active window [lo, hi] of Eq. 7's stepper to the nodes still moving.
+
+    A node is active if its speed exceeds ``tau_v`` or an adjacent face's overlap change
+    exceeds ``tau_d``; ``win`` gets the first and last active node, (-1, -1) if none.
+    """
+    new_lo = -1
+    for i in range(lo, hi + 1):
+        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+            new_lo = i
+            break
+    if new_lo < 0:
+        win[0] = -1
+        win[1] = -1
+        return
+    new_hi = new_lo
+    for i in range(hi, new_lo, -1):
+        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
+            new_hi = i
+            break
+    win[0] = new_lo
+    win[1] = new_hi
+
+
+@nb.njit(inline="always", **_JIT)
 def _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m):
     """Kick of node i by the scatter -Gᵀ F of the stencil table (faces in [qa, qb])."""
     width = gidx.shape[1]
@@ -1202,22 +1227,7 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
             _nesterenko_kick(v, lo, hi, b, bc, h, gidx, gcoef, fh, inv_m)
             work += hi - lo + 1
             if windowed:
-                new_lo = -1
-                for i in range(lo, hi + 1):
-                    if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                        new_lo = i
-                        break
-                if new_lo < 0:
-                    win[0] = -1
-                    win[1] = -1
-                else:
-                    new_hi = new_lo
-                    for i in range(hi, new_lo, -1):
-                        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                            new_hi = i
-                            break
-                    win[0] = new_lo
-                    win[1] = new_hi
+                _shrink_window(v, dl, lo, hi, tau_v, tau_d, win)
         return work
 
 
@@ -1319,22 +1329,7 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
                 _nesterenko_kick(v, lo, hi, beta[j] * dt, bc, h, gidx, gcoef, fh, inv_m)
                 work += hi - lo + 1
                 if windowed:
-                    new_lo = -1
-                    for i in range(lo, hi + 1):
-                        if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                            new_lo = i
-                            break
-                    if new_lo < 0:
-                        win[0] = -1
-                        win[1] = -1
-                    else:
-                        new_hi = new_lo
-                        for i in range(hi, new_lo, -1):
-                            if abs(v[i]) > tau_v or dl[i] > tau_d or dl[i + 1] > tau_d:
-                                new_hi = i
-                                break
-                        win[0] = new_lo
-                        win[1] = new_hi
+                    _shrink_window(v, dl, lo, hi, tau_v, tau_d, win)
             if windowed:
                 if win[0] < 0:
                     break
