@@ -645,11 +645,6 @@ class ChainSpec:
         """Total number of grains."""
         return sum(s.n for s in self.sections)
 
-    @property
-    def hertz(self) -> bool:
-        """The paper's lossless Hertz law (power law, n = 3/2, no drag)."""
-        return self.law == "power" and self.exponent == 1.5 and self.drag == 0
-
 
 @dataclass(frozen=True)
 class InitialSpec:
