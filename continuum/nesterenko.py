@@ -592,6 +592,10 @@ class NesterenkoPDE(ChainPDEBase):
         d = self.disc
         delta = np.maximum(d.delta0 + self.strain(np.asarray(state[0].data)), 0.0)
         c2 = self.law.stiffness(delta.max(), d.k) / d.mass.min()
+        if not np.max(c2) > 0:
+            raise ValueError("stable_dt: the state compresses no contact (a sonic vacuum at "
+                             "rest, or velocities only), so it sets no sound speed; pass a "
+                             "state with the wave's peak overlap, or give run() a dt")
         stencil = 1.0 if self.space_order == 2 else 6.0 / 7.0
         return float(safety * stencil * 0.4 * d.h / np.sqrt(np.max(c2)))
 
