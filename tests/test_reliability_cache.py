@@ -1,4 +1,4 @@
-"""Damaged or stale caches (issue 14 item 9).
+"""Damaged or stale caches.
 
 A killed cache write left its temporary forever; ``--force`` kept the cached settled
 waves; a damaged cached run of ``run``/``compare`` was recomputed without a word.  A

@@ -1,4 +1,4 @@
-"""Checkpoint, resume and determinism, bit for bit (issue 8).
+"""Checkpoint, resume and determinism, bit for bit.
 
 Every comparison here is exact: the bytes of every HDF5 dataset and attribute of the
 output file (``_dump``), and the canonical JSON of the summary without ``wall_time``

@@ -1,4 +1,4 @@
-"""Two processes on one output (issue 14 item 8).
+"""Two processes on one output.
 
 Two ``hertzchain run`` on the same ``--out`` deleted each other's temporaries (5 of 9
 trials failed with a missing ``.tmp``): :func:`hertzchain.checkpoint.remove_stale_temporaries`

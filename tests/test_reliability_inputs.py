@@ -1,4 +1,4 @@
-"""Extreme but valid-looking inputs: a correct result or an error naming the parameter (issue 14).
+"""Extreme but valid-looking inputs: a correct result or an error naming the parameter.
 
 Item 5: ``hertzchain theory`` printed ``transmitted_solitons -9223372036854775808`` for
 extreme ratios (an int64 cast of a huge λ) and took any ``--delta0``; item 12: inputs

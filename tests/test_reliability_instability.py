@@ -13,7 +13,7 @@ chaotically, so the monitored drift is a random walk of ~5e-5 whose value at a g
 monitor sample depends on the last bits of the state.  Those bits differ between
 machines: NumPy dispatches its float64 ``power`` to SVML on AVX-512 CPUs and to libm on
 AVX2 ones, and the stable dt the test derives its dt from, the expected overlaps and the
-initial state all go through it.  Measured on an AVX2 EPYC with dt and the velocities
+initial state all go through it.  On an AVX2 CPU, with dt and the velocities
 changed by 1-8 ulp (13 trials): the first sample beyond 1e-4 came at step 20,000 in 1,
 later in 11 and never in 1 (this machine's unperturbed run: exit 0, drift 7e-5).
 

@@ -1,4 +1,4 @@
-"""Every file the package writes detects any change on read (issue 14, item 3).
+"""Every file the package writes detects any change on read.
 
 Before: only datasets of 64 or more entries were checksummed (Fletcher-32), so a
 changed attribute or small dataset loaded silently — a checkpoint whose ``dt`` changed

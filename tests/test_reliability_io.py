@@ -1,4 +1,4 @@
-"""Atomic outputs and clear errors for damaged HDF5 input (issue 8).
+"""Atomic outputs and clear errors for damaged HDF5 input.
 
 Damage applied to a real run file: truncated to half its size, overwritten with
 garbage, a dataset removed, one byte flipped inside a compressed data chunk (caught by

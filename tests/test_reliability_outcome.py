@@ -1,4 +1,4 @@
-"""Every run says how it ended; labels only where they mean something (issue 14, items 1-2).
+"""Every run says how it ended; labels only where they mean something.
 
 Before: a run cut short by ``max_steps`` (before ``t_end`` or ``until_front_at``), a run
 of no step, ``dt = 1e-300`` or a snapshot never taken all exited 0 with a full

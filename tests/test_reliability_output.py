@@ -1,4 +1,4 @@
-"""Output locations checked at start; a full disk named, never a crash (issue 14 items 6, 7).
+"""Output locations checked at start; a full disk named, never a crash.
 
 Item 7: ``--out`` on a read-only place, a directory where a file is expected (or a file
 where a directory is) was found only after the whole integration.  Now every command

@@ -1,4 +1,4 @@
-"""Property-based tests: random scenarios run cleanly or are rejected clearly (issue 8);
+"""Property-based tests: random scenarios run cleanly or are rejected clearly;
 random small chains of every law and chain kind keep their physics (energy + dissipated
 work, momentum, time reversal: the comment above ``small_chains``).
 
@@ -71,7 +71,7 @@ KEYS = {*RATIOS, "front_speed_tr", "front_speed_re", "front_speed_tr_over_c0L",
         "separation_fraction", "split_estimate", "split_meets_rtol", "energy_drift", "steps",
         "t", "dt", "n_grains", "wall_time",
         "stopped_by", "completed", "incomplete_reason",
-        "integrator", "dt_source", "rtol", "rtol_estimate",  # how dt was chosen (issue 17)
+        "integrator", "dt_source", "rtol", "rtol_estimate",  # how dt was chosen
         # the windows and notes of hertzchain.measure
         "front_speed_meets_rtol", "t_incident", "t_separated", "t_end_reached",
         "end_reached", "Ed", "dissipated", "ratios_normalised_to", "ratios_note",
@@ -95,7 +95,7 @@ FAULTS = [
     (("run", "max_steps"), 0), (("record", "energy_every"), -1),
     (("record", "time_series_grains"), [10_000]), (("record", "snapshot_times"), [1.0]),
     (("record", "running_max"), "yes"),
-    # extreme but inside the schema's ranges (issue 14 item 12): a correct run or a
+    # extreme but inside the schema's ranges: a correct run or a
     # ScenarioError naming the key, never ZeroDivisionError/MemoryError/NaN energies
     (("chain", "sections", -1, "alpha_rho"), 1e-300), (("chain", "sections", 0, "n"), 10**12),
     (("chain", "delta0_over_d"), 1e-140), (("initial", "v0"), 1e-300),

@@ -1,4 +1,4 @@
-"""Sweeps that lose their records, their workers or their memory (issue 14 item 10).
+"""Sweeps that lose their records, their workers or their memory.
 
 * a lost ``records.jsonl``: the finished points are restored from ``results.h5``
   instead of the table being overwritten as all-pending;
@@ -153,7 +153,7 @@ def test_bad_byte_in_records_names_file_and_line(tmp_path, client):
 @pytest.mark.slow
 @pytest.mark.timeout(3600)
 def test_shipped_amplitude_precompression_sweep_runs_clean(tmp_path):
-    """Issue 14 item 11: 5 of its 12 points failed ("could not broadcast ... (60,) into
+    """Regression: 5 of its 12 points failed ("could not broadcast ... (60,) into
     (59,)", the settled wave clipped); every point must run and complete."""
     out = run_sweep("amplitude_precompression", out=tmp_path, workers=1, progress=False)
     assert (out.n_points, out.n_ok, out.n_failed, out.n_pending) == (12, 12, 0, 0)

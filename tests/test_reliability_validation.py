@@ -1,4 +1,4 @@
-"""Every public entry point rejects bad input with one clear error naming the field (issue 8).
+"""Every public entry point rejects bad input with one clear error naming the field.
 
 Beyond the TOML cases of ``tests/hertzchain/test_scenario.py``: the Python API (chains,
 materials, Simulation and its run, recording, initial conditions, theory functions), the

@@ -1,4 +1,4 @@
-"""Start-up of ``hertzchain run`` (issue 17, item 3): nothing is imported that the run does
+"""Start-up of ``hertzchain run``: nothing is imported that the run does
 not use.
 
 A small run without ``--out`` needs NumPy, numba (which itself imports SciPy and, through

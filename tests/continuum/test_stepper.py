@@ -10,7 +10,7 @@ is a real check.
 Tolerance: 1e-9 of the largest value.  The two paths sum in different orders (twisted
 vs plain elimination, DUCC vs pocketfft, fused stages), so each step they differ by a
 few ulps, and the difference is carried and amplified by the dynamics like any
-perturbation.  Measured (2026-11-25, every case below): ≤ 2e-12 for the 200–300-step
+perturbation.  Measured, every case below: ≤ 2e-12 for the 200–300-step
 runs of Eq. 4, Eq. 7 (both stencils, both steppers, every boundary) and KdV, 6.5e-12
 for Eq. 7 periodic, 1.1e-11 for the long sonic-vacuum window run.  1e-9 leaves a
 factor ~100 for other compilers and CPUs, while a real discrepancy (a wrong

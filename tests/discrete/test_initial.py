@@ -109,7 +109,7 @@ def test_exact_wave_travels_unchanged(delta0_over_d, v_peak):
 
 
 def test_cut_wave_strong_precompression_fits_the_chain():
-    # Regression (issue 14 item 11): at δ0/d = 1e-2 the settled peak lies near the end
+    # Regression: at δ0/d = 1e-2 the settled peak lies near the end
     # of the search window and the cut used to run past the settling chain ("could not
     # broadcast (60,) into (59,)").  The whole 2 hw + 1 grain wave must be placed, with
     # its peak at the requested grain and its velocities finite and positive there.

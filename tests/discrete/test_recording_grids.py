@@ -6,7 +6,7 @@ reserves its rows up to t_end in one segment per kind (also when cut into segmen
 into it (``block``/``commit``), so the grid is read as views, no copy; rows past the
 reservation (a run bounded by an event only) or appended with ``extend`` (a file read
 back) go to further segments, joined once, on the first read, each segment dropped as
-soon as it is copied (issue 13: a grid never held twice); later reads are views of the
+soon as it is copied (a grid never held twice); later reads are views of the
 joined arrays, read-only.  The memory check uses tracemalloc
 (NumPy reports its buffers to it): reading the grids of a summarised run
 (``energy_grids``, ``arrays``, which ``discrete.save`` writes) allocates nothing of a

@@ -1,4 +1,4 @@
-"""Refined maxima (issue 17 item 2): between the steps, at the integrator's order.
+"""Refined maxima: between the steps, at the integrator's order.
 
 ``record.vmax`` stays the largest *sampled* velocity (what the figures read, O(h²) off
 the true maximum); ``record.vmax_refined`` is the maximum of the cubic Hermite

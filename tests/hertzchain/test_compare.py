@@ -158,7 +158,7 @@ def test_analyse_without_continuum_and_without_interface():
     assert "theory" in cmp.verdict()
 
 
-# -- measurement windows (issue 12: a point whose window does not hold says so) ----------
+# -- measurement windows (a point whose window does not hold says so) ----------
 def _paper_wave(n=(200, 200), center=100, t_end=1.0e-3, **models):
     return parse_scenario({
         "name": "window", "chain": {"delta0_over_d": 1e-3, "sections": [

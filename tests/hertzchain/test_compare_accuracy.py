@@ -1,4 +1,4 @@
-"""Accuracy of the continuum against the discrete chain (issue 12), through `compare`.
+"""Accuracy of the continuum against the discrete chain, through `compare`.
 
 Precompressed (δ0/d = 1e-3, the Eq. 4 regime): every Table-2 point (M, N, P, Q) and
 Fig. 5's cases a–d on reduced chains (400 | 400 grains, the paper's settled wave placed
@@ -24,9 +24,9 @@ from hertzchain.compare import compare
 from hertzchain.scenario import parse_scenario
 
 ENERGY_TOL = 5e-3
-"""|ΔE_T|, |ΔE_R| in units of the incident energy (issue 12)."""
+"""|ΔE_T|, |ΔE_R| in units of the incident energy."""
 FRONT_TOL = 0.5
-"""|Δx| of the transmitted front, grains, 100 grains past the interface (issue 12)."""
+"""|Δx| of the transmitted front, grains, 100 grains past the interface."""
 N_LEFT, N_RIGHT, CENTRE = 400, 400, 300
 
 

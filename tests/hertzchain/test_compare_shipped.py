@@ -1,4 +1,4 @@
-"""``hertzchain compare`` runs on every shipped scenario (issue 12, "Done when").
+"""``hertzchain compare`` runs on every shipped scenario.
 
 Each scenario of ``hertzchain/scenarios/**`` (paper, examples and the top-level ones)
 is compared with its own chain, initial state and models, cut to a short run (30 µs,

@@ -139,7 +139,7 @@ SLOW = {"measure_sensors"}  # settles a cut wave first (~40 s)
 def test_every_example_has_its_python_twin_and_covers_the_issue():
     assert set(EXAMPLES) == {name[len("python_"):] for name in globals()
                              if name.startswith("python_")}
-    # one per law, chain type and measurement (issue 15, "Done when")
+    # one per law, chain type and measurement
     scs = {stem: load_scenario(p) for stem, p in EXAMPLES.items()}
     chains = [s.chain for s in scs.values()]
     rec = [s.record for s in scs.values()]

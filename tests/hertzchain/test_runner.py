@@ -387,7 +387,7 @@ def test_rtol_run_with_maxima_reads_the_front_speed_off_them_without_a_grid():
 
 def test_interface_activity_by_blocks_is_bitwise_the_whole_grids():
     # the summary's activity is computed block by block (no whole e = ek + ep, no |e|:
-    # issue 13's memory); each row's sums do not depend on the other rows, so the
+    # memory held twice); each row's sums do not depend on the other rows, so the
     # values are the same bits as diagnostics.interface_activity on the whole grid
     from discrete import diagnostics as D
     from hertzchain.measure import ACTIVITY_ROWS, total_energy_rows
