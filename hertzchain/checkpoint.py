@@ -10,7 +10,7 @@ checkpoint file, together with a *key* that identifies the run (for
 run finds the checkpoint, checks the key and continues from it; a checkpoint with
 another key is refused (:class:`CheckpointError`: resuming another scenario's state
 would silently produce wrong results, and discarding it silently could throw away
-hours of work — ``--restart`` discards it explicitly).
+hours of work — ``--force`` discards it explicitly).
 
 Why the result is bit for bit that of an uninterrupted run
 ----------------------------------------------------------
@@ -274,17 +274,17 @@ def read_checkpoint(path: str | Path, key: str, *, threads: int | None = None
             found = f.attrs.get(f"{_PREFIX}key")
             extra = f.attrs.get(f"{_PREFIX}extra")
     except ValueError as exc:
-        raise CheckpointError(f"{exc}; delete it (or rerun with --restart) to start over"
+        raise CheckpointError(f"{exc}; delete it (or rerun with --force) to start over"
                               ) from None
     if isinstance(found, bytes):
         found = found.decode()
     if found is None or extra is None:
         raise CheckpointError(f"{path}: not a checkpoint (no {_PREFIX}key attribute); "
-                              "delete it (or rerun with --restart) to start over")
+                              "delete it (or rerun with --force) to start over")
     if found != key:
         raise CheckpointError(
             f"{path}: checkpoint of a different run (key {found}, this run {key}): "
-            "the scenario changed since it was written. Rerun with --restart to discard "
+            "the scenario changed since it was written. Rerun with --force to discard "
             "it, or write to another --out file")
     try:
         from discrete.io import load
@@ -293,7 +293,7 @@ def read_checkpoint(path: str | Path, key: str, *, threads: int | None = None
         extra = json.loads(extra)
     except ValueError as exc:
         raise CheckpointError(f"damaged checkpoint: {exc}; delete it (or rerun with "
-                              "--restart) to start over") from None
+                              "--force) to start over") from None
     return sim, extra
 
 

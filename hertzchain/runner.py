@@ -840,7 +840,7 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
             resumed = C.read_checkpoint(ckpt, key, threads=threads)
         elif ckpt.exists():
             ckpt.unlink()
-            say(f"removed the checkpoint {ckpt} (--restart)")
+            say(f"removed the checkpoint {ckpt} (--force)")
     if resumed is not None:
         sim, extra = resumed
         chain, amp, elapsed = sim.chain, extra["incident_amplitude"], extra["wall_time"]

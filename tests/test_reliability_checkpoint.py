@@ -215,14 +215,14 @@ def test_checkpoint_of_another_scenario_is_refused(tmp_path, monkeypatch, capsys
     with pytest.raises(C.Interrupted):
         run_scenario(sc, out=out, checkpoint_interval=0.0)
     other = parse_scenario({**SCENARIOS["exact"], "run": {"t_end": 8e-4}})
-    with pytest.raises(C.CheckpointError, match="checkpoint of a different run.*--restart"):
+    with pytest.raises(C.CheckpointError, match="checkpoint of a different run.*--force"):
         run_scenario(other, out=out, checkpoint_interval=0.0)
-    # through the CLI: exit 2 with the message; --restart discards it and runs
+    # through the CLI: exit 2 with the message; --force discards it and runs
     toml = tmp_path / "other.toml"
     toml.write_text(_toml(SCENARIOS["exact"]).replace("t_end = 0.00075", "t_end = 0.0008"))
     assert main(["run", str(toml), "--out", str(out), "--checkpoint-interval", "0"]) == 2
     assert "different run" in capsys.readouterr().err
-    assert main(["run", str(toml), "--out", str(out), "--restart", "--json"]) == 0
+    assert main(["run", str(toml), "--out", str(out), "--force", "--json"]) == 0
     assert "removed the checkpoint" in capsys.readouterr().err
     assert out.exists() and not C.checkpoint_path(out).exists()
 
@@ -238,7 +238,7 @@ def test_damaged_checkpoint_gives_clear_error(damage, tmp_path, monkeypatch):
     _damage(ck, damage)
     with pytest.raises(C.CheckpointError) as err:
         run_scenario(sc, out=out, checkpoint_interval=0.0)
-    assert str(ck) in str(err.value) and "--restart" in str(err.value)
+    assert str(ck) in str(err.value) and "--force" in str(err.value)
 
 
 def _damage(path: Path, how: str) -> None:

@@ -237,7 +237,7 @@ def test_changed_checkpoint_is_not_resumed(files, tmp_path, capsys):
     toml.write_text(_toml(SCENARIO))
     assert main(["run", str(toml), "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert f"{C.checkpoint_path(out)}: damaged checkpoint" in err and "--restart" in err
+    assert f"{C.checkpoint_path(out)}: damaged checkpoint" in err and "--force" in err
     assert not out.exists()
 
 

@@ -139,11 +139,6 @@ def _retell(exc: C.Interrupted, ctx: Context, note: str) -> C.Interrupted:
     return C.Interrupted(exc.signum, exc.checkpoint, exc.t, exc.steps, note=f"{note}: {how}")
 
 
-def _checkpoint_error(exc: C.CheckpointError) -> C.CheckpointError:
-    """The runner's advice (--restart) in the terms of ``hertzchain reproduce``."""
-    return C.CheckpointError(str(exc).replace("--restart", "--force"))
-
-
 def paper_scenario(name: str, values: dict | None = None):
     """The paper scenario ``hertzchain/scenarios/paper/<name>.toml`` with keys set.
 
@@ -213,10 +208,8 @@ def run_models(ctx: Context, stem: str, scenario, *, samples: bool | None = None
     try:
         result = run(sc, cache=ctx.runs, stem=stem, force=ctx.force,
                      checkpoint_interval=ctx.checkpoint_interval, progress=ctx.progress,
-                     log=lambda m: ctx.log(f"{stem}: {m}".replace("--restart", "--force")),
+                     log=lambda m: ctx.log(f"{stem}: {m}"),
                      wave_cache=ctx.cache, samples=samples, save_discrete=save)
-    except C.CheckpointError as exc:
-        raise _checkpoint_error(exc) from None
     except C.Interrupted as exc:
         if exc.checkpoint is not None:
             note = f"checkpoint written to {exc.checkpoint}"
