@@ -1,6 +1,6 @@
 """
 Dissipation: viscoelastic Hertz from a coefficient of restitution, and drag
-==========================================================================
+===========================================================================
 
 Two ways a solitary wave loses energy, on an uncompressed Hertz chain:
 
