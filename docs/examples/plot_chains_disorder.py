@@ -5,8 +5,8 @@ A solitary wave entering a disordered section
 Grains are never identical: masses, contact constants and diameters scatter by a few
 per cent.  A solitary wave entering a randomly disordered section scatters a little at
 every grain into a tail behind it and loses amplitude with the distance travelled,
-the faster the stronger the disorder (Sen, Hong, Bang, Avalos & Doney, Phys. Rep. 462
-(2008) 21, §6; Fraternali, Porter & Daraio, Mech. Adv. Mater. Struct. 17 (2010) 1).
+the faster the stronger the disorder (Martínez, Kevrekidis & Porter, Phys. Rev. E 93
+(2016) 022902; Kekić & Van Gorder, Physica D (2018); docs/physics.md §18).
 Here each of the three is scattered by a factor 1 + σ√3 U (U uniform in [−1, 1]: a
 relative standard deviation σ; :class:`discrete.Disorder`, seeded and reproducible).
 

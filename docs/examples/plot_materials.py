@@ -4,11 +4,12 @@ Materials: a library material against a measured one
 
 Two sections of grains of the same diameter but different materials meet at an
 interface.  Their density ratio α_ρ and contact-stiffness ratio α_kn follow from the
-materials (the Hertz constant of two identical spheres, k = E√(2d)/(3(1 − ν²)), paper
-Eq. 1), and with them the sound-speed ratio γ_c0 = α_ρ^{-1/2} α_kn^{1/3} and the
-impedance ratio γ_RG = α_ρ^{1/2} α_kn^{1/3} (paper Eqs. 9, 13) that decide how a weak
-solitary wave of a precompressed chain is transmitted and reflected (linear acoustics,
-Eqs. 10–12; :func:`theory.table2_prediction`).
+materials (the Hertz constant of two identical spheres, k = E d^{1/2}/(3(1 − ν²)),
+docs/physics.md §1 — half the paper's printed k_n), and with them the sound-speed
+ratio γ_c0 = α_ρ^{-1/2} α_kn^{1/3} and the impedance ratio γ_RG = α_ρ^{1/2} α_kn^{1/3}
+(paper Eqs. 9, 13) that decide how a weak solitary wave of a precompressed chain is
+transmitted and reflected (linear acoustics, Eqs. 10–12;
+:func:`theory.table2_prediction`).
 
 A material is a name from the library (``hertzchain materials``: density, Young's
 modulus, Poisson ratio, each with its source) or a table of measured values.  Here
