@@ -29,6 +29,6 @@ for key, value in ratios.as_dict().items():
 fig, ax = plt.subplots(figsize=(7, 3))
 ax.plot(sim.v, lw=1)
 ax.axvline(249.5, color="0.5", ls=":", label="interface")
-ax.set(xlabel="grain", ylabel="velocity (m/s)", title=f"point M at t = {sim.t * 1e3:.3f} ms")
+ax.set(xlabel="grain index $i$", ylabel="v (m/s)", title=f"point M at t = {sim.t * 1e3:.3f} ms")
 ax.legend()
 fig.tight_layout()

@@ -50,10 +50,10 @@ with h5py.File(out, "r") as f:
 fig, (ax, bx) = plt.subplots(1, 2, figsize=(9, 3.2))
 ax.plot(v, lw=1)
 ax.axvline(199.5, color="0.5", ls=":")
-ax.set(xlabel="grain", ylabel="v (m/s)", title=f"final state, t = {t * 1e3:.3f} ms")
+ax.set(xlabel="grain index $i$", ylabel="v (m/s)", title=f"final state, t = {t * 1e3:.3f} ms")
 im = bx.pcolormesh(np.arange(e_kin.shape[1]), e_t * 1e3, e_kin, shading="auto", cmap="magma")
 bx.axvline(199.5, color="w", ls=":")
-bx.set(xlabel="grain", ylabel="t (ms)", title="kinetic energy per grain (J)")
+bx.set(xlabel="grain index $i$", ylabel="t (ms)", title="kinetic energy per grain (J)")
 fig.colorbar(im, ax=bx)
 fig.tight_layout()
 
