@@ -274,6 +274,10 @@ class InterfacePrediction:
     fission_parameter: float
     transmitted_solitons: int
     transmitted_effect: str
+    """Fracture or squeeze of the transmitted wave by the fission parameter q
+    (:func:`fission_parameter`), consistent with ``transmitted_solitons``; the paper's
+    own boundary γ_c0 = 1 (which ignores the amplitude change at the interface) is
+    ``region``'s."""
     reflected_effect: str
     delta0_ratio: float
     """δ0^R/δ0^L = α_kn^{-2/3} from force equilibrium (paper below Eq. 9)."""
@@ -297,10 +301,13 @@ def predict(alpha_rho: float, alpha_kn: float, *, tol: float = 1e-9) -> Interfac
     """
     gc = float(gamma_c0(alpha_rho, alpha_kn))
     gr = float(gamma_rg(alpha_rho, alpha_kn))
-    sc, sr = _side(gc, tol), _side(gr, tol)
-    trans = {1: "fracture (multipulse transmitted train)", -1: "squeeze (compressive "
-             "transmitted wave with oscillatory tail)", 0: "speed-matched (no fracture "
-             "or squeeze)"}[sc]
+    q = float(fission_parameter(alpha_rho, alpha_kn))
+    count = int(transmitted_soliton_count(alpha_rho, alpha_kn))
+    sq, sr = _side(q, tol), _side(gr, tol)
+    trans = {1: f"fracture (a transmitted train of {count} solitary waves: q = {q:.3g} > 1)",
+             -1: f"squeeze (one transmitted solitary wave and an oscillatory tail: q = "
+                 f"{q:.3g} < 1)",
+             0: "on the fission boundary q = 1 (one transmitted solitary wave)"}[sq]
     refl = {-1: "overshoot: expansive reflected wave", 1: "compressive reflected wave",
             0: "no reflection (total transmission)"}[sr]
     return InterfacePrediction(
@@ -315,8 +322,8 @@ def predict(alpha_rho: float, alpha_kn: float, *, tol: float = 1e-9) -> Interfac
         energy_transmission=float(energy_transmission(gr)),
         energy_reflection=float(energy_reflection(gr)),
         region=region(gc, gr, tol=tol),
-        fission_parameter=float(fission_parameter(alpha_rho, alpha_kn)),
-        transmitted_solitons=int(transmitted_soliton_count(alpha_rho, alpha_kn)),
+        fission_parameter=q,
+        transmitted_solitons=count,
         transmitted_effect=trans,
         reflected_effect=refl,
         delta0_ratio=float(alpha_kn) ** (-2.0 / 3.0),

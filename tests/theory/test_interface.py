@@ -128,3 +128,22 @@ def test_fission_parameter_soliton_count():
     for amp in (1e-6, 1e-5):
         width = theory.kdv_soliton_width(amp, d, delta0)
         assert width**2 * amp / (delta0 / d) == pytest.approx(2 * d**2, rel=1e-12)
+
+
+@pytest.mark.parametrize("a_r,a_k", [(1.0, 1.0), (0.3, 1.0), (3.0, 0.5), (0.8, 0.35),
+                                     (2.0, 2.8284271247461903), (4.0, 0.25), (0.25, 4.0),
+                                     (0.346, 0.36)])
+def test_transmitted_effect_agrees_with_the_soliton_count(a_r, a_k):
+    """The effect named for the transmitted wave is the fission parameter's: "fracture"
+    exactly when more than one solitary wave is predicted (q > 1), naming the count; the
+    paper's γ_c0 = 1 boundary stays in ``region``.  Steel | aluminium (γ_c0 > 1 but
+    q < 1) once read "fracture" beside a count of one."""
+    p = theory.predict(a_r, a_k)
+    if p.fission_parameter > 1 + 1e-9:
+        assert p.transmitted_effect.startswith("fracture")
+        assert p.transmitted_solitons > 1 and f"{p.transmitted_solitons} solitary" in \
+            p.transmitted_effect
+    elif p.fission_parameter < 1 - 1e-9:
+        assert p.transmitted_effect.startswith("squeeze") and p.transmitted_solitons == 1
+    else:
+        assert "boundary" in p.transmitted_effect and p.transmitted_solitons == 1
