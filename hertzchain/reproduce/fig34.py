@@ -47,7 +47,7 @@ from .common import (
 )
 
 __all__ = ["SETUPS", "QUICK", "FULL", "CaseResult", "scenario", "run", "plot_velocity",
-           "plot_displacements", "figures", "report", "to_json"]
+           "plot_displacements", "figure", "figures", "report", "to_json"]
 
 SETUPS = {
     "fig3": {"what": "alpha_rho", "alphas": (0.2, 5.0), "interface": 400, "snapshot": 550,
@@ -252,14 +252,13 @@ def plot_displacements(ax, case: CaseResult, *, label: str = "", legend: bool = 
                  fontsize="medium")
 
 
-def figures(ctx: Context, cases: list[CaseResult]) -> list:
-    """Save ``fig3.png`` or ``fig4.png`` (2 × 2 panels as the paper).
+def figure(cases: list[CaseResult]):
+    """The Fig. 3 or Fig. 4 figure: 2 × 2 panels as the paper.
 
     The legends are the figure's, outside the panels: the models' (top row) above,
     the grains' (both lower panels show the same grains in the same colours) and the
     gap openings' on the right.
     """
-    item = cases[0].item
     fig, axes = new_figure(2, 2, figsize=(12, 7.8))
     for col, (case, lab) in enumerate(zip(cases, "ab", strict=True)):
         plot_velocity(axes[0, col], case, label=lab, legend=False)
@@ -275,7 +274,13 @@ def figures(ctx: Context, cases: list[CaseResult]) -> list:
     fig.legend(handles=grains + _opening_handles(cases[0]), loc="outside right lower",
                title="grain (paper's)", fontsize="small", title_fontsize="small",
                frameon=False)
-    path = save_figure(ctx, fig, item)
+    return fig
+
+
+def figures(ctx: Context, cases: list[CaseResult]) -> list:
+    """Save ``fig3.png`` or ``fig4.png`` (:func:`figure`)."""
+    item = cases[0].item
+    path = save_figure(ctx, figure(cases), item)
     return [(path, f"{item[:3].capitalize()}. {item[3]}: {_what(item)}-mismatched chain, "
              "δ0 = 0. (a, b) grain velocity when the transmitted front reaches the paper's "
              "grain (dotted: the interface); (c, d) displacement/ū_max of the grains around "

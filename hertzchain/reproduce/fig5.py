@@ -45,8 +45,8 @@ from .common import (
 )
 
 __all__ = ["QUICK", "FULL", "CASES", "CaseResult", "scenario", "estimate_cost", "run",
-           "parts", "run_part", "combine", "zoom_window", "plot_case", "figures", "report",
-           "to_json"]
+           "parts", "run_part", "combine", "zoom_window", "plot_case", "figure", "figures",
+           "report", "to_json"]
 
 QUICK = {"n_grains": 10_000, "interface": 7_000, "snapshot": 9_900, "lead": 300}
 FULL = {"n_grains": 50_000, "interface": 35_000, "snapshot": 49_900, "lead": 300,
@@ -292,8 +292,8 @@ def plot_case(ax, res: CaseResult, *, label: str | None = None, behind: float = 
         ins.set_ylim(y0, y1 + 0.5 * (y1 - y0))  # room for the text
 
 
-def figures(ctx: Context, results: list[CaseResult]) -> list:
-    """Save ``fig5.png`` (2 × 2 panels a–d as the paper, one legend under them)."""
+def figure(results: list[CaseResult]):
+    """The Fig. 5 figure: 2 × 2 panels a–d (:func:`plot_case`) as the paper, one legend."""
     fig, axes = new_figure(2, 2, figsize=(11, 7.6))
     for ax, res in zip(axes.ravel(), results, strict=False):
         plot_case(ax, res, legend=False)
@@ -304,8 +304,13 @@ def figures(ctx: Context, results: list[CaseResult]) -> list:
     labels = list(handles)
     fig.legend([handles[k] for k in labels], labels, loc="outside lower center",
                ncol=len(labels), fontsize="small", frameon=False)
+    return fig
+
+
+def figures(ctx: Context, results: list[CaseResult]) -> list:
+    """Save ``fig5.png`` (:func:`figure`)."""
     r0 = results[0]
-    path = save_figure(ctx, fig, "fig5")
+    path = save_figure(ctx, figure(results), "fig5")
     return [(path, f"Fig. 5: δ0^L/d = 1e-3, {r0.v.size} grains, interface "
              f"{r0.interface}|{r0.interface + 1}; grain velocity when the transmitted "
              "front reaches the paper's grain (scaled in --quick), around the leading "

@@ -23,7 +23,8 @@ from ..plotting import plot_spacetime
 from .common import Context, new_figure, save_figure
 from .table2 import POINTS, in_run_order, run_point
 
-__all__ = ["QUICK", "FULL", "GRAINS_SHOWN", "run", "plot_map", "figures", "report", "to_json"]
+__all__ = ["QUICK", "FULL", "GRAINS_SHOWN", "LINTHRESH", "run", "color_norm", "plot_map",
+           "figure", "figures", "report", "to_json"]
 
 QUICK: dict = {}
 FULL: dict = {}
@@ -159,8 +160,8 @@ def plot_map(ax, d: dict, kind: str, *, vmin=None, vmax=None, norm=None,
                           interface_color="0.35")
 
 
-def figures(ctx: Context, data: dict) -> list:
-    """Save ``fig8.png``: 4 × 3 panels (rows M, N, P, Q; columns kinetic, potential, total).
+def figure(data: dict):
+    """The Fig. 8 figure: 4 × 3 panels (rows M, N, P, Q; columns kinetic, potential, total).
 
     One colour bar per column (each column is one quantity on one scale,
     :func:`color_norm`), under it.
@@ -188,7 +189,12 @@ def figures(ctx: Context, data: dict) -> list:
         cb.ax.xaxis.set_major_locator(FixedLocator(ticks))
         cb.ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
         cb.ax.tick_params(labelsize="small")
-    path = save_figure(ctx, fig, "fig8", dpi=90)
+    return fig
+
+
+def figures(ctx: Context, data: dict) -> list:
+    """Save ``fig8.png`` (:func:`figure`)."""
+    path = save_figure(ctx, figure(data), "fig8", dpi=90)
     return [(path, "Fig. 8: energy per grain over its value at the incident peak, δ0^L/d = "
              "1e-3, interface 200|201 (dotted); rows M, N, P, Q; one colour scale per "
              f"column (colour bar under it), symmetric-logarithmic: linear within "
