@@ -173,8 +173,8 @@ def plot_theory_lines(ax, *, lim=(0.2, 5.0), regions: bool = True):
     Log-log axes in (α_ρ, α_kn) as the paper's Fig. 7, with the region numerals.
     """
     a = np.geomspace(lim[0], lim[1], 200)
-    ax.plot(a, a**1.5, "k-", lw=1.2, label=r"$\gamma_{c_0}=1$")
-    ax.plot(a, a**-1.5, "k--", lw=1.2, label=r"$\gamma_{R_G}=1$")
+    ax.plot(a, a**1.5, "k-", lw=1.2, label=r"$\gamma_{c_0}=1$ (Eq. 9)")
+    ax.plot(a, a**-1.5, "k--", lw=1.2, label=r"$\gamma_{R_G}=1$ (Eq. 13)")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlim(*lim)

@@ -194,7 +194,7 @@ def plot_velocity(ax, case: CaseResult, *, label: str = "", legend: bool = True)
     plot_continuum(ax, case.continuum, case.v, case.incident_peak, scale=V0)
     if case.continuum is not None and legend:
         ax.legend(fontsize="x-small", loc="best")
-    ax.axhline(0, color="0.7", lw=0.5)
+    ax.axhline(0, color="0.7", lw=0.5, zorder=0)
     pulses = D.find_pulses(case.v, threshold=PULSE_MIN, reference=case.incident_peak,
                            lo=case.interface, hi=n)
     first, second = D.split_parts_at_gap(pulses, direction=1)

@@ -267,7 +267,7 @@ def plot_case(ax, res: CaseResult, *, label: str | None = None, behind: float = 
                        lw=1.3, label="discrete", numbering="paper")
     inc = res.numbers["incident_peak_v"]
     plot_continuum(ax, res.continuum, res.v, inc, scale=V0, start=lo, stop=hi)
-    ax.axhline(0, color="0.7", lw=0.4)
+    ax.axhline(0, color="0.7", lw=0.4, zorder=0)
     ax.set_xlim(lo + 1, hi)
     ymin, ymax = ax.get_ylim()
     ax.set_ylim(ymin, ymax + 0.8 * (ymax - ymin))  # the top ~45 %: the overview's room
