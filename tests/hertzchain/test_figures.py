@@ -235,9 +235,11 @@ def test_fig8_one_colour_bar_per_column():
 
 def test_fig8_colour_scale_shows_the_reflected_wave():
     data = _fig8_data()
-    for kind, value in (("k", 0.1), ("p", -0.05)):
-        norm = fig8.color_norm(data, kind)
-        cmap = fig8._cmap(kind)
+    panels = [ax for ax in fig8.figure(data).axes if ax.images]
+    for col, kind, value in ((0, "k", 0.1), (1, "p", -0.05)):
+        image = panels[col].images[0]                      # row M, the column's scale
+        norm, cmap = image.norm, image.get_cmap()
+        assert norm.vmax == fig8.color_norm(data, kind).vmax
         background = np.array(cmap(norm(0.0))[:3])
         wave = np.array(cmap(norm(value))[:3])
         # a linear scale over [0, 1.5] would put 0.1 at 7 % of the colour range: near the
