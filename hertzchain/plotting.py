@@ -102,7 +102,8 @@ def plot_vmax(ax, vmax_over_v0, *, mean: float | None = None, grain_range=None,
 
 
 def plot_displacement_time(ax, t, u, grains, *, u_ref: float = 1.0, free_flight=None,
-                           time_unit: float = 1e-3, numbering: str = "index"):
+                           time_unit: float = 1e-3, numbering: str = "index",
+                           legend: bool = True):
     """Displacement of chosen grains against time (paper Figs. 3c/d, 4c/d).
 
     Parameters
@@ -120,6 +121,9 @@ def plot_displacement_time(ax, t, u, grains, *, u_ref: float = 1.0, free_flight=
         Where a grain is in free flight (both contacts open); drawn as thick segments.
     time_unit : float
         Seconds per unit on the time axis (default ms).
+    legend : bool
+        A legend of the grains in the axes (False: the caller draws one, e.g. beside
+        several panels showing the same grains).
     """
     first, _ = _numbering(numbering)
     t = np.asarray(t) / time_unit
@@ -132,23 +136,30 @@ def plot_displacement_time(ax, t, u, grains, *, u_ref: float = 1.0, free_flight=
                     color=line.get_color(), alpha=0.4)
     ax.set_xlabel("time (ms)" if time_unit == 1e-3 else f"time (×{time_unit:g} s)")
     ax.set_ylabel(r"$u_i/\bar u_{max}$" if u_ref != 1.0 else r"$u_i$ (m)")
-    ax.legend(title="grain" if first == 0 else "grain (paper's)", fontsize="x-small", ncol=2)
+    if legend:
+        ax.legend(title="grain" if first == 0 else "grain (paper's)", fontsize="x-small",
+                  ncol=2)
 
 
 def plot_spacetime(ax, t, values, *, interface: int | None = None, cmap: str = "inferno",
-                   vmin=None, vmax=None, label: str = "", time_unit: float = 1e-3,
-                   start: int = 0, numbering: str = "index"):
+                   vmin=None, vmax=None, norm=None, label: str = "", time_unit: float = 1e-3,
+                   start: int = 0, numbering: str = "index", interface_color: str = "w"):
     """Space-time map of a per-grain quantity (paper Fig. 8); returns the image.
 
     ``values`` has shape (n_times, n_grains); x is the grain (``numbering``), y the time.
+    ``norm``: a :class:`matplotlib.colors.Normalize` (e.g. a symmetric-log one, so that
+    weak waves next to strong ones stay visible) instead of ``vmin``/``vmax``; ``label``:
+    a colour bar of its own with that label ("" for none: a caller sharing one colour bar
+    between panels draws it).
     """
     first, title = _numbering(numbering)
     values = np.asarray(values)
     t = np.asarray(t) / time_unit
     extent = (start + first - 0.5, start + values.shape[1] + first - 0.5, t[0], t[-1])
+    limits = {} if norm is not None else {"vmin": vmin, "vmax": vmax}
     im = ax.imshow(values, origin="lower", aspect="auto", extent=extent, cmap=cmap,
-                   vmin=vmin, vmax=vmax, interpolation="nearest")
-    mark_interface(ax, interface, numbering=numbering, color="w")
+                   norm=norm, interpolation="nearest", **limits)
+    mark_interface(ax, interface, numbering=numbering, color=interface_color)
     ax.set_xlabel(title)
     ax.set_ylabel("time (ms)" if time_unit == 1e-3 else "time")
     if label:
@@ -162,8 +173,8 @@ def plot_theory_lines(ax, *, lim=(0.2, 5.0), regions: bool = True):
     Log-log axes in (α_ρ, α_kn) as the paper's Fig. 7, with the region numerals.
     """
     a = np.geomspace(lim[0], lim[1], 200)
-    ax.plot(a, a**1.5, "k-", lw=1.2, label=r"$\gamma_{c_0}=1$")
-    ax.plot(a, a**-1.5, "k--", lw=1.2, label=r"$\gamma_{R_G}=1$")
+    ax.plot(a, a**1.5, "k-", lw=1.2, label=r"$\gamma_{c_0}=1$ (Eq. 9)")
+    ax.plot(a, a**-1.5, "k--", lw=1.2, label=r"$\gamma_{R_G}=1$ (Eq. 13)")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xlim(*lim)

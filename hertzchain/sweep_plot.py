@@ -540,13 +540,15 @@ def _positions(amp: np.ndarray) -> tuple[np.ndarray, list[float], list[str], flo
     """Horizontal positions of amplitudes: log10(strain/δ0), the sonic vacuum on its tick.
 
     Returns the positions, the tick positions and labels, and the x of the axis break
-    (NaN without a sonic vacuum).  The sonic vacuum (inf) sits 1.5 decades right of the
-    largest finite amplitude (at least 10²), past a break.
+    (NaN without a sonic vacuum).  The decades span the finite amplitudes (at least one
+    decade: a coarse map is not stretched over empty decades); the sonic vacuum (inf)
+    has no place on that axis and sits in a column of its own, 1.5 decades right of the
+    last, past a break.
     """
     amp = _rounded(amp)  # a measured 9.99e-4 is the map's 1e-3
     finite = amp[np.isfinite(amp) & (amp > 0)]
     lo = math.floor(np.log10(finite.min())) if finite.size else -1
-    hi = max(math.ceil(np.log10(finite.max())) if finite.size else 0, 2)
+    hi = max(math.ceil(np.log10(finite.max())) if finite.size else 0, lo + 1)
     x_sv = hi + 1.5
     with np.errstate(divide="ignore", invalid="ignore"):
         xs = np.where(np.isinf(amp), x_sv, np.log10(np.where(amp > 0, amp, np.nan)))
@@ -617,26 +619,38 @@ def _interface_style(results: SweepResults, sel: np.ndarray):
 def _regimes(ax, model: str, xs: np.ndarray, names: list[str], right: float) -> None:
     """Name, over the panel, the equation or theory that ran on each side of its switch.
 
-    The switch (dashed line) is ``"auto"``'s Eq. 4 → Eq. 7 strain/δ0
-    (:data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`) for the continuum and
-    :data:`theory.strong_interface.STRONG_THRESHOLD` (lattice acoustics → quasi-particle)
-    for the theory; the names are those the points recorded (``xs``: their positions,
-    log10 of strain/δ0, ``names``: what ran there; ``right``: the x where the finite
-    amplitudes end).
+    The switch (dashed line, drawn where it falls within the finite amplitudes' decades)
+    is ``"auto"``'s Eq. 4 → Eq. 7 strain/δ0 (:data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`)
+    for the continuum and :data:`theory.strong_interface.STRONG_THRESHOLD` (lattice
+    acoustics → quasi-particle) for the theory; the names are those the points recorded
+    (``xs``: their positions, log10 of strain/δ0, ``names``: what ran there; ``right``:
+    the x where the finite amplitudes end, the sonic vacuum's column beyond it named
+    over that column).
     """
     from theory.strong_interface import STRONG_THRESHOLD
 
     from .scenario import AUTO_EQ4_MAX_STRAIN
 
     switch = math.log10(AUTO_EQ4_MAX_STRAIN if model == "continuum" else STRONG_THRESHOLD)
-    lo = ax.get_xlim()[0]
-    ax.axvline(switch, color="0.45", lw=0.8, ls="--")
-    for side, (a, b) in (("below", (lo, switch)), ("above", (switch, right))):
-        here = (xs < switch) if side == "below" else (xs >= switch)
-        found = sorted({n for n, h in zip(names, here, strict=True) if h and n})
-        if found:
-            ax.text(0.5 * (a + b), 1.01, " / ".join(found), transform=ax.get_xaxis_transform(),
-                    ha="center", va="bottom", fontsize="x-small", color="0.25")
+    lo, hi = ax.get_xlim()
+    inside = lo < switch < right - 0.2  # (not on the break)
+    if inside:
+        ax.axvline(switch, color="0.45", lw=0.8, ls="--")
+    finite = xs < right
+    sides = ((("below", (lo, switch)), ("above", (switch, right))) if inside else
+             (("all", (lo, right)),))
+    spans = []  # (label, from x, to x): one label over neighbouring spans of the same names
+    for side, (a, b) in sides + (("sonic", (right, hi)),):
+        here = {"below": finite & (xs < switch), "above": finite & (xs >= switch),
+                "all": finite, "sonic": ~finite}[side]
+        found = " / ".join(sorted({n for n, h in zip(names, here, strict=True) if h and n}))
+        if spans and found and spans[-1][0] == found and spans[-1][2] == a:
+            spans[-1] = (found, spans[-1][1], b)
+        elif found:
+            spans.append((found, a, b))
+    for text, a, b in spans:
+        ax.text(0.5 * (a + b), 1.01, text, transform=ax.get_xaxis_transform(),
+                ha="center", va="bottom", fontsize="x-small", color="0.25")
 
 
 _MODEL_LABELS = {"continuum": "continuum", "theory": "theory"}
@@ -753,7 +767,8 @@ def plot_validity_laws(ax, results: SweepResults, *, model: str = "theory",
     exponent : float
         The contact law's n drawn.
     legend : bool
-        Add the legend of the drag levels.
+        Add the legend of the drag levels in the axes (where it covers least data;
+        :func:`validity_figure` draws it beside the panels instead).
 
     Notes
     -----
@@ -806,11 +821,35 @@ def plot_validity_laws(ax, results: SweepResults, *, model: str = "theory",
             ax.plot(x, bottom * 1.6, "x", color=_NOT_COMPARED, ms=6, mew=1.2)
     ax.set_title(f"{_MODEL_LABELS[model]}, n = {exponent:g}", fontsize="medium")
     if legend:
-        ax.legend(handles=ax.get_legend_handles_labels()[0]
-                  + [Line2D([], [], ls="", marker="^", mfc="none", color="0.3",
-                            label="largest")], fontsize="x-small", loc="upper left",
-                  frameon=False)
+        ax.legend(handles=ax.get_legend_handles_labels()[0] + _LAWS_EXTRA(),
+                  fontsize="x-small", loc="best", frameon=False)
     return True
+
+
+def _LAWS_EXTRA() -> list:  # noqa: N802 - a constant's factory (new artists each call)
+    """Legend entries of :func:`plot_validity_laws` besides the drag levels."""
+    return [Line2D([], [], ls="-", marker="o", color="0.3", ms=4,
+                   label="median over the interfaces"),
+            Line2D([], [], ls="", marker="^", mfc="none", color="0.3", label="largest")]
+
+
+def _laws_legend(axes_by_model: dict) -> list:
+    """One legend for a row of :func:`plot_validity_laws` panels (one per model).
+
+    A drag level's entry once, with "(n/a: <model>)" for each model that does not apply
+    at any of its points (the panels' labels end in "(n/a)" there).
+    """
+    entries: dict[str, tuple] = {}
+    for model, ax in axes_by_model.items():
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            base = lab.removesuffix(f" ({_NA_LABEL})")
+            handle, na = entries.get(base, (h, []))
+            entries[base] = (handle, na + ([model] if base != lab else []))
+    out = []
+    for base, (h, na) in entries.items():
+        out.append(Line2D([], [], ls="-", marker="o", ms=4, color=h.get_color(),
+                          label=base + (f" ({_NA_LABEL}: {', '.join(na)})" if na else "")))
+    return out + _LAWS_EXTRA()
 
 
 def validity_figure(results: SweepResults) -> Figure:
@@ -831,6 +870,7 @@ def validity_figure(results: SweepResults) -> Figure:
                  layout="constrained")
     grid = fig.add_gridspec(rows, len(models) + 1, width_ratios=[1.0] * len(models) + [0.42])
     handles = []
+    law_axes: dict[int, dict] = {row: {} for row in range(1, rows)}
     for col, model in enumerate(models):
         ax = fig.add_subplot(grid[0, col])
         plot_validity_amplitude(ax, results, model=model, exponent=main[0], damping=main[1])
@@ -838,13 +878,20 @@ def validity_figure(results: SweepResults) -> Figure:
             ax.set_ylabel("")
         for row, n in enumerate(exponents, start=1):
             lax = fig.add_subplot(grid[row, col], sharey=ax)
-            plot_validity_laws(lax, results, model=model, exponent=n, legend=col == 0)
+            plot_validity_laws(lax, results, model=model, exponent=n, legend=False)
+            law_axes[row][model] = lax
             if col:
                 lax.set_ylabel("")
             if row < rows - 1:
                 lax.set_xlabel("")
         if rows > 1:
             ax.set_xlabel("")
+    for row, by_model in law_axes.items():  # each row's drag levels beside it
+        side = fig.add_subplot(grid[row, len(models)])
+        side.axis("off")
+        side.legend(handles=_laws_legend(by_model), loc="upper left", fontsize="x-small",
+                    frameon=False, title=r"drag level $\beta t_{end}$",
+                    title_fontsize="x-small")
     expo_ok = (expo == main[0]) & (damp == main[1])
     if _interfaces(results, expo_ok) is not None:
         handles = _interface_style(results, expo_ok)[1]

@@ -198,12 +198,20 @@ def plot_panel(ax, result: Fig2Result, delta0_over_d: float, *, every: int | Non
         # inset: the leading wave and the start of its tail at the end of the run
         front = int(np.argmax(prof["v"]))
         g = np.arange(max(0, front - zoom), min(n, front + 15))
-        ins = ax.inset_axes([0.3, 0.35, 0.45, 0.4])
+        # (between the velocities and the v_max plateau: neither is covered)
+        lo_v, hi_v = ax.get_ylim()
+        y0 = (max(float(prof["v"].max(initial=0.0, where=np.arange(n) < g[0])), 0.0)
+              - lo_v) / (hi_v - lo_v) + 0.04
+        y1 = (p.mean - lo_v) / (hi_v - lo_v) - 0.08
+        ins = ax.inset_axes([0.3, y0, 0.45, max(y1 - y0, 0.15)])
         ins.plot(g + 1, prof["v"][g], lw=0.8, color="C0")
         ins.axhline(0, color="0.7", lw=0.4)
         ins.set_xlim(g[0] + 1, g[-1] + 1)
         ins.tick_params(labelsize="x-small")
-        ins.set_title(f"grains {g[0] + 1}–{g[-1] + 1}", fontsize="x-small")
+        ins.text(0.02, 0.95, f"grains {g[0] + 1}–{g[-1] + 1}", transform=ins.transAxes,
+                 ha="left", va="top", fontsize="x-small")
+        ymin, ymax = ins.get_ylim()
+        ins.set_ylim(ymin, ymax + 0.25 * (ymax - ymin))  # room for the text
 
 
 def figures(ctx: Context, result: Fig2Result) -> list:

@@ -32,7 +32,7 @@ import numpy as np
 import theory
 from discrete import diagnostics as D
 
-from ..plotting import mark_interface, plot_displacement_time, plot_grain_profile
+from ..plotting import plot_displacement_time, plot_grain_profile
 from .common import (
     V0,
     Context,
@@ -47,7 +47,7 @@ from .common import (
 )
 
 __all__ = ["SETUPS", "QUICK", "FULL", "CaseResult", "scenario", "run", "plot_velocity",
-           "plot_displacements", "figures", "report", "to_json"]
+           "plot_displacements", "figure", "figures", "report", "to_json"]
 
 SETUPS = {
     "fig3": {"what": "alpha_rho", "alphas": (0.2, 5.0), "interface": 400, "snapshot": 550,
@@ -181,19 +181,20 @@ def _alpha_text(c: CaseResult) -> str:
     return rf"$\alpha_{{k_n}} = {c.alpha_kn:g}$"
 
 
-def plot_velocity(ax, case: CaseResult, *, label: str = "") -> None:
+def plot_velocity(ax, case: CaseResult, *, label: str = "", legend: bool = True) -> None:
     """Panel a/b: grain velocity at the snapshot, transmitted pulses marked.
 
-    With the continuum (:func:`.common.plot_continuum`): its profile dashed, the
-    difference where it is large.
+    The discrete chain solid black; with the continuum (:func:`.common.plot_continuum`)
+    its profile thin dashed on top, the difference where it is large.  ``legend``: a
+    legend of the models in the axes (False: the caller draws one for the figure).
     """
     n = case.v.size
     plot_grain_profile(ax, case.v / V0, interface=case.interface, ylabel=r"$v_i$ (m/s)",
-                       color="C0", label="discrete", numbering="paper")
+                       color="k", lw=1.0, label="discrete", numbering="paper")
     plot_continuum(ax, case.continuum, case.v, case.incident_peak, scale=V0)
-    if case.continuum is not None:
-        ax.legend(fontsize="x-small", loc="lower left")
-    ax.axhline(0, color="0.7", lw=0.5)
+    if case.continuum is not None and legend:
+        ax.legend(fontsize="x-small", loc="best")
+    ax.axhline(0, color="0.7", lw=0.5, zorder=0)
     pulses = D.find_pulses(case.v, threshold=PULSE_MIN, reference=case.incident_peak,
                            lo=case.interface, hi=n)
     first, second = D.split_parts_at_gap(pulses, direction=1)
@@ -203,47 +204,95 @@ def plot_velocity(ax, case: CaseResult, *, label: str = "") -> None:
             ax.annotate(name, (p.position + 1, p.amplitude), xytext=(0, 6),
                         textcoords="offset points", ha="center", fontsize="small")
     ax.set_xlim(0, n + 1)
+    ymin, ymax = ax.get_ylim()
+    ax.set_ylim(ymin, ymax + 0.1 * (ymax - ymin))  # the pulse names under the top spine
     ax.set_title(f"({label}) {_alpha_text(case)}, front at grain {case.snapshot_grain}, "
                  f"t = {case.t_snapshot * 1e3:.3g} ms", fontsize="medium")
 
 
-def plot_displacements(ax, case: CaseResult, *, label: str = "") -> None:
-    """Panel c/d: u_i/ū_max against time, free flight thick, interface-gap openings."""
+OPENING_STYLES = (":", "-.")
+"""Line styles of the first and second opening of the gap left of the interface grain."""
+
+
+def _opening_handles(case: CaseResult) -> list:
+    """Legend entries of the free-flight stretches and gap openings (:func:`plot_displacements`)."""
+    from matplotlib.lines import Line2D
+
+    g = case.grains[case.grains.index(case.interface) - 1]
+    return ([Line2D([], [], color="0.5", lw=3, alpha=0.4, label="free flight")]
+            + [Line2D([], [], color="0.35", lw=0.9, ls=ls,
+                      label=f"gap {g}|{g + 1} opens ({'1st' if k == 0 else '2nd'})")
+               for k, ls in enumerate(OPENING_STYLES)])
+
+
+def plot_displacements(ax, case: CaseResult, *, label: str = "", legend: bool = True) -> None:
+    """Panel c/d: u_i/ū_max against time, free flight thick, interface-gap openings.
+
+    The first two openings of the gap left of the interface grain are vertical lines
+    (dotted, dash-dotted: :data:`OPENING_STYLES`), named in the legend, not over the
+    curves.  ``legend``: the grains' legend in the axes (False: the caller draws one;
+    :func:`_opening_handles` are its extra entries).
+    """
     t, ser = case.series_t, case.series
     free = np.stack([m.codes == D.FREE_FLIGHT for m in case.modes], axis=1)
     u = ser[:, :, 0]
     moving = np.nonzero(np.any(np.abs(ser[:, :, 1]) > 1e-3 * case.incident_peak, axis=1))[0]
     i0 = max(0, moving[0] - 20) if moving.size else 0
     plot_displacement_time(ax, t[i0:], u[i0:], [g - 1 for g in case.grains],
-                           u_ref=case.u_bar_max, free_flight=free[i0:], numbering="paper")
-    g = case.grains[case.grains.index(case.interface) - 1]
-    for k, a in enumerate(case.gaps.openings[:2]):
-        ax.axvline(a * 1e3, color="0.5", lw=0.6, ls=":")
-        ax.text(a * 1e3, 0.98, f"{g}|{g + 1} opens ({k + 1}) ", fontsize="x-small",
-                color="0.4", rotation=90, va="top", ha="right",
-                transform=ax.get_xaxis_transform())
+                           u_ref=case.u_bar_max, free_flight=free[i0:], numbering="paper",
+                           legend=False)
+    for a, ls in zip(case.gaps.openings[:2], OPENING_STYLES, strict=False):
+        ax.axvline(a * 1e3, color="0.35", lw=0.9, ls=ls)
     ax.axhline(1.0, color="0.7", lw=0.5, ls="--")
-    ax.set_title(f"({label}) {_alpha_text(case)}: grains {case.grains[0]}–{case.grains[-1]} "
-                 f"(thick: free flight)", fontsize="medium")
+    if legend:
+        ax.legend(handles=ax.get_legend_handles_labels()[0][:len(case.grains)]
+                  + _opening_handles(case), title="grain (paper's)", fontsize="x-small",
+                  ncol=2, loc="best")
+    ax.set_title(f"({label}) {_alpha_text(case)}: grains {case.grains[0]}–{case.grains[-1]}",
+                 fontsize="medium")
+
+
+def figure(cases: list[CaseResult]):
+    """The Fig. 3 or Fig. 4 figure: 2 × 2 panels as the paper.
+
+    The legends are the figure's, outside the panels: the models' (top row) above,
+    the grains' (both lower panels show the same grains in the same colours) and the
+    gap openings' on the right.
+    """
+    fig, axes = new_figure(2, 2, figsize=(12, 7.8))
+    for col, (case, lab) in enumerate(zip(cases, "ab", strict=True)):
+        plot_velocity(axes[0, col], case, label=lab, legend=False)
+        plot_displacements(axes[1, col], case, label="cd"[col], legend=False)
+    models = {}
+    for ax in axes[0]:
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            models.setdefault(lab, h)
+    if len(models) > 1:
+        fig.legend(list(models.values()), list(models), loc="outside upper center",
+                   ncol=len(models), fontsize="small", frameon=False)
+    grains = axes[1, 0].get_legend_handles_labels()[0][:len(cases[0].grains)]
+    fig.legend(handles=grains + _opening_handles(cases[0]), loc="outside right lower",
+               title="grain (paper's)", fontsize="small", title_fontsize="small",
+               frameon=False)
+    return fig
 
 
 def figures(ctx: Context, cases: list[CaseResult]) -> list:
-    """Save ``fig3.png`` or ``fig4.png`` (2 × 2 panels as the paper)."""
+    """Save ``fig3.png`` or ``fig4.png`` (:func:`figure`)."""
     item = cases[0].item
-    fig, axes = new_figure(2, 2, figsize=(11, 7.5))
-    for col, (case, lab) in enumerate(zip(cases, "ab", strict=True)):
-        plot_velocity(axes[0, col], case, label=lab)
-        plot_displacements(axes[1, col], case, label="cd"[col])
-    mark_interface(axes[0, 0], None)
-    path = save_figure(ctx, fig, item)
-    what = "mass" if item == "fig3" else "elastic-coefficient"
-    return [(path, f"{item[:3].capitalize()}. {item[3]}: {what}-mismatched chain, δ0 = 0. "
-             "(a, b) grain velocity when the transmitted front reaches the paper's grain; "
-             "(c, d) displacement/ū_max of the grains around the interface; thick: "
-             "free flight (both contacts open); dotted: first openings of the gap left of "
-             "the interface grain."
+    path = save_figure(ctx, figure(cases), item)
+    return [(path, f"{item[:3].capitalize()}. {item[3]}: {_what(item)}-mismatched chain, "
+             "δ0 = 0. (a, b) grain velocity when the transmitted front reaches the paper's "
+             "grain (dotted: the interface); (c, d) displacement/ū_max of the grains around "
+             "the interface; thick: free flight (both contacts open); vertical lines: the "
+             "first and second openings of the gap left of the interface grain."
              + (" Dashed: the continuum from the same grains; red: its difference where "
                 "large." if any(c.continuum is not None for c in cases) else ""))]
+
+
+def _what(item: str) -> str:
+    """"mass" (Fig. 3) or "elastic-coefficient" (Fig. 4)."""
+    return "mass" if item == "fig3" else "elastic-coefficient"
 
 
 def report(rep, cases: list[CaseResult], figs: list) -> None:

@@ -45,7 +45,8 @@ from .common import (
 )
 
 __all__ = ["QUICK", "FULL", "CASES", "CaseResult", "scenario", "estimate_cost", "run",
-           "parts", "run_part", "combine", "plot_case", "figures", "report", "to_json"]
+           "parts", "run_part", "combine", "zoom_window", "plot_case", "figure", "figures",
+           "report", "to_json"]
 
 QUICK = {"n_grains": 10_000, "interface": 7_000, "snapshot": 9_900, "lead": 300}
 FULL = {"n_grains": 50_000, "interface": 35_000, "snapshot": 49_900, "lead": 300,
@@ -210,50 +211,111 @@ def combine(ctx: Context, results: list[CaseResult]) -> list[CaseResult]:
     return list(results)
 
 
-def plot_case(ax, res: CaseResult, *, label: str | None = None, zoom: int = 250) -> None:
-    """One panel: grain velocity / v0 against grain number at the snapshot.
+BEHIND, AHEAD = 20.0, 5.0
+"""The zoomed window of a panel (:func:`zoom_window`): this many widths of the leading
+transmitted pulse behind its peak (the train of a fracture, the oscillatory tail of a
+squeeze) and ahead of it (at least to the front)."""
 
-    ``zoom`` grains behind the transmitted front are repeated in an inset (0: none).
-    With the continuum (:func:`.common.plot_continuum`): its profile dashed, the
-    difference where it is large (also in the inset).
+
+def zoom_window(res: CaseResult, *, behind: float = BEHIND, ahead: float = AHEAD
+                ) -> tuple[int, int, int, int]:
+    """The grains drawn in a panel: around the leading transmitted pulse.
+
+    The leading pulse is the largest grain velocity right of the interface (its peak
+    grain ``peak``, 0-based); its width ``w`` the number of grains around the peak at or
+    above half its velocity (full width at half maximum, in grains; ≥ 1); the front the
+    last grain moving faster than 1 % of the largest |v|.  The window [lo, hi) runs from
+    ``behind`` widths behind the peak (not left of the interface) to ``ahead`` widths
+    past it, and at least to the front.
+
+    Returns
+    -------
+    (lo, hi, peak, w) : tuple of int
+        Grain indices (0-based; hi exclusive) and the width in grains.
     """
-    plot_grain_profile(ax, res.v / V0, interface=res.interface, ylabel=r"$v_i/v_0$",
-                       color="C0", lw=0.5, label="discrete", numbering="paper")
+    v = np.asarray(res.v)
+    peak = res.interface + int(np.argmax(v[res.interface:]))
+    half = v >= 0.5 * v[peak]
+    a = peak
+    while a > 0 and half[a - 1]:
+        a -= 1
+    b = peak
+    while b < v.size - 1 and half[b + 1]:
+        b += 1
+    w = b - a + 1
+    moving = np.flatnonzero(np.abs(v) > 0.01 * np.abs(v).max())
+    front = int(moving[-1]) if moving.size else peak
+    lo = max(res.interface, peak - int(round(behind * w)))
+    hi = min(v.size, max(peak + int(round(ahead * w)), front + 2) + 1)
+    return lo, hi, peak, w
+
+
+def plot_case(ax, res: CaseResult, *, label: str | None = None, behind: float = BEHIND,
+              ahead: float = AHEAD, overview: bool = True, legend: bool = True) -> None:
+    """One panel: grain velocity / v0 around the leading transmitted wave at the snapshot.
+
+    The axes show :func:`zoom_window` (a few hundred of the chain's grains), the discrete
+    chain solid black, the continuum (:func:`.common.plot_continuum`) thin dashed orange
+    on top of it and their difference (red) where it is large.  ``overview``: an inset,
+    top left, with the whole chain (interface dotted, the reflected waves, the zoomed
+    window shaded).  ``legend``: a legend in the axes (False: the caller draws one, e.g.
+    for the whole figure).
+    """
+    lo, hi, _, _ = zoom_window(res, behind=behind, ahead=ahead)
+    g = np.arange(lo, hi)
+    plot_grain_profile(ax, res.v[g] / V0, start=lo, ylabel=r"$v_i/v_0$", color="k",
+                       lw=1.3, label="discrete", numbering="paper")
     inc = res.numbers["incident_peak_v"]
-    plot_continuum(ax, res.continuum, res.v, inc, scale=V0)
-    if res.continuum is not None:
-        ax.legend(fontsize="xx-small", loc="lower left")
-    ax.axhline(0, color="0.7", lw=0.4)
+    plot_continuum(ax, res.continuum, res.v, inc, scale=V0, start=lo, stop=hi)
+    ax.axhline(0, color="0.7", lw=0.4, zorder=0)
+    ax.set_xlim(lo + 1, hi)
+    ymin, ymax = ax.get_ylim()
+    ax.set_ylim(ymin, ymax + 0.8 * (ymax - ymin))  # the top ~45 %: the overview's room
     txt = (rf"$\alpha_\rho = {res.alpha_rho:g}$" if res.alpha_kn == 1 else
            rf"$\alpha_{{k_n}} = {res.alpha_kn:g}$")
     n = res.numbers
     ax.set_title(f"({label or res.case}) {txt}: transmitted {n['transmitted']}, "
                  f"reflected {n['reflected']}", fontsize="medium")
-    ax.set_xlim(0, res.v.size + 1)
-    if zoom:
-        # inset: the transmitted front region, where the train (or the tail) forms
-        ins = ax.inset_axes([0.22, 0.42, 0.42, 0.5])
-        front = int(np.flatnonzero(np.abs(res.v) > 0.01 * np.abs(res.v).max())[-1])
-        lo = max(res.interface, front - zoom)
-        g = np.arange(lo, min(front + 10, res.v.size))
-        ins.plot(g + 1, res.v[g] / V0, lw=0.7, color="C0")
-        plot_continuum(ins, res.continuum, res.v, inc, scale=V0, start=g[0], stop=g[-1] + 1)
-        ins.axhline(0, color="0.7", lw=0.4)
-        ins.set_xlim(g[0] + 1, g[-1] + 1)
+    if legend:
+        ax.legend(fontsize="x-small", loc="upper right")
+    if overview:
+        ins = ax.inset_axes([0.16, 0.6, 0.46, 0.3])
+        grains = np.arange(res.v.size) + 1
+        ins.plot(grains, res.v / V0, color="k", lw=0.5)
+        ins.axvspan(lo + 1, hi, color="C1", alpha=0.3, lw=0)
+        ins.axvline(res.interface + 0.5, color="0.4", ls=":", lw=0.8)
+        ins.set_xlim(0, res.v.size + 1)
         ins.tick_params(labelsize="x-small")
-        ins.set_title(f"grains {g[0] + 1}–{g[-1] + 1}", fontsize="x-small")
+        ins.text(0.02, 0.95, f"whole chain; shaded: the panel's {hi - lo} grains",
+                 transform=ins.transAxes, ha="left", va="top", fontsize="x-small")
+        y0, y1 = ins.get_ylim()
+        ins.set_ylim(y0, y1 + 0.5 * (y1 - y0))  # room for the text
+
+
+def figure(results: list[CaseResult]):
+    """The Fig. 5 figure: 2 × 2 panels a–d (:func:`plot_case`) as the paper, one legend."""
+    fig, axes = new_figure(2, 2, figsize=(11, 7.6))
+    for ax, res in zip(axes.ravel(), results, strict=False):
+        plot_case(ax, res, legend=False)
+    handles, labels = {}, {}
+    for ax in axes.ravel():
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(lab, h)
+    labels = list(handles)
+    fig.legend([handles[k] for k in labels], labels, loc="outside lower center",
+               ncol=len(labels), fontsize="small", frameon=False)
+    return fig
 
 
 def figures(ctx: Context, results: list[CaseResult]) -> list:
-    """Save ``fig5.png`` (2 × 2 panels a–d as the paper)."""
-    fig, axes = new_figure(2, 2, figsize=(11, 7))
-    for ax, res in zip(axes.ravel(), results, strict=False):
-        plot_case(ax, res)
+    """Save ``fig5.png`` (:func:`figure`)."""
     r0 = results[0]
-    path = save_figure(ctx, fig, "fig5")
+    path = save_figure(ctx, figure(results), "fig5")
     return [(path, f"Fig. 5: δ0^L/d = 1e-3, {r0.v.size} grains, interface "
              f"{r0.interface}|{r0.interface + 1}; grain velocity when the transmitted "
-             "front reaches the paper's grain (scaled in --quick)."
+             "front reaches the paper's grain (scaled in --quick), around the leading "
+             f"transmitted pulse ({BEHIND:g} of its widths behind its peak, {AHEAD:g} "
+             "ahead); inset: the whole chain (interface dotted, the zoomed window shaded)."
              + (" Dashed: the continuum from the same grains; red: its difference where "
                 "large." if any(r.continuum is not None for r in results) else ""))]
 

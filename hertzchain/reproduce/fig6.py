@@ -232,12 +232,18 @@ def plot_speeds(ax, results: dict[str, list[SpeedResult]]) -> None:
         gc = np.array([r.gamma_c0 for r in rs])
         ax.plot(a, sim, mk, mfc="none", color=col, ms=8, label=f"simulation, {lab}")
         ax.plot(a, eq5, mk, color=col, ms=4, label=f"Eq. 5 with measured ξ_max, {lab}")
-        ax.plot(a, gc, "--", color=col, lw=0.8, label=r"$c_0^R/c_0^L=\gamma_{c_0}$ (Eq. 9)")
+        ax.plot(a, gc, "--", color=col, lw=0.8)
     ax.set_xscale("log")
     log_ticks(ax, "x", (0.2, 0.5, 1, 2, 5))
     ax.set_xlabel(r"$\alpha_\rho$ or $\alpha_{k_n}$")
     ax.set_ylabel(r"$V_{FTSW}/c_0^L$")
-    ax.legend(fontsize="x-small")
+    from matplotlib.lines import Line2D
+
+    eq9 = Line2D([], [], ls="--", color="0.3", lw=0.8,
+                 label=r"$c_0^R/c_0^L=\gamma_{c_0}$ (Eq. 9; colour as the markers)")
+    # the curves cross at α = 1 from the upper left and lower left: the top middle is free
+    ax.legend(handles=ax.get_legend_handles_labels()[0] + [eq9], fontsize="x-small",
+              loc="upper center")
     ax.set_title("(a) transmitted front speed (farthest window)", fontsize="medium")
 
 
@@ -263,13 +269,14 @@ def plot_convergence(ax, results: dict[str, list[SpeedResult]]) -> None:
     log_ticks(ax, "x", [t for t in (10, 20, 50, 100, 200, 500, 1000, 2000, 5000) if t <= hi])
     ax.set_xlabel("distance past the interface (grains, window centre)")
     ax.set_ylabel(r"$V_{sim}/V_{Eq.5} - 1$")
-    ax.legend(fontsize="xx-small", ncol=2)
+    ax.legend(fontsize="x-small", loc="upper left", bbox_to_anchor=(1.01, 1.0),
+              frameon=False)  # (beside the axes: the curves fill them)
     ax.set_title("(b) convergence of the local speed", fontsize="medium")
 
 
 def figures(ctx: Context, results) -> list:
     """Save ``fig6.png``: (a) the paper's panel, (b) convergence with distance."""
-    fig, axes = new_figure(1, 2, figsize=(12, 4.6))
+    fig, axes = new_figure(1, 2, figsize=(13, 4.8))
     plot_speeds(axes[0, 0], results)
     plot_convergence(axes[0, 1], results)
     path = save_figure(ctx, fig, "fig6")

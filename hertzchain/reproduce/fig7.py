@@ -19,6 +19,7 @@ same labels, ``tests/hertzchain/test_reproduce.py``).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -209,7 +210,11 @@ def plot_phase_diagram(ax, res: Fig7Result) -> None:
         if (x, y) in bad:
             ax.plot(x, y, "o", ms=13, mfc="none", mec="r", mew=1.5, zorder=4)
         if named:
-            ax.annotate(lab, (x, y), xytext=(5, 4), textcoords="offset points",
+            # off the line through the point: γ_c0 = 1 rises to the right (its points are
+            # named below right), γ_RG = 1 falls (above right)
+            rising = math.isclose(float(theory.gamma_c0(x, y)), 1.0, rel_tol=1e-6)
+            ax.annotate(lab, (x, y), xytext=(7, -5) if rising else (5, 4),
+                        textcoords="offset points", va="top" if rising else "baseline",
                         fontsize="medium", weight="bold", zorder=5)
     from matplotlib.lines import Line2D
 

@@ -23,7 +23,8 @@ from ..plotting import plot_spacetime
 from .common import Context, new_figure, save_figure
 from .table2 import POINTS, in_run_order, run_point
 
-__all__ = ["QUICK", "FULL", "GRAINS_SHOWN", "run", "plot_map", "figures", "report", "to_json"]
+__all__ = ["QUICK", "FULL", "GRAINS_SHOWN", "LINTHRESH", "run", "color_norm", "plot_map",
+           "figure", "figures", "report", "to_json"]
 
 QUICK: dict = {}
 FULL: dict = {}
@@ -105,32 +106,101 @@ def _limits(data: dict, kind: str) -> tuple[float, float]:
     return min(lo, 0.0), hi
 
 
-def plot_map(ax, d: dict, kind: str, *, vmin=None, vmax=None, colorbar: bool = True,
-             grains: int = GRAINS_SHOWN):
-    """One panel: e/e0 of one kind (``"k"``, ``"p"``, ``"t"``) against grain and time."""
+LINTHRESH = 3e-3
+"""Linear range ±e/e0 of the colour scale (:func:`color_norm`): logarithmic beyond it, so
+that the reflected waves (largest e/e0 ~0.1–0.3 for M, N, down to ~4e-3 for Q) show next
+to transmitted waves of e/e0 ≈ 1, while the transmitted waves' brightness still differs
+(e_k/e_k0 ≈ 2 for P, 0.6 for Q)."""
+SIGNED_CMAP = "RdBu_r"
+"""Colour map of every column: white at e = 0, red for positive energy, blue for negative
+(potential energy below its static value: an expansive wave); the kinetic column uses its
+upper (red) half."""
+
+
+def color_norm(data: dict, kind: str):
+    """The colour scale of one column (``kind``: ``"k"``, ``"p"``, ``"t"``), shared by the points.
+
+    A symmetric-log scale (:class:`matplotlib.colors.SymLogNorm`, linear within
+    ±:data:`LINTHRESH`) between the column's colour limits (:data:`PERCENTILES` over the
+    points): from 0 to the largest value for the kinetic energy (never negative), and
+    symmetric about 0 (± the largest magnitude) for the potential and total energies, so
+    that white is e = 0 in every panel.
+    """
+    from matplotlib.colors import SymLogNorm
+
+    lo, hi = _limits(data, kind)
+    if kind == "k":
+        return SymLogNorm(LINTHRESH, linscale=1.0, vmin=0.0, vmax=hi, base=10)
+    top = max(abs(lo), abs(hi))
+    return SymLogNorm(LINTHRESH, linscale=1.0, vmin=-top, vmax=top, base=10)
+
+
+def _cmap(kind: str):
+    import matplotlib
+    from matplotlib.colors import ListedColormap
+
+    base = matplotlib.colormaps[SIGNED_CMAP]
+    if kind != "k":
+        return base
+    return ListedColormap(base(np.linspace(0.5, 1.0, 128)), name=f"{SIGNED_CMAP}_upper")
+
+
+def plot_map(ax, d: dict, kind: str, *, vmin=None, vmax=None, norm=None,
+             colorbar: bool = True, grains: int = GRAINS_SHOWN):
+    """One panel: e/e0 of one kind (``"k"``, ``"p"``, ``"t"``) against grain and time.
+
+    ``norm`` (e.g. :func:`color_norm`) or ``vmin``/``vmax``: the colour scale;
+    ``colorbar``: a colour bar of the panel's own (False: the caller shares one).
+    """
     key = "t_" if kind == "t" else kind
     vals = d[key][:, :grains]
     label = dict((k, lab) for k, _, lab in KINDS)[kind] if colorbar else ""
-    return plot_spacetime(ax, d["t"], vals, interface=d["interface"], cmap="inferno",
-                          vmin=vmin, vmax=vmax, label=label, numbering="paper")
+    return plot_spacetime(ax, d["t"], vals, interface=d["interface"], cmap=_cmap(kind),
+                          vmin=vmin, vmax=vmax, norm=norm, label=label, numbering="paper",
+                          interface_color="0.35")
 
 
-def figures(ctx: Context, data: dict) -> list:
-    """Save ``fig8.png``: 4 × 3 panels (rows M, N, P, Q; columns kinetic, potential, total)."""
+def figure(data: dict):
+    """The Fig. 8 figure: 4 × 3 panels (rows M, N, P, Q; columns kinetic, potential, total).
+
+    One colour bar per column (each column is one quantity on one scale,
+    :func:`color_norm`), under it.
+    """
+    from matplotlib.ticker import FixedLocator, FuncFormatter
+
     pts = list(data)
-    fig, axes = new_figure(len(pts), 3, figsize=(13, 3.0 * len(pts)))
-    lims = {k: _limits(data, k) for k, _, _ in KINDS}
-    for i, p in enumerate(pts):
-        for j, (k, name, _) in enumerate(KINDS):
+    fig, axes = new_figure(len(pts), 3, figsize=(12, 2.7 * len(pts) + 1.2),
+                           sharex=True, sharey="row")
+    norms = {k: color_norm(data, k) for k, _, _ in KINDS}
+    for j, (k, name, label) in enumerate(KINDS):
+        for i, p in enumerate(pts):
             ax = axes[i, j]
-            plot_map(ax, data[p], k, vmin=lims[k][0], vmax=lims[k][1])
+            im = plot_map(ax, data[p], k, norm=norms[k], colorbar=False)
             ax.set_title(f"({'abcd'[i]}{j + 1}) {p}: {name}", fontsize="medium")
             if i < len(pts) - 1:
                 ax.set_xlabel("")
-    path = save_figure(ctx, fig, "fig8", dpi=90)
+            if j:
+                ax.set_ylabel("")
+        cb = fig.colorbar(im, ax=axes[:, j], location="bottom", shrink=0.9, aspect=30,
+                          pad=0.01, label=f"{label} (symmetric log scale)")
+        top = norms[k].vmax
+        ticks = [t for t in (-1.0, -0.1, -0.01, 0.0, 0.01, 0.1, 1.0)
+                 if norms[k].vmin <= t <= top]
+        cb.ax.xaxis.set_major_locator(FixedLocator(ticks))
+        cb.ax.xaxis.set_major_formatter(FuncFormatter(lambda x, _: f"{x:g}"))
+        cb.ax.tick_params(labelsize="small")
+    return fig
+
+
+def figures(ctx: Context, data: dict) -> list:
+    """Save ``fig8.png`` (:func:`figure`)."""
+    path = save_figure(ctx, figure(data), "fig8", dpi=90)
     return [(path, "Fig. 8: energy per grain over its value at the incident peak, δ0^L/d = "
-             "1e-3, interface 200|201 (dotted); rows M, N, P, Q; colour scale shared per "
-             "column (negative potential energy: expansive waves).")]
+             "1e-3, interface 200|201 (dotted); rows M, N, P, Q; one colour scale per "
+             f"column (colour bar under it), symmetric-logarithmic: linear within "
+             f"±{LINTHRESH:g}, logarithmic beyond, so that the weak reflected waves show; "
+             "white: zero, red: positive, blue: negative potential energy (expansive "
+             "waves).")]
 
 
 def report(rep, data: dict, figs: list) -> None:
