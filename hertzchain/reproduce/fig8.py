@@ -6,10 +6,10 @@ grain (potential: half of each adjacent contact's energy minus its static energy
 docs/physics.md §6) divided by "the single grain kinetic energy, potential energy, and total
 energy at the peak of the ISW" (:func:`discrete.diagnostics.normalise_to_incident_peak`,
 the maxima over the left section before the wave reaches the interface).  The runs are
-those of :mod:`.table2`: :func:`maps_from_grid` reduces each run's full energy grids
+those of :mod:`.table2`: :func:`.table2.maps_from_grid` reduces each run's full energy grids
 once (the normalisation, the extremes and the colour limits in float64 from every row
-and grain; the maps themselves, for drawing only, to at most :data:`MAP_ROWS` rows of
-the first :data:`GRAINS_SHOWN` grains), and :mod:`.table2` keeps that in its per-point
+and grain; the maps themselves, for drawing only, to at most :data:`.table2.MAP_ROWS` rows
+of the first :data:`.table2.GRAINS_SHOWN` grains), and :mod:`.table2` keeps that in its per-point
 file.
 """
 
@@ -17,77 +17,22 @@ from __future__ import annotations
 
 import numpy as np
 
-from discrete import diagnostics as D
-
 from ..plotting import plot_spacetime
 from .common import Context, new_figure, save_figure
-from .table2 import POINTS, in_run_order, run_point
+from .table2 import (
+    GRAINS_SHOWN,
+    POINTS,
+    in_run_order,
+    run_point,
+)
 
 __all__ = ["QUICK", "FULL", "GRAINS_SHOWN", "LINTHRESH", "run", "color_norm", "plot_map",
            "figure", "figures", "report", "to_json"]
 
 QUICK: dict = {}
 FULL: dict = {}
-GRAINS_SHOWN = 600
-"""Grains drawn (the paper's maps show the neighbourhood of the interface at 200)."""
-MAP_ROWS = 400
-"""Most time rows kept for drawing a map (every k-th row; a panel is ~200 pixels high at
-the figure's 90 dpi, so 400 rows still oversample it twice)."""
-MAP_DTYPE = np.float16
-"""Precision of the maps kept for drawing (2^-11 relative; the figure's colours resolve
-2^-8): :mod:`.table2` stores them so, and a fresh run holds them so too (as float32), so
-that a run and a rerun reusing the stored maps draw the same figure, at half the memory
-of float64 maps (9 instead of 19 MiB over the four points of ``--quick``)."""
-PERCENTILES = (0.05, 99.95)
-"""Colour limits of a column: these percentiles of the normalised values, over the
-points (:func:`_limits`)."""
 KINDS = (("k", "kinetic", r"$e_k/e_{k0}$"), ("p", "potential", r"$e_p/e_{p0}$"),
          ("t", "total", r"$e_t/e_{t0}$"))
-
-
-def maps_from_grid(t, ek, ep, interface: int, i_incident: int) -> dict:
-    """Fig. 8 data of one run from its full per-grain energy grids (J, shape (rows, N)).
-
-    Returns the normalising energies ``refs`` (J), the extremes ``max_right`` and
-    ``min_left`` and the per-kind colour ``limits`` (:data:`PERCENTILES`), all in float64
-    from every row before the reflected wave reaches the left wall (``stop`` rows) and
-    every grain; and for drawing, ``t`` (s), ``k``, ``p``, ``t_`` (e/e0): every k-th of
-    those rows (at most :data:`MAP_ROWS`) of the first :data:`GRAINS_SHOWN` grains,
-    rounded to :data:`MAP_DTYPE` (held as float32).
-    """
-    # the normalising energies from the incident rows (D.normalise_to_incident_peak);
-    # then one kind at a time (e/e0 of the full grid is ~40 MB per kind in --quick)
-    inc = slice(0, i_incident + 1)
-    refs = D.normalise_to_incident_peak(ek[inc], ep[inc], incident_rows=np.arange(
-        i_incident + 1), grains=slice(0, interface))[3]
-    # stop the maps when the reflected wave reaches the left wall (its echo is not
-    # part of the paper's figure)
-    act = np.abs(ek[:, :3] + ep[:, :3]).sum(axis=1)
-    e = ek + ep
-    tot = np.abs(e, out=e).sum(axis=1)  # (in place: one grid-sized temporary, not two)
-    del e
-    hit = np.flatnonzero(act > 1e-3 * tot)
-    stop = int(hit[0]) if hit.size else tot.size
-    every = max(1, -(-stop // MAP_ROWS))
-    out = {"t": np.asarray(t[:stop:every], dtype=float), "refs": tuple(map(float, refs)),
-           "interface": int(interface), "stop": stop, "max_right": {}, "min_left": {},
-           "limits": {}}
-    for i, (kind, key) in enumerate((("k", "k"), ("p", "p"), ("t", "t_"))):
-        # elementwise as D.normalise_to_incident_peak: e / e0 (bit for bit); one
-        # grid-sized temporary per kind, divided and then partitioned in place
-        if kind == "t":
-            a = ek[:stop] + ep[:stop]
-            a /= refs[i]
-        else:
-            a = (ek if kind == "k" else ep)[:stop] / refs[i]
-        out["max_right"][kind] = float(a[:, interface:].max())
-        out["min_left"][kind] = float(a[-1, :interface].min())
-        out[key] = a[::every, :GRAINS_SHOWN].astype(MAP_DTYPE).astype(np.float32)
-        # (a percentile depends on the values only, not on their order in a)
-        out["limits"][kind] = tuple(float(np.percentile(a, q, overwrite_input=True))
-                                    for q in PERCENTILES)
-        del a
-    return out
 
 
 def run(ctx: Context, points=POINTS) -> dict:
@@ -121,7 +66,7 @@ def color_norm(data: dict, kind: str):
     """The colour scale of one column (``kind``: ``"k"``, ``"p"``, ``"t"``), shared by the points.
 
     A symmetric-log scale (:class:`matplotlib.colors.SymLogNorm`, linear within
-    ±:data:`LINTHRESH`) between the column's colour limits (:data:`PERCENTILES` over the
+    ±:data:`LINTHRESH`) between the column's colour limits (:data:`.table2.PERCENTILES` over the
     points): from 0 to the largest value for the kinetic energy (never negative), and
     symmetric about 0 (± the largest magnitude) for the potential and total energies, so
     that white is e = 0 in every panel.

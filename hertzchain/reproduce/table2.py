@@ -32,9 +32,9 @@ What is kept on disk: a point's run records per-grain energy grids (2,500–4,90
 run is checkpointed as usual but not written (``run_models(..., save=False)``); once it
 is finished, :func:`run_point` computes from it in memory, its grids held once,
 everything the report prints (the quantities above and Fig. 8's normalisation and
-extremes, :func:`.fig8.maps_from_grid`, in float64 from the full grids, exactly as
-before) plus Fig. 8's maps reduced for drawing (at most :data:`.fig8.MAP_ROWS` rows of
-the first :data:`.fig8.GRAINS_SHOWN` grains, float16), and writes them to one sealed
+extremes, :func:`maps_from_grid`, in float64 from the full grids, exactly as
+before) plus Fig. 8's maps reduced for drawing (at most :data:`MAP_ROWS` rows of
+the first :data:`GRAINS_SHOWN` grains, float16), and writes them to one sealed
 file ``table2-point-<hash>.h5`` (~0.2 MB).  A later run reuses that file; ``--force``
 recomputes.
 """
@@ -57,8 +57,69 @@ from ..measure import end_arrival_row, interfaces, separated_row, total_energy_r
 from ..paper import TABLE2, TABLE2_KEYS
 from .common import Context, replace_by_reduced, run_models
 
-__all__ = ["QUICK", "FULL", "POINTS", "RUN_ORDER", "in_run_order", "DISTANCES",
+__all__ = ["QUICK", "FULL", "GRAINS_SHOWN", "MAP_ROWS", "MAP_DTYPE", "maps_from_grid", "POINTS",
+           "RUN_ORDER", "in_run_order", "DISTANCES",
            "PointResult", "point_scenario", "run_point", "run", "report", "to_json"]
+
+GRAINS_SHOWN = 600
+"""Grains drawn (the paper's maps show the neighbourhood of the interface at 200)."""
+MAP_ROWS = 400
+"""Most time rows kept for drawing a map (every k-th row; a panel is ~200 pixels high at
+the figure's 90 dpi, so 400 rows still oversample it twice)."""
+MAP_DTYPE = np.float16
+"""Precision of the maps kept for drawing (2^-11 relative; the figure's colours resolve
+2^-8): :mod:`.table2` stores them so, and a fresh run holds them so too (as float32), so
+that a run and a rerun reusing the stored maps draw the same figure, at half the memory
+of float64 maps (9 instead of 19 MiB over the four points of ``--quick``)."""
+PERCENTILES = (0.05, 99.95)
+"""Colour limits of a column: these percentiles of the normalised values, over the
+points (:func:`_limits`)."""
+
+
+def maps_from_grid(t, ek, ep, interface: int, i_incident: int) -> dict:
+    """Fig. 8 data of one run from its full per-grain energy grids (J, shape (rows, N)).
+
+    Returns the normalising energies ``refs`` (J), the extremes ``max_right`` and
+    ``min_left`` and the per-kind colour ``limits`` (:data:`PERCENTILES`), all in float64
+    from every row before the reflected wave reaches the left wall (``stop`` rows) and
+    every grain; and for drawing, ``t`` (s), ``k``, ``p``, ``t_`` (e/e0): every k-th of
+    those rows (at most :data:`MAP_ROWS`) of the first :data:`GRAINS_SHOWN` grains,
+    rounded to :data:`MAP_DTYPE` (held as float32).
+    """
+    # the normalising energies from the incident rows (D.normalise_to_incident_peak);
+    # then one kind at a time (e/e0 of the full grid is ~40 MB per kind in --quick)
+    inc = slice(0, i_incident + 1)
+    refs = D.normalise_to_incident_peak(ek[inc], ep[inc], incident_rows=np.arange(
+        i_incident + 1), grains=slice(0, interface))[3]
+    # stop the maps when the reflected wave reaches the left wall (its echo is not
+    # part of the paper's figure)
+    act = np.abs(ek[:, :3] + ep[:, :3]).sum(axis=1)
+    e = ek + ep
+    tot = np.abs(e, out=e).sum(axis=1)  # (in place: one grid-sized temporary, not two)
+    del e
+    hit = np.flatnonzero(act > 1e-3 * tot)
+    stop = int(hit[0]) if hit.size else tot.size
+    every = max(1, -(-stop // MAP_ROWS))
+    out = {"t": np.asarray(t[:stop:every], dtype=float), "refs": tuple(map(float, refs)),
+           "interface": int(interface), "stop": stop, "max_right": {}, "min_left": {},
+           "limits": {}}
+    for i, (kind, key) in enumerate((("k", "k"), ("p", "p"), ("t", "t_"))):
+        # elementwise as D.normalise_to_incident_peak: e / e0 (bit for bit); one
+        # grid-sized temporary per kind, divided and then partitioned in place
+        if kind == "t":
+            a = ek[:stop] + ep[:stop]
+            a /= refs[i]
+        else:
+            a = (ek if kind == "k" else ep)[:stop] / refs[i]
+        out["max_right"][kind] = float(a[:, interface:].max())
+        out["min_left"][kind] = float(a[-1, :interface].min())
+        out[key] = a[::every, :GRAINS_SHOWN].astype(MAP_DTYPE).astype(np.float32)
+        # (a percentile depends on the values only, not on their order in a)
+        out["limits"][kind] = tuple(float(np.percentile(a, q, overwrite_input=True))
+                                    for q in PERCENTILES)
+        del a
+    return out
+
 
 POINTS = ("M", "N", "P", "Q")
 RUN_ORDER = ("Q", "M", "N", "P")
@@ -123,7 +184,7 @@ class PointResult:
     continuum: dict | None = None
     continuum_note: str = ""
     path: object = None
-    maps: dict = field(default_factory=dict, repr=False)  # Fig. 8 (.fig8.maps_from_grid)
+    maps: dict = field(default_factory=dict, repr=False)  # Fig. 8 (maps_from_grid)
 
 
 def _front(e: np.ndarray, iface: int) -> np.ndarray:
@@ -170,7 +231,6 @@ def run_point(ctx: Context, point: str, s: dict | None = None) -> PointResult:
 
 
 def _fig8_settings() -> dict:
-    from .fig8 import GRAINS_SHOWN, MAP_DTYPE, MAP_ROWS
 
     return {"grains": GRAINS_SHOWN, "rows": MAP_ROWS, "dtype": np.dtype(MAP_DTYPE).name}
 
@@ -199,8 +259,6 @@ class _Grids:
 
 def _reduce(point: str, s: dict, summary: dict, grids: _Grids) -> PointResult:
     """Everything the report needs from the point's run (float64, full grids)."""
-    from .fig8 import maps_from_grid
-
     chain = grids.chain
     ek, ep, t = grids.ek, grids.ep, grids.t
     iface = interfaces(chain)[0]
@@ -251,8 +309,6 @@ normalised by its own peak; format 1 drew that sum)."""
 
 def _write_point(store, params: dict, res: PointResult) -> None:
     """The reduced point: numbers as JSON attributes, Fig. 8's maps as float16 datasets."""
-    from .fig8 import MAP_DTYPE
-
     m = res.maps
     numbers = {"discrete": res.discrete, "measured_at": res.measured_at,
                "drift": {str(k): v for k, v in res.drift.items()}, "incident": res.incident,

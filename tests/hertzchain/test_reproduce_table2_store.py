@@ -54,9 +54,9 @@ def test_reused_numbers_are_identical(runs):
 def test_maps_for_drawing(runs):
     _, _, first, _, again = runs
     m = first.maps
-    assert m["k"].shape == (m["t"].size, fig8.GRAINS_SHOWN)
-    assert m["t"].size <= fig8.MAP_ROWS < m["stop"]
-    # a run and a rerun draw the same maps: both float16-rounded (fig8.MAP_DTYPE), the
+    assert m["k"].shape == (m["t"].size, table2.GRAINS_SHOWN)
+    assert m["t"].size <= table2.MAP_ROWS < m["stop"]
+    # a run and a rerun draw the same maps: both float16-rounded (table2.MAP_DTYPE), the
     # total its own e_t/e_t0 (format 1 reread it as e_k/e_k0 + e_p/e_p0, up to 2x off)
     for key in ("k", "p", "t_"):
         assert m[key].dtype == again.maps[key].dtype == np.float32
