@@ -8,7 +8,12 @@ Layout: root attributes ``format``, ``package_version``, ``solver``, ``dt`` (s),
 diameter, section), ``state`` (u, v, a; optional ``dissipated``, the energy booked per
 contact, and ``delta_expected``, the largest expected overlaps of the run's initial
 state, with the attribute ``dt_default``), ``record`` (series, energy grid, monitor,
-maxima) and ``snapshots/<i>`` (u, v, overlaps with attributes label, t, step).  What is
+maxima), ``snapshots/<i>`` (u, v, overlaps with attributes label, t, step) and,
+optionally, ``train``: the solitary waves of the final state
+(:class:`discrete.waves.Train`; one dataset per field of
+:data:`discrete.waves.TRAIN_FIELDS`, each with its ``units``, and the split's
+parameters ``t`` (s), ``threshold``, ``valley``, ``lo``, ``hi`` and ``count`` as
+attributes; read with :func:`load_train`).  What is
 written is what :meth:`discrete.Simulation.saved` returns, and :func:`load` hands it to
 :meth:`discrete.Simulation.restore`: this module only maps it to and from HDF5.
 Datasets of 64 or more entries are chunked and gzip-compressed.  Optional root
@@ -46,8 +51,10 @@ from .chain import Chain
 from .integrators import get_integrator
 from .recording import Record, Recording, Snapshot, event_from_dict, event_to_dict
 from .simulation import SavedSimulation, Simulation
+from .waves import TRAIN_FIELDS, Train
 
-__all__ = ["save", "load", "UNITS", "FORMAT", "contact_constant_unit", "units_for"]
+__all__ = ["save", "load", "load_train", "to_xarray", "UNITS", "FORMAT",
+           "contact_constant_unit", "units_for"]
 
 FORMAT = "hertzchain.discrete/1"
 UNITS = {
@@ -108,7 +115,7 @@ def _ds(group: h5py.Group, name: str, data, compress: bool = True,
 
 
 def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
-         compress: bool = True) -> Path:
+         compress: bool = True, train: Train | None = None) -> Path:
     """Write ``sim`` (chain, state, recording, record) to the HDF5 file ``path``, atomically.
 
     Parameters
@@ -121,6 +128,9 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
         Extra root attributes (str, numbers or bool) written in the same atomic step.
     compress : bool
         gzip the large datasets (default); False writes faster (checkpoints).
+    train : discrete.waves.Train, optional
+        The solitary waves of the final state, written as the group ``train`` (module
+        docstring); ValueError unless split at the simulation's time ``sim.t``.
 
     Returns
     -------
@@ -129,9 +139,14 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
     """
     if not isinstance(sim, Simulation):
         raise ValueError(f"save() takes a Simulation (got {type(sim).__name__})")
+    if train is not None and (not isinstance(train, Train) or train.t != sim.t):
+        raise ValueError(f"train must be a discrete.waves.Train of the simulation's state "
+                         f"at t = {sim.t!r} s (got {train!r:.80})")
     path = Path(path)
     with integrity.sealed_hdf5(path) as f:  # atomic and sealed (theory.integrity)
         _write(f, sim.saved(), compress)
+        if train is not None:
+            _write_train(f, train)
         for key, value in (attrs or {}).items():
             f.attrs[key] = value
     return path
@@ -187,6 +202,54 @@ def _write(f: h5py.File, saved: SavedSimulation, compress: bool) -> None:
         h.attrs["label"], h.attrs["t"], h.attrs["step"] = s.label, s.t, s.step
         for name in ("u", "v", "overlaps"):
             _ds(h, name, getattr(s, name), compress)
+
+
+def _write_train(f: h5py.File, train: Train) -> None:
+    """The group ``train`` (module docstring)."""
+    g = f.create_group("train")
+    for key, value in train.params().items():
+        g.attrs[key] = value
+    g.attrs["count"] = len(train)
+    for name, arr in train.arrays().items():
+        _ds(g, name, arr, units=TRAIN_FIELDS)
+
+
+def load_train(path: str | os.PathLike) -> Train | None:
+    """The solitary waves stored with a run (the group ``train``), or None if it has none.
+
+    Read like :func:`load`: the file's integrity seal is verified first, and a missing
+    field or attribute, a wrong unit, arrays of different lengths or a ``count`` that is
+    not their length is a :class:`ValueError` naming the file and the part.
+    """
+    path = Path(path)
+    with integrity.open_hdf5(path, what=f"result file ({FORMAT})") as f:
+        fmt = f.attrs.get("format")
+        if isinstance(fmt, bytes):
+            fmt = fmt.decode()
+        if fmt != FORMAT:
+            raise ValueError(f"{path} is not a {FORMAT} file (format {fmt!r})")
+        if "train" not in f:
+            return None
+        r = _Reader(f)
+        try:
+            g = r.group("train")
+            arrays = {name: r.data(name, g) for name in TRAIN_FIELDS}
+            for name, unit in TRAIN_FIELDS.items():
+                got = r.attr("units", g[name])
+                got = got.decode() if isinstance(got, bytes) else str(got)
+                if got != unit:
+                    raise ValueError(f"units {got!r}, expected {unit!r}")
+            params = {key: r.attr(key, g) for key in ("t", "threshold", "valley", "lo", "hi")}
+            count = int(r.attr("count", g))
+            r.where = "group /train"
+            train = Train.from_arrays(arrays, params)
+            if len(train) != count:
+                raise ValueError(f"count {count} but {len(train)} waves stored")
+            return train
+        except (KeyError, ValueError, TypeError, IndexError) as exc:
+            detail = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+            raise ValueError(f"{path}: damaged or incomplete {FORMAT} file ({r.where}): "
+                             f"{detail}") from None
 
 
 class _Reader:

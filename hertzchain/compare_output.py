@@ -38,7 +38,7 @@ from .cache import atomic_path, canonical_json
 from .report import Report
 
 __all__ = ["write_all", "write_hdf5", "save_figures", "write_report", "difference_rows",
-           "run_rows"]
+           "run_rows", "train_rows"]
 
 _WAVES = ("incident", "transmitted", "reflected")
 
@@ -216,6 +216,8 @@ _ROWS = (
     ("peak_velocity", "leading peak velocity at the window's end (m/s)", ".4g", "+.2%"),
     ("leading_peak", "leading peak velocity of the striker's train (m/s)", ".4g", "+.2%"),
     ("wave_count", "waves of the train above 5 % of the leading one", ".0f", "+.0f"),
+    ("train_leading", "leading wave of the train: v_max of its energy's exact wave (m/s)",
+     ".4g", "+.2%"),
 )
 
 _MODELS = ("continuum", "theory", "theory_strong")
@@ -273,6 +275,31 @@ def run_rows(cmp) -> list[list[str]]:
     if "incident_strain" in s:
         rows.append(["incident_strain (r − δ0)/d", _num(s["incident_strain"], ".4g"),
                      s.get("incident_strain_note") or "hertzchain.measure.incident_strain"])
+    if "train_waves" in s:
+        rows += train_rows(s)
+    return rows
+
+
+def train_rows(summary: dict) -> list[list[str]]:
+    """The wave train of a run summary as rows: quantity, value, how it is measured.
+
+    One row "none" (with ``train_note``) where no train was measured; else the count
+    and, per wave (front first), its peak velocity, amplitude, speed and energy.
+    """
+    how = (f"solitary waves of the final state, t = {summary.get('t', math.nan):.6g} s "
+           "(hertzchain.measure.wave_train): the exact lattice wave of each pulse's energy")
+    count = summary.get("train_waves")
+    if not count:
+        return [["train_waves", "none", summary.get("train_note") or "not measured"]]
+    rows = [["train_waves", str(count), how]]
+    for j in range(count):
+        vals = ", ".join(f"{label} {_num(summary[key][j], fmt)}" for key, label, fmt in (
+            ("train_velocity_max", "v_max (m/s)", ".5g"),
+            ("train_amplitude", "amplitude (m)", ".4g"),
+            ("train_speed", "speed (m/s)", ".5g"),
+            ("train_energy", "energy (J)", ".4g"),
+            ("train_position", "at grain", ".2f")))
+        rows.append([f"train wave {j + 1}", vals, "front first"])
     return rows
 
 
