@@ -465,6 +465,12 @@ class Comparison:
                 "skipped": dict(self.run.skipped),
                 "verdict": self.verdict()}
 
+    def _repr_html_(self) -> str:
+        """Jupyter display (:func:`hertzchain.compare_output.comparison_html`)."""
+        from .compare_output import comparison_html
+
+        return comparison_html(self)
+
     # ------------------------------------------------------------------ output
     def write(self, out: str | Path, *, figures: bool = True, report: bool = True
               ) -> dict[str, Any]:

@@ -38,7 +38,8 @@ from .cache import atomic_path, canonical_json
 from .report import Report
 
 __all__ = ["write_all", "write_hdf5", "save_figures", "write_report", "difference_rows",
-           "run_rows", "train_rows"]
+           "run_rows", "train_rows", "scenario_rows", "summary_rows", "run_html",
+           "comparison_html"]
 
 _WAVES = ("incident", "transmitted", "reflected")
 
@@ -383,3 +384,90 @@ def write_all(cmp, out: Path, *, figures: bool = True, report: bool = True
     if report:
         paths["report"] = list(write_report(cmp, out, figs))
     return paths
+
+
+# -- Jupyter display ------------------------------------------------------------------
+def scenario_rows(scenario) -> list[tuple[str, Any, str]]:
+    """(key, value, unit) of every scenario key that differs from its default.
+
+    Keys as in the TOML file (``chain.delta0_over_d``, ``chain.sections.0.n``), units
+    from the scenario schema (:data:`hertzchain.scenario.SCHEMA`).
+    """
+    from .scenario import SCHEMA
+
+    d = scenario.to_dict()
+    rows: list[tuple[str, Any, str]] = []
+    if d.get("name"):
+        rows.append(("name", d["name"], ""))
+
+    def table(prefix: str, schema: str, values: dict) -> None:
+        for key in SCHEMA[schema]:
+            if key.name not in values:
+                continue
+            value = values[key.name]
+            default = key.default
+            if value == default or value is None or (value == [] and not default) or (
+                    key.name == "seed" and not any(values.get(f"disorder_{q}") for q in
+                                                   ("mass", "stiffness", "diameter"))):
+                continue
+            rows.append((f"{prefix}{key.name}", value, key.unit))
+
+    for name in ("chain", "initial", "run"):
+        table(f"{name}.", name, d.get(name, {}))
+        if name == "chain":
+            for i, sec in enumerate(d["chain"].get("sections", [])):
+                table(f"chain.sections.{i}.", "chain.sections", sec)
+    rows.append(("models", ", ".join(scenario.models.names), ""))
+    return rows
+
+
+def summary_rows(summary: dict) -> list[tuple[str, Any, str]]:
+    """(key, value, unit) of the quantities a summary has: no NaN, None or empty note.
+
+    A quantity outside its window (NaN, a label None) is left out; its ``*_note``,
+    which says why, is kept.  Units from :data:`hertzchain.measure.SUMMARY_UNITS`; the
+    train's per-wave lists are :func:`train_rows`' (left out here).
+    """
+    from .measure import SUMMARY_UNITS, TRAIN_KEYS
+
+    rows = []
+    for key, value in summary.items():
+        if (key in TRAIN_KEYS or key in ("train_waves", "train_note") or value == ""
+                or value is None or (isinstance(value, float) and math.isnan(value))):
+            continue
+        rows.append((key, value, SUMMARY_UNITS.get(key, "")))
+    return rows
+
+
+def run_html(result) -> str:
+    """A :class:`hertzchain.models.Run` as HTML: parameters, summary, train (escaped)."""
+    from discrete.display import html_table
+
+    summary = result.summary()
+    name = result.scenario.name or "scenario"
+    parts = [html_table(f"{name}: parameters", scenario_rows(result.scenario)),
+             html_table(f"{name}: summary", summary_rows(summary))]
+    if "train_waves" in summary:
+        parts.append(html_table(f"{name}: wave train", train_rows(summary),
+                                header=["quantity", "value", "measured"]))
+    return "\n".join(parts)
+
+
+def comparison_html(cmp) -> str:
+    """A :class:`hertzchain.compare.Comparison` as HTML: verdict, differences, run numbers."""
+    from discrete.display import html_table
+
+    models = [m for m in _MODELS if m in cmp.differences]
+    header = ["quantity", "discrete"]
+    for m in models:
+        header += [m, f"Δ {m}"]
+    name = cmp.scenario.name or "scenario"
+    parts = [html_table(f"{name}: parameters", scenario_rows(cmp.scenario)),
+             html_table(f"{name}: differences to the discrete chain at t_compare = "
+                        f"{cmp.t_compare * 1e3:.4g} ms", difference_rows(cmp),
+                        header=header, note=cmp.verdict())]
+    rows = run_rows(cmp)
+    if rows:
+        parts.append(html_table(f"{name}: the discrete run's own numbers", rows,
+                                header=["quantity", "value", "measured"]))
+    return "\n".join(parts)

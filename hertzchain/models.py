@@ -1377,6 +1377,12 @@ class Run:
         """Every model reached what was asked."""
         return all(m.completed for m in self.models)
 
+    def _repr_html_(self) -> str:
+        """Jupyter display (:func:`hertzchain.compare_output.run_html`)."""
+        from .compare_output import run_html
+
+        return run_html(self)
+
     def summary(self) -> dict[str, Any]:
         """Flat, JSON-able numbers: the discrete runner's summary, then per-model keys."""
         out: dict[str, Any] = {}
