@@ -78,7 +78,8 @@ __all__ = [
     "front_speed_from_maxima", "grain_energies", "handover_row", "incident_extent",
     "incident_grain", "incident_peak", "incident_strain", "interfaces", "sample_fronts",
     "separated_by", "separated_row", "summarise", "total_energy_rows", "unverified", "valid_until",
-    "windows", "TRAIN_FRACTION", "TRAIN_KEYS", "SUMMARY_UNITS", "wave_train", "train_summary",
+    "windows", "TRAIN_FRACTION", "TRAIN_KEYS", "TRAIN_MAX_WAVES", "SUMMARY_UNITS",
+    "wave_train", "train_summary",
 ]
 
 # -- exit status --------------------------------------------------------------------
@@ -1160,6 +1161,12 @@ exact lattice wave's peak grain velocity and peak dynamic overlap, its speed, an
 wave's energy (:class:`discrete.waves.TrainWave`)."""
 
 
+TRAIN_MAX_WAVES = 100
+"""More pulses than this above :data:`TRAIN_FRACTION` are no train of solitary waves
+(a disordered or thermalised state), and are not split into exact waves (one root
+search each)."""
+
+
 def wave_train(chain: Any, sim: Any, t_end_reached: float) -> tuple[Any, str]:
     """The solitary waves of a finished run's final state, or None and why not.
 
@@ -1173,7 +1180,8 @@ def wave_train(chain: Any, sim: Any, t_end_reached: float) -> tuple[Any, str]:
       end are no waves of the train;
     * a striker (section -1) keeps at most :data:`HANDOVER_FRACTION` of the chain's
       energy (:func:`handover_row`'s rule on the final state: until then the train is
-      still leaving it).
+      still leaving it);
+    * at most :data:`TRAIN_MAX_WAVES` pulses.
 
     Returns
     -------
@@ -1200,6 +1208,10 @@ def wave_train(chain: Any, sim: Any, t_end_reached: float) -> tuple[Any, str]:
     if not np.any(sim.v[s0:]):
         return None, "every grain is at rest: no wave"
     lo, hi = s0, int(chain.n)
+    pulses = len(D.find_pulses(sim.v, threshold=TRAIN_FRACTION, lo=lo, hi=hi))
+    if pulses > TRAIN_MAX_WAVES:
+        return None, (f"{pulses} pulses above {TRAIN_FRACTION:g} of the largest |v| "
+                      f"(more than {TRAIN_MAX_WAVES}): no train of solitary waves")
     waves = split_train(sim, threshold=TRAIN_FRACTION, lo=lo, hi=hi)
     if not waves:  # pragma: no cover - a nonzero velocity always makes a pulse
         return None, "no pulse above the threshold"

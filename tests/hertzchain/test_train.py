@@ -159,3 +159,14 @@ def test_no_train_outside_its_window_says_why_with_no_numbers():
         summary, _ = run_simulation(sc)
         assert summary["train_waves"] is None and why in summary["train_note"]
         assert all(summary[k] == [] for k in M.TRAIN_KEYS)
+
+
+def test_a_noisy_state_is_no_train():
+    # random grain velocities (a thermalised chain): ~130 pulses above 5 % of the
+    # largest, more than TRAIN_MAX_WAVES: no train, and no root search per pulse
+    ch = discrete.Chain.from_sections([discrete.Section(400, 5e-3, theory.PAPER_MATERIAL)],
+                                      delta0=1e-3 * 5e-3)
+    v = np.random.default_rng(3).normal(0.0, 1e-3, ch.n)
+    sim = discrete.Simulation(ch, v=v, record=discrete.Recording(energy_every=10))
+    train, note = M.wave_train(ch, sim, math.inf)
+    assert train is None and f"more than {M.TRAIN_MAX_WAVES}" in note
