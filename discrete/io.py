@@ -8,7 +8,12 @@ Layout: root attributes ``format``, ``package_version``, ``solver``, ``dt`` (s),
 diameter, section), ``state`` (u, v, a; optional ``dissipated``, the energy booked per
 contact, and ``delta_expected``, the largest expected overlaps of the run's initial
 state, with the attribute ``dt_default``), ``record`` (series, energy grid, monitor,
-maxima) and ``snapshots/<i>`` (u, v, overlaps with attributes label, t, step).  What is
+maxima), ``snapshots/<i>`` (u, v, overlaps with attributes label, t, step) and,
+optionally, ``train``: the solitary waves of the final state
+(:class:`discrete.waves.Train`; one dataset per field of
+:data:`discrete.waves.TRAIN_FIELDS`, each with its ``units``, and the split's
+parameters ``t`` (s), ``threshold``, ``valley``, ``lo``, ``hi`` and ``count`` as
+attributes; read with :func:`load_train`).  What is
 written is what :meth:`discrete.Simulation.saved` returns, and :func:`load` hands it to
 :meth:`discrete.Simulation.restore`: this module only maps it to and from HDF5.
 Datasets of 64 or more entries are chunked and gzip-compressed.  Optional root
@@ -46,8 +51,10 @@ from .chain import Chain
 from .integrators import get_integrator
 from .recording import Record, Recording, Snapshot, event_from_dict, event_to_dict
 from .simulation import SavedSimulation, Simulation
+from .waves import TRAIN_FIELDS, Train
 
-__all__ = ["save", "load", "UNITS", "FORMAT", "contact_constant_unit", "units_for"]
+__all__ = ["save", "load", "load_train", "to_xarray", "UNITS", "FORMAT",
+           "contact_constant_unit", "units_for"]
 
 FORMAT = "hertzchain.discrete/1"
 UNITS = {
@@ -108,7 +115,7 @@ def _ds(group: h5py.Group, name: str, data, compress: bool = True,
 
 
 def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
-         compress: bool = True) -> Path:
+         compress: bool = True, train: Train | None = None) -> Path:
     """Write ``sim`` (chain, state, recording, record) to the HDF5 file ``path``, atomically.
 
     Parameters
@@ -121,6 +128,9 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
         Extra root attributes (str, numbers or bool) written in the same atomic step.
     compress : bool
         gzip the large datasets (default); False writes faster (checkpoints).
+    train : discrete.waves.Train, optional
+        The solitary waves of the final state, written as the group ``train`` (module
+        docstring); ValueError unless split at the simulation's time ``sim.t``.
 
     Returns
     -------
@@ -129,9 +139,14 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
     """
     if not isinstance(sim, Simulation):
         raise ValueError(f"save() takes a Simulation (got {type(sim).__name__})")
+    if train is not None and (not isinstance(train, Train) or train.t != sim.t):
+        raise ValueError(f"train must be a discrete.waves.Train of the simulation's state "
+                         f"at t = {sim.t!r} s (got {train!r:.80})")
     path = Path(path)
     with integrity.sealed_hdf5(path) as f:  # atomic and sealed (theory.integrity)
         _write(f, sim.saved(), compress)
+        if train is not None:
+            _write_train(f, train)
         for key, value in (attrs or {}).items():
             f.attrs[key] = value
     return path
@@ -187,6 +202,54 @@ def _write(f: h5py.File, saved: SavedSimulation, compress: bool) -> None:
         h.attrs["label"], h.attrs["t"], h.attrs["step"] = s.label, s.t, s.step
         for name in ("u", "v", "overlaps"):
             _ds(h, name, getattr(s, name), compress)
+
+
+def _write_train(f: h5py.File, train: Train) -> None:
+    """The group ``train`` (module docstring)."""
+    g = f.create_group("train")
+    for key, value in train.params().items():
+        g.attrs[key] = value
+    g.attrs["count"] = len(train)
+    for name, arr in train.arrays().items():
+        _ds(g, name, arr, units=TRAIN_FIELDS)
+
+
+def load_train(path: str | os.PathLike) -> Train | None:
+    """The solitary waves stored with a run (the group ``train``), or None if it has none.
+
+    Read like :func:`load`: the file's integrity seal is verified first, and a missing
+    field or attribute, a wrong unit, arrays of different lengths or a ``count`` that is
+    not their length is a :class:`ValueError` naming the file and the part.
+    """
+    path = Path(path)
+    with integrity.open_hdf5(path, what=f"result file ({FORMAT})") as f:
+        fmt = f.attrs.get("format")
+        if isinstance(fmt, bytes):
+            fmt = fmt.decode()
+        if fmt != FORMAT:
+            raise ValueError(f"{path} is not a {FORMAT} file (format {fmt!r})")
+        if "train" not in f:
+            return None
+        r = _Reader(f)
+        try:
+            g = r.group("train")
+            arrays = {name: r.data(name, g) for name in TRAIN_FIELDS}
+            for name, unit in TRAIN_FIELDS.items():
+                got = r.attr("units", g[name])
+                got = got.decode() if isinstance(got, bytes) else str(got)
+                if got != unit:
+                    raise ValueError(f"units {got!r}, expected {unit!r}")
+            params = {key: r.attr(key, g) for key in ("t", "threshold", "valley", "lo", "hi")}
+            count = int(r.attr("count", g))
+            r.where = "group /train"
+            train = Train.from_arrays(arrays, params)
+            if len(train) != count:
+                raise ValueError(f"count {count} but {len(train)} waves stored")
+            return train
+        except (KeyError, ValueError, TypeError, IndexError) as exc:
+            detail = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+            raise ValueError(f"{path}: damaged or incomplete {FORMAT} file ({r.where}): "
+                             f"{detail}") from None
 
 
 class _Reader:
@@ -321,3 +384,169 @@ def _read(r: _Reader, threads: int | None) -> Simulation:
                             recording, rec, pending)
     return Simulation.restore(saved, threads=threads)
 
+
+
+# -- xarray ---------------------------------------------------------------------------
+XARRAY_EXTRA = 'pip install "hertzchain[xarray]"'
+"""How to install the optional xarray dependency (the package's ``xarray`` extra)."""
+
+_GRAIN = ("grain index, counted from 0 (with a striker, the striker is grain 0: "
+          "docs/guide/cli.md, 'Grain indices')")
+_CONTACT = ("contact index j, between grains j - 1 and j (0: the left wall, N: the "
+            "right wall)")
+
+
+def _import_xarray():
+    try:
+        import xarray
+    except ImportError as exc:
+        raise ImportError(f"to_xarray needs the optional dependency xarray, which is not "
+                          f"installed: {XARRAY_EXTRA} (or pip install xarray)") from exc
+    return xarray
+
+
+def to_xarray(sim: Simulation, *, train: Train | None = None):
+    """The recorded data of ``sim`` as an :class:`xarray.Dataset` (optional dependency).
+
+    Dimensions (each with a coordinate): ``grain`` (0 … N-1, the documented grain
+    index), ``contact`` (0 … N), ``time`` (the time-series rows, s), ``series_grain``
+    and ``sensor`` (the recorded grains' indices), ``snapshot`` (with ``snapshot_time``,
+    s, ``snapshot_label`` and ``snapshot_step``), ``energy_time`` and ``energy_block``
+    (the energy grid's rows, s, and the first grain of each block of
+    ``energy_coarsen`` grains), ``monitor_time`` (s), ``wall`` ("left", "right") and,
+    with ``train``, ``wave`` (:class:`discrete.waves.Train`, in position order).
+    Variables: the chain (``mass``, ``diameter``, ``section``; ``k``, ``delta0`` per
+    contact), the final state (``u``, ``v``, ``overlap``), the running maxima, the
+    snapshots, the time series, sensors and wall forces, the energy grid and monitor,
+    and the train, each with ``units`` (those of :func:`units_for`; "1" for indices)
+    and ``long_name``.  Dataset attributes: the run's parameters (``dt``, ``t``,
+    ``steps``, ``energy0``, ``integrator``, …, the attributes :func:`save` writes) and
+    ``contact_law``, ``chain_params``, ``recording`` (JSON) and ``units`` (JSON);
+    booleans as 1/0, so that :meth:`xarray.Dataset.to_netcdf` writes it as it is.
+
+    Values are the simulation's, bit for bit (copies).  ImportError naming the extra
+    (:data:`XARRAY_EXTRA`) when xarray is not installed.
+    """
+    xr = _import_xarray()
+    if not isinstance(sim, Simulation):
+        raise ValueError(f"to_xarray() takes a Simulation (got {type(sim).__name__})")
+    if train is not None and not isinstance(train, Train):
+        raise ValueError(f"train must be a discrete.waves.Train (got {type(train).__name__})")
+    saved = sim.saved()
+    units = units_for(saved.law)
+    ch, rec = saved.chain, saved.record
+    n = ch.n
+    data: dict = {}
+
+    def var(name, dims, values, unit, long_name):
+        data[name] = xr.Variable(dims, np.array(values, copy=True),
+                                 {"units": unit, "long_name": long_name})
+
+    coords = {
+        "grain": xr.Variable("grain", np.arange(n), {"units": "1", "long_name": _GRAIN}),
+        "contact": xr.Variable("contact", np.arange(n + 1),
+                               {"units": "1", "long_name": _CONTACT}),
+    }
+    var("mass", "grain", ch.mass, units["mass"], "grain mass")
+    var("diameter", "grain", ch.diameter, units["diameter"], "grain diameter")
+    var("section", "grain", ch.section, units["section"],
+        "section of the grain (-1: a striker)")
+    var("k", "contact", ch.k, units["k"], "contact constant of F = k δ^n")
+    var("delta0", "contact", ch.delta0, units["delta0"], "static overlap δ0")
+    var("u", "grain", saved.state["u"], units["u"],
+        "displacement from static equilibrium at t")
+    var("v", "grain", saved.state["v"], units["v"], "grain velocity at t")
+    var("overlap", "contact", sim.overlaps(), units["overlaps"], "contact overlap at t")
+    if rec.vmax is not None:
+        var("vmax", "grain", rec.vmax, units["vmax"],
+            "running maximum of the grain velocity (sampled at the steps)")
+        var("umax", "grain", rec.umax, units["umax"], "running maximum of the displacement")
+    if rec.vmax_refined is not None:
+        var("vmax_refined", "grain", rec.vmax_refined, units["vmax_refined"],
+            "refined running maximum of the grain velocity (between the steps)")
+        var("vmax_time", "grain", rec.vmax_time, units["vmax_time"],
+            "time of the refined maximum")
+    if rec.overlap_max is not None:
+        var("overlap_max", "contact", rec.overlap_max, units["overlap_max"],
+            "running maximum of the contact overlap")
+    snaps = rec.snapshots
+    if snaps:
+        coords["snapshot"] = xr.Variable("snapshot", np.arange(len(snaps)),
+                                         {"units": "1", "long_name": "snapshot number"})
+        coords["snapshot_time"] = xr.Variable("snapshot", [s.t for s in snaps],
+                                              {"units": "s", "long_name": "snapshot time"})
+        coords["snapshot_label"] = xr.Variable("snapshot", [s.label for s in snaps],
+                                               {"long_name": "snapshot event"})
+        coords["snapshot_step"] = xr.Variable("snapshot", [s.step for s in snaps],
+                                              {"units": "1", "long_name": "snapshot step"})
+        var("snapshot_u", ("snapshot", "grain"), [s.u for s in snaps], units["u"],
+            "displacement at the snapshot")
+        var("snapshot_v", ("snapshot", "grain"), [s.v for s in snaps], units["v"],
+            "grain velocity at the snapshot")
+        var("snapshot_overlap", ("snapshot", "contact"), [s.overlaps for s in snaps],
+            units["overlaps"], "contact overlap at the snapshot")
+    a = rec.arrays()
+    if a["series_t"].size or rec.series_grains.size:
+        coords["time"] = xr.Variable("time", a["series_t"],
+                                     {"units": "s", "long_name": "time of the series rows"})
+    if rec.series_grains.size:
+        coords["series_grain"] = xr.Variable("series_grain", a["series_grains"],
+                                             {"units": "1", "long_name": _GRAIN})
+        for q, (name, unit, text) in enumerate((
+                ("series_u", units["u"], "displacement"),
+                ("series_v", units["v"], "grain velocity"),
+                ("series_overlap_left", units["overlaps"], "overlap of the left contact"),
+                ("series_overlap_right", units["overlaps"], "overlap of the right contact"))):
+            var(name, ("time", "series_grain"), a["series"][:, :, q], unit, text)
+    if rec.sensor_grains.size:
+        coords["sensor"] = xr.Variable("sensor", a["sensor_grains"],
+                                       {"units": "1", "long_name": _GRAIN})
+        var("sensor_force", ("time", "sensor"), a["sensor_force"], units["sensor_force"],
+            "embedded sensor: mean of the grain's two contact forces")
+    if rec.wall_forces:
+        coords["wall"] = xr.Variable("wall", ["left", "right"], {"long_name": "wall"})
+        var("wall_force", ("time", "wall"), a["wall_force"], units["wall_force"],
+            "force on the wall")
+    if len(rec.energy):
+        c = int(rec.energy_coarsen)
+        coords["energy_time"] = xr.Variable("energy_time", a["energy_t"],
+                                            {"units": "s", "long_name": "energy grid rows"})
+        coords["energy_block"] = xr.Variable(
+            "energy_block", np.arange(a["energy_kinetic"].shape[1]) * c,
+            {"units": "1", "long_name": f"first grain of a block of {c} grains ({_GRAIN})"})
+        var("energy_kinetic", ("energy_time", "energy_block"), a["energy_kinetic"],
+            units["energy_kinetic"], "kinetic energy ½mv² of the block")
+        var("energy_potential", ("energy_time", "energy_block"), a["energy_potential"],
+            units["energy_potential"], "contact energy of the block (half of each contact)")
+    coords["monitor_time"] = xr.Variable("monitor_time", a["monitor_t"],
+                                         {"units": "s", "long_name": "energy monitor times"})
+    var("monitor_energy", "monitor_time", a["monitor_energy"], units["monitor_energy"],
+        "total energy E")
+    var("monitor_shadow", "monitor_time", a["monitor_shadow"], units["monitor_shadow"],
+        "velocity Verlet's modified energy")
+    var("monitor_dissipated", "monitor_time", a["monitor_dissipated"],
+        units["monitor_dissipated"], "energy dissipated since the start")
+    if train is not None:
+        coords["wave"] = xr.Variable("wave", np.arange(len(train)),
+                                     {"units": "1", "long_name": "wave of the train, in "
+                                      "position order"})
+        texts = {"position": f"peak position ({_GRAIN})", "start": "first grain",
+                 "stop": "one past the last grain",
+                 "velocity_max": "peak grain velocity of the exact wave of its energy",
+                 "amplitude": "peak dynamic overlap of that wave", "energy": "wave energy",
+                 "speed": "speed of that wave", "sampled_velocity": "sampled peak velocity"}
+        for name, arr in train.arrays().items():
+            var(f"train_{name}", "wave", arr, TRAIN_FIELDS[name], texts[name])
+    # (netCDF has no booleans: True/False as 1/0; None, an rtol not asked for, left out)
+    attrs = {key: (int(v) if isinstance(v, bool | np.bool_) else v)
+             for key, v in saved.attrs.items() if key in _SCALARS and v is not None}
+    attrs.update(format=FORMAT, package_version=_version(),
+                 contact_law=json.dumps(saved.law.to_dict()),
+                 contact_law_description=saved.law.describe(),
+                 chain_params=json.dumps(saved.chain.params),
+                 recording=json.dumps(saved.recording.to_dict()),
+                 units=json.dumps(units), n_grains=int(n),
+                 energy_coarsen=int(rec.energy_coarsen))
+    if train is not None:
+        attrs.update({f"train_{k}": v for k, v in train.params().items()})
+    return xr.Dataset(data, coords=coords, attrs=attrs)

@@ -152,6 +152,12 @@ class RunInfo:
     shadow_drift: float
     """The same for velocity Verlet's modified energy (secular drift only)."""
 
+    def _repr_html_(self) -> str:
+        """Jupyter display: a table with units (:func:`discrete.display.run_info_html`)."""
+        from .display import run_info_html
+
+        return run_info_html(self)
+
 
 @dataclass
 class SavedSimulation:
@@ -1042,6 +1048,18 @@ class Simulation:
         d0 = np.asarray(self._d0, float)
         f0 = np.abs(np.asarray(self.law.elastic(d0, self._k), float))
         return float(np.finfo(float).eps * np.sum(f0 * d0))
+
+    def _repr_html_(self) -> str:
+        """Jupyter display: parameters and state with units (:mod:`discrete.display`)."""
+        from .display import simulation_html
+
+        return simulation_html(self)
+
+    def to_xarray(self):
+        """The recorded data as an :class:`xarray.Dataset` (:func:`discrete.io.to_xarray`)."""
+        from .io import to_xarray
+
+        return to_xarray(self)
 
     @property
     def energy_drift(self) -> float:

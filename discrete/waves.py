@@ -21,7 +21,10 @@ where the wave stands between them — by up to 24 % (velocity) and 21 % (overla
 exact wave, and a parabola through the top three samples still leaves 16 % and 12 % —
 while its energy does not (the exact wave's is conserved, 7e-15): the wave of equal
 energy gives phase-independent amplitudes and speeds (within 2e-3 of a placed exact
-wave at every phase, ``tests/discrete/test_chains_sensors.py``).
+wave at every phase, ``tests/discrete/test_chains_sensors.py``).  :class:`Train` keeps
+the waves with the split's parameters (the per-wave arrays and units of
+:data:`TRAIN_FIELDS`); :func:`hertzchain.measure.wave_train` measures the train of a
+finished run in its window.
 
 Damped solitary wave (first-order estimate)
 -------------------------------------------
@@ -60,7 +63,7 @@ from .diagnostics.waves import find_pulses
 from .reference import overlap_rates
 
 __all__ = ["wave_dissipation", "series_accelerations", "arrival_times", "wave_speed",
-           "TrainWave", "split_train"]
+           "TrainWave", "Train", "TRAIN_FIELDS", "split_train"]
 
 
 def series_accelerations(sim) -> np.ndarray:
@@ -160,6 +163,78 @@ class TrainWave:
     sampled_velocity: float = float("nan")
 
 
+TRAIN_FIELDS = {
+    "position": "1", "velocity_max": "m/s", "amplitude": "m", "energy": "J",
+    "speed": "m/s", "start": "1", "stop": "1", "sampled_velocity": "m/s",
+}
+"""The per-wave arrays of a :class:`Train` and their units (``position``, ``start``,
+``stop``: grain indices, counted from 0 as everywhere in the package)."""
+
+
+@dataclass(frozen=True)
+class Train:
+    """The solitary waves of a state and how they were split (:func:`split_train`).
+
+    Attributes
+    ----------
+    waves : tuple of TrainWave
+        Sorted by position (grain index, increasing); empty if no pulse reached the
+        threshold.
+    t : float
+        Time of the state split, s.
+    threshold, valley : float
+        :func:`split_train`'s pulse threshold (fraction of the largest |v| in the
+        range) and valley depth.
+    lo, hi : int
+        The grains searched, ``lo … hi - 1``.
+    """
+
+    waves: tuple[TrainWave, ...]
+    t: float
+    threshold: float
+    valley: float
+    lo: int
+    hi: int
+
+    def __len__(self) -> int:
+        """The number of waves."""
+        return len(self.waves)
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """One array per field of :data:`TRAIN_FIELDS`, one entry per wave (float64 or int64)."""
+        out = {}
+        for name in TRAIN_FIELDS:
+            kind = np.int64 if name in ("start", "stop") else np.float64
+            out[name] = np.array([getattr(w, name) for w in self.waves], dtype=kind)
+        return out
+
+    def params(self) -> dict[str, float | int]:
+        """The split's parameters (``t`` in s, the rest dimensionless or grains)."""
+        return {"t": float(self.t), "threshold": float(self.threshold),
+                "valley": float(self.valley), "lo": int(self.lo), "hi": int(self.hi)}
+
+    @classmethod
+    def from_arrays(cls, arrays: dict, params: dict) -> Train:
+        """The train :meth:`arrays` and :meth:`params` describe.
+
+        ValueError naming the field if one is missing or the arrays differ in length.
+        """
+        missing = [k for k in TRAIN_FIELDS if k not in arrays] + \
+            [k for k in ("t", "threshold", "valley", "lo", "hi") if k not in params]
+        if missing:
+            raise ValueError(f"train: missing {missing}")
+        lengths = {k: np.shape(arrays[k]) for k in TRAIN_FIELDS}
+        if len(set(lengths.values())) != 1 or len(lengths["position"]) != 1:
+            raise ValueError(f"train: the per-wave arrays must be 1-D of one length (got "
+                             f"shapes {lengths})")
+        n = lengths["position"][0]
+        waves = tuple(TrainWave(**{k: (int(arrays[k][i]) if k in ("start", "stop")
+                                       else float(arrays[k][i])) for k in TRAIN_FIELDS})
+                      for i in range(n))
+        return cls(waves, float(params["t"]), float(params["threshold"]),
+                   float(params["valley"]), int(params["lo"]), int(params["hi"]))
+
+
 def _peak(y: np.ndarray) -> float:
     """Largest value of samples ``y``, refined by the parabola through the top three.
 
@@ -181,7 +256,9 @@ def split_train(sim, *, threshold: float = 0.05, valley: float = 0.5, lo: int = 
 
     Pulses of the grain velocity above ``threshold`` × the largest |v| in ``[lo, hi)``
     separated where |v| falls below ``valley`` × the smaller peak
-    (:func:`discrete.diagnostics.find_pulses`); sorted by position.
+    (:func:`discrete.diagnostics.find_pulses`); sorted by position.  :class:`Train`
+    (``Train(tuple(waves), sim.t, threshold, valley, lo, hi)``) keeps them with these
+    parameters, as ``hertzchain run`` writes them (:func:`discrete.io.save`).
     """
     ch = sim.chain
     v = sim.v

@@ -263,12 +263,37 @@ def _print_summary(scenario, args: argparse.Namespace, summary: dict) -> None:
     print(f"scenario {scenario.name or args.scenario}: {scenario.chain.n} grains in "
           f"{n_sections} section{'s' if n_sections > 1 else ''}; models: "
           f"{', '.join(scenario.models.names)}")
+    from .measure import TRAIN_KEYS
+
     for key, value in summary.items():
-        if n_sections == 1 and key in INTERFACE_KEYS:
+        if (n_sections == 1 and key in INTERFACE_KEYS) or key in TRAIN_KEYS \
+                or key in ("train_waves", "train_note"):
             continue
         print(f"  {key:<26} {_text(value)}")
     if n_sections == 1:
         print(f"  {'interface':<26} none (one section: no transmitted or reflected wave)")
+    if "train_waves" in summary:
+        for line in train_lines(summary):
+            print(f"  {line}")
+
+
+def train_lines(summary: dict) -> list[str]:
+    """The wave train of a run summary as text: "none (why)", or a table of its waves.
+
+    (:func:`hertzchain.measure.train_summary`'s keys; the lists run front first.)
+    """
+    count = summary.get("train_waves")
+    if not count:
+        return [f"{'train':<26} none ({summary.get('train_note') or 'not measured'})"]
+    lines = [f"{'train':<26} {count} solitary wave{'s' if count > 1 else ''}, front first:",
+             f"    {'wave':>4} {'grain':>9} {'v_max (m/s)':>12} {'amplitude (m)':>14} "
+             f"{'speed (m/s)':>12} {'energy (J)':>11}"]
+    cols = [summary[k] for k in ("train_position", "train_velocity_max", "train_amplitude",
+                                 "train_speed", "train_energy")]
+    for j, (x, vm, a, c, e) in enumerate(zip(*cols, strict=True), start=1):
+        lines.append(f"    {j:>4} {x:>9.2f} {vm:>12.5g} {a:>14.4g} {_text(c):>12} "
+                     f"{e:>11.4g}")
+    return lines
 
 
 def cmd_compare(args: argparse.Namespace) -> int:

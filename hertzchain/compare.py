@@ -465,6 +465,12 @@ class Comparison:
                 "skipped": dict(self.run.skipped),
                 "verdict": self.verdict()}
 
+    def _repr_html_(self) -> str:
+        """Jupyter display (:func:`hertzchain.compare_output.comparison_html`)."""
+        from .compare_output import comparison_html
+
+        return comparison_html(self)
+
     # ------------------------------------------------------------------ output
     def write(self, out: str | Path, *, figures: bool = True, report: bool = True
               ) -> dict[str, Any]:
@@ -910,13 +916,12 @@ def _chain_theory_rows(cmp: Comparison, ct) -> tuple[dict, list[str], list[str]]
     * ``peak_velocity``: the running maximum of grain ⌊x_b⌋ − 3 (its peak has passed)
       against the theory's decay from the running maximum at the first grain;
     * ``leading_peak``: the striker train's leading peak velocity against the same
-      running maximum; ``wave_count`` (not in the error): the train's waves above
-      :data:`hertzchain.models.STRIKER_COUNT_FRACTION` of the leading one in the final
-      state (:func:`discrete.waves.split_train`) against the model's count, if no wave
-      reached an end before it.
+      running maximum; not in the error, where the run measured its train
+      (:func:`hertzchain.measure.wave_train`, the summary's ``train_*``): ``wave_count``,
+      its waves above :data:`hertzchain.measure.TRAIN_FRACTION` of the leading one
+      against the model's count at that fraction, and ``train_leading``, the peak
+      velocity of the exact wave of the leading wave's energy against the model's v_1.
     """
-    from discrete.waves import split_train
-
     result, disc = cmp.run, cmp.series["discrete"]
     sim = result.simulation
     summary = result.discrete.summary if result.discrete is not None else {}
@@ -965,14 +970,12 @@ def _chain_theory_rows(cmp: Comparison, ct) -> tuple[dict, list[str], list[str]]
             train = ct.striker
             rows[key] = _relative(v_b, train.velocity_max)
             cmp.theory_window += f"; leading peak: {where}"
-            if final_ok:
-                from .models import STRIKER_COUNT_FRACTION
-
-                waves = split_train(sim, threshold=STRIKER_COUNT_FRACTION,
-                                    lo=ct.first)
-                count = train.count_above(STRIKER_COUNT_FRACTION)
-                rows["wave_count"] = (float(len(waves)), float(count),
-                                      float(count - len(waves)))
+            waves = summary.get("train_waves")
+            if waves:  # measured in its window (hertzchain.measure.wave_train)
+                count = train.count_above(M.TRAIN_FRACTION)
+                rows["wave_count"] = (float(waves), float(count), float(count - waves))
+                lead = abs(float(summary["train_velocity_max"][0]))
+                rows["train_leading"] = _relative(lead, train.velocity_max)
     return rows, why, [key]
 
 

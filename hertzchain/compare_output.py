@@ -38,7 +38,8 @@ from .cache import atomic_path, canonical_json
 from .report import Report
 
 __all__ = ["write_all", "write_hdf5", "save_figures", "write_report", "difference_rows",
-           "run_rows"]
+           "run_rows", "train_rows", "scenario_rows", "summary_rows", "run_html",
+           "comparison_html"]
 
 _WAVES = ("incident", "transmitted", "reflected")
 
@@ -216,6 +217,8 @@ _ROWS = (
     ("peak_velocity", "leading peak velocity at the window's end (m/s)", ".4g", "+.2%"),
     ("leading_peak", "leading peak velocity of the striker's train (m/s)", ".4g", "+.2%"),
     ("wave_count", "waves of the train above 5 % of the leading one", ".0f", "+.0f"),
+    ("train_leading", "leading wave of the train: v_max of its energy's exact wave (m/s)",
+     ".4g", "+.2%"),
 )
 
 _MODELS = ("continuum", "theory", "theory_strong")
@@ -273,6 +276,31 @@ def run_rows(cmp) -> list[list[str]]:
     if "incident_strain" in s:
         rows.append(["incident_strain (r − δ0)/d", _num(s["incident_strain"], ".4g"),
                      s.get("incident_strain_note") or "hertzchain.measure.incident_strain"])
+    if "train_waves" in s:
+        rows += train_rows(s)
+    return rows
+
+
+def train_rows(summary: dict) -> list[list[str]]:
+    """The wave train of a run summary as rows: quantity, value, how it is measured.
+
+    One row "none" (with ``train_note``) where no train was measured; else the count
+    and, per wave (front first), its peak velocity, amplitude, speed and energy.
+    """
+    how = (f"solitary waves of the final state, t = {summary.get('t', math.nan):.6g} s "
+           "(hertzchain.measure.wave_train): the exact lattice wave of each pulse's energy")
+    count = summary.get("train_waves")
+    if not count:
+        return [["train_waves", "none", summary.get("train_note") or "not measured"]]
+    rows = [["train_waves", str(count), how]]
+    for j in range(count):
+        vals = ", ".join(f"{label} {_num(summary[key][j], fmt)}" for key, label, fmt in (
+            ("train_velocity_max", "v_max (m/s)", ".5g"),
+            ("train_amplitude", "amplitude (m)", ".4g"),
+            ("train_speed", "speed (m/s)", ".5g"),
+            ("train_energy", "energy (J)", ".4g"),
+            ("train_position", "at grain", ".2f")))
+        rows.append([f"train wave {j + 1}", vals, "front first"])
     return rows
 
 
@@ -356,3 +384,90 @@ def write_all(cmp, out: Path, *, figures: bool = True, report: bool = True
     if report:
         paths["report"] = list(write_report(cmp, out, figs))
     return paths
+
+
+# -- Jupyter display ------------------------------------------------------------------
+def scenario_rows(scenario) -> list[tuple[str, Any, str]]:
+    """(key, value, unit) of every scenario key that differs from its default.
+
+    Keys as in the TOML file (``chain.delta0_over_d``, ``chain.sections.0.n``), units
+    from the scenario schema (:data:`hertzchain.scenario.SCHEMA`).
+    """
+    from .scenario import SCHEMA
+
+    d = scenario.to_dict()
+    rows: list[tuple[str, Any, str]] = []
+    if d.get("name"):
+        rows.append(("name", d["name"], ""))
+
+    def table(prefix: str, schema: str, values: dict) -> None:
+        for key in SCHEMA[schema]:
+            if key.name not in values:
+                continue
+            value = values[key.name]
+            default = key.default
+            if value == default or value is None or (value == [] and not default) or (
+                    key.name == "seed" and not any(values.get(f"disorder_{q}") for q in
+                                                   ("mass", "stiffness", "diameter"))):
+                continue
+            rows.append((f"{prefix}{key.name}", value, key.unit))
+
+    for name in ("chain", "initial", "run"):
+        table(f"{name}.", name, d.get(name, {}))
+        if name == "chain":
+            for i, sec in enumerate(d["chain"].get("sections", [])):
+                table(f"chain.sections.{i}.", "chain.sections", sec)
+    rows.append(("models", ", ".join(scenario.models.names), ""))
+    return rows
+
+
+def summary_rows(summary: dict) -> list[tuple[str, Any, str]]:
+    """(key, value, unit) of the quantities a summary has: no NaN, None or empty note.
+
+    A quantity outside its window (NaN, a label None) is left out; its ``*_note``,
+    which says why, is kept.  Units from :data:`hertzchain.measure.SUMMARY_UNITS`; the
+    train's per-wave lists are :func:`train_rows`' (left out here).
+    """
+    from .measure import SUMMARY_UNITS, TRAIN_KEYS
+
+    rows = []
+    for key, value in summary.items():
+        if (key in TRAIN_KEYS or key in ("train_waves", "train_note") or value == ""
+                or value is None or (isinstance(value, float) and math.isnan(value))):
+            continue
+        rows.append((key, value, SUMMARY_UNITS.get(key, "")))
+    return rows
+
+
+def run_html(result) -> str:
+    """A :class:`hertzchain.models.Run` as HTML: parameters, summary, train (escaped)."""
+    from discrete.display import html_table
+
+    summary = result.summary()
+    name = result.scenario.name or "scenario"
+    parts = [html_table(f"{name}: parameters", scenario_rows(result.scenario)),
+             html_table(f"{name}: summary", summary_rows(summary))]
+    if "train_waves" in summary:
+        parts.append(html_table(f"{name}: wave train", train_rows(summary),
+                                header=["quantity", "value", "measured"]))
+    return "\n".join(parts)
+
+
+def comparison_html(cmp) -> str:
+    """A :class:`hertzchain.compare.Comparison` as HTML: verdict, differences, run numbers."""
+    from discrete.display import html_table
+
+    models = [m for m in _MODELS if m in cmp.differences]
+    header = ["quantity", "discrete"]
+    for m in models:
+        header += [m, f"Δ {m}"]
+    name = cmp.scenario.name or "scenario"
+    parts = [html_table(f"{name}: parameters", scenario_rows(cmp.scenario)),
+             html_table(f"{name}: differences to the discrete chain at t_compare = "
+                        f"{cmp.t_compare * 1e3:.4g} ms", difference_rows(cmp),
+                        header=header, note=cmp.verdict())]
+    rows = run_rows(cmp)
+    if rows:
+        parts.append(html_table(f"{name}: the discrete run's own numbers", rows,
+                                header=["quantity", "value", "measured"]))
+    return "\n".join(parts)

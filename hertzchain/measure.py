@@ -41,6 +41,14 @@ Quantities and their windows (:func:`summarise`)
       an impact's wave when its velocity peak passes :func:`incident_grain`), for
       whatever contact law (:func:`incident_strain`).
 
+The wave train (:func:`wave_train`, :func:`train_summary`)
+    the solitary waves of the final state (:func:`discrete.waves.split_train`: each
+    pulse above :data:`TRAIN_FRACTION` of the largest |v|, its amplitude, speed and
+    energy those of the exact lattice wave of its energy), only on a chain of one
+    section, once a striker has handed over its energy, and if no wave reached a chain
+    end before the final state; otherwise ``train_waves`` is None and ``train_note``
+    says why.
+
 Samples of several models (``hertzchain compare``)
     :func:`sample_fronts`, :func:`fit_sample_speed`, :func:`incident_extent`,
     :func:`crossing_time`, :func:`valid_until` and :func:`separated_by`: the same
@@ -70,7 +78,8 @@ __all__ = [
     "front_speed_from_maxima", "grain_energies", "handover_row", "incident_extent",
     "incident_grain", "incident_peak", "incident_strain", "interfaces", "sample_fronts",
     "separated_by", "separated_row", "summarise", "total_energy_rows", "unverified", "valid_until",
-    "windows",
+    "windows", "TRAIN_FRACTION", "TRAIN_KEYS", "TRAIN_MAX_WAVES", "SUMMARY_UNITS",
+    "wave_train", "train_summary",
 ]
 
 # -- exit status --------------------------------------------------------------------
@@ -1136,3 +1145,112 @@ def summarise(chain: Any, sim: Any, incident: float | None = None, *,
         out["front_speed_re"] = math.nan
         out["front_speed_re_note"] = "no reflected wave (reflected = none)"
     return out
+
+
+# -- the wave train -------------------------------------------------------------------
+TRAIN_FRACTION = 0.05
+"""A train counts the pulses whose peak |v| exceeds this fraction of the largest
+(:func:`discrete.waves.split_train`'s threshold; docs/physics.md §14, "A heavy
+striker": the count of :func:`theory.striker.StrikerTrain.count_above` at the same
+fraction)."""
+
+TRAIN_KEYS = {"train_position": "1", "train_velocity_max": "m/s", "train_amplitude": "m",
+              "train_speed": "m/s", "train_energy": "J"}
+"""The per-wave lists of the summary (front first) and their units: grain index, the
+exact lattice wave's peak grain velocity and peak dynamic overlap, its speed, and the
+wave's energy (:class:`discrete.waves.TrainWave`)."""
+
+
+TRAIN_MAX_WAVES = 100
+"""More pulses than this above :data:`TRAIN_FRACTION` are no train of solitary waves
+(a disordered or thermalised state), and are not split into exact waves (one root
+search each)."""
+
+
+def wave_train(chain: Any, sim: Any, t_end_reached: float) -> tuple[Any, str]:
+    """The solitary waves of a finished run's final state, or None and why not.
+
+    :func:`discrete.waves.split_train` of the final state over the grains of section 0
+    (past a striker, :func:`first_grain`) with :data:`TRAIN_FRACTION`, in its window:
+
+    * a chain of one section (at an interface the final state holds the scattered
+      waves, counted by ``n_transmitted_pulses``);
+    * the energy grid was recorded and no wave reached a chain end before the final
+      state (``t_end_reached``, s, :func:`windows`): an echo or grains piled up at an
+      end are no waves of the train;
+    * a striker (section -1) keeps at most :data:`HANDOVER_FRACTION` of the chain's
+      energy (:func:`handover_row`'s rule on the final state: until then the train is
+      still leaving it);
+    * at most :data:`TRAIN_MAX_WAVES` pulses.
+
+    Returns
+    -------
+    train : discrete.waves.Train or None
+        With at least one wave; None outside the window.
+    note : str
+        Why there is none ("" if there is).
+    """
+    from discrete.waves import Train, split_train
+
+    if interfaces(chain):
+        return None, "an interface: the final state holds the scattered waves"
+    if not len(sim.record.energy):
+        return None, "no energy grid was recorded: whether a wave reached a chain end is unknown"
+    if t_end_reached <= sim.t:
+        return None, (f"a wave reached a chain end at t = {t_end_reached * 1e3:.4g} ms, "
+                      f"before the final state (t = {sim.t * 1e3:.4g} ms)")
+    s0 = first_grain(chain)
+    ek, ep = sim.grain_energy()
+    e = np.abs(ek + ep)
+    if s0 and e.sum() > 0 and e[:s0].sum() > HANDOVER_FRACTION * e.sum():
+        return None, (f"the striker still held {e[:s0].sum() / e.sum():.3g} of the chain's "
+                      f"energy (> {HANDOVER_FRACTION:g}): the train had not left it")
+    if not np.any(sim.v[s0:]):
+        return None, "every grain is at rest: no wave"
+    lo, hi = s0, int(chain.n)
+    pulses = len(D.find_pulses(sim.v, threshold=TRAIN_FRACTION, lo=lo, hi=hi))
+    if pulses > TRAIN_MAX_WAVES:
+        return None, (f"{pulses} pulses above {TRAIN_FRACTION:g} of the largest |v| "
+                      f"(more than {TRAIN_MAX_WAVES}): no train of solitary waves")
+    waves = split_train(sim, threshold=TRAIN_FRACTION, lo=lo, hi=hi)
+    if not waves:  # pragma: no cover - a nonzero velocity always makes a pulse
+        return None, "no pulse above the threshold"
+    return Train(tuple(waves), float(sim.t), TRAIN_FRACTION, 0.5, lo, hi), ""
+
+
+def train_summary(train: Any, note: str = "") -> dict:
+    """The summary keys of a train: ``train_waves``, ``train_note`` and :data:`TRAIN_KEYS`.
+
+    ``train_waves``: the number of waves (None: not measured, ``train_note`` says
+    why); the lists run from the front of the train (wave 1 leads: the right-most for
+    waves moving right, v > 0), empty when not measured.
+    """
+    out: dict = {"train_waves": None, "train_note": note}
+    out.update({key: [] for key in TRAIN_KEYS})
+    if train is None or not len(train):
+        return out
+    waves = list(train.waves)
+    lead = max(waves, key=lambda w: w.energy)
+    if lead.velocity_max > 0:  # right-going: the front is the right-most
+        waves = waves[::-1]
+    out["train_waves"] = len(waves)
+    out["train_note"] = ""
+    for key in TRAIN_KEYS:
+        out[key] = [float(getattr(w, key.removeprefix("train_"))) for w in waves]
+    return out
+
+
+SUMMARY_UNITS = {
+    "t": "s", "dt": "s", "energy_drift": "1", "steps": "1", "n_grains": "1",
+    "Ek_tr": "1", "Ek_re": "1", "Ep_tr": "1", "Ep_re": "1", "Et_tr": "1", "Et_re": "1",
+    "Ed": "1", "dissipated": "J", "front_speed_tr": "m/s", "front_speed_re": "m/s",
+    "front_speed_tr_over_c0L": "1", "separation_fraction": "1", "split_estimate": "1",
+    "t_incident": "s", "t_separated": "s", "t_end_reached": "s", "incident_strain": "1",
+    "incident_strain_over_delta0": "1", "rtol": "1", "rtol_estimate": "1",
+    "wall_time": "s", "wall_time_all": "s", "train_waves": "1", **TRAIN_KEYS,
+    "t_compare": "s", "t_cross": "s", "t_separated_by_compare": "s",
+    "incident_extent": "1",
+}
+"""The unit of every number of a run's and a comparison's summary ("1": dimensionless
+— energy ratios are over the incident energy, strains over d or δ0 —; grain positions
+are indices, "1").  A key not listed is a label or a note."""

@@ -469,12 +469,6 @@ FORMED_GRAINS = 20
 solitary wave within ~20 grains, paper Fig. 2): the theory of a chain is compared from
 there on."""
 
-STRIKER_COUNT_FRACTION = 0.05
-"""A striker's train counts the waves above this fraction of the leading one's peak
-velocity (docs/physics.md §14, "A heavy striker"; :func:`discrete.waves.split_train`'s
-default threshold)."""
-
-
 @dataclass
 class ChainTheory:
     """The theory of the leading wave of a chain beyond the paper's (docs/physics.md §14).
@@ -1382,6 +1376,12 @@ class Run:
     def completed(self) -> bool:
         """Every model reached what was asked."""
         return all(m.completed for m in self.models)
+
+    def _repr_html_(self) -> str:
+        """Jupyter display (:func:`hertzchain.compare_output.run_html`)."""
+        from .compare_output import run_html
+
+        return run_html(self)
 
     def summary(self) -> dict[str, Any]:
         """Flat, JSON-able numbers: the discrete runner's summary, then per-model keys."""

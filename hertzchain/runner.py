@@ -18,8 +18,9 @@ Every measured quantity of the summary and its window is :mod:`hertzchain.measur
 dissipated energy ``Ed`` and ``ratios_normalised_to``), the front speeds on the rows
 before a wave reached a chain end, the labels on the final state only if the waves
 separated and no wave reached a chain end, the incident strain measured on the
-incident wave; a quantity outside its window is NaN (a label None) and its ``*_note``
-says why.
+incident wave, the solitary waves of the final state (the train: their amplitudes,
+speeds and energies, :func:`hertzchain.measure.wave_train`); a quantity outside its
+window is NaN (a label None, the train's lists empty) and its ``*_note`` says why.
 
 Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, ``dt``,
 ``energy_drift``, ``n_grains`` and ``wall_time`` are always finite; ``integrator``,
@@ -786,7 +787,11 @@ def run_simulation(scenario: Scenario, *, out: str | Path | None = None,
         (:data:`STOPPED_BY`), ``completed`` (the run stopped where the scenario asked
         and took every snapshot), ``incomplete_reason`` ("" if completed),
         ``energy_drift``, ``steps``, ``t`` (s), ``dt`` (s), ``n_grains``, ``wall_time``
-        (s; summed over resumed sessions).  Every key but ``wall_time`` is bit for bit
+        (s; summed over resumed sessions), the wave train of the final state
+        (``train_waves``, None outside its window with ``train_note`` saying why, and
+        the per-wave lists of :data:`hertzchain.measure.TRAIN_KEYS`, front first;
+        :func:`hertzchain.measure.wave_train`, written to ``out`` as the group
+        ``train``, :func:`discrete.io.load_train`).  Every key but ``wall_time`` is bit for bit
         the same whether the run was checkpointed, interrupted and resumed, or not.
     sim : discrete.Simulation
         The finished simulation (state and record).
@@ -885,6 +890,8 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
         summary = {**run_outcome(scenario, sim, stopped_by),
                    **M.summarise(chain, sim, amp, rtol=ts.rtol),
                    **_incident_strain(scenario, sim, strain0)}
+        train, train_note = M.wave_train(chain, sim, summary["t_end_reached"])
+        summary.update(M.train_summary(train, train_note))
         summary.update(integrator=sim.integrator, dt_source=ts.source,
                        rtol=ts.rtol, rtol_estimate=ts.error_estimate)
         # the split's own estimate against rtol (NaN: not verified, so not met)
@@ -896,7 +903,8 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
             try:
                 discrete.save(out, sim, attrs={"scenario": canonical_json(scenario.to_dict()),
                                                "summary": canonical_json(summary),
-                                               "split_estimate": summary["split_estimate"]})
+                                               "split_estimate": summary["split_estimate"]},
+                              train=train)
             except OSError as exc:  # disk full, ...: the summary and checkpoint survive
                 kept = ckpt if ckpt is not None and ckpt.exists() else None
                 raise C.OutputWriteError(out, exc, summary, kept) from None

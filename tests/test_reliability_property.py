@@ -76,7 +76,10 @@ KEYS = {*RATIOS, "front_speed_tr", "front_speed_re", "front_speed_tr_over_c0L",
         "front_speed_meets_rtol", "t_incident", "t_separated", "t_end_reached",
         "end_reached", "Ed", "dissipated", "ratios_normalised_to", "ratios_note",
         "labels_note", "front_speed_tr_note", "front_speed_re_note", "incident_strain",
-        "incident_strain_note"}
+        "incident_strain_note",
+        # the wave train of the final state (hertzchain.measure.wave_train)
+        "train_waves", "train_note", "train_position", "train_velocity_max",
+        "train_amplitude", "train_speed", "train_energy"}
 MAX_STEPS = 100_000
 DRIFT_BOUND = 1e-4
 
@@ -220,6 +223,16 @@ def _check(summary: dict, data: dict, bound: float) -> None:
         assert summary["transmitted"] is summary["reflected"] is None
         assert summary["n_transmitted_pulses"] is None
         assert summary["labels_note"], summary
+    # the train: a count and one finite number per wave, or None, no numbers and why
+    trains = [summary[k] for k in ("train_position", "train_velocity_max",
+                                   "train_amplitude", "train_energy")]
+    if summary["train_waves"] is None:
+        assert summary["train_note"] and all(x == [] for x in trains + [summary["train_speed"]])
+    else:
+        assert summary["train_waves"] >= 1 and not summary["train_note"]
+        assert all(len(x) == summary["train_waves"] for x in trains)
+        assert all(math.isfinite(v) for x in trains for v in x), summary
+        assert all(e > 0 for e in summary["train_energy"])
 
 
 @settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])

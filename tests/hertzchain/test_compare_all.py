@@ -85,6 +85,11 @@ def test_striker_compares_the_train_s_count():
     cmp = compare("striker")
     found, model, _ = cmp.differences["theory"]["wave_count"]
     assert found == model == 5
+    # the count and the leading wave are the run's own train (hertzchain.measure)
+    s = cmp.run.discrete.summary
+    assert found == s["train_waves"]
+    lead, v1, rel = cmp.differences["theory"]["train_leading"]
+    assert lead == abs(s["train_velocity_max"][0]) and abs(rel) <= TOLERANCE["striker"]
 
 
 def _base(**chain):
