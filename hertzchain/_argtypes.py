@@ -1,11 +1,18 @@
-"""argparse ``type=`` converters that name the allowed range in their error."""
+"""What every subcommand shares.
+
+argparse ``type=`` converters that name the allowed range in their error, the
+``--no-progress`` flag and its rule, and strict JSON output.
+"""
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import sys
 
-__all__ = ["positive_float", "nonnegative_float", "positive_int", "scenario_number"]
+__all__ = ["positive_float", "nonnegative_float", "positive_int", "scenario_number",
+           "add_progress_argument", "progress_wanted", "jsonable", "print_json"]
 
 
 def _float(text: str) -> float:
@@ -66,3 +73,38 @@ def scenario_number(table: str, name: str):
 
     convert.__name__ = name  # argparse names the converter in some messages
     return convert
+
+
+def add_progress_argument(p: argparse.ArgumentParser) -> None:
+    """``--no-progress``: no progress bars (every command that shows them)."""
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress bars on stderr (--json implies it unless stderr is a "
+                   "terminal)")
+
+
+def progress_wanted(args: argparse.Namespace) -> bool:
+    """Progress bars on stderr: unless ``--no-progress``; with ``--json`` only on a terminal.
+
+    (The bars never touch stdout, so ``--json`` output stays one JSON document.)
+    """
+    if getattr(args, "no_progress", False):
+        return False
+    return not getattr(args, "json", False) or sys.stderr.isatty()
+
+
+def jsonable(obj):
+    """Plain JSON types (NaN/inf → None, numpy scalars → Python, tuples → lists)."""
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [jsonable(v) for v in obj]
+    if hasattr(obj, "item") and not isinstance(obj, str | bytes):
+        obj = obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def print_json(obj) -> None:
+    """Print ``obj`` as strict JSON: NaN and ±inf become null (never ``NaN``/``Infinity``)."""
+    print(json.dumps(jsonable(obj), allow_nan=False))

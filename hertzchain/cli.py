@@ -16,7 +16,15 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from ._argtypes import nonnegative_float, positive_float, positive_int, scenario_number
+from ._argtypes import (
+    add_progress_argument,
+    nonnegative_float,
+    positive_float,
+    positive_int,
+    print_json,
+    progress_wanted,
+    scenario_number,
+)
 from .faults import FailedWrites, is_disk_full, is_disk_full_text
 
 __all__ = ["main", "build_parser", "run_command", "print_json", "resolve_run_out",
@@ -107,12 +115,6 @@ def _text(value) -> str:
     return str(value)
 
 
-def print_json(obj) -> None:
-    """Print ``obj`` as strict JSON: NaN and ±inf become null (never ``NaN``/``Infinity``)."""
-    from .reproduce.command import jsonable
-
-    print(json.dumps(jsonable(obj), allow_nan=False))
-
 
 def _with_rtol(scenario, rtol: float | None):
     """The scenario with ``[run] rtol`` set from ``--rtol`` (None: unchanged)."""
@@ -126,12 +128,6 @@ def add_rtol_argument(p: argparse.ArgumentParser) -> None:
                    "from a step-doubling probe (overrides [run] rtol; an explicit [run] dt "
                    "wins)")
 
-
-def add_progress_argument(p: argparse.ArgumentParser) -> None:
-    """``--no-progress``: no progress bars (every command that shows them)."""
-    p.add_argument("--no-progress", action="store_true",
-                   help="no progress bars on stderr (--json implies it unless stderr is a "
-                   "terminal)")
 
 
 def add_force_argument(p: argparse.ArgumentParser, what: str) -> None:
@@ -235,15 +231,6 @@ def cmd_run(args: argparse.Namespace) -> int:
               file=sys.stderr)
     return EXIT_INCOMPLETE if failed else status
 
-
-def progress_wanted(args: argparse.Namespace) -> bool:
-    """Progress bars on stderr: unless ``--no-progress``; with ``--json`` only on a terminal.
-
-    (The bars never touch stdout, so ``--json`` output stays one JSON document.)
-    """
-    if getattr(args, "no_progress", False):
-        return False
-    return not getattr(args, "json", False) or sys.stderr.isatty()
 
 
 INTERFACE_KEYS = ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re", "front_speed_re",

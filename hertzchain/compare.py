@@ -101,6 +101,7 @@ from typing import Any
 import numpy as np
 
 from . import measure as M
+from .compare_output import FORMAT
 from .measure import CROSSING_GRAINS, FIT_FROM, SEPARATION, grain_energies
 from .models import FORMED_GRAINS, ModelRun, Run, run
 from .scenario import Scenario, load_scenario
@@ -108,7 +109,6 @@ from .scenario import Scenario, load_scenario
 __all__ = ["Comparison", "ModelSeries", "compare", "analyse", "compare_point", "THRESHOLDS",
            "ARRIVAL_DISTANCE", "FORMAT", "validity_word"]
 
-FORMAT = "hertzchain.compare/1"
 THRESHOLDS = (0.01, 0.10)
 """Error levels of the validity statements (module docstring): within 1 %, within 10 %."""
 ARRIVAL_DISTANCE = 100

@@ -2,7 +2,7 @@
 
 ``compare.h5`` (written to a temporary name and renamed, sealed by
 :func:`theory.integrity.sealed_hdf5` and verified on reading; attribute ``format`` =
-:data:`hertzchain.compare.FORMAT`) holds
+:data:`FORMAT`) holds
 
 * root attributes ``scenario`` (JSON), ``comparison`` (JSON: every number of
   :meth:`Comparison.to_dict`, the differences, the errors, the verdict) and ``units``;
@@ -37,15 +37,18 @@ from theory import integrity
 from .cache import atomic_path, canonical_json
 from .report import Report
 
-__all__ = ["write_all", "write_hdf5", "save_figures", "write_report", "difference_rows",
+__all__ = ["FORMAT", "write_all", "write_hdf5", "save_figures", "write_report", "difference_rows",
            "run_rows", "train_rows", "scenario_rows", "summary_rows", "run_html",
            "comparison_html"]
+
+FORMAT = "hertzchain.compare/1"
+"""The ``format`` attribute of ``compare.h5`` (:func:`hertzchain.compare.load` checks it)."""
 
 _WAVES = ("incident", "transmitted", "reflected")
 
 
 def _json(obj) -> str:
-    from .reproduce.command import jsonable
+    from ._argtypes import jsonable
 
     return canonical_json(jsonable(obj))
 
@@ -54,7 +57,7 @@ def write_hdf5(cmp, path: Path) -> Path:
     """Write ``compare.h5`` (module docstring) atomically; return its path."""
     res = cmp.run
     with integrity.sealed_hdf5(path) as f:
-        f.attrs["format"] = _format()
+        f.attrs["format"] = FORMAT
         f.attrs["scenario"] = canonical_json(cmp.scenario.to_dict())
         f.attrs["comparison"] = _json(cmp.to_dict())
         f.attrs["units"] = canonical_json({
@@ -98,12 +101,6 @@ def write_hdf5(cmp, path: Path) -> Path:
         g.attrs["errors"] = _json(cmp.errors)
         g.attrs["verdict"] = cmp.verdict()
     return path
-
-
-def _format() -> str:
-    from .compare import FORMAT
-
-    return FORMAT
 
 
 def _new_figure(nrows: int, ncols: int, figsize):

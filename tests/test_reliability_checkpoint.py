@@ -23,9 +23,9 @@ import pytest
 
 import discrete
 from hertzchain import checkpoint as C
+from hertzchain._argtypes import jsonable
 from hertzchain.cache import canonical_json
 from hertzchain.cli import main
-from hertzchain.reproduce.command import jsonable
 from hertzchain.runner import build_simulation, run_scenario, summarise
 from hertzchain.scenario import parse_scenario
 

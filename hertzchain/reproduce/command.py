@@ -6,13 +6,18 @@ Kept free of heavy imports: the solvers are imported only when the command runs.
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 
-from .._argtypes import nonnegative_float, positive_int
+from .._argtypes import (
+    add_progress_argument,
+    nonnegative_float,
+    positive_int,
+    print_json,
+    progress_wanted,
+)
 from . import ITEMS, check_items
 
-__all__ = ["add_arguments", "run_command", "jsonable"]
+__all__ = ["add_arguments", "run_command"]
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -46,22 +51,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "reuses the finished simulations and resumes the interrupted one "
                         "from its last checkpoint, bit for bit; Ctrl-C stops with a "
                         "checkpoint")
-    from ..cli import add_progress_argument
 
     add_progress_argument(p)
 
-
-def jsonable(obj):
-    """Plain JSON types (NaN/inf → None, numpy scalars → Python, tuples → lists)."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple):
-        return [jsonable(v) for v in obj]
-    if hasattr(obj, "item") and not isinstance(obj, str | bytes):
-        obj = obj.item()
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
 
 
 def _text(result: dict) -> str:
@@ -96,7 +88,6 @@ def _text(result: dict) -> str:
 def run_command(args: argparse.Namespace) -> int:
     """Run ``hertzchain reproduce``; print JSON or a short summary; return the exit status."""
     from ..checkpoint import Interrupted
-    from ..cli import print_json, progress_wanted
     from . import reproduce
 
     items = check_items(args.items)  # ValueError → "hertzchain: error: ..." (exit 2)

@@ -35,7 +35,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     some points failed, or ran but ended before their stop condition (``completed``
     false).  The table is written in every case.
     """
-    from ..cli import print_json, progress_wanted
+    from .._argtypes import print_json, progress_wanted
     from .engine import (
         default_point_function,
         default_workers,
@@ -150,7 +150,7 @@ def cmd_plot_sweep(args: argparse.Namespace) -> int:
     """Draw the phase-diagram map and cuts of a results table; print the agreement."""
     import numpy as np
 
-    from ..cli import print_json
+    from .._argtypes import print_json
     from ..sweep_plot import save_sweep_figures
     from .analysis import classification_agreement
     from .store import read_results
@@ -221,7 +221,7 @@ def add_sweep_parsers(subparsers) -> None:
     from ..cli import add_rtol_argument
 
     add_rtol_argument(p)
-    from ..cli import add_progress_argument
+    from .._argtypes import add_progress_argument
 
     add_progress_argument(p)
     p.add_argument("--dry-run", action="store_true",

@@ -67,8 +67,8 @@ def test_differences_are_null_where_their_error_is_not_compared():
     # 300 | 300, δ0/d = 1e-3, exact wave at grain 120, until_front_at = 250 (before the
     # interface): theory_error was null but theory_d_Et_tr 0.947, theory_d_Et_re -0.947
     # and the continuum's d_E* numbers, in compare --json and in a sweep row.
+    from hertzchain._argtypes import jsonable
     from hertzchain.compare import compare_point
-    from hertzchain.reproduce.command import jsonable
 
     sc = _sc([{"n": 200}, {"n": 200, "alpha_rho": 2.0}],
              {"kind": "exact_wave", "center": 80, "velocity_max": 0.0822},

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
+from hertzchain._argtypes import jsonable
 from hertzchain.cli import main
 from hertzchain.paper import TABLE2, TABLE2_KEYS
 from hertzchain.reproduce import ITEMS, check_items, reproduce
-from hertzchain.reproduce.command import jsonable
 from hertzchain.reproduce.common import Context
 
 

@@ -26,9 +26,9 @@ import pytest
 
 import hertzchain.reproduce as R
 from hertzchain import checkpoint as C
+from hertzchain._argtypes import jsonable
 from hertzchain.cli import main
 from hertzchain.reproduce import fig2, fig6, reproduce, table2
-from hertzchain.reproduce.command import jsonable
 from hertzchain.reproduce.common import Context
 
 REPO = Path(__file__).resolve().parents[2]

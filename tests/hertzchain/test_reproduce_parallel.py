@@ -15,9 +15,9 @@ import os
 import pytest
 
 import hertzchain.reproduce as R
+from hertzchain._argtypes import jsonable
 from hertzchain.cli import main
 from hertzchain.reproduce import Task, WorkerDied, plan, reproduce
-from hertzchain.reproduce.command import jsonable
 from hertzchain.reproduce.common import Context
 
 FIG5_TINY = {"n_grains": 1200, "interface": 900, "snapshot": 1150, "lead": 100}
