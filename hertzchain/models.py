@@ -665,7 +665,7 @@ def chain_theory(scenario: Scenario, chain: discrete.Chain, init) -> tuple[
             p["drag"] = spec.drag
             label = "first-order drag decay (theory.dissipation.drag_wave_decay)"
         else:
-            p["damping_time"] = spec.damping_time
+            p["damping_time"] = spec.law_values["damping_time"]
             label = ("first-order Kuwabara–Kono decay "
                      "(theory.dissipation.kuwabara_kono_wave_decay)")
         return ChainTheory(kind, label, 0.03, formed, int(bounds[1]), "incident",

@@ -182,10 +182,12 @@ def build_section(spec: SectionSpec, base: theory.Material, diameter: float
 
 
 def build_law(spec: ChainSpec) -> tuple[discrete.ContactLaw, float]:
-    """The contact law (:mod:`theory.laws`) and on-site drag rate (1/s) of a chain spec."""
-    if spec.law == "viscoelastic_hertz":
-        return discrete.ViscoelasticHertz(spec.damping_time), spec.drag
-    return discrete.PowerLaw(spec.exponent), spec.drag
+    """The contact law (:mod:`theory.laws`) and on-site drag rate (1/s) of a chain spec.
+
+    The law is the registered class of ``[chain] law`` built from its parameters
+    (:meth:`hertzchain.scenario.ChainSpec.contact_law`).
+    """
+    return spec.contact_law(), spec.drag
 
 
 def _wall(kind: str):

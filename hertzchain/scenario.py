@@ -42,8 +42,9 @@ stiffening at 1.5 × the largest wave strain), below the method's own limit.
 
 Chains beyond the paper
 -----------------------
-``[chain] law``/``exponent``/``damping_time``/``drag`` choose the contact law
-(:mod:`theory.laws`), ``gravity``/``top_force`` a vertical chain; each
+``[chain] law`` chooses the contact law (:data:`theory.laws.LAWS`; its parameters, e.g.
+``exponent`` or ``damping_time``, are keys of ``[chain]`` too) and ``drag`` an on-site
+drag, ``gravity``/``top_force`` a vertical chain; each
 ``[[chain.sections]]`` may have its own ``diameter`` and a per-grain ``profile``
 (tapered, periodic unit cell) and seeded disorder; ``[record] sensors``, ``wall_forces``
 and ``strain_maxima`` record what experiments measure.  They map to :mod:`discrete`
@@ -63,7 +64,10 @@ from __future__ import annotations
 
 import difflib
 import math
+import sys
 import tomllib
+import types
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
@@ -73,7 +77,7 @@ __all__ = [
     "Key",
     "SCHEMA",
     "TABLE_DOCS",
-    "CONTINUUM_MODELS",
+    "continuum_models",
     "AUTO_EQ4_MAX_STRAIN",
     "INTEGRATORS",
     "SectionSpec",
@@ -149,6 +153,8 @@ class Key:
         """The allowed values, for messages and docs."""
         if self.kind == "choice":
             return ", ".join(repr(c) for c in self.choices)
+        if self.kind == "continuum":
+            return ", ".join(repr(c) for c in continuum_models()) + " or false"
         if self.low is None and self.high is None:
             return ""
         lo = "-inf" if self.low is None else f"{self.low:g}"
@@ -156,8 +162,18 @@ class Key:
         return ("(" if self.low_open else "[") + f"{lo}, {hi}" + (")" if self.high_open else "]")
 
 
-CONTINUUM_MODELS = ("auto", "eq4", "eq7", "kdv")
-"""Values of ``[models] continuum`` besides ``false``."""
+
+@dataclass(frozen=True)
+class _Registered:
+    """A place in a table of :data:`SCHEMA` filled with keys built from a registry.
+
+    ``builder`` names a function of this module returning the keys; it runs on each
+    access (so that a law or kind registered later is seen) and not at import: the
+    registries import NumPy, which ``hertzchain --help`` must not.
+    """
+
+    builder: str
+
 
 AUTO_EQ4_MAX_STRAIN = 0.5
 """``[models] continuum = "auto"`` runs Eq. 4 under precompression only up to this incident
@@ -171,19 +187,31 @@ past s ≈ 2 in tension its flux is ill-posed.  Measured against the discrete ch
 Eq. 4 0.8–5.3 % (Eq. 7 0.03–1.7 %), at s = 1.9 Eq. 4 3–12 % (Eq. 7 0.25–2.3 %), and at
 s = 8.6 19 of 25 Eq. 4 runs blow up (Eq. 7 1.2–9.8 %)."""
 
+def continuum_models() -> tuple[str, ...]:
+    """Values of ``[models] continuum`` besides ``false``.
+
+    ``"auto"`` (:meth:`ModelsSpec.continuum_model`), the registered chain models of
+    :data:`continuum.MODELS` by name, and ``"kdv"`` (:class:`continuum.KdVPDE`, the
+    unidirectional reduction, run by :mod:`hertzchain.models` on its own path).  Imports
+    :mod:`continuum` (py-pde): called only when a value is checked or documented, never
+    by a run that does not use the continuum.
+    """
+    import continuum
+
+    return ("auto", *continuum.MODELS, "kdv")
+
+
 INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4")
 """Time integrators of the discrete solver (:data:`discrete.integrators.INTEGRATORS`)."""
 
 CONTINUUM_INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4", "position_verlet",
                          "position_yoshida4")
 """Values of ``[models] integrator``: the names of :data:`theory.splitting.SPLITTINGS`
-(written out, as :data:`INTEGRATORS` and :data:`LAWS` are: ``theory`` imports NumPy,
-which ``hertzchain --help`` must not; the test compares the two)."""
+(written out, as :data:`INTEGRATORS` is: ``theory`` imports NumPy, which
+``hertzchain --help`` must not; the test compares the two)."""
 
 MATERIAL_KEYS = ("density", "youngs_modulus", "poisson_ratio")
 
-LAWS = ("power", "viscoelastic_hertz")
-"""Values of ``[chain] law`` (the names of :data:`theory.laws.LAWS`)."""
 
 WALLS = ("paper", "hertz", "flat", "free")
 """The wall keywords of ``[chain] left_wall``/``right_wall``; any other value is a material
@@ -192,7 +220,7 @@ name of :data:`theory.MATERIALS`: a flat wall of that material."""
 PROFILES = ("uniform", "tapered", "periodic")
 """Values of ``[[chain.sections]] profile``."""
 
-SCHEMA: dict[str, tuple[Key, ...]] = {
+_TABLE_KEYS: dict[str, tuple[Key | _Registered, ...]] = {
     "": (
         Key("name", "string", "", "free label", example="my-chain"),
     ),
@@ -211,15 +239,7 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "\"steel\", \"brass\", …, `hertzchain materials`) or \"free\" (only at "
             "δ0 = 0)", choices=WALLS),
         Key("right_wall", "wall", "paper", "right end (as left_wall)", choices=WALLS),
-        Key("law", "choice", "power", "contact law (theory.laws): \"power\" F = k δ^n "
-            "(n = exponent; 3/2 is Hertz, paper Eq. 1) or \"viscoelastic_hertz\" F = "
-            "max(0, k (δ^{3/2} + A δ^{1/2} dδ/dt)) (Kuwabara & Kono 1987)",
-            choices=LAWS),
-        Key("exponent", "number", 1.5, "law = \"power\": the exponent n (1 linear springs "
-            "or cylinders, 3/2 spheres, 2 cones); the static overlaps balance k δ0^n", low=1,
-            low_open=False, high=10, high_open=False),
-        Key("damping_time", "number", 0.0, "law = \"viscoelastic_hertz\": the dissipative "
-            "constant A of Brilliantov et al. (1996) Eq. 18", "s", low=0, low_open=False),
+        _Registered("_law_keys"),
         Key("drag", "number", 0.0, "on-site viscous drag rate β: force -m_i β v_i on every "
             "grain", "1/s", low=0, low_open=False),
         Key("gravity", "number", 0.0, "vertical chain, grain 0 on top, standing on the "
@@ -326,7 +346,7 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("discrete", "bool", True, "the discrete chain (paper Eq. 2; the reference)"),
         Key("continuum", "continuum", None, "long-wave continuum: \"auto\" (Eq. 4 if δ0 > 0 "
             f"and the incident strain / δ0 <= {AUTO_EQ4_MAX_STRAIN:g}, otherwise Eq. 7), "
-            "\"eq4\", \"eq7\", "
+            "a model of continuum.MODELS by name, "
             "\"kdv\" (one precompressed section) or false; not given: \"auto\" in "
             "`hertzchain compare` where it applies, off in run and sweep (its cost)",
             example="auto"),
@@ -350,8 +370,10 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "0.79, Blanes–Moan-4 1.58); for Eq. 7 the factor of its step 0.4 × safety × "
             "h/c (NesterenkoPDE.stable_dt, ω_max Δt ≈ 0.8 safety before dispersion: the "
             "same check is more cautious there); not for KdV", low=0, high=2),
-        Key("nonlinearity", "choice", "quadratic", "Eq. 4 flux: Eq. 4's quadratic expansion "
-            "or the full Hertz law", choices=("quadratic", "hertz")),
+        Key("nonlinearity", "choice", "quadratic", "Eq. 4 flux: \"quadratic\" (Eq. 4's "
+            "expansion about δ0) or \"full\" (the chain's own contact law, any law); "
+            "\"hertz\" is the former name of \"full\", the same on a Hertz chain and "
+            "refused on another", choices=("quadratic", "full", "hertz")),
         Key("delta_floor", "number", 1e-2, "Eq. 7 regularisation: δ^{1/4} continued "
             "linearly below this fraction of the incident peak overlap (docs/physics.md §4)",
             low=0, high=1),
@@ -365,8 +387,63 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "during and after the interface)", "s", low=0, low_open=False),
     ),
 }
+"""The keys of every table as written here; :data:`SCHEMA` fills in the registered ones."""
+
+
+def _law_keys() -> tuple[Key, ...]:
+    """``[chain] law`` and the parameters of every registered law (:data:`theory.laws.LAWS`).
+
+    Each :class:`theory.laws.LawParameter` becomes a number key of its range, unit and
+    default; a name shared by several laws is read with the first law's definition.
+    """
+    from theory.laws import LAWS
+
+    doc = "contact law (theory.laws): " + " or ".join(
+        f"\"{name}\" {cls.help_text()}" for name, cls in LAWS.items())
+    keys = {"law": Key("law", "choice", "power", doc, choices=tuple(LAWS))}
+    owners: dict[str, list[str]] = {}
+    for name, cls in LAWS.items():
+        for p in cls.parameters:
+            owners.setdefault(p.name, []).append(name)
+            if p.name not in keys:
+                keys[p.name] = Key(p.name, "number", float(p.default), p.doc, p.unit,
+                                   low=p.low, high=p.high, low_open=p.low_open,
+                                   high_open=p.high_open)
+    for name, laws in owners.items():
+        k = keys[name]
+        keys[name] = replace(k, doc="law = " + " or ".join(f"\"{n}\"" for n in laws)
+                             + f": {k.doc}")
+    return tuple(keys.values())
+
+
+class _Schema(Mapping):
+    """:data:`SCHEMA`: the tables of keys, with the registered ones filled in on access."""
+
+    def __init__(self, tables: dict[str, tuple[Key | _Registered, ...]]) -> None:
+        self._tables = tables
+
+    def __getitem__(self, table: str) -> tuple[Key, ...]:
+        out: list[Key] = []
+        for k in self._tables[table]:
+            out.extend(globals()[k.builder]() if isinstance(k, _Registered) else (k,))
+        return tuple(out)
+
+    def __iter__(self):
+        return iter(self._tables)
+
+    def __len__(self) -> int:
+        return len(self._tables)
+
+    def written(self, table: str) -> tuple[Key, ...]:
+        """The keys of ``table`` written in this module (no registry imported)."""
+        return tuple(k for k in self._tables[table] if isinstance(k, Key))
+
+
+SCHEMA = _Schema(_TABLE_KEYS)
 """Every key of every table (``""`` is the top level, ``"chain.sections"`` one entry of
-``[[chain.sections]]``)."""
+``[[chain.sections]]``): a mapping table → keys.  The contact laws' keys (``[chain] law``
+and each law's parameters) come from :data:`theory.laws.LAWS` on each access; the other
+keys are written in this module."""
 
 TABLE_DOCS = {
     "": "An optional label (default: the file name).",
@@ -549,10 +626,10 @@ def _read_value(key: Key, val, where: str):
             return False
         if val is True:
             return "auto"
-        if val not in CONTINUUM_MODELS:
+        if val not in continuum_models():
             raise ScenarioError(f"[{where}] {key.name} = {val!r}"
-                                f"{did_you_mean(val, CONTINUUM_MODELS)} (allowed: "
-                                f"{', '.join(repr(c) for c in CONTINUUM_MODELS)} or false)")
+                                f"{did_you_mean(val, continuum_models())} (allowed: "
+                                f"{key.range_text()})")
         return val
     raise AssertionError(f"unknown key kind {k!r}")  # pragma: no cover - schema bug
 
@@ -563,6 +640,9 @@ def schema_key(table: str, name: str) -> Key:
     The one definition of a key's range, also for the command-line flags that mirror a
     scenario key (``hertzchain theory --delta0`` is ``[chain] delta0_over_d``).
     """
+    for key in SCHEMA.written(table):  # the registries (NumPy) only if needed
+        if key.name == name:
+            return key
     for key in SCHEMA[table]:
         if key.name == name:
             return key
@@ -625,7 +705,14 @@ class SectionSpec:
 
 @dataclass(frozen=True)
 class ChainSpec:
-    """The chain: sections, diameter (m), precompression δ0/d of the first section, walls."""
+    """The chain: sections, diameter (m), precompression δ0/d of the first section, walls.
+
+    ``law`` names a contact law of :data:`theory.laws.LAWS` and ``law_params`` holds
+    its parameters (:attr:`theory.laws.ContactLaw.parameters`, as (name, value) pairs:
+    those given and the others' defaults); :meth:`contact_law` builds it.  In
+    :meth:`Scenario.to_dict` and the files the parameters are keys of ``[chain]``
+    (``exponent``, ``damping_time``, …), as they are written.
+    """
 
     sections: tuple[SectionSpec, ...]
     diameter: float = 5e-3
@@ -634,8 +721,7 @@ class ChainSpec:
     left_wall: str = "paper"
     right_wall: str = "paper"
     law: str = "power"
-    exponent: float = 1.5
-    damping_time: float = 0.0
+    law_params: tuple[tuple[str, float], ...] = ()
     drag: float = 0.0
     gravity: float = 0.0
     top_force: float = 0.0
@@ -644,6 +730,26 @@ class ChainSpec:
     def n(self) -> int:
         """Total number of grains."""
         return sum(s.n for s in self.sections)
+
+    @property
+    def law_values(self) -> dict[str, float]:
+        """The law's parameters by name (:attr:`law_params` as a dict)."""
+        return dict(self.law_params)
+
+    def contact_law(self):
+        """The :class:`theory.laws.ContactLaw` of :attr:`law` and :attr:`law_params`.
+
+        :meth:`theory.laws.ContactLaw.from_params` of the class registered under the
+        name (the one mapping from a scenario to a law; imports :mod:`theory`).
+        """
+        from theory.laws import LAWS
+
+        return LAWS[self.law].from_params(**self.law_values)
+
+    @property
+    def exponent(self) -> float:
+        """Exponent n of the law's elastic part k [δ]_+^n (3/2: Hertz, paper Eq. 1)."""
+        return float(self.contact_law().exponent)
 
 
 @dataclass(frozen=True)
@@ -772,8 +878,16 @@ class Scenario:
     name: str = ""
 
     def to_dict(self) -> dict:
-        """Plain nested dict (JSON-able; HDF5 attributes, sweep point ids)."""
-        return asdict(self)
+        """Plain nested dict (JSON-able; HDF5 attributes, sweep point ids).
+
+        The law's parameters are keys of ``chain`` after ``law``, as in a file: those of
+        every registered law, the other laws' at their defaults (so that a file that
+        names ``exponent`` with another law reads back, and a chain's dict, its cache
+        key and sweep point id do not depend on which law is chosen beyond the values).
+        """
+        d = asdict(self)
+        d["chain"] = _flat_law_params(d["chain"])
+        return d
 
     def discrete_dict(self) -> dict:
         """What the discrete run depends on: everything but ``name`` and ``[models]``.
@@ -855,6 +969,20 @@ class Scenario:
         return parse_scenario(data)
 
 
+def _flat_law_params(chain: dict) -> dict:
+    """``chain`` (asdict of a :class:`ChainSpec`) with ``law_params`` as keys after ``law``."""
+    own = dict(chain["law_params"])
+    out = {}
+    for name, value in chain.items():
+        if name == "law_params":
+            continue
+        out[name] = value
+        if name == "law":
+            for key in _law_keys()[1:]:
+                out[key.name] = own.get(key.name, key.default)
+    return out
+
+
 _SPECS = {"chain": ChainSpec, "chain.sections": SectionSpec, "initial": InitialSpec,
           "run": RunSpec, "record": RecordSpec, "models": ModelsSpec}
 
@@ -892,6 +1020,35 @@ def _check_sections(values: dict, where: str, raw: dict) -> None:
                                     f"(profile = {profile!r})")
 
 
+def _law_params(values: dict, raw: dict) -> tuple[tuple[str, float], ...]:
+    """The chosen law's parameters, popped from ``values`` (the read ``[chain]`` table).
+
+    Each is read with its own law's :class:`theory.laws.LawParameter` (range, default);
+    a parameter of another law is refused unless it is at its default (a file written
+    from :meth:`Scenario.to_dict` names them all).
+    """
+    from theory.laws import LAWS
+
+    law = values["law"]
+    own = LAWS[law].parameters
+    for key in _law_keys()[1:]:
+        value = values.pop(key.name)
+        if key.name in raw and key.name not in {p.name for p in own} and value != key.default:
+            owners = [n for n, c in LAWS.items() if key.name in {p.name for p in c.parameters}]
+            unit = f" {key.unit}" if key.unit else ""
+            raise ScenarioError(f"[chain] {key.name} = {value!r}{unit} applies to law = "
+                                f"{' or '.join(repr(n) for n in owners)} only (law = "
+                                f"{law!r}; its parameters: "
+                                f"{', '.join(p.name for p in own) or 'none'})")
+    out = []
+    for p in own:
+        key = Key(p.name, "number", float(p.default), unit=p.unit, low=p.low, high=p.high,
+                  low_open=p.low_open, high_open=p.high_open)
+        out.append((p.name, _read_number(key, raw[p.name], "chain") if p.name in raw
+                    else key.default))
+    return tuple(out)
+
+
 def _check_chain(spec: ChainSpec) -> None:
     if spec.n < 2:
         raise ScenarioError(f"[chain] the chain needs >= 2 grains (got {spec.n})")
@@ -905,13 +1062,10 @@ def _check_chain(spec: ChainSpec) -> None:
     if spec.delta0_over_d > 0 and "free" in (spec.left_wall, spec.right_wall):
         raise ScenarioError("[chain] a precompressed chain (delta0_over_d > 0) needs two "
                             "walls; left_wall/right_wall = 'free' is only allowed at 0")
-    if spec.law == "viscoelastic_hertz" and spec.exponent != 1.5:
-        raise ScenarioError(f"[chain] exponent = {spec.exponent!r}: law = "
-                            "'viscoelastic_hertz' is Hertzian (exponent 1.5); use law = "
-                            "'power' for another exponent")
-    if spec.law != "viscoelastic_hertz" and spec.damping_time != 0:
-        raise ScenarioError(f"[chain] damping_time = {spec.damping_time!r} s applies to "
-                            f"law = 'viscoelastic_hertz' only (law = {spec.law!r})")
+    try:
+        spec.contact_law()
+    except ValueError as exc:  # a law's own checks beyond its parameters' ranges
+        raise ScenarioError(f"[chain] law = {spec.law!r}: {exc}") from None
     if spec.gravity > 0:
         if spec.delta0_over_d > 0:
             raise ScenarioError("[chain] delta0_over_d must be 0 with gravity > 0: the "
@@ -1136,8 +1290,9 @@ def parse_scenario(data: dict) -> Scenario:
             v["seed"] = i if _disordered(v) else 0
         _check_sections(v, where, s)
         sections.append(SectionSpec(**v))
+    chain_values = _read_table(raw_chain, "chain", ("sections",))
     chain = ChainSpec(sections=tuple(sections),
-                      **_read_table(raw_chain, "chain", ("sections",)))
+                      law_params=_law_params(chain_values, raw_chain), **chain_values)
     _check_chain(chain)
     n = chain.n
     initial = InitialSpec(**_read_table(data.get("initial", {}), "initial"))
@@ -1146,9 +1301,9 @@ def parse_scenario(data: dict) -> Scenario:
     n_run = n + initial.striker_grains
     run = RunSpec(**_read_table(data.get("run", {}), "run"))
     _check_run(run, n_run, initial)
-    if run.integrator not in ("verlet", "auto") and (chain.law == "viscoelastic_hertz"
+    if run.integrator not in ("verlet", "auto") and (chain.contact_law().dissipative
                                                      or chain.drag > 0):
-        cause = "drag > 0" if chain.drag > 0 else "law = 'viscoelastic_hertz'"
+        cause = "drag > 0" if chain.drag > 0 else f"law = {chain.law!r}"
         raise ScenarioError(
             f"[run] integrator = {run.integrator!r} needs forces that depend on positions "
             f"only; with [chain] {cause} the forces depend on velocities: use integrator = "
@@ -1255,7 +1410,9 @@ def schema_markdown() -> str:
             extra = []
             if k.unit:
                 extra.append(k.unit)
-            if k.kind != "choice" and k.range_text():
+            if k.kind == "continuum":
+                extra.append(f"one of {k.range_text()}")
+            elif k.kind != "choice" and k.range_text():
                 extra.append(f"range {k.range_text()}")
             doc = k.doc + (f" ({'; '.join(extra)})" if extra else "")
             out.append(f"{k.name:18}  {default:16}  {doc}")
@@ -1292,14 +1449,33 @@ def _schema_doc() -> str:
             + "\n\nKeys\n----\n" + schema_markdown())
 
 
+_REGISTERED_FIELDS = {"chain": {"sections", "law", "law_params"}}
+"""The fields of a table's dataclass that hold registered keys (and sub-tables)."""
+
+
 def _check_schema_matches_specs() -> None:
     for table, spec in _SPECS.items():
-        names = {k.name for k in SCHEMA[table]}
-        have = {f.name for f in fields(spec)} - {"sections"}
+        names = {k.name for k in SCHEMA.written(table)}
+        have = {f.name for f in fields(spec)} - _REGISTERED_FIELDS.get(table, set())
         if names != have:  # pragma: no cover - a schema edit without the dataclass
             raise AssertionError(f"SCHEMA[{table!r}] and {spec.__name__} disagree: "
                                  f"{sorted(names ^ have)}")
 
 
 _check_schema_matches_specs()
-__doc__ = (__doc__ or "").replace("{schema}", _schema_doc())
+_DOC_TEMPLATE = __doc__ or ""
+
+
+class _ScenarioModule(types.ModuleType):
+    """The module type of this module: its docstring's key tables are made when read.
+
+    They list the registered laws (and the other registries' keys), which import NumPy:
+    generated at import, they would cost ``hertzchain --help`` that import.
+    """
+
+    @property
+    def __doc__(self) -> str:  # type: ignore[override]
+        return _DOC_TEMPLATE.replace("{schema}", _schema_doc())
+
+
+sys.modules[__name__].__class__ = _ScenarioModule
