@@ -284,21 +284,7 @@ _TABLE_KEYS: dict[str, tuple[Key | _Registered, ...]] = {
             low_open=False),
     ),
     "initial": (
-        Key("kind", "choice", "impact", "\"impact\" (grain 0 at v0), \"cut_wave\" (the "
-            "settled impact wave, cut and placed: paper Section 2) or \"exact_wave\" (the "
-            "exact discrete solitary wave, docs/physics.md §7)",
-            choices=("impact", "cut_wave", "exact_wave"), example="cut_wave"),
-        Key("v0", "number", 1.0, "impact velocity (impact, cut_wave)", "m/s", low=0),
-        Key("striker_mass", "number", 1.0, "impact: striker mass / the first grain's; "
-            "other than 1 the striker is an extra grain prepended as grain 0 of the run "
-            "(so the run's grain i + 1 is the chain's grain i)", low=0),
-        Key("center", "integer", None, "cut_wave, exact_wave: grain of the wave's peak",
-            low=0, low_open=False, example=100),
-        Key("half_width", "integer", 40, "cut_wave: grains kept on each side of the peak",
-            low=30, low_open=False),
-        Key("velocity_max", "number", None, "exact_wave: peak grain velocity", "m/s", low=0),
-        Key("strain_max", "number", None, "exact_wave, instead of velocity_max: peak "
-            "dynamic overlap (r - δ0)/d", low=0),
+        _Registered("_initial_keys"),
     ),
     "run": (
         Key("t_end", "number", None, "end time (give t_end and/or until_front_at)", "s",
@@ -414,6 +400,13 @@ def _law_keys() -> tuple[Key, ...]:
         keys[name] = replace(k, doc="law = " + " or ".join(f"\"{n}\"" for n in laws)
                              + f": {k.doc}")
     return tuple(keys.values())
+
+
+def _initial_keys() -> tuple[Key, ...]:
+    """``[initial] kind`` and every registered kind's keys (:mod:`hertzchain.initial_kinds`)."""
+    from .initial_kinds import initial_keys
+
+    return initial_keys()
 
 
 class _Schema(Mapping):
@@ -754,20 +747,41 @@ class ChainSpec:
 
 @dataclass(frozen=True)
 class InitialSpec:
-    """Initial grain state (see :data:`SCHEMA` ``["initial"]``)."""
+    """Initial grain state (see :data:`SCHEMA` ``["initial"]``).
+
+    ``kind`` names a kind of :data:`hertzchain.initial_kinds.INITIAL_KINDS` and
+    ``params`` holds its keys as (name, value) pairs (those given, the others at their
+    defaults).  Every registered key reads as an attribute (``spec.v0``, ``spec.center``):
+    the kind's value, or the key's default for another kind's key.  In
+    :meth:`Scenario.to_dict` the keys are keys of ``initial``, as written in a file.
+    """
 
     kind: str = "impact"
-    v0: float = 1.0
-    striker_mass: float = 1.0
-    center: int | None = None
-    half_width: int = 40
-    velocity_max: float | None = None
-    strain_max: float | None = None
+    params: tuple[tuple[str, Any], ...] = ()
+
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        own = dict(self.params)
+        if name in own:
+            return own[name]
+        for key in _initial_keys()[1:]:
+            if key.name == name:
+                return key.default
+        raise AttributeError(f"{type(self).__name__} has no attribute {name!r} (not a "
+                             "key of a registered initial kind)")
+
+    @property
+    def initial_kind(self):
+        """The registered :class:`hertzchain.initial_kinds.InitialKind` of ``kind``."""
+        from .initial_kinds import initial_kind
+
+        return initial_kind(self.kind)
 
     @property
     def striker_grains(self) -> int:
-        """1 if an impact's striker is an extra grain of the run (grain 0), else 0."""
-        return int(self.kind == "impact" and self.striker_mass != 1.0)
+        """Grains the state prepends to the chain (an impact's striker, grain 0): 0 or 1."""
+        return self.initial_kind.striker_grains(self)
 
 
 @dataclass(frozen=True)
@@ -887,6 +901,7 @@ class Scenario:
         """
         d = asdict(self)
         d["chain"] = _flat_law_params(d["chain"])
+        d["initial"] = _flat_initial_params(d["initial"])
         return d
 
     def discrete_dict(self) -> dict:
@@ -981,6 +996,13 @@ def _flat_law_params(chain: dict) -> dict:
             for key in _law_keys()[1:]:
                 out[key.name] = own.get(key.name, key.default)
     return out
+
+
+def _flat_initial_params(initial: dict) -> dict:
+    """``initial`` (asdict of an :class:`InitialSpec`) with ``params`` as keys after ``kind``."""
+    own = dict(initial["params"])
+    return {"kind": initial["kind"],
+            **{k.name: own.get(k.name, k.default) for k in _initial_keys()[1:]}}
 
 
 _SPECS = {"chain": ChainSpec, "chain.sections": SectionSpec, "initial": InitialSpec,
@@ -1082,37 +1104,23 @@ def _check_chain(spec: ChainSpec) -> None:
                             "> 0 only (without gravity set delta0_over_d)")
 
 
-def _check_initial(spec: InitialSpec, n: int) -> None:
-    kind = spec.kind
-    if kind in ("cut_wave", "exact_wave"):
-        if spec.center is None:
-            raise ScenarioError(f"[initial] center is required for kind = {kind!r}")
-        margin = spec.half_width if kind == "cut_wave" else 10
-        if not margin <= spec.center < n - margin:
-            raise ScenarioError(
-                f"[initial] center = {spec.center} places the wave outside the chain; "
-                f"allowed range [{margin}, {n - margin - 1}] for {n} grains")
-    if kind == "exact_wave":
-        if (spec.velocity_max is None) == (spec.strain_max is None):
-            raise ScenarioError("[initial] give exactly one of velocity_max (m/s, > 0) or "
-                                "strain_max (> 0) for kind = 'exact_wave'")
-    elif spec.strain_max is not None:
-        raise ScenarioError(f"[initial] strain_max applies to kind = 'exact_wave' only "
-                            f"(kind = {kind!r})")
+def _initial_params(values: dict, raw: dict) -> tuple[tuple[str, Any], ...]:
+    """The kind's own keys of the read ``[initial]`` table, as (name, value) pairs.
 
+    A key of another kind is refused unless it is at its default (a file written from
+    :meth:`Scenario.to_dict` names them all).
+    """
+    from .initial_kinds import INITIAL_KINDS
 
-def _check_initial_law(spec: InitialSpec, chain: ChainSpec) -> None:
-    if spec.kind == "cut_wave" and chain.exponent != 1.5:
-        raise ScenarioError(f"[initial] kind = 'cut_wave' is a settled Hertz wave; [chain] "
-                            f"exponent = {chain.exponent!r} needs kind = 'impact' or "
-                            "'exact_wave'")
-    if spec.kind == "impact" and spec.striker_mass != 1.0 and chain.gravity > 0:
-        raise ScenarioError("[initial] striker_mass != 1 with [chain] gravity > 0: a striker "
-                            "grain is not part of the chain's static equilibrium; give "
-                            "striker_mass = 1 (grain 0 is struck)")
-    if spec.kind in ("cut_wave", "exact_wave") and chain.gravity > 0:
-        raise ScenarioError(f"[initial] kind = {spec.kind!r} needs a uniform precompression;"
-                            " with [chain] gravity > 0 use kind = 'impact'")
+    kind = INITIAL_KINDS[values["kind"]]
+    own = {k.name for k in kind.keys}
+    for key in _initial_keys()[1:]:
+        if key.name in raw and key.name not in own and values[key.name] != key.default:
+            users = [n for n, k in INITIAL_KINDS.items() if key.name in {x.name for x in k.keys}]
+            raise ScenarioError(f"[initial] {key.name} applies to kind = "
+                                f"{' or '.join(repr(u) for u in users)} only (kind = "
+                                f"{kind.name!r})")
+    return tuple((k.name, values[k.name]) for k in kind.keys)
 
 
 def _grains_text(n: int, initial: InitialSpec) -> str:
@@ -1169,10 +1177,10 @@ def continuum_applies(chain: ChainSpec, initial: InitialSpec) -> str:
     Bessel-function front of the harmonic lattice), outside every long-wave equation.
     This function is the one place that says where the continuum applies.
     """
-    if chain.exponent == 1.0 and initial.kind == "impact":
-        return ("[chain] exponent = 1.0 with [initial] kind = 'impact': a linear chain "
-                "forms no solitary wave, and the impact's pulse spreads at the grid scale "
-                "(the lattice's Bessel front), outside the long-wave equations")
+    if chain.exponent == 1.0 and not initial.initial_kind.placed:
+        return (f"[chain] exponent = 1.0 with [initial] kind = {initial.kind!r}: a linear "
+                "chain forms no solitary wave, and the state's pulse spreads at the grid "
+                "scale (the lattice's Bessel front), outside the long-wave equations")
     return ""
 
 
@@ -1248,6 +1256,10 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec, initial: InitialSpec) -> N
             raise ScenarioError(f"[models] {name} = {value} does not apply to this chain: "
                                 f"{why}; set [models] {name} = false, or leave it out (it "
                                 "then runs where it applies)")
+    if spec.nonlinearity == "hertz" and chain.exponent != 1.5:
+        raise ScenarioError(f"[models] nonlinearity = 'hertz' is the Hertz law's full force; "
+                            f"[chain] law = {chain.law!r} has exponent {chain.exponent:g}: "
+                            "use 'full' (the chain's own law)")
     d0 = chain.delta0_over_d
     model = spec.continuum_model(d0)
     if model in ("eq4", "kdv") and d0 == 0:
@@ -1295,9 +1307,11 @@ def parse_scenario(data: dict) -> Scenario:
                       law_params=_law_params(chain_values, raw_chain), **chain_values)
     _check_chain(chain)
     n = chain.n
-    initial = InitialSpec(**_read_table(data.get("initial", {}), "initial"))
-    _check_initial(initial, n)
-    _check_initial_law(initial, chain)
+    raw_initial = data.get("initial", {})
+    initial_values = _read_table(raw_initial, "initial")
+    initial = InitialSpec(kind=initial_values["kind"],
+                          params=_initial_params(initial_values, raw_initial))
+    initial.initial_kind.check(initial, chain)
     n_run = n + initial.striker_grains
     run = RunSpec(**_read_table(data.get("run", {}), "run"))
     _check_run(run, n_run, initial)
@@ -1449,7 +1463,8 @@ def _schema_doc() -> str:
             + "\n\nKeys\n----\n" + schema_markdown())
 
 
-_REGISTERED_FIELDS = {"chain": {"sections", "law", "law_params"}}
+_REGISTERED_FIELDS = {"chain": {"sections", "law", "law_params"},
+                      "initial": {"kind", "params"}}
 """The fields of a table's dataclass that hold registered keys (and sub-tables)."""
 
 
