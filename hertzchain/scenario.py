@@ -58,6 +58,13 @@ read by the one generic reader; this docstring's tables are generated from it
 (:func:`schema_markdown`).  A new key is a :class:`Key` in its table plus a field of the
 same name in the table's dataclass (``tests/hertzchain/test_scenario.py`` checks that the
 two agree); checks that involve several keys live in the table's ``_check_*`` function.
+Three kinds of keys come from registries instead, so that a new one is one file and a
+registry line: ``[chain] law`` and each law's parameters from :data:`theory.laws.LAWS`
+(:class:`theory.laws.LawParameter`), ``[initial] kind`` and each kind's keys and checks
+from :data:`hertzchain.initial_kinds.INITIAL_KINDS`, and the values of ``[models]
+continuum`` from :data:`continuum.MODELS` (:func:`continuum_models`).  They are read
+when needed, never at import: the registries import NumPy, ``hertzchain --help`` must
+not (so this docstring's tables are generated when it is read).
 """
 
 from __future__ import annotations
@@ -817,7 +824,7 @@ class RecordSpec:
 class ModelsSpec:
     """The models run side by side and the continuum's settings.
 
-    ``continuum`` is ``False``, one of :data:`CONTINUUM_MODELS` or None (not given: the
+    ``continuum`` is ``False``, one of :func:`continuum_models` or None (not given: the
     default of the command, :meth:`Scenario.with_default_models`); ``theory`` is a bool
     or None (not given: on where it applies).  :meth:`continuum_model` resolves
     ``"auto"`` for a chain.

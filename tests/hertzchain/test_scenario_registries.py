@@ -15,6 +15,12 @@ Materials*, §1.1) whose exponent is its own parameter ``power_index`` (a
   a did-you-mean, and the parameter of another law is refused naming its law;
 * the scenario reference (:func:`hertzchain.scenario.schema_markdown`) lists the key
   while the law is registered, and not after.
+
+Likewise :class:`StruckGrain`, an initial kind (:class:`hertzchain.initial_kinds.InitialKind`:
+one grain struck anywhere) registered here alone, is a value of ``[initial] kind`` with
+its own key, validated and documented, and runs through ``hertzchain run``: struck at
+grain 0 it is the impact, number for number, and struck at grain 5 its wave is the
+impact's shifted by 5 grains.
 """
 
 from __future__ import annotations
@@ -27,7 +33,14 @@ import numpy as np
 import pytest
 
 from hertzchain.cli import main
-from hertzchain.scenario import ScenarioError, parse_scenario, schema_markdown
+from hertzchain.initial_kinds import (
+    IMPACT_FORMATION,
+    INITIAL_KINDS,
+    V0,
+    InitialKind,
+    register_initial_kind,
+)
+from hertzchain.scenario import Key, ScenarioError, parse_scenario, schema_markdown
 from theory.laws import LAWS, ContactLaw, LawParameter, compile_piece, register_law
 
 
@@ -153,3 +166,129 @@ def test_registered_law_is_in_the_scenario_reference(law):
     assert "\"index_power_test\" F = k δ^p" in text
     LAWS.pop(IndexPowerLaw.name)
     assert "power_index" not in schema_markdown()
+
+
+# --------------------------------------------------------------- an initial kind
+class StruckGrain(InitialKind):
+    """Grain ``struck_grain`` moves at ``v0``, the rest at rest (an impact anywhere)."""
+
+    name = "struck_grain_test"
+    doc = "grain struck_grain at v0 (registered by a test)"
+    keys = (V0, Key("struck_grain", "integer", 0, "the grain struck", low=0,
+                    low_open=False))
+    interpolation = "grains"
+    single_struck_grain = True
+
+    def check(self, spec, chain):
+        """The struck grain lies in the first half of the chain."""
+        if not spec.struck_grain < chain.n // 2:
+            raise ScenarioError(f"[initial] struck_grain = {spec.struck_grain}: allowed "
+                                f"range [0, {chain.n // 2 - 1}] (the first half)")
+
+    def amplitude_key(self, spec):
+        """``v0``."""
+        return "v0"
+
+    def build(self, spec, chain_spec, chain, *, cache_dir=None):
+        """One grain at v0."""
+        from discrete.initial import Initial
+
+        v = np.zeros(chain.n)
+        v[spec.struck_grain] = spec.v0
+        return Initial(chain, np.zeros(chain.n), v,
+                       params={"kind": self.name, "v0": spec.v0, "grain": spec.struck_grain})
+
+    def incident_velocity(self, init):
+        """The impact's estimate (the wave forms on the way)."""
+        return IMPACT_FORMATION * float(np.max(np.abs(init.v)))
+
+
+@pytest.fixture
+def kind():
+    """The kind, registered for one test (removed afterwards)."""
+    register_initial_kind(StruckGrain())
+    try:
+        yield StruckGrain
+    finally:
+        INITIAL_KINDS.pop(StruckGrain.name, None)
+
+
+KIND_TOML = """name = "{name}"
+[chain]
+[[chain.sections]]
+n = {n}
+[initial]
+kind = "{kind}"
+v0 = 1.0
+{extra}
+[run]
+until_front_at = {until}
+"""
+
+
+def _run_kind(tmp_path, capsys, name, n, kind, extra, until) -> dict:
+    path = tmp_path / f"{name}.toml"
+    path.write_text(KIND_TOML.format(name=name, n=n, kind=kind, extra=extra, until=until))
+    assert main(["run", str(path), "--json", "--no-progress"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+def test_registered_kind_runs_through_hertzchain_run(kind, tmp_path, capsys):
+    # struck_grain = 0 is the impact: the same run, number for number (one code path)
+    ref = _run_kind(tmp_path, capsys, "impact", 60, "impact", "", 40)
+    same = _run_kind(tmp_path, capsys, "grain0", 60, "struck_grain_test",
+                     "struck_grain = 0", 40)
+    assert ref["completed"] and same["completed"]
+    for key, value in ref.items():
+        if "wall_time" not in key:
+            assert same[key] == value or (value != value and same[key] != same[key]), key
+    # grain 5 struck in a 65-grain chain: grains 0-4 stay at rest (δ0 = 0, the struck
+    # grain moves away from them), so the wave is the impact's shifted by 5 grains and
+    # reaches grain 45 after the same steps and time (the same arithmetic per grain)
+    shifted = _run_kind(tmp_path, capsys, "grain5", 65, "struck_grain_test",
+                        "struck_grain = 5", 45)
+    assert shifted["steps"] == ref["steps"]
+    assert shifted["t"] == pytest.approx(ref["t"], rel=1e-12, abs=0)
+
+
+def test_registered_kind_is_validated_and_documented(kind):
+    chain = {"sections": [{"n": 20}]}
+    run = {"t_end": 1e-4}
+    sc = parse_scenario({"chain": chain, "initial": {"kind": "struck_grain_test",
+                                                     "struck_grain": 3}, "run": run})
+    assert sc.initial.struck_grain == 3 and sc.initial.initial_kind.name == kind.name
+    assert sc.to_dict()["initial"]["struck_grain"] == 3
+    assert sc.initial.center is None  # another kind's key: its default
+    bad = [({"kind": "struck_grain_tset"}, r"did you mean 'struck_grain_test'\?"),
+           ({"kind": "struck_grain_test", "struck_grain": 10},
+            r"struck_grain = 10: allowed range \[0, 9\]"),
+           ({"kind": "struck_grain_test", "struck_grain": -1},
+            r"struck_grain = -1 must be >= 0"),
+           ({"kind": "struck_grain_test", "struck_grian": 1},
+            r"unknown key 'struck_grian' in \[initial\]; did you mean 'struck_grain'\?"),
+           ({"kind": "impact", "struck_grain": 2},
+            r"struck_grain applies to kind = 'struck_grain_test' only \(kind = 'impact'\)"),
+           ({"kind": "struck_grain_test", "center": 5},
+            r"center applies to kind = 'cut_wave' or 'exact_wave' only")]
+    for initial, message in bad:
+        with pytest.raises(ScenarioError, match=message):
+            parse_scenario({"chain": chain, "initial": initial, "run": run})
+    text = schema_markdown()
+    assert "struck_grain_test" in text and "struck_grain_test: the grain struck" in text
+    assert "impact, cut_wave, struck_grain_test: impact velocity" in text
+
+
+def test_no_kind_name_is_compared_outside_the_registry():
+    # the modules that use the initial state ask its kind, never its name
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2] / "hertzchain"
+    names = r"""["'](impact|cut_wave|exact_wave)["']"""
+    patterns = [re.compile(r"(==|!=|\bin)\s*\(?\s*" + names),  # kind == "impact", in (...)
+                re.compile(names + r"\s*(:|==|!=)"),  # {"impact": ...} dispatch
+                re.compile(r"\b(initial|ini)\.kind\s*(==|!=|\bin\b)")]  # any comparison
+    for name in ("scenario.py", "runner.py", "models.py", "compare.py"):
+        text = (root / name).read_text()
+        for pattern in patterns:
+            assert not pattern.search(text), (name, pattern.search(text))
