@@ -58,7 +58,7 @@ from discrete import diagnostics as D
 from . import measure as M
 from .cache import canonical_json
 from .measure import interfaces
-from .scenario import ChainSpec, Scenario, ScenarioError, SectionSpec
+from .scenario import ChainSpec, Scenario, ScenarioError, SectionSpec, schema_key
 
 __all__ = ["build_chain", "build_law", "build_section", "build_initial",
            "build_initial_checked",
@@ -300,8 +300,9 @@ def _check_amplitude(chain: discrete.Chain, init, key: str, value: float,
     d = np.r_[chain.diameter[0], chain.diameter]  # contact j: grain j-1's diameter (wall: 0)
     worst = float(np.max(delta / d))
     if not worst < MAX_OVERLAP_OVER_D:
+        unit = schema_key("initial", key).unit
         raise ScenarioError(
-            f"[initial] {key} = {value!r}{'' if key == 'strain_max' else ' m/s'} is "
+            f"[initial] {key} = {value!r}{' ' + unit if unit else ''} is "
             f"non-physical: the contacts would overlap by "
             f"{worst:.3g} grain diameters (allowed < {MAX_OVERLAP_OVER_D:g}, the Hertz "
             f"small-strain range); lower {key} (or stiffen the contacts: alpha_kn, "

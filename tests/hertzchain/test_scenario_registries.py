@@ -292,3 +292,48 @@ def test_no_kind_name_is_compared_outside_the_registry():
         text = (root / name).read_text()
         for pattern in patterns:
             assert not pattern.search(text), (name, pattern.search(text))
+
+
+# --------------------------------------------------------------- continuum models
+def test_continuum_choices_and_label_come_from_the_registry():
+    import continuum
+    from hertzchain.models import continuum_label
+    from hertzchain.scenario import continuum_models
+
+    base = {"chain": {"delta0_over_d": 1e-3, "sections": [{"n": 20}]},
+            "run": {"t_end": 1e-4}}
+    assert continuum_models() == ("auto", *continuum.MODELS, "kdv")
+    with pytest.raises(ScenarioError, match=r"continuum = 'eq5'; did you mean .*'eq4'"):
+        parse_scenario({**base, "models": {"continuum": "eq5"}})
+
+    class Eq7Copy(continuum.NesterenkoPDE):
+        """Eq. 7 under another name (a model registered by a test)."""
+
+        name = "eq7_copy_test"
+        label = "Eq. 7 (copy)"
+
+    continuum.register_model(Eq7Copy)
+    try:
+        sc = parse_scenario({**base, "models": {"continuum": "eq7_copy_test"}})
+        assert sc.models.continuum_model(1e-3) == "eq7_copy_test"
+        assert continuum_label("eq7_copy_test", sc.models).startswith(
+            "continuum (Eq. 7 (copy), 5 nodes/grain")
+        assert "'eq7_copy_test'" in schema_markdown()
+    finally:
+        continuum.MODELS.pop(Eq7Copy.name, None)
+    assert continuum_label("eq4", sc.models) == "continuum (Eq. 4, 5 nodes/grain)"
+    with pytest.raises(ScenarioError, match="allowed: 'auto', 'eq4', 'eq7', 'kdv' or false"):
+        parse_scenario({**base, "models": {"continuum": "eq7_copy_test"}})
+
+
+def test_nonlinearity_full_and_its_hertz_alias():
+    base = {"chain": {"delta0_over_d": 1e-3, "sections": [{"n": 20}]},
+            "run": {"t_end": 1e-4}}
+    for value in ("quadratic", "full", "hertz"):
+        assert parse_scenario({**base, "models": {"nonlinearity": value}}) \
+            .models.nonlinearity == value
+    cones = {**base, "chain": {**base["chain"], "exponent": 2.0}}
+    assert parse_scenario({**cones, "models": {"nonlinearity": "full"}}).chain.exponent == 2
+    with pytest.raises(ScenarioError, match=r"nonlinearity = 'hertz' is the Hertz law's "
+                                            r"full force.*exponent 2: use 'full'"):
+        parse_scenario({**cones, "models": {"nonlinearity": "hertz"}})
