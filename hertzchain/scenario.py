@@ -388,6 +388,7 @@ def _law_keys() -> tuple[Key, ...]:
 
     Each :class:`theory.laws.LawParameter` becomes a number key of its range, unit and
     default; a name shared by several laws is read with the first law's definition.
+    ValueError for a parameter named as another ``[chain]`` key (``drag``, …).
     """
     from theory.laws import LAWS
 
@@ -395,8 +396,12 @@ def _law_keys() -> tuple[Key, ...]:
         f"\"{name}\" {cls.help_text()}" for name, cls in LAWS.items())
     keys = {"law": Key("law", "choice", "power", doc, choices=tuple(LAWS))}
     owners: dict[str, list[str]] = {}
+    taken = {k.name for k in SCHEMA.written("chain")} | {"sections"}
     for name, cls in LAWS.items():
         for p in cls.parameters:
+            if p.name in taken:
+                raise ValueError(f"contact law {name!r}: its parameter {p.name!r} is a "
+                                 "[chain] key of the chain's own: rename it")
             owners.setdefault(p.name, []).append(name)
             if p.name not in keys:
                 keys[p.name] = Key(p.name, "number", float(p.default), p.doc, p.unit,
