@@ -27,8 +27,10 @@ for one interface.
 
 Models are registered by name in :data:`MODELS` (``"eq4"``, ``"eq7"``): a new
 continuum model is one file with a :class:`ChainPDEBase` subclass (``name``, ``label``,
-:meth:`~ChainPDEBase.for_chain`) and one :func:`register_model` call.  This package
-imports :mod:`theory` only.
+:meth:`~ChainPDEBase.for_chain`) and one :func:`register_model` call; scenario files
+then select it by its ``name`` (``[models] continuum``, validated against
+:data:`MODELS`) and legends show its ``label``.  This package imports :mod:`theory`
+only.
 """
 
 from .base import ChainPDEBase

@@ -559,9 +559,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="output directory (compare.h5, figures, report.md, runs/; default "
                    "./hertzchain-compare)")
     p.add_argument("--json", action="store_true", help="print every number as JSON")
-    p.add_argument("--continuum", default=None,
-                   choices=("auto", "eq4", "eq7", "kdv", "off"),
-                   help="override [models] continuum (default: the scenario's)")
+    p.add_argument("--continuum", default=None, metavar="MODEL",
+                   help="override [models] continuum: \"auto\", a model of continuum.MODELS "
+                   "(eq4, eq7, ...), kdv, or off (default: the scenario's; checked as the "
+                   "scenario key)")
     add_force_argument(p, "recompute the runs even if cached in OUT/runs (discards "
                        "checkpoints)")
     p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,

@@ -526,7 +526,7 @@ def analyse(result: Run) -> Comparison:
         # an impact's incident front is fitted once its wave has formed (from the grain
         # where it is measured, hertzchain.measure.incident_grain, or FORMED_GRAINS)
         x_in = fr["incident"][before]
-        if result.scenario.initial.kind == "impact":
+        if not result.scenario.initial.initial_kind.placed:
             x_in = np.where(x_in >= x_formed, x_in, np.nan)
         speeds = {"incident": M.fit_sample_speed(m.times[before], x_in, x_if, d, 1),
                   "transmitted": M.fit_sample_speed(m.times[after],
@@ -869,7 +869,7 @@ def _incident_speed(cmp: Comparison) -> float:
     x = np.where(_discrete_window(cmp), disc.fronts["incident"], np.nan)
     if est is not None and est.has_interface:
         x = np.where(disc.times <= est.t_hit, x, np.nan)
-    if result.scenario.initial.kind == "impact":
+    if not result.scenario.initial.initial_kind.placed:  # formed on the way
         x_formed = min(M.first_grain(chain) + FORMED_GRAINS, M.incident_grain(chain))
         x = np.where(x >= x_formed, x, np.nan)
     return M.fit_sample_speed(disc.times, x, None if iface is None else iface - 0.5,

@@ -619,12 +619,13 @@ def chain_theory(scenario: Scenario, chain: discrete.Chain, init) -> tuple[
     s0 = M.first_grain(chain)
     bounds = np.r_[s0, np.asarray(interfaces(chain), dtype=int), chain.n]
     uniform = [s.uniform for s in spec.sections]
-    x0 = M.incident_peak(chain, np.asarray(init.v))[0] if ini.kind != "impact" else s0
-    formed = (s0 + FORMED_GRAINS if ini.kind == "impact"
+    placed = ini.initial_kind.placed  # else: the wave forms on the way (an impact's)
+    x0 = M.incident_peak(chain, np.asarray(init.v))[0] if placed else s0
+    formed = (s0 + FORMED_GRAINS if not placed
               else int(math.ceil(x0 if math.isfinite(x0) else s0)) + 3)
     p: dict[str, Any] = {"exponent": n}
     sonic = spec.delta0_over_d == 0 and spec.gravity == 0
-    if ini.kind == "impact" and ini.striker_mass != 1.0:
+    if ini.striker_grains:
         if not (sonic and spec.law == "power" and not spec.drag and uniform[0]):
             return None, ("the striker's train is known for a lossless uniform power-law "
                           "chain at δ0 = 0 only (theory.striker)")
@@ -659,13 +660,13 @@ def chain_theory(scenario: Scenario, chain: discrete.Chain, init) -> tuple[
             p["drag"] = spec.drag
             label = "first-order drag decay (theory.dissipation.drag_wave_decay)"
         else:
-            p["damping_time"] = spec.damping_time
+            p["damping_time"] = spec.law_values["damping_time"]
             label = ("first-order Kuwabara–Kono decay "
                      "(theory.dissipation.kuwabara_kono_wave_decay)")
         return ChainTheory(kind, label, 0.03, formed, int(bounds[1]), "incident",
                            "peak_velocity", p, chain), ""
-    if n == 1.0 and len(spec.sections) == 1 and uniform[0] and ini.kind == "impact" \
-            and not ini.striker_grains:
+    if n == 1.0 and len(spec.sections) == 1 and uniform[0] \
+            and ini.initial_kind.single_struck_grain and not ini.striker_grains:
         k, m = float(chain.k[s0 + 1]), float(chain.mass[s0])
         p["omega"] = 2.0 * math.sqrt(k / m)
         return ChainTheory("linear", "Schrödinger's Bessel-function front of a linear "
@@ -788,6 +789,9 @@ def incident_wave(chain: discrete.Chain, init, kind: str, left: dict, law=None,
                   drag: float = 0.0) -> IncidentWave:
     """The incident wave of an initial state (an impact's: estimated, see :func:`run`).
 
+    ``kind``: the ``[initial] kind``, whose registered
+    :class:`hertzchain.initial_kinds.InitialKind` says whether the state is the wave
+    (``placed``) and gives its peak velocity (``incident_velocity``).
     Position: the peak of the grain kinetic energy (parabola-refined,
     :func:`hertzchain.measure.incident_peak`).  Amplitude: the peak grain velocity (an
     exact wave's own; a cut, settled wave's as measured when it was cut) and the
@@ -800,17 +804,16 @@ def incident_wave(chain: discrete.Chain, init, kind: str, left: dict, law=None,
     (:func:`incident_from_run`).  ``law``, ``drag``: the chain's contact law
     (:mod:`theory.laws`, default Hertz) and on-site drag rate, 1/s.
     """
+    from .initial_kinds import initial_kind
+
     v = np.asarray(init.v)
-    params = init.params or {}
-    if kind == "impact":
-        vel = 0.68 * float(np.max(np.abs(v)))  # v̄max/v0 at δ0 = 0 (paper Fig. 2)
-        xi = strain_from_velocity(left, vel)
-        return IncidentWave(0.0, vel, xi)
+    how = initial_kind(kind)
+    vel = how.incident_velocity(init)
+    if not how.placed:
+        return IncidentWave(0.0, vel, strain_from_velocity(left, vel))
     x0, _ = M.incident_peak(chain, v)
     if not math.isfinite(x0):
         x0 = float(np.argmax(0.5 * chain.mass * v**2))
-    vel = float(params["velocity_max"] if kind == "exact_wave" else
-                params.get("v_peak", np.max(np.abs(v))))
     r = D.overlaps_from_displacements(init.u, chain.delta0, init.wall_left, init.wall_right)
     law = discrete.PowerLaw(1.5) if law is None else law
     return IncidentWave(x0, vel, strain_from_velocity(left, vel),
@@ -1034,9 +1037,16 @@ def _medium(chain: discrete.Chain, scenario: Scenario):
         raise ScenarioError(f"[models] continuum: {exc}") from exc
 
 
+KDV_LABEL = "KdV"
+"""Legend text of ``[models] continuum = "kdv"`` (:class:`continuum.KdVPDE`, run on its own
+path: not a model of :data:`continuum.MODELS`)."""
+
+
 def continuum_label(model: str, models: ModelsSpec) -> str:
-    """Legend text of a continuum model."""
-    name = {"eq4": "Eq. 4", "eq7": "Eq. 7", "kdv": "KdV"}[model]
+    """Legend text of a continuum model (its :attr:`continuum.ChainPDEBase.label`)."""
+    import continuum
+
+    name = continuum.MODELS[model].label if model in continuum.MODELS else KDV_LABEL
     return f"continuum ({name}, {models.nodes_per_grain} nodes/grain)"
 
 
@@ -1055,7 +1065,8 @@ def _continuum_key(scenario: Scenario, model: str, times: np.ndarray, t_final: f
             "nonlinearity": m.nonlinearity, "delta_floor": m.delta_floor,
             "dispersion_cap": m.dispersion_cap,
             "times": [float(t) for t in times], "t_final": float(t_final),
-            **({"interpolation": "grains"} if scenario.initial.kind == "impact" else {})}
+            **({"interpolation": "grains"}
+               if scenario.initial.initial_kind.interpolation == "grains" else {})}
 
 
 def _read_continuum(path: Path) -> ModelRun:
@@ -1288,11 +1299,11 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
                 ts, vs, ss, own, info = _kdv_run(med, models, init, chain, times, t_final, d)
             else:
                 pde = _pde(model, med, models, ends, incident, d)
-                # an impact's state jumps (one struck grain): per grain, so the
-                # continuum starts with the grains' momentum and energy
+                # a state that jumps (an impact's one struck grain): per grain, so the
+                # continuum starts with the grains' momentum and energy (the kind says)
                 state = continuum.from_grains(
-                    pde, init.u, init.v, interpolation="grains"
-                    if scenario.initial.kind == "impact" else "spline")
+                    pde, init.u, init.v,
+                    interpolation=scenario.initial.initial_kind.interpolation)
                 iface = interfaces(chain)
 
                 def sample(s):
@@ -1529,7 +1540,7 @@ def run(scenario: Scenario, *, cache: str | Path | None = None, stem: str | None
             save=save_discrete)
         result.discrete, result.simulation = d_run, sim
         t_final = float(d_run.times[-1])  # the last sample (t_end, or the stop event)
-        if scenario.initial.kind == "impact":
+        if not scenario.initial.initial_kind.placed:  # formed on the way: measured
             measured = incident_from_run(sim, left, float(d_run.summary.get(
                 "incident_strain", math.nan)))
             if measured is not None:

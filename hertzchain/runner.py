@@ -55,12 +55,11 @@ import numpy as np
 import discrete
 import theory
 from discrete import diagnostics as D
-from discrete.initial import cut_wave, exact_wave, impact
 
 from . import measure as M
-from .cache import canonical_json, remove_stale_temporaries
+from .cache import canonical_json
 from .measure import interfaces
-from .scenario import ChainSpec, Scenario, ScenarioError, SectionSpec
+from .scenario import ChainSpec, Scenario, ScenarioError, SectionSpec, schema_key
 
 __all__ = ["build_chain", "build_law", "build_section", "build_initial",
            "build_initial_checked",
@@ -183,10 +182,12 @@ def build_section(spec: SectionSpec, base: theory.Material, diameter: float
 
 
 def build_law(spec: ChainSpec) -> tuple[discrete.ContactLaw, float]:
-    """The contact law (:mod:`theory.laws`) and on-site drag rate (1/s) of a chain spec."""
-    if spec.law == "viscoelastic_hertz":
-        return discrete.ViscoelasticHertz(spec.damping_time), spec.drag
-    return discrete.PowerLaw(spec.exponent), spec.drag
+    """The contact law (:mod:`theory.laws`) and on-site drag rate (1/s) of a chain spec.
+
+    The law is the registered class of ``[chain] law`` built from its parameters
+    (:meth:`hertzchain.scenario.ChainSpec.contact_law`).
+    """
+    return spec.contact_law(), spec.drag
 
 
 def _wall(kind: str):
@@ -227,20 +228,12 @@ def build_chain(spec: ChainSpec) -> discrete.Chain:
 def build_initial(scenario: Scenario, chain: discrete.Chain, *, cache_dir=None):
     """The initial state (:class:`discrete.initial.Initial`) of a scenario.
 
-    ``cache_dir``: where the settled wave of a ``cut_wave`` is cached (an ``.npz`` file,
-    :func:`discrete.settled_wave`); None: in memory only.
+    Built by its kind (:meth:`hertzchain.initial_kinds.InitialKind.build`).
+    ``cache_dir``: where a costly state is cached (a ``cut_wave``'s settled wave, an
+    ``.npz`` file, :func:`discrete.settled_wave`); None: in memory only.
     """
     ini = scenario.initial
-    if ini.kind == "impact":
-        ms = None if ini.striker_mass == 1.0 else ini.striker_mass * float(chain.mass[0])
-        return impact(chain, ini.v0, striker_mass=ms)
-    if ini.kind == "cut_wave":
-        if cache_dir is not None:  # a killed cache write's temporary
-            remove_stale_temporaries(cache_dir)
-        return cut_wave(chain, ini.center, v0=ini.v0, half_width=ini.half_width,
-                        cache_dir=cache_dir)
-    return exact_wave(chain, ini.center, velocity_max=ini.velocity_max,
-                      strain_max=ini.strain_max, law=build_law(scenario.chain)[0])
+    return ini.initial_kind.build(ini, scenario.chain, chain, cache_dir=cache_dir)
 
 
 def _wave_speed_estimate(chain: discrete.Chain, v: np.ndarray) -> float:
@@ -308,8 +301,9 @@ def _check_amplitude(chain: discrete.Chain, init, key: str, value: float,
     d = np.r_[chain.diameter[0], chain.diameter]  # contact j: grain j-1's diameter (wall: 0)
     worst = float(np.max(delta / d))
     if not worst < MAX_OVERLAP_OVER_D:
+        unit = schema_key("initial", key).unit
         raise ScenarioError(
-            f"[initial] {key} = {value!r}{'' if key == 'strain_max' else ' m/s'} is "
+            f"[initial] {key} = {value!r}{' ' + unit if unit else ''} is "
             f"non-physical: the contacts would overlap by "
             f"{worst:.3g} grain diameters (allowed < {MAX_OVERLAP_OVER_D:g}, the Hertz "
             f"small-strain range); lower {key} (or stiffen the contacts: alpha_kn, "
@@ -323,9 +317,12 @@ def build_initial_checked(scenario: Scenario, chain: discrete.Chain, *, cache_di
     cheap impact state before a cut wave is settled.
     """
     ini = scenario.initial
+    kind = ini.initial_kind
     law = build_law(scenario.chain)[0]
-    if ini.kind in ("impact", "cut_wave"):
-        _check_amplitude(chain, impact(chain, ini.v0), "v0", ini.v0, law)
+    key = kind.amplitude_key(ini)
+    early = kind.amplitude_state(ini, chain)
+    if early is not None:  # before a costly state (a cut wave's settling) is built
+        _check_amplitude(chain, early, key, getattr(ini, key), law)
     overflow = (f"[initial] kind = {ini.kind!r}: the initial state's scales leave double "
                 "precision for this chain (grain masses "
                 f"{chain.mass.min():.3g}-{chain.mass.max():.3g} kg, contact constants up to "
@@ -335,16 +332,12 @@ def build_initial_checked(scenario: Scenario, chain: discrete.Chain, *, cache_di
     except ArithmeticError as exc:  # FloatingPointError (numpy set to raise), OverflowError
         raise ScenarioError(f"{overflow} ({exc})") from None
     except ValueError as exc:
-        if ini.kind == "impact":
-            raise ScenarioError(f"[initial] kind = 'impact': {exc}") from None
-        raise ScenarioError(
-            f"[initial] center = {ini.center} (kind = {ini.kind!r}): the requested wave does "
-            f"not fit in the chain or in one section: {exc}") from None
+        raise ScenarioError(kind.build_error(ini, exc)) from None
     if not (np.all(np.isfinite(init.u)) and np.all(np.isfinite(init.v))):
         raise ScenarioError(overflow)
-    if ini.kind == "exact_wave":
-        key = "velocity_max" if ini.strain_max is None else "strain_max"
-        _check_amplitude(init.chain, init, key, getattr(ini, key), law)
+    late = kind.amplitude_state(ini, init.chain, init)
+    if late is not None:
+        _check_amplitude(init.chain, late, key, getattr(ini, key), law)
     return init
 
 
@@ -421,7 +414,7 @@ def check_run(scenario: Scenario, init) -> None:
                                      init.wall_right, dt=run.dt, law=law, drag=drag)
         except ValueError as exc:
             raise ScenarioError(f"[run] {exc}") from None
-    if run.until_front_at is not None and ini.kind in ("cut_wave", "exact_wave") \
+    if run.until_front_at is not None and ini.initial_kind.placed \
             and run.until_front_at <= ini.center:
         raise ScenarioError(
             f"[run] until_front_at = {run.until_front_at} can never be reached: the "
@@ -511,7 +504,7 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
     except ValueError as exc:  # e.g. v0 = 1e-300: the expected overlaps underflow to 0
         if run.rtol is not None and run.dt is None and str(exc).startswith("rtol"):
             raise ScenarioError(f"[run] {exc}") from None  # (below the round-off floor)
-        amp = {"impact": "v0", "cut_wave": "v0"}.get(scenario.initial.kind, "velocity_max")
+        amp = scenario.initial.initial_kind.amplitude_key(scenario.initial)
         raise ScenarioError(
             f"[run] dt = {'auto' if run.dt is None else run.dt!r}: the time step cannot be "
             f"chosen for this chain and initial state ({exc}); give [run] dt (s, > 0) or "
@@ -548,10 +541,10 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
         rows = t_est / (every * dt)
         while rows * init.chain.n / coarsen > _MAX_GRID and coarsen < init.chain.n:
             coarsen *= 2
-    # an impact's incident wave forms on the way: measured (incident strain, position,
+    # a wave that forms on the way (an impact's): measured (incident strain, position,
     # peak velocity) when its velocity peak passes the middle of section 0
     measuring = ([discrete.WaveAt(M.incident_grain(init.chain))]
-                 if scenario.initial.kind == "impact" else [])
+                 if not scenario.initial.initial_kind.placed else [])
     recording = discrete.Recording(
         snapshots=[discrete.AtTime(t) for t in rec.snapshot_times]
         + [discrete.WaveAt(g) for g in rec.snapshot_grains] + measuring,
@@ -600,14 +593,14 @@ def _incident_strain(scenario: Scenario, sim: discrete.Simulation, strain0: floa
     of the initial state (``strain0``) for a placed wave, of the snapshot taken when an
     impact's wave passed :func:`hertzchain.measure.incident_grain`.
     """
-    if scenario.initial.kind != "impact":
+    if scenario.initial.initial_kind.placed:
         return {"incident_strain": strain0, "incident_strain_note": ""}
     g = M.incident_grain(sim.chain)
     snap = next((s for s in sim.record.snapshots
                  if s.label == discrete.WaveAt(g).label), None)
     if snap is None:
         return {"incident_strain": math.nan, "incident_strain_note":
-                f"the impact's wave had not reached grain {g} (the middle of section 0, "
+                f"the incident wave had not reached grain {g} (the middle of section 0, "
                 "where it is measured) by the end of the run"}
     law, drag = build_law(scenario.chain)
     return {"incident_strain": M.incident_strain(sim.chain, snap.v, snap.overlaps, law, drag,
@@ -857,7 +850,7 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
         check_stop(scenario, sim.dt)
         amp = M.classification_amplitude(chain, init.u, init.v, init.wall_left,
                                          init.wall_right)
-        strain0 = math.nan if scenario.initial.kind == "impact" else M.incident_strain(
+        strain0 = math.nan if not scenario.initial.initial_kind.placed else M.incident_strain(
             chain, init.v, D.overlaps_from_displacements(init.u, chain.delta0,
                                                           init.wall_left, init.wall_right),
             *build_law(scenario.chain))

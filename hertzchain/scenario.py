@@ -42,8 +42,9 @@ stiffening at 1.5 × the largest wave strain), below the method's own limit.
 
 Chains beyond the paper
 -----------------------
-``[chain] law``/``exponent``/``damping_time``/``drag`` choose the contact law
-(:mod:`theory.laws`), ``gravity``/``top_force`` a vertical chain; each
+``[chain] law`` chooses the contact law (:data:`theory.laws.LAWS`; its parameters, e.g.
+``exponent`` or ``damping_time``, are keys of ``[chain]`` too) and ``drag`` an on-site
+drag, ``gravity``/``top_force`` a vertical chain; each
 ``[[chain.sections]]`` may have its own ``diameter`` and a per-grain ``profile``
 (tapered, periodic unit cell) and seeded disorder; ``[record] sensors``, ``wall_forces``
 and ``strain_maxima`` record what experiments measure.  They map to :mod:`discrete`
@@ -57,13 +58,23 @@ read by the one generic reader; this docstring's tables are generated from it
 (:func:`schema_markdown`).  A new key is a :class:`Key` in its table plus a field of the
 same name in the table's dataclass (``tests/hertzchain/test_scenario.py`` checks that the
 two agree); checks that involve several keys live in the table's ``_check_*`` function.
+Three kinds of keys come from registries instead, so that a new one is one file and a
+registry line: ``[chain] law`` and each law's parameters from :data:`theory.laws.LAWS`
+(:class:`theory.laws.LawParameter`), ``[initial] kind`` and each kind's keys and checks
+from :data:`hertzchain.initial_kinds.INITIAL_KINDS`, and the values of ``[models]
+continuum`` from :data:`continuum.MODELS` (:func:`continuum_models`).  They are read
+when needed, never at import: the registries import NumPy, ``hertzchain --help`` must
+not (so this docstring's tables are generated when it is read).
 """
 
 from __future__ import annotations
 
 import difflib
 import math
+import sys
 import tomllib
+import types
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
@@ -73,7 +84,7 @@ __all__ = [
     "Key",
     "SCHEMA",
     "TABLE_DOCS",
-    "CONTINUUM_MODELS",
+    "continuum_models",
     "AUTO_EQ4_MAX_STRAIN",
     "INTEGRATORS",
     "SectionSpec",
@@ -149,6 +160,8 @@ class Key:
         """The allowed values, for messages and docs."""
         if self.kind == "choice":
             return ", ".join(repr(c) for c in self.choices)
+        if self.kind == "continuum":
+            return ", ".join(repr(c) for c in continuum_models()) + " or false"
         if self.low is None and self.high is None:
             return ""
         lo = "-inf" if self.low is None else f"{self.low:g}"
@@ -156,8 +169,18 @@ class Key:
         return ("(" if self.low_open else "[") + f"{lo}, {hi}" + (")" if self.high_open else "]")
 
 
-CONTINUUM_MODELS = ("auto", "eq4", "eq7", "kdv")
-"""Values of ``[models] continuum`` besides ``false``."""
+
+@dataclass(frozen=True)
+class _Registered:
+    """A place in a table of :data:`SCHEMA` filled with keys built from a registry.
+
+    ``builder`` names a function of this module returning the keys; it runs on each
+    access (so that a law or kind registered later is seen) and not at import: the
+    registries import NumPy, which ``hertzchain --help`` must not.
+    """
+
+    builder: str
+
 
 AUTO_EQ4_MAX_STRAIN = 0.5
 """``[models] continuum = "auto"`` runs Eq. 4 under precompression only up to this incident
@@ -171,19 +194,31 @@ past s ≈ 2 in tension its flux is ill-posed.  Measured against the discrete ch
 Eq. 4 0.8–5.3 % (Eq. 7 0.03–1.7 %), at s = 1.9 Eq. 4 3–12 % (Eq. 7 0.25–2.3 %), and at
 s = 8.6 19 of 25 Eq. 4 runs blow up (Eq. 7 1.2–9.8 %)."""
 
+def continuum_models() -> tuple[str, ...]:
+    """Values of ``[models] continuum`` besides ``false``.
+
+    ``"auto"`` (:meth:`ModelsSpec.continuum_model`), the registered chain models of
+    :data:`continuum.MODELS` by name, and ``"kdv"`` (:class:`continuum.KdVPDE`, the
+    unidirectional reduction, run by :mod:`hertzchain.models` on its own path).  Imports
+    :mod:`continuum` (py-pde): called only when a value is checked or documented, never
+    by a run that does not use the continuum.
+    """
+    import continuum
+
+    return ("auto", *continuum.MODELS, "kdv")
+
+
 INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4")
 """Time integrators of the discrete solver (:data:`discrete.integrators.INTEGRATORS`)."""
 
 CONTINUUM_INTEGRATORS = ("verlet", "yoshida4", "blanes_moan4", "position_verlet",
                          "position_yoshida4")
 """Values of ``[models] integrator``: the names of :data:`theory.splitting.SPLITTINGS`
-(written out, as :data:`INTEGRATORS` and :data:`LAWS` are: ``theory`` imports NumPy,
-which ``hertzchain --help`` must not; the test compares the two)."""
+(written out, as :data:`INTEGRATORS` is: ``theory`` imports NumPy, which
+``hertzchain --help`` must not; the test compares the two)."""
 
 MATERIAL_KEYS = ("density", "youngs_modulus", "poisson_ratio")
 
-LAWS = ("power", "viscoelastic_hertz")
-"""Values of ``[chain] law`` (the names of :data:`theory.laws.LAWS`)."""
 
 WALLS = ("paper", "hertz", "flat", "free")
 """The wall keywords of ``[chain] left_wall``/``right_wall``; any other value is a material
@@ -192,7 +227,7 @@ name of :data:`theory.MATERIALS`: a flat wall of that material."""
 PROFILES = ("uniform", "tapered", "periodic")
 """Values of ``[[chain.sections]] profile``."""
 
-SCHEMA: dict[str, tuple[Key, ...]] = {
+_TABLE_KEYS: dict[str, tuple[Key | _Registered, ...]] = {
     "": (
         Key("name", "string", "", "free label", example="my-chain"),
     ),
@@ -211,15 +246,7 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "\"steel\", \"brass\", …, `hertzchain materials`) or \"free\" (only at "
             "δ0 = 0)", choices=WALLS),
         Key("right_wall", "wall", "paper", "right end (as left_wall)", choices=WALLS),
-        Key("law", "choice", "power", "contact law (theory.laws): \"power\" F = k δ^n "
-            "(n = exponent; 3/2 is Hertz, paper Eq. 1) or \"viscoelastic_hertz\" F = "
-            "max(0, k (δ^{3/2} + A δ^{1/2} dδ/dt)) (Kuwabara & Kono 1987)",
-            choices=LAWS),
-        Key("exponent", "number", 1.5, "law = \"power\": the exponent n (1 linear springs "
-            "or cylinders, 3/2 spheres, 2 cones); the static overlaps balance k δ0^n", low=1,
-            low_open=False, high=10, high_open=False),
-        Key("damping_time", "number", 0.0, "law = \"viscoelastic_hertz\": the dissipative "
-            "constant A of Brilliantov et al. (1996) Eq. 18", "s", low=0, low_open=False),
+        _Registered("_law_keys"),
         Key("drag", "number", 0.0, "on-site viscous drag rate β: force -m_i β v_i on every "
             "grain", "1/s", low=0, low_open=False),
         Key("gravity", "number", 0.0, "vertical chain, grain 0 on top, standing on the "
@@ -264,21 +291,7 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             low_open=False),
     ),
     "initial": (
-        Key("kind", "choice", "impact", "\"impact\" (grain 0 at v0), \"cut_wave\" (the "
-            "settled impact wave, cut and placed: paper Section 2) or \"exact_wave\" (the "
-            "exact discrete solitary wave, docs/physics.md §7)",
-            choices=("impact", "cut_wave", "exact_wave"), example="cut_wave"),
-        Key("v0", "number", 1.0, "impact velocity (impact, cut_wave)", "m/s", low=0),
-        Key("striker_mass", "number", 1.0, "impact: striker mass / the first grain's; "
-            "other than 1 the striker is an extra grain prepended as grain 0 of the run "
-            "(so the run's grain i + 1 is the chain's grain i)", low=0),
-        Key("center", "integer", None, "cut_wave, exact_wave: grain of the wave's peak",
-            low=0, low_open=False, example=100),
-        Key("half_width", "integer", 40, "cut_wave: grains kept on each side of the peak",
-            low=30, low_open=False),
-        Key("velocity_max", "number", None, "exact_wave: peak grain velocity", "m/s", low=0),
-        Key("strain_max", "number", None, "exact_wave, instead of velocity_max: peak "
-            "dynamic overlap (r - δ0)/d", low=0),
+        _Registered("_initial_keys"),
     ),
     "run": (
         Key("t_end", "number", None, "end time (give t_end and/or until_front_at)", "s",
@@ -326,7 +339,7 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
         Key("discrete", "bool", True, "the discrete chain (paper Eq. 2; the reference)"),
         Key("continuum", "continuum", None, "long-wave continuum: \"auto\" (Eq. 4 if δ0 > 0 "
             f"and the incident strain / δ0 <= {AUTO_EQ4_MAX_STRAIN:g}, otherwise Eq. 7), "
-            "\"eq4\", \"eq7\", "
+            "a model of continuum.MODELS by name, "
             "\"kdv\" (one precompressed section) or false; not given: \"auto\" in "
             "`hertzchain compare` where it applies, off in run and sweep (its cost)",
             example="auto"),
@@ -350,8 +363,10 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "0.79, Blanes–Moan-4 1.58); for Eq. 7 the factor of its step 0.4 × safety × "
             "h/c (NesterenkoPDE.stable_dt, ω_max Δt ≈ 0.8 safety before dispersion: the "
             "same check is more cautious there); not for KdV", low=0, high=2),
-        Key("nonlinearity", "choice", "quadratic", "Eq. 4 flux: Eq. 4's quadratic expansion "
-            "or the full Hertz law", choices=("quadratic", "hertz")),
+        Key("nonlinearity", "choice", "quadratic", "Eq. 4 flux: \"quadratic\" (Eq. 4's "
+            "expansion about δ0) or \"full\" (the chain's own contact law, any law); "
+            "\"hertz\" is the former name of \"full\", the same on a Hertz chain and "
+            "refused on another", choices=("quadratic", "full", "hertz")),
         Key("delta_floor", "number", 1e-2, "Eq. 7 regularisation: δ^{1/4} continued "
             "linearly below this fraction of the incident peak overlap (docs/physics.md §4)",
             low=0, high=1),
@@ -365,8 +380,75 @@ SCHEMA: dict[str, tuple[Key, ...]] = {
             "during and after the interface)", "s", low=0, low_open=False),
     ),
 }
+"""The keys of every table as written here; :data:`SCHEMA` fills in the registered ones."""
+
+
+def _law_keys() -> tuple[Key, ...]:
+    """``[chain] law`` and the parameters of every registered law (:data:`theory.laws.LAWS`).
+
+    Each :class:`theory.laws.LawParameter` becomes a number key of its range, unit and
+    default; a name shared by several laws is read with the first law's definition.
+    ValueError for a parameter named as another ``[chain]`` key (``drag``, …).
+    """
+    from theory.laws import LAWS
+
+    doc = "contact law (theory.laws): " + " or ".join(
+        f"\"{name}\" {cls.help_text()}" for name, cls in LAWS.items())
+    keys = {"law": Key("law", "choice", "power", doc, choices=tuple(LAWS))}
+    owners: dict[str, list[str]] = {}
+    taken = {k.name for k in SCHEMA.written("chain")} | {"sections"}
+    for name, cls in LAWS.items():
+        for p in cls.parameters:
+            if p.name in taken:
+                raise ValueError(f"contact law {name!r}: its parameter {p.name!r} is a "
+                                 "[chain] key of the chain's own: rename it")
+            owners.setdefault(p.name, []).append(name)
+            if p.name not in keys:
+                keys[p.name] = Key(p.name, "number", float(p.default), p.doc, p.unit,
+                                   low=p.low, high=p.high, low_open=p.low_open,
+                                   high_open=p.high_open)
+    for name, laws in owners.items():
+        k = keys[name]
+        keys[name] = replace(k, doc="law = " + " or ".join(f"\"{n}\"" for n in laws)
+                             + f": {k.doc}")
+    return tuple(keys.values())
+
+
+def _initial_keys() -> tuple[Key, ...]:
+    """``[initial] kind`` and every registered kind's keys (:mod:`hertzchain.initial_kinds`)."""
+    from .initial_kinds import initial_keys
+
+    return initial_keys()
+
+
+class _Schema(Mapping):
+    """:data:`SCHEMA`: the tables of keys, with the registered ones filled in on access."""
+
+    def __init__(self, tables: dict[str, tuple[Key | _Registered, ...]]) -> None:
+        self._tables = tables
+
+    def __getitem__(self, table: str) -> tuple[Key, ...]:
+        out: list[Key] = []
+        for k in self._tables[table]:
+            out.extend(globals()[k.builder]() if isinstance(k, _Registered) else (k,))
+        return tuple(out)
+
+    def __iter__(self):
+        return iter(self._tables)
+
+    def __len__(self) -> int:
+        return len(self._tables)
+
+    def written(self, table: str) -> tuple[Key, ...]:
+        """The keys of ``table`` written in this module (no registry imported)."""
+        return tuple(k for k in self._tables[table] if isinstance(k, Key))
+
+
+SCHEMA = _Schema(_TABLE_KEYS)
 """Every key of every table (``""`` is the top level, ``"chain.sections"`` one entry of
-``[[chain.sections]]``)."""
+``[[chain.sections]]``): a mapping table → keys.  The contact laws' keys (``[chain] law``
+and each law's parameters) come from :data:`theory.laws.LAWS` on each access; the other
+keys are written in this module."""
 
 TABLE_DOCS = {
     "": "An optional label (default: the file name).",
@@ -549,10 +631,10 @@ def _read_value(key: Key, val, where: str):
             return False
         if val is True:
             return "auto"
-        if val not in CONTINUUM_MODELS:
+        if val not in continuum_models():
             raise ScenarioError(f"[{where}] {key.name} = {val!r}"
-                                f"{did_you_mean(val, CONTINUUM_MODELS)} (allowed: "
-                                f"{', '.join(repr(c) for c in CONTINUUM_MODELS)} or false)")
+                                f"{did_you_mean(val, continuum_models())} (allowed: "
+                                f"{key.range_text()})")
         return val
     raise AssertionError(f"unknown key kind {k!r}")  # pragma: no cover - schema bug
 
@@ -563,6 +645,9 @@ def schema_key(table: str, name: str) -> Key:
     The one definition of a key's range, also for the command-line flags that mirror a
     scenario key (``hertzchain theory --delta0`` is ``[chain] delta0_over_d``).
     """
+    for key in SCHEMA.written(table):  # the registries (NumPy) only if needed
+        if key.name == name:
+            return key
     for key in SCHEMA[table]:
         if key.name == name:
             return key
@@ -625,7 +710,14 @@ class SectionSpec:
 
 @dataclass(frozen=True)
 class ChainSpec:
-    """The chain: sections, diameter (m), precompression δ0/d of the first section, walls."""
+    """The chain: sections, diameter (m), precompression δ0/d of the first section, walls.
+
+    ``law`` names a contact law of :data:`theory.laws.LAWS` and ``law_params`` holds
+    its parameters (:attr:`theory.laws.ContactLaw.parameters`, as (name, value) pairs:
+    those given and the others' defaults); :meth:`contact_law` builds it.  In
+    :meth:`Scenario.to_dict` and the files the parameters are keys of ``[chain]``
+    (``exponent``, ``damping_time``, …), as they are written.
+    """
 
     sections: tuple[SectionSpec, ...]
     diameter: float = 5e-3
@@ -634,8 +726,7 @@ class ChainSpec:
     left_wall: str = "paper"
     right_wall: str = "paper"
     law: str = "power"
-    exponent: float = 1.5
-    damping_time: float = 0.0
+    law_params: tuple[tuple[str, float], ...] = ()
     drag: float = 0.0
     gravity: float = 0.0
     top_force: float = 0.0
@@ -645,23 +736,64 @@ class ChainSpec:
         """Total number of grains."""
         return sum(s.n for s in self.sections)
 
+    @property
+    def law_values(self) -> dict[str, float]:
+        """The law's parameters by name (:attr:`law_params` as a dict)."""
+        return dict(self.law_params)
+
+    def contact_law(self):
+        """The :class:`theory.laws.ContactLaw` of :attr:`law` and :attr:`law_params`.
+
+        :meth:`theory.laws.ContactLaw.from_params` of the class registered under the
+        name (the one mapping from a scenario to a law; imports :mod:`theory`).
+        """
+        from theory.laws import LAWS
+
+        return LAWS[self.law].from_params(**self.law_values)
+
+    @property
+    def exponent(self) -> float:
+        """Exponent n of the law's elastic part k [δ]_+^n (3/2: Hertz, paper Eq. 1)."""
+        return float(self.contact_law().exponent)
+
 
 @dataclass(frozen=True)
 class InitialSpec:
-    """Initial grain state (see :data:`SCHEMA` ``["initial"]``)."""
+    """Initial grain state (see :data:`SCHEMA` ``["initial"]``).
+
+    ``kind`` names a kind of :data:`hertzchain.initial_kinds.INITIAL_KINDS` and
+    ``params`` holds its keys as (name, value) pairs (those given, the others at their
+    defaults).  Every registered key reads as an attribute (``spec.v0``, ``spec.center``):
+    the kind's value, or the key's default for another kind's key.  In
+    :meth:`Scenario.to_dict` the keys are keys of ``initial``, as written in a file.
+    """
 
     kind: str = "impact"
-    v0: float = 1.0
-    striker_mass: float = 1.0
-    center: int | None = None
-    half_width: int = 40
-    velocity_max: float | None = None
-    strain_max: float | None = None
+    params: tuple[tuple[str, Any], ...] = ()
+
+    def __getattr__(self, name: str):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        own = dict(self.params)
+        if name in own:
+            return own[name]
+        for key in _initial_keys()[1:]:
+            if key.name == name:
+                return key.default
+        raise AttributeError(f"{type(self).__name__} has no attribute {name!r} (not a "
+                             "key of a registered initial kind)")
+
+    @property
+    def initial_kind(self):
+        """The registered :class:`hertzchain.initial_kinds.InitialKind` of ``kind``."""
+        from .initial_kinds import initial_kind
+
+        return initial_kind(self.kind)
 
     @property
     def striker_grains(self) -> int:
-        """1 if an impact's striker is an extra grain of the run (grain 0), else 0."""
-        return int(self.kind == "impact" and self.striker_mass != 1.0)
+        """Grains the state prepends to the chain (an impact's striker, grain 0): 0 or 1."""
+        return self.initial_kind.striker_grains(self)
 
 
 @dataclass(frozen=True)
@@ -697,7 +829,7 @@ class RecordSpec:
 class ModelsSpec:
     """The models run side by side and the continuum's settings.
 
-    ``continuum`` is ``False``, one of :data:`CONTINUUM_MODELS` or None (not given: the
+    ``continuum`` is ``False``, one of :func:`continuum_models` or None (not given: the
     default of the command, :meth:`Scenario.with_default_models`); ``theory`` is a bool
     or None (not given: on where it applies).  :meth:`continuum_model` resolves
     ``"auto"`` for a chain.
@@ -772,8 +904,17 @@ class Scenario:
     name: str = ""
 
     def to_dict(self) -> dict:
-        """Plain nested dict (JSON-able; HDF5 attributes, sweep point ids)."""
-        return asdict(self)
+        """Plain nested dict (JSON-able; HDF5 attributes, sweep point ids).
+
+        The law's parameters are keys of ``chain`` after ``law``, as in a file: those of
+        every registered law, the other laws' at their defaults (so that a file that
+        names ``exponent`` with another law reads back, and a chain's dict, its cache
+        key and sweep point id do not depend on which law is chosen beyond the values).
+        """
+        d = asdict(self)
+        d["chain"] = _flat_law_params(d["chain"])
+        d["initial"] = _flat_initial_params(d["initial"])
+        return d
 
     def discrete_dict(self) -> dict:
         """What the discrete run depends on: everything but ``name`` and ``[models]``.
@@ -855,6 +996,27 @@ class Scenario:
         return parse_scenario(data)
 
 
+def _flat_law_params(chain: dict) -> dict:
+    """``chain`` (asdict of a :class:`ChainSpec`) with ``law_params`` as keys after ``law``."""
+    own = dict(chain["law_params"])
+    out = {}
+    for name, value in chain.items():
+        if name == "law_params":
+            continue
+        out[name] = value
+        if name == "law":
+            for key in _law_keys()[1:]:
+                out[key.name] = own.get(key.name, key.default)
+    return out
+
+
+def _flat_initial_params(initial: dict) -> dict:
+    """``initial`` (asdict of an :class:`InitialSpec`) with ``params`` as keys after ``kind``."""
+    own = dict(initial["params"])
+    return {"kind": initial["kind"],
+            **{k.name: own.get(k.name, k.default) for k in _initial_keys()[1:]}}
+
+
 _SPECS = {"chain": ChainSpec, "chain.sections": SectionSpec, "initial": InitialSpec,
           "run": RunSpec, "record": RecordSpec, "models": ModelsSpec}
 
@@ -892,6 +1054,35 @@ def _check_sections(values: dict, where: str, raw: dict) -> None:
                                     f"(profile = {profile!r})")
 
 
+def _law_params(values: dict, raw: dict) -> tuple[tuple[str, float], ...]:
+    """The chosen law's parameters, popped from ``values`` (the read ``[chain]`` table).
+
+    Each is read with its own law's :class:`theory.laws.LawParameter` (range, default);
+    a parameter of another law is refused unless it is at its default (a file written
+    from :meth:`Scenario.to_dict` names them all).
+    """
+    from theory.laws import LAWS
+
+    law = values["law"]
+    own = LAWS[law].parameters
+    for key in _law_keys()[1:]:
+        value = values.pop(key.name)
+        if key.name in raw and key.name not in {p.name for p in own} and value != key.default:
+            owners = [n for n, c in LAWS.items() if key.name in {p.name for p in c.parameters}]
+            unit = f" {key.unit}" if key.unit else ""
+            raise ScenarioError(f"[chain] {key.name} = {value!r}{unit} applies to law = "
+                                f"{' or '.join(repr(n) for n in owners)} only (law = "
+                                f"{law!r}; its parameters: "
+                                f"{', '.join(p.name for p in own) or 'none'})")
+    out = []
+    for p in own:
+        key = Key(p.name, "number", float(p.default), unit=p.unit, low=p.low, high=p.high,
+                  low_open=p.low_open, high_open=p.high_open)
+        out.append((p.name, _read_number(key, raw[p.name], "chain") if p.name in raw
+                    else key.default))
+    return tuple(out)
+
+
 def _check_chain(spec: ChainSpec) -> None:
     if spec.n < 2:
         raise ScenarioError(f"[chain] the chain needs >= 2 grains (got {spec.n})")
@@ -905,13 +1096,10 @@ def _check_chain(spec: ChainSpec) -> None:
     if spec.delta0_over_d > 0 and "free" in (spec.left_wall, spec.right_wall):
         raise ScenarioError("[chain] a precompressed chain (delta0_over_d > 0) needs two "
                             "walls; left_wall/right_wall = 'free' is only allowed at 0")
-    if spec.law == "viscoelastic_hertz" and spec.exponent != 1.5:
-        raise ScenarioError(f"[chain] exponent = {spec.exponent!r}: law = "
-                            "'viscoelastic_hertz' is Hertzian (exponent 1.5); use law = "
-                            "'power' for another exponent")
-    if spec.law != "viscoelastic_hertz" and spec.damping_time != 0:
-        raise ScenarioError(f"[chain] damping_time = {spec.damping_time!r} s applies to "
-                            f"law = 'viscoelastic_hertz' only (law = {spec.law!r})")
+    try:
+        spec.contact_law()
+    except ValueError as exc:  # a law's own checks beyond its parameters' ranges
+        raise ScenarioError(f"[chain] law = {spec.law!r}: {exc}") from None
     if spec.gravity > 0:
         if spec.delta0_over_d > 0:
             raise ScenarioError("[chain] delta0_over_d must be 0 with gravity > 0: the "
@@ -928,37 +1116,23 @@ def _check_chain(spec: ChainSpec) -> None:
                             "> 0 only (without gravity set delta0_over_d)")
 
 
-def _check_initial(spec: InitialSpec, n: int) -> None:
-    kind = spec.kind
-    if kind in ("cut_wave", "exact_wave"):
-        if spec.center is None:
-            raise ScenarioError(f"[initial] center is required for kind = {kind!r}")
-        margin = spec.half_width if kind == "cut_wave" else 10
-        if not margin <= spec.center < n - margin:
-            raise ScenarioError(
-                f"[initial] center = {spec.center} places the wave outside the chain; "
-                f"allowed range [{margin}, {n - margin - 1}] for {n} grains")
-    if kind == "exact_wave":
-        if (spec.velocity_max is None) == (spec.strain_max is None):
-            raise ScenarioError("[initial] give exactly one of velocity_max (m/s, > 0) or "
-                                "strain_max (> 0) for kind = 'exact_wave'")
-    elif spec.strain_max is not None:
-        raise ScenarioError(f"[initial] strain_max applies to kind = 'exact_wave' only "
-                            f"(kind = {kind!r})")
+def _initial_params(values: dict, raw: dict) -> tuple[tuple[str, Any], ...]:
+    """The kind's own keys of the read ``[initial]`` table, as (name, value) pairs.
 
+    A key of another kind is refused unless it is at its default (a file written from
+    :meth:`Scenario.to_dict` names them all).
+    """
+    from .initial_kinds import INITIAL_KINDS
 
-def _check_initial_law(spec: InitialSpec, chain: ChainSpec) -> None:
-    if spec.kind == "cut_wave" and chain.exponent != 1.5:
-        raise ScenarioError(f"[initial] kind = 'cut_wave' is a settled Hertz wave; [chain] "
-                            f"exponent = {chain.exponent!r} needs kind = 'impact' or "
-                            "'exact_wave'")
-    if spec.kind == "impact" and spec.striker_mass != 1.0 and chain.gravity > 0:
-        raise ScenarioError("[initial] striker_mass != 1 with [chain] gravity > 0: a striker "
-                            "grain is not part of the chain's static equilibrium; give "
-                            "striker_mass = 1 (grain 0 is struck)")
-    if spec.kind in ("cut_wave", "exact_wave") and chain.gravity > 0:
-        raise ScenarioError(f"[initial] kind = {spec.kind!r} needs a uniform precompression;"
-                            " with [chain] gravity > 0 use kind = 'impact'")
+    kind = INITIAL_KINDS[values["kind"]]
+    own = {k.name for k in kind.keys}
+    for key in _initial_keys()[1:]:
+        if key.name in raw and key.name not in own and values[key.name] != key.default:
+            users = [n for n, k in INITIAL_KINDS.items() if key.name in {x.name for x in k.keys}]
+            raise ScenarioError(f"[initial] {key.name} applies to kind = "
+                                f"{' or '.join(repr(u) for u in users)} only (kind = "
+                                f"{kind.name!r})")
+    return tuple((k.name, values[k.name]) for k in kind.keys)
 
 
 def _grains_text(n: int, initial: InitialSpec) -> str:
@@ -1015,10 +1189,10 @@ def continuum_applies(chain: ChainSpec, initial: InitialSpec) -> str:
     Bessel-function front of the harmonic lattice), outside every long-wave equation.
     This function is the one place that says where the continuum applies.
     """
-    if chain.exponent == 1.0 and initial.kind == "impact":
-        return ("[chain] exponent = 1.0 with [initial] kind = 'impact': a linear chain "
-                "forms no solitary wave, and the impact's pulse spreads at the grid scale "
-                "(the lattice's Bessel front), outside the long-wave equations")
+    if chain.exponent == 1.0 and not initial.initial_kind.placed:
+        return (f"[chain] exponent = 1.0 with [initial] kind = {initial.kind!r}: a linear "
+                "chain forms no solitary wave, and the state's pulse spreads at the grid "
+                "scale (the lattice's Bessel front), outside the long-wave equations")
     return ""
 
 
@@ -1094,6 +1268,10 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec, initial: InitialSpec) -> N
             raise ScenarioError(f"[models] {name} = {value} does not apply to this chain: "
                                 f"{why}; set [models] {name} = false, or leave it out (it "
                                 "then runs where it applies)")
+    if spec.nonlinearity == "hertz" and chain.exponent != 1.5:
+        raise ScenarioError(f"[models] nonlinearity = 'hertz' is the Hertz law's full force; "
+                            f"[chain] law = {chain.law!r} has exponent {chain.exponent:g}: "
+                            "use 'full' (the chain's own law)")
     d0 = chain.delta0_over_d
     model = spec.continuum_model(d0)
     if model in ("eq4", "kdv") and d0 == 0:
@@ -1136,19 +1314,22 @@ def parse_scenario(data: dict) -> Scenario:
             v["seed"] = i if _disordered(v) else 0
         _check_sections(v, where, s)
         sections.append(SectionSpec(**v))
+    chain_values = _read_table(raw_chain, "chain", ("sections",))
     chain = ChainSpec(sections=tuple(sections),
-                      **_read_table(raw_chain, "chain", ("sections",)))
+                      law_params=_law_params(chain_values, raw_chain), **chain_values)
     _check_chain(chain)
     n = chain.n
-    initial = InitialSpec(**_read_table(data.get("initial", {}), "initial"))
-    _check_initial(initial, n)
-    _check_initial_law(initial, chain)
+    raw_initial = data.get("initial", {})
+    initial_values = _read_table(raw_initial, "initial")
+    initial = InitialSpec(kind=initial_values["kind"],
+                          params=_initial_params(initial_values, raw_initial))
+    initial.initial_kind.check(initial, chain)
     n_run = n + initial.striker_grains
     run = RunSpec(**_read_table(data.get("run", {}), "run"))
     _check_run(run, n_run, initial)
-    if run.integrator not in ("verlet", "auto") and (chain.law == "viscoelastic_hertz"
+    if run.integrator not in ("verlet", "auto") and (chain.contact_law().dissipative
                                                      or chain.drag > 0):
-        cause = "drag > 0" if chain.drag > 0 else "law = 'viscoelastic_hertz'"
+        cause = "drag > 0" if chain.drag > 0 else f"law = {chain.law!r}"
         raise ScenarioError(
             f"[run] integrator = {run.integrator!r} needs forces that depend on positions "
             f"only; with [chain] {cause} the forces depend on velocities: use integrator = "
@@ -1255,7 +1436,9 @@ def schema_markdown() -> str:
             extra = []
             if k.unit:
                 extra.append(k.unit)
-            if k.kind != "choice" and k.range_text():
+            if k.kind == "continuum":
+                extra.append(f"one of {k.range_text()}")
+            elif k.kind != "choice" and k.range_text():
                 extra.append(f"range {k.range_text()}")
             doc = k.doc + (f" ({'; '.join(extra)})" if extra else "")
             out.append(f"{k.name:18}  {default:16}  {doc}")
@@ -1292,14 +1475,34 @@ def _schema_doc() -> str:
             + "\n\nKeys\n----\n" + schema_markdown())
 
 
+_REGISTERED_FIELDS = {"chain": {"sections", "law", "law_params"},
+                      "initial": {"kind", "params"}}
+"""The fields of a table's dataclass that hold registered keys (and sub-tables)."""
+
+
 def _check_schema_matches_specs() -> None:
     for table, spec in _SPECS.items():
-        names = {k.name for k in SCHEMA[table]}
-        have = {f.name for f in fields(spec)} - {"sections"}
+        names = {k.name for k in SCHEMA.written(table)}
+        have = {f.name for f in fields(spec)} - _REGISTERED_FIELDS.get(table, set())
         if names != have:  # pragma: no cover - a schema edit without the dataclass
             raise AssertionError(f"SCHEMA[{table!r}] and {spec.__name__} disagree: "
                                  f"{sorted(names ^ have)}")
 
 
 _check_schema_matches_specs()
-__doc__ = (__doc__ or "").replace("{schema}", _schema_doc())
+_DOC_TEMPLATE = __doc__ or ""
+
+
+class _ScenarioModule(types.ModuleType):
+    """The module type of this module: its docstring's key tables are made when read.
+
+    They list the registered laws (and the other registries' keys), which import NumPy:
+    generated at import, they would cost ``hertzchain --help`` that import.
+    """
+
+    @property
+    def __doc__(self) -> str:  # type: ignore[override]
+        return _DOC_TEMPLATE.replace("{schema}", _schema_doc())
+
+
+sys.modules[__name__].__class__ = _ScenarioModule

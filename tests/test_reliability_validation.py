@@ -132,7 +132,7 @@ RUNNER = {
                                         initial={"center": 85}),
                               r"\[initial\] center = 85 .*one section"),
     # non-physical amplitudes (overlap beyond the Hertz small-strain range)
-    "impact v0 huge": (_scenario(initial={"kind": "impact", "v0": 1e4, "center": 0}),
+    "impact v0 huge": ({**_scenario(), "initial": {"kind": "impact", "v0": 1e4}},
                        r"\[initial\] v0 = 10000.0 m/s is non-physical.*allowed < 0.1"),
     "exact velocity_max huge": (_scenario(initial={"velocity_max": 1e3}),
                                 r"\[initial\] velocity_max = 1000.0 .*non-physical"),

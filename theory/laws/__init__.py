@@ -15,19 +15,23 @@ file with its compiled and NumPy pieces side by side:
     :meth:`ViscoelasticHertz.from_restitution`.
 
 A new law is a new file and one :func:`register_law` call (or one line in :data:`LAWS`):
-files and scenarios find it by its ``name`` (:func:`law_from_dict`).
+files and scenarios find it by its ``name`` (:func:`law_from_dict`), and its
+:attr:`~ContactLaw.parameters` (:class:`LawParameter`: name, unit, range, default, help)
+become keys of a scenario's ``[chain]`` table with their validation and their line in
+the scenario reference (:mod:`hertzchain.scenario`); :meth:`ContactLaw.from_params`
+builds it from them.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from .base import N_PARAMS, ContactLaw, LongWave, compile_piece
+from .base import N_PARAMS, ContactLaw, LawParameter, LongWave, compile_piece
 from .power import HERTZ, PowerLaw
 from .viscoelastic import ViscoelasticHertz
 
-__all__ = ["ContactLaw", "LongWave", "PowerLaw", "ViscoelasticHertz", "HERTZ", "LAWS",
-           "N_PARAMS", "as_law", "compile_piece", "law_from_dict", "register_law"]
+__all__ = ["ContactLaw", "LawParameter", "LongWave", "PowerLaw", "ViscoelasticHertz", "HERTZ",
+           "LAWS", "N_PARAMS", "as_law", "compile_piece", "law_from_dict", "register_law"]
 
 LAWS: dict[str, type[ContactLaw]] = {
     PowerLaw.name: PowerLaw,
@@ -40,12 +44,21 @@ def register_law(cls: type[ContactLaw]) -> type[ContactLaw]:
     """Register a law class under its ``name`` (usable as a class decorator).
 
     ValueError if ``cls`` is not a :class:`ContactLaw` subclass with a non-empty
-    ``name``, or if another class is registered under that name.
+    ``name`` and a tuple of :class:`LawParameter` of distinct names as ``parameters``,
+    or if another class is registered under that name.
     """
     if not (isinstance(cls, type) and issubclass(cls, ContactLaw)):
         raise ValueError(f"a contact law must subclass theory.laws.ContactLaw (got {cls!r})")
     if not isinstance(cls.name, str) or not cls.name:
         raise ValueError(f"{cls.__name__}.name must be a non-empty string (got {cls.name!r})")
+    params = cls.parameters
+    if not (isinstance(params, tuple) and all(isinstance(p, LawParameter) for p in params)):
+        raise ValueError(f"{cls.__name__}.parameters must be a tuple of "
+                         f"theory.laws.LawParameter (got {params!r})")
+    names = [p.name for p in params]
+    if len(set(names)) != len(names) or "law" in names:
+        raise ValueError(f"{cls.__name__}.parameters: names must be distinct and not 'law' "
+                         f"(got {names})")
     if LAWS.get(cls.name, cls) is not cls:
         raise ValueError(f"contact law name {cls.name!r} is taken by "
                          f"{LAWS[cls.name].__qualname__}")

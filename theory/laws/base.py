@@ -61,7 +61,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-__all__ = ["ContactLaw", "LongWave", "compile_piece", "N_PARAMS", "ELASTIC_PIECES"]
+__all__ = ["ContactLaw", "LawParameter", "LongWave", "compile_piece", "N_PARAMS",
+           "ELASTIC_PIECES"]
 
 N_PARAMS = 2
 """Length of the runtime parameter vector every law hands to the kernels."""
@@ -234,6 +235,40 @@ class LongWave:
         return nesterenko_speed(self.c, self.xi0, xi_max, exponent=self.exponent)
 
 
+# ------------------------------------------------------------------- parameters
+@dataclass(frozen=True)
+class LawParameter:
+    """One parameter of a contact law, as the scenario key ``[chain] <name>`` offers it.
+
+    A law lists its parameters in :attr:`ContactLaw.parameters`; scenario files,
+    ``hertzchain`` validation (range, did-you-mean) and the scenario reference are built
+    from them (:mod:`hertzchain.scenario`), and :meth:`ContactLaw.from_params` receives
+    them by name.  Plain data (no NumPy): the scenario schema reads it.
+
+    Parameters
+    ----------
+    name : str
+        Keyword argument of the law's constructor and the scenario key.
+    default : float
+        Value when the key is absent.
+    doc : str
+        One line of help (the scenario reference is generated from it).
+    unit : str
+        Unit ("" if dimensionless).
+    low, high : float, optional
+        Bounds; ``low_open``/``high_open`` exclude them.
+    """
+
+    name: str
+    default: float
+    doc: str
+    unit: str = ""
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = True
+    high_open: bool = True
+
+
 # -------------------------------------------------------------------------- base
 class ContactLaw:
     r"""A contact force law (module docstring): its compiled pieces and their NumPy twins.
@@ -250,6 +285,28 @@ class ContactLaw:
     integrate its damping in exact dissipative sub-steps)."""
 
     exponent: float = 1.5
+
+    summary: ClassVar[str] = ""
+    """The force in one line for the scenario reference and ``[chain] law``'s help
+    (default: the first line of the class docstring)."""
+
+    parameters: ClassVar[tuple[LawParameter, ...]] = ()
+    """The law's parameters (:class:`LawParameter`): the scenario keys of ``[chain]``
+    that :meth:`from_params` takes."""
+
+    @classmethod
+    def from_params(cls, **params: float) -> ContactLaw:
+        """The law for the values of its :attr:`parameters` (the constructor's keywords).
+
+        The one way scenarios build a law (:meth:`hertzchain.scenario.ChainSpec.contact_law`);
+        a law whose constructor takes other arguments overrides it.
+        """
+        return cls(**params)
+
+    @classmethod
+    def help_text(cls) -> str:
+        """:attr:`summary`, or the first line of the class docstring."""
+        return cls.summary or (cls.__doc__ or cls.__name__).strip().splitlines()[0]
 
     def __init_subclass__(cls, **kwargs) -> None:
         """Refuse a class that overrides some of :data:`ELASTIC_PIECES` but not all."""

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from .base import ContactLaw, compile_piece
+from .base import ContactLaw, LawParameter, compile_piece
 
 __all__ = ["PowerLaw", "HERTZ"]
 
@@ -32,6 +32,11 @@ class PowerLaw(ContactLaw):
 
     name = "power"
     dissipative = False
+    summary = "F = k δ^n (n = exponent; 3/2 is Hertz, paper Eq. 1)"
+    parameters = (LawParameter(
+        "exponent", 1.5, "the exponent n (1 linear springs or cylinders, 3/2 spheres, 2 "
+        "cones); the static overlaps balance k δ0^n", low=1, low_open=False,
+        high=10, high_open=False),)
 
     def __init__(self, exponent: float = 1.5) -> None:
         try:

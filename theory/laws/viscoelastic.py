@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from .base import ContactLaw, compile_piece
+from .base import ContactLaw, LawParameter, compile_piece
 
 __all__ = ["ViscoelasticHertz"]
 
@@ -91,6 +91,10 @@ class ViscoelasticHertz(ContactLaw):
     name = "viscoelastic_hertz"
     dissipative = True
     exponent = 1.5
+    summary = "F = max(0, k (δ^{3/2} + A δ^{1/2} dδ/dt)) (Kuwabara & Kono 1987)"
+    parameters = (LawParameter(
+        "damping_time", 0.0, "the dissipative constant A of Brilliantov et al. (1996) "
+        "Eq. 18", "s", low=0, low_open=False),)
 
     def __init__(self, damping_time: float) -> None:
         try:
