@@ -267,7 +267,7 @@ def write_lammps(folder: Path, n: int, dt: float, steps: int, *, style: str,
                "screen no"]
     text = "\n".join(["units si", *setup, "dimension 3", data, *pair,
                       f"neighbor {0.1 * D:.10g} bin", "neigh_modify delay 0 every 1 check yes",
-                      "fix 1 all nve", f"timestep {dt:.17g}", "thermo 0", *out,
+                      "fix 1 all nve", f"timestep {float(dt)!r}", "thermo 0", *out,
                       f"run {steps}", ""])
     path = folder / f"in.{style}"
     path.write_text(text)
