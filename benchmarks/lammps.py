@@ -394,6 +394,7 @@ def main() -> None:
     print(f"# {cpu_name()}; every process pinned to core {a.core}; load average "
           f"{load0:.2f} (1 min) at the start")
     lmp = find_lammps(a.lmp)
+    doc_rows, notes = [], []
     if lmp is None:
         print("# SKIPPED LAMMPS: no --lmp, $HERTZCHAIN_LMP or `lmp` on the PATH; install "
               "it in a venv of its own: python3.11 -m venv /tmp/lammps-venv && "
@@ -401,11 +402,13 @@ def main() -> None:
         styles = []
     else:
         print(f"# LAMMPS {lmp.version}{lmp.note}")
+        notes.append(f"LAMMPS {lmp.version}, one MPI task, "
+                     f"OMP_NUM_THREADS=1; every process pinned to core {a.core} "
+                     f"(`taskset`); {a.repeats} repeats, interleaved")
         styles = a.styles
     folder = Path(a.keep) if a.keep else Path(tempfile.mkdtemp(prefix="hc-lammps-"))
     folder.mkdir(parents=True, exist_ok=True)
     hertzchain_inprocess(200)  # imports done, kernels loaded in this process
-    doc_rows, notes = [], []
     for n in a.grains:
         path = folder / f"hc{n}.toml"
         path.write_text(scenario_toml(n, rtol=a.rtol))
@@ -413,11 +416,13 @@ def main() -> None:
         if not a.no_cold:  # first, before anything of this N: an empty kernel cache
             with tempfile.TemporaryDirectory(prefix="hc-numba-") as cache:
                 cold = hertzchain_process(path, a.core, cache=cache)
-            rows["hertzchain, empty kernel cache (first run)"] = {
-                "wall": [cold["wall"]], "cpu": [cold["cpu"]], "note": "once"}
+            rows["hertzchain, empty kernel cache (first run, once)"] = {
+                "wall": [cold["wall"]], "cpu": [cold["cpu"]], "note": ""}
         ref = hertzchain_inprocess(n, rtol=a.rtol)
         dt1, steps1 = ref["summary"]["dt"], ref["summary"]["steps"]
         d0 = hertzchain_inprocess(n) if n <= 5000 and not a.no_agreement and styles else None
+        notes.append(f"N = {n:,}: `rtol = {a.rtol:g}` chose {ref['summary']['integrator']}"
+                     f" at dt = {dt1:.4g} s, {steps1:,} steps (both codes run them)")
         print(f"\n## N = {n}: rtol {a.rtol:g} → {ref['summary']['integrator']}, dt "
               f"{dt1:.4g} s, {steps1} steps (estimate {ref['summary']['rtol_estimate']:.2e})")
         if d0 is not None:
@@ -465,7 +470,7 @@ def main() -> None:
                     key = f"LAMMPS {style}"
                     cpu = lr["cpu"] + lr["loop_cpu"] * (f - 1)
                     wall = lr["wall"] + lr["loop"] * (f - 1)
-                    note = f"extrapolated from {a.probe_steps} of {steps1} steps"
+                    note = f"extrapolated from {a.probe_steps:,} of {steps1:,} steps"
                 row = rows.setdefault(key, {"wall": [], "cpu": [], "note": note})
                 row["wall"].append(wall)
                 row["cpu"].append(cpu)
