@@ -513,8 +513,8 @@ def main() -> None:
                   f"{got:.1f}×{verdict}")
             notes.append(f"N = {n:,}: LAMMPS table / hertzchain {got:.1f}×{verdict}")
         # where the time goes: start-up (the process less its run) and the run alone
-        run_cpu = min(ref["cpu"], *(hertzchain_inprocess(n, rtol=a.rtol)["cpu"]
-                                    for _ in range(a.repeats if n <= 5000 else 0)))
+        run_cpu = min([ref["cpu"], *(hertzchain_inprocess(n, rtol=a.rtol)["cpu"]
+                                     for _ in range(a.repeats if n <= 5000 else 0))])
         split = (f"N = {n:,}: hertzchain {hc_cpu:.2f} s CPU = start-up "
                  f"{hc_cpu - run_cpu:.2f} + run {run_cpu:.2f} (in this process, best)")
         if "LAMMPS table" in rows:
