@@ -40,8 +40,6 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.interpolate import CubicSpline
-from scipy.linalg import eigh
 
 from ._validate import check_nonnegative, check_positive, check_range
 from .profiles import discrete_solitary_wave
@@ -113,6 +111,7 @@ def _acoustic_dispersion(masses: np.ndarray, springs: np.ndarray, length: float)
     c0² = K_eff L²/M (K_eff = 1/Σ 1/K_j), f(θ) = ω²/(c0² q²) = 1 - γ q² + b q⁴ - c q⁶ is
     fitted at θ = 0.1, 0.2, 0.3 (relative error of γ ~ 1e-10).
     """
+    from scipy.linalg import eigh  # (lazy: scipy.* costs start-up where unused)
     p = masses.size
     c2 = length**2 / (masses.sum() * np.sum(1.0 / springs))
     fs = []
@@ -230,6 +229,7 @@ def _heavy_motion(n: float):
 
     The exact wave of the heavy chain (k_eff = 2^{-n}, masses 1, contacts k = 1).
     """
+    from scipy.interpolate import CubicSpline  # (lazy: scipy.* costs start-up where unused)
     w = discrete_solitary_wave(2.0**-n, 1.0, 1.0, velocity_max=1.0, exponent=n)
     ppg = w.points_per_grain
     r = w.overlap.reshape(-1, ppg)  # rows: grains, columns: sub-grid phase

@@ -55,7 +55,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 from scipy.special import gamma
 
@@ -431,6 +430,7 @@ def restitution_coefficient(v, k: float, reduced_mass: float, damping_time: floa
     damping_time : float
         A, s (>= 0).
     """
+    from scipy.integrate import solve_ivp  # (lazy: scipy.* costs start-up where unused)
     v = check_positive("v", v)
     b = _beta(v, float(check_positive("k", k)), float(check_positive("reduced_mass",
                                                                       reduced_mass)),

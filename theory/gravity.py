@@ -42,7 +42,6 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 from scipy.special import ai_zeros, binom
 from scipy.special import beta as beta_fn
 
@@ -176,6 +175,7 @@ def _energy_sonic_vacuum(n: float) -> float:
 @lru_cache(maxsize=16)
 def _energy_table(n: float):
     """Splines of log ε against log a and back, a ∈ [1e-10, 1e10] (600 points)."""
+    from scipy.interpolate import CubicSpline  # (lazy: scipy.* costs start-up where unused)
     la = np.linspace(np.log(1e-10), np.log(1e10), 600)
     le = np.log(_energy_integral(np.exp(la), n))
     return CubicSpline(la, le), CubicSpline(le, la), la, le
