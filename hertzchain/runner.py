@@ -27,9 +27,12 @@ Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, `
 given) and ``rtol_estimate`` (the estimated relative error of an rtol run, NaN
 otherwise; :mod:`discrete.timestep`; for the total-energy ratios ``Et_*`` of a chain
 with an interface an absolute error in units of the incident energy) say how the step
-was chosen; ``split_estimate`` is the estimated error of the phase-averaged
-kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN unless they are measured;
-:func:`discrete.diagnostics.phase_averaged_ratios`, docs/physics.md §6) and
+was chosen, and ``rtol_maxima`` which running maxima the estimate is about
+(``"refined"``: between the steps, ``"sampled"``: at the step ends, a dissipative run;
+None without rtol: :attr:`discrete.TimeStep.maxima`); ``split_estimate`` is the
+estimated error of the phase-averaged kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN
+unless they are measured; :func:`discrete.diagnostics.phase_averaged_ratios`,
+docs/physics.md §6) and
 ``split_meets_rtol`` whether it is within ``rtol``, ``front_speed_meets_rtol`` whether
 the front speeds are converged to it in the grid's rows (None without rtol or unless
 measured; False: not verified — ``hertzchain run`` then exits 4, docs/guide/exit_status.md).
@@ -919,7 +922,8 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
                    **M.summarise(chain, sim, amp, rtol=ts.rtol),
                    **_incident_strain(scenario, sim, strain0)}
         summary.update(integrator=sim.integrator, dt_source=ts.source,
-                       rtol=ts.rtol, rtol_estimate=ts.error_estimate)
+                       rtol=ts.rtol, rtol_estimate=ts.error_estimate,
+                       rtol_maxima=ts.maxima)
         # the split's own estimate against rtol (NaN: not verified, so not met)
         summary["split_meets_rtol"] = (None if ts.rtol is None
                                        or not math.isfinite(summary["Ek_tr"])
