@@ -140,7 +140,10 @@ estimate can fall short.  For a maximum sampled once per step (a dissipative run
 :data:`RTOL_SAFETY` = 0.5: on the test problems (impact, precompressed solitary wave,
 interface; every method; rtol 1e-3 … 1e-5) the true error was 0.70–0.86 of E(h), and
 1.29 of it once, where the sharper peak of the impacted grain 1 fell badly between two
-steps.  For the refined maxima (the cubic Hermite interpolant between the steps,
+steps; a run that reports energy ratios (a chain with an interface) keeps it too: they
+are bounded through the drift, not compared, and their measurement window moves with
+the energy grid's rows.  For the refined maxima (the cubic Hermite interpolant between
+the steps,
 :mod:`discrete.interpolation`: its error is the method's order, but its constant still
 depends on the peak's phase within the step), with the distance travelled, s =
 :data:`RTOL_SAFETY_REFINED` = 0.6: on the same problems and methods at rtol 1e-3,
@@ -149,7 +152,7 @@ depends on the peak's phase within the step), with the distance travelled, s =
 impacted grain's peak again), so the achieved error stays below 0.85 rtol, and is
 typically 0.5–0.6 rtol — the estimate reported, (E + F)/s, is within 2× of it.  The
 estimate is of the maxima the run keeps (:attr:`TimeStep.maxima`: refined or
-sampled).  ``integrator=None``
+sampled; docs/physics.md §23).  ``integrator=None``
 probes the methods of :data:`RTOL_CANDIDATES` — velocity Verlet, Yoshida-4 and
 Blanes–Moan 4 — and takes the one with the fewest force evaluations per unit time,
 S/h; a method's probe stops as soon as its differences show that it cannot beat the
@@ -441,18 +444,23 @@ def refined_maxima(recording, velocity_dependent: bool = False) -> bool:
                                        or recording.refined_maxima is not False)
 
 
-def rtol_safety(recording, velocity_dependent: bool = False) -> float:
+def rtol_safety(recording, velocity_dependent: bool = False,
+                energy_ratios: bool = False) -> float:
     """The safety factor s of the step rule (E(h) + F(h) <= s·rtol) for a run's recording.
 
     :data:`RTOL_SAFETY_REFINED` where every quantity the probe compares is smooth in the
     step — refined running maxima (:func:`refined_maxima`), no overlap maxima (sampled
-    once per step), no contact opening times — else :data:`RTOL_SAFETY` (module
-    docstring).
+    once per step), no contact opening times — and the run reports no energy ratios,
+    else :data:`RTOL_SAFETY` (module docstring).  Energy ratios (``energy_ratios``) are
+    not among the compared quantities: rtol bounds them through the energy drift, and
+    their measurement window moves with the rows of the energy grid, so their error is
+    not smooth in the step either.
     """
     timing = recording is not None and bool(recording.series_grains or recording.sensors
                                             or recording.wall_forces)
     strain = recording is not None and bool(recording.strain_maxima)
-    smooth = refined_maxima(recording, velocity_dependent) and not (timing or strain)
+    smooth = (refined_maxima(recording, velocity_dependent)
+              and not (timing or strain or energy_ratios))
     return RTOL_SAFETY_REFINED if smooth else RTOL_SAFETY
 
 
@@ -1290,7 +1298,7 @@ class TimeStep:
         if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
             names = ("verlet",)
         velocity_dependent = bool(law.dissipative or drag > 0)
-        safety = rtol_safety(recording, velocity_dependent)
+        safety = rtol_safety(recording, velocity_dependent, energy_ratios)
         _refuse_below_floor(chain, u, v, wall_left, wall_right, rtol=rtol, law=law,
                             drag=drag, horizon=horizon, safety=safety,
                             stages=max(get_integrator(n).stages for n in names))

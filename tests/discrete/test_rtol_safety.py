@@ -42,6 +42,7 @@ def _impact(n=150):
 ])
 def test_safety_follows_the_compared_quantities(recording, velocity_dependent, safety):
     assert rtol_safety(recording, velocity_dependent) == safety
+    assert rtol_safety(recording, velocity_dependent, energy_ratios=True) == RTOL_SAFETY
     assert 0 < RTOL_SAFETY < RTOL_SAFETY_REFINED < 1
 
 
