@@ -55,6 +55,12 @@ from pathlib import Path
 import numpy as np
 from _machine import cpu_name  # (before this folder leaves sys.path, if it does)
 
+SPEEDUP_TARGET = 5.0
+"""Run time of the default step over that of ``rtol`` (the method chosen), same run."""
+
+ERROR_WITHIN = 0.4
+"""The achieved error of the rtol run should lie in [ERROR_WITHIN, 1] × rtol (~2x)."""
+
 
 def scenario(n: int, **run):
     from hertzchain.scenario import parse_scenario
@@ -77,6 +83,7 @@ def measure(n: int, **run) -> dict:
             "steps": summary["steps"], "front_speed": summary["front_speed_tr"],
             "rows": len(sim.record.energy_t),
             "integrator": sim.integrator, "estimate": summary.get("rtol_estimate"),
+            "maxima": getattr(sim.time_step, "maxima", None),
             "vmax": np.asarray(sim.record.vmax, float).tolist(),
             "vmax_refined": None if refined is None else np.asarray(refined, float).tolist()}
 
@@ -207,7 +214,7 @@ def main() -> None:
 
     print(f"# {cpu_name()}, load average {os.getloadavg()[0]:.2f}; "
           f"impact on N grains, delta0 = 0, until grain 0.75 N; rtol = {a.rtol:g}")
-    results = []
+    results, targets = [], []
     for n in a.grains:
         measure(max(200, n // 10))  # warm: kernels loaded, imports done
         measure(max(200, n // 10), rtol=a.rtol, integrator="auto")
@@ -245,12 +252,26 @@ def main() -> None:
                   f"{cpu_base / cpu:>5.2f}× {e_mid:>9.2e} {e_max:>9.2e} {e_samp:>9.2e} "
                   f"{est:>9} {r.get('rows', -1):>6} {fs_dev:>9.1e} "
                   f"{own_base / r['wall_time']:>6.2f}×")
+            if k.endswith("auto") and "baseline" not in k:
+                targets.append((n, k, own_base / r["wall_time"],
+                                best["default"].get("cpu", math.nan) / cpu, e_max,
+                                r.get("estimate"), r.get("maxima")))
             results.append({"grains": n, "run": k, "wall_time": r["wall_time"], "cpu": cpu,
                             "dt": r["dt"], "steps": r["steps"], "err_mid": e_mid,
                             "err_max": e_max, "err_sampled": e_samp,
                             "speedup": base / r["wall_time"],
                             "speedup_cpu": cpu_base / cpu, "rows": r.get("rows"),
                             "front_dev": fs_dev})
+    print(f"\n## targets: rtol {a.rtol:g} (method chosen) against the default step, same "
+          f"run: >= {SPEEDUP_TARGET:g}x less run time at >= 2,000 grains; achieved error "
+          "(max err, against the converged run) <= rtol and within ~2x of it")
+    for n, _, wall_x, cpu_x, err, est, maxima in targets:
+        met = (wall_x >= SPEEDUP_TARGET or cpu_x >= SPEEDUP_TARGET) and n >= 2000
+        within = ERROR_WITHIN * a.rtol <= err <= a.rtol
+        print(f"  N = {n}: {wall_x:.2f}x wall, {cpu_x:.2f}x CPU (target {SPEEDUP_TARGET:g}x: "
+              f"{'met' if met else 'NOT met'}); achieved error {err:.2e} = "
+              f"{err / a.rtol:.2f} of the rtol asked (estimate {est:.2e}; {maxima or '?'} "
+              f"maxima; target [{ERROR_WITHIN:g}, 1]: {'met' if within else 'NOT met'})")
     if a.interface:
         for n in a.grains:
             interface_cost(n, a.interface, a.rtol, a.repeats)

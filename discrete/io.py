@@ -155,7 +155,7 @@ def save(path: str | os.PathLike, sim: Simulation, *, attrs: dict | None = None,
 _SCALARS = ("dt", "steps", "t", "t0", "energy0", "energy_drift", "wall_left", "wall_right",
             "drift_tolerance", "chunk", "active_window", "default_threshold", "integrator",
             "drag", "dissipation_rate0", "dt_default", "dt_source", "rtol", "rtol_estimate",
-            "rtol_order", "rtol_probe_steps")
+            "rtol_order", "rtol_probe_steps", "rtol_maxima")
 """Root attributes taken from :attr:`SavedSimulation.attrs`."""
 
 

@@ -657,7 +657,8 @@ class Simulation:
         if "rtol" in at and math.isfinite(float(at["rtol"])):
             sim.time_step = dataclasses.replace(
                 sim.time_step, rtol=float(at["rtol"]), error_estimate=float(at["rtol_estimate"]),
-                order=float(at["rtol_order"]), probe_steps=int(at["rtol_probe_steps"]))
+                order=float(at["rtol_order"]), probe_steps=int(at["rtol_probe_steps"]),
+                maxima=str(at.get("rtol_maxima", "")) or None)
         sim._default_threshold = float(at["default_threshold"])
         sim._pending = list(saved.pending)
         rec = saved.record

@@ -113,7 +113,8 @@ second order whatever the method) or of the method's order — and p = 1 (E_K = 
 if it is not.  Between the probe steps E(h) is the power law through the neighbouring
 points (below the finest, E_K (h/h_K)^p); the step is the largest h with
 
-.. math:: E(h) \le s\,\mathrm{rtol},\qquad s = 0.5\ (\text{:data:`RTOL_SAFETY`}),
+.. math:: E(h) \le s\,\mathrm{rtol},\qquad s = 0.6\ \text{or}\ 0.5\
+   (\text{:func:`rtol_safety`}),
 
 never above :math:`h_0` (no extrapolation beyond the probed steps), half the
 stability bound, nor the step at which the probe's energy drift, extrapolated to the
@@ -132,12 +133,26 @@ is refused before any probe run, and one that no step meets after the probe, eac
 with the achievable floor named (ValueError).  Finer probe steps are
 added while the differences do not shrink (not yet asymptotic) or no probe step meets s·rtol, up to
 :data:`PROBE_MAX_LEVELS` runs; an unstable probe run is dropped with the coarser ones.
-The factor 1/s is needed: a maximum sampled once per step has an
-error that depends on where the peak falls within the step, so it is not a smooth
-function of h; on the test problems (impact, precompressed solitary wave, interface;
-every method; rtol 1e-3 … 1e-5) the true error is 0.70–0.86 of E(h), and reached 1.29
-of it once, where the sharper peak of the impacted grain 1 fell badly between two steps
-(its worst case is 1.75× that of the grains further on).  ``integrator=None``
+The factor 1/s is needed: a recorded maximum has an error that depends on where the
+peak falls within the step, so it is not a smooth function of h and the Richardson
+estimate can fall short.  For a maximum sampled once per step (a dissipative run, or
+``refined_maxima=False``), the overlap maxima and the contact times, s =
+:data:`RTOL_SAFETY` = 0.5: on the test problems (impact, precompressed solitary wave,
+interface; every method; rtol 1e-3 … 1e-5) the true error was 0.70–0.86 of E(h), and
+1.29 of it once, where the sharper peak of the impacted grain 1 fell badly between two
+steps; a run that reports energy ratios (a chain with an interface) keeps it too: they
+are bounded through the drift, not compared, and their measurement window moves with
+the energy grid's rows.  For the refined maxima (the cubic Hermite interpolant between
+the steps,
+:mod:`discrete.interpolation`: its error is the method's order, but its constant still
+depends on the peak's phase within the step), with the distance travelled, s =
+:data:`RTOL_SAFETY_REFINED` = 0.6: on the same problems and methods at rtol 1e-3,
+1e-4 and 1e-5, against Blanes–Moan 4 at a 16× smaller step, the true error is
+0.71–1.03 of E(h) but 1.41 of it for Blanes–Moan 4 on the impacts at rtol 1e-5 (the
+impacted grain's peak again), so the achieved error stays below 0.85 rtol, and is
+typically 0.5–0.6 rtol — the estimate reported, (E + F)/s, is within 2× of it.  The
+estimate is of the maxima the run keeps (:attr:`TimeStep.maxima`: refined or
+sampled; docs/physics.md §23).  ``integrator=None``
 probes the methods of :data:`RTOL_CANDIDATES` — velocity Verlet, Yoshida-4 and
 Blanes–Moan 4 — and takes the one with the fewest force evaluations per unit time,
 S/h; a method's probe stops as soon as its differences show that it cannot beat the
@@ -151,7 +166,8 @@ converge at the method's order, so the 4th-order methods can win.  The
 tests (``tests/discrete/test_rtol.py``) check that the estimate bounds the true error
 (against a run at a 16× smaller step) for an impact, a precompressed solitary wave and
 an interface run, for every method ``integrator=None`` can pick (there the true
-error is 0.30–0.56 of the estimate at rtol 1e-3 and 1e-4), and ``tests/discrete/
+error is 0.4–0.85 of the estimate at rtol 1e-3 … 1e-5 where the step is not capped
+by h_0 or the drift), and ``tests/discrete/
 test_two_body.py`` that it bounds the error of the maximum overlap, the contact time
 and the coefficient of restitution of two grains against the two-body ODE for every
 law over its whole range (power laws n = 1 … 5/2, Kuwabara–Kono A = 0 … 1e3 s, drag
@@ -184,6 +200,7 @@ __all__ = ["DT_FRACTION", "TimeStep", "ProbeResult", "default_fraction", "defaul
            "PROBE_PERIODS", "PROBE_FRACTION", "PROBE_MAX_LEVELS", "ORDER_SLACK",
            "error_bounds", "contact_rates", "damping_rate", "damping_overlaps",
            "roundoff_floor", "UNIT_ROUNDOFF", "DAMPING_STEP_LIMIT", "creep_time",
+           "RTOL_SAFETY_REFINED", "rtol_safety",
            "PROBE_CREEP", "PROBE_CREEP_STEPS", "SETTLED_GROWTH"]
 
 DT_FRACTION = 0.002
@@ -191,8 +208,15 @@ DT_FRACTION = 0.002
 period (module docstring)."""
 
 RTOL_SAFETY = 0.5
-"""The step chosen for ``rtol`` aims at this fraction of rtol in the probe's error bound;
-the reported estimate is the bound / RTOL_SAFETY (module docstring)."""
+"""The step chosen for ``rtol`` aims at this fraction of rtol in the probe's error bound
+where a compared quantity is sampled once per step (running maxima without refinement,
+overlap maxima; a dissipative run) and for the energy drift; the reported estimate is the
+bound / the safety (module docstring)."""
+
+RTOL_SAFETY_REFINED = 0.6
+"""The same where every compared quantity is a smooth function of the step: the refined
+running maxima (between the steps, :mod:`discrete.interpolation`), arrival times and the
+distance travelled (module docstring)."""
 
 RTOL_CANDIDATES = ("verlet", "yoshida4", "blanes_moan4")
 """Methods probed when ``rtol`` is given without an integrator (cheapest first)."""
@@ -408,6 +432,38 @@ def stable_dt(chain: Chain, delta, *, law: ContactLaw | None = None,
     return 2.0 / math.sqrt(w2) if w2 > 0 else math.inf
 
 
+def refined_maxima(recording, velocity_dependent: bool = False) -> bool:
+    """Whether an rtol run keeps (and its probe compares) refined running maxima.
+
+    :class:`discrete.Simulation`'s rule for a step chosen for rtol: yes unless the
+    recording says ``refined_maxima=False`` or the forces depend on the velocities (a
+    dissipative law or drag: the split step stores the elastic acceleration, not dv/dt,
+    so the Hermite interpolant of (v, a) is not the velocity between the steps).
+    """
+    return not velocity_dependent and (recording is None
+                                       or recording.refined_maxima is not False)
+
+
+def rtol_safety(recording, velocity_dependent: bool = False,
+                energy_ratios: bool = False) -> float:
+    """The safety factor s of the step rule (E(h) + F(h) <= s·rtol) for a run's recording.
+
+    :data:`RTOL_SAFETY_REFINED` where every quantity the probe compares is smooth in the
+    step — refined running maxima (:func:`refined_maxima`), no overlap maxima (sampled
+    once per step), no contact opening times — and the run reports no energy ratios,
+    else :data:`RTOL_SAFETY` (module docstring).  Energy ratios (``energy_ratios``) are
+    not among the compared quantities: rtol bounds them through the energy drift, and
+    their measurement window moves with the rows of the energy grid, so their error is
+    not smooth in the step either.
+    """
+    timing = recording is not None and bool(recording.series_grains or recording.sensors
+                                            or recording.wall_forces)
+    strain = recording is not None and bool(recording.strain_maxima)
+    smooth = (refined_maxima(recording, velocity_dependent)
+              and not (timing or strain or energy_ratios))
+    return RTOL_SAFETY_REFINED if smooth else RTOL_SAFETY
+
+
 def _probe_recording(recording, velocity_dependent: bool = False) -> Recording:
     """The probe's recording: the run's own, without what only costs time in a probe.
 
@@ -416,8 +472,7 @@ def _probe_recording(recording, velocity_dependent: bool = False) -> Recording:
     velocities — a dissipative law or drag, where :class:`discrete.Simulation` keeps
     sampled maxima only); no events, series, sensors, energy grid.
     """
-    refined = not velocity_dependent and (recording is None
-                                          or recording.refined_maxima is not False)
+    refined = refined_maxima(recording, velocity_dependent)
     if recording is None:
         return Recording(maxima=True, refined_maxima=refined)
     return dataclasses.replace(recording, snapshots=(), series_grains=(), energy_every=None,
@@ -943,8 +998,8 @@ def error_bounds(differences, method_order: int) -> tuple[tuple, float, float, b
 
 
 def _refuse_below_floor(chain, u, v, wall_left, wall_right, *, rtol, law, drag, horizon,
-                        stages) -> None:
-    """ValueError, before any probe run, if round-off alone exceeds RTOL_SAFETY × rtol.
+                        stages, safety: float = RTOL_SAFETY) -> None:
+    """ValueError, before any probe run, if round-off alone exceeds ``safety`` × rtol.
 
     The fewest steps the run can take are its length (``horizon``, else the probe's,
     :data:`PROBE_PERIODS` shortest contact periods) over the largest probe step
@@ -952,8 +1007,8 @@ def _refuse_below_floor(chain, u, v, wall_left, wall_right, *, rtol, law, drag, 
     displacements are at least the initial ones and the dynamic overlaps at most the
     expected ones (:func:`expected_overlaps`), so :func:`roundoff_floor` of these is a
     lower bound of the run's round-off floor.  The step chosen for rtol keeps the
-    truncation error plus the floor within RTOL_SAFETY × rtol (:func:`_rtol_step`), so
-    an rtol below floor / RTOL_SAFETY cannot be met whatever the step.
+    truncation error plus the floor within s × rtol (:func:`_rtol_step`, s the run's
+    :func:`rtol_safety`), so an rtol below floor / s cannot be met whatever the step.
     """
     delta = expected_overlaps(chain, u, v, wall_left, wall_right, law=law)
     w = _rate_max(chain, delta, law, drag)
@@ -970,8 +1025,8 @@ def _refuse_below_floor(chain, u, v, wall_left, wall_right, *, rtol, law, drag, 
     u0 = 0.0 if u is None else float(np.max(np.abs(u), initial=0.0))
     floor = roundoff_floor(math.ceil(t / h_max), displacement=u0, strain=strain,
                            delta0=float(np.max(chain.delta0[loaded], initial=0.0)))
-    if floor > RTOL_SAFETY * rtol:
-        least = floor / RTOL_SAFETY
+    if floor > safety * rtol:
+        least = floor / safety
         raise ValueError(
             f"rtol = {rtol:g} is below what float64 can deliver for this run: round-off "
             f"alone, accumulated over its at least {math.ceil(t / h_max):,} steps "
@@ -981,36 +1036,38 @@ def _refuse_below_floor(chain, u, v, wall_left, wall_right, *, rtol, law, drag, 
             f"[{least:.2g}, 1)")
 
 
-def _rtol_step(pr: ProbeResult, rtol: float, h_max: float,
-               horizon: float | None) -> tuple[float | None, float]:
-    """The largest step h <= h_max whose estimate (E(h) + F(h)) / RTOL_SAFETY <= rtol.
+def _rtol_step(pr: ProbeResult, rtol: float, h_max: float, horizon: float | None,
+               safety: float = RTOL_SAFETY) -> tuple[float | None, float]:
+    """The largest step h <= h_max whose estimate (E(h) + F(h)) / s <= rtol (s: ``safety``).
 
     E(h) the probe's truncation error (:meth:`ProbeResult.error_at`, increasing in h),
     F(h) the round-off floor over the run (:meth:`ProbeResult.roundoff_at`, growing as
-    h falls): the steps that meet rtol form an interval below h_max.  Scanned from
-    h_max down in factors 2^(1/16) over 40 octaves, the first step that meets rtol
-    refined by bisection against the one above it.  Returns (h, estimate), or (None,
-    the smallest estimate of the scan) when no step meets rtol.
+    h falls): the steps that meet rtol form an interval below h_max.  From the step
+    where E alone meets it (F is then usually a small part: a few steps below it meet
+    rtol), else from h_max, scanned down in factors 2^(1/16) over 40 octaves; the first
+    step that meets rtol refined by bisection against the one above it.  Returns (h,
+    estimate), or (None, the smallest estimate of the scan) when no step meets rtol.
     """
     def estimate(h):
-        return (pr.error_at(h) + pr.roundoff_at(h, horizon)) / RTOL_SAFETY
+        return (pr.error_at(h) + pr.roundoff_at(h, horizon)) / safety
 
-    h = min(h_max, pr.step_for(RTOL_SAFETY * rtol))  # where E alone meets it
+    h = min(h_max, pr.step_for(safety * rtol))  # where E alone meets it
     est = estimate(h)
     if est <= rtol:
         if h >= h_max:
             return h, est
         above = min(h_max, h * 2.0 ** (1.0 / 16.0))
-    else:  # the floor takes part of the budget: scan the whole range
-        grid = h_max * 2.0 ** (-np.arange(16 * 40 + 1) / 16.0)
-        ests = np.array([estimate(x) for x in grid])
-        ok = np.flatnonzero(ests <= rtol)
-        if ok.size == 0:
-            return None, float(np.min(ests))
-        h, est = float(grid[ok[0]]), float(ests[ok[0]])
-        if ok[0] == 0:
-            return h, est
-        above = float(grid[ok[0] - 1])
+    else:  # the floor takes part of the budget: scan down (no larger step meets rtol:
+        # E alone exceeds s·rtol above h)
+        grid = h * 2.0 ** (-np.arange(16 * 40 + 1) / 16.0)
+        ests: list[float] = []
+        while len(ests) < grid.size and (not ests or ests[-1] > rtol):
+            ests.append(estimate(float(grid[len(ests)])))
+        if ests[-1] > rtol:
+            return None, min(ests)
+        i = len(ests) - 1  # >= 1: the estimate at grid[0] = h exceeds rtol
+        h, est = float(grid[i]), ests[-1]
+        above = float(grid[i - 1])
     if estimate(above) <= rtol:
         return above, estimate(above)
     lo, hi = h, above
@@ -1102,6 +1159,13 @@ class TimeStep:
     damping_rate : float
         The largest dissipative rate γ_max at the expected overlaps, 1/s
         (:func:`damping_rate`; 0 for a conservative law without drag).
+    maxima : {"refined", "sampled"} or None
+        The running maxima of v that :attr:`error_estimate` is about, those the run
+        keeps: ``"refined"`` — between the steps, the cubic Hermite interpolant's
+        maximum (``record.vmax_refined``, :mod:`discrete.interpolation`) — or
+        ``"sampled"`` — the largest value at the step ends (``record.vmax``: a dissipative
+        law or drag, or ``refined_maxima=False``; :func:`refined_maxima`).  None without
+        rtol.
     """
 
     dt: float
@@ -1116,6 +1180,7 @@ class TimeStep:
     order: float = math.nan
     probe_steps: int = 0
     damping_rate: float = 0.0
+    maxima: str | None = None
 
     @classmethod
     def choose(cls, chain: Chain, u=None, v=None, wall_left: float = 0.0,
@@ -1232,10 +1297,12 @@ class TimeStep:
                  else (get_integrator(integrator).name,))
         if law.dissipative or drag > 0:  # velocity-dependent forces: Verlet only (kernels)
             names = ("verlet",)
+        velocity_dependent = bool(law.dissipative or drag > 0)
+        safety = rtol_safety(recording, velocity_dependent, energy_ratios)
         _refuse_below_floor(chain, u, v, wall_left, wall_right, rtol=rtol, law=law,
-                            drag=drag, horizon=horizon,
+                            drag=drag, horizon=horizon, safety=safety,
                             stages=max(get_integrator(n).stages for n in names))
-        target = RTOL_SAFETY * rtol
+        target = safety * rtol
         best = None
         floors = []
         steps = 0
@@ -1260,7 +1327,7 @@ class TimeStep:
             # to the run's length at the rate measured over the probe's second half
             cap = min(drift_tolerance, rtol) if energy_ratios else drift_tolerance
             h_max = min(h_max, pr.step_for_drift(RTOL_SAFETY * cap, horizon))
-            h, est = _rtol_step(pr, rtol, h_max, horizon)
+            h, est = _rtol_step(pr, rtol, h_max, horizon, safety)
             if h is None:  # round-off and truncation together never get below rtol
                 floors.append(est)
                 continue
@@ -1278,7 +1345,9 @@ class TimeStep:
                 f"rtol in [{min(floors):.2g}, 1)")
         _, method, h, est, pr, base = best
         step = cls(h, "rtol", base.default, base.stable, base.fraction, method.name,
-                   base.delta_expected, rtol, est, pr.order, steps, base.damping_rate)
+                   base.delta_expected, rtol, est, pr.order, steps, base.damping_rate,
+                   "refined" if refined_maxima(recording, velocity_dependent)
+                   else "sampled")
         if check:
             step.check()
         return step
@@ -1320,7 +1389,8 @@ class TimeStep:
                 "dt_stable": self.stable, "dt_fraction": self.fraction,
                 "rtol": math.nan if self.rtol is None else self.rtol,
                 "rtol_estimate": self.error_estimate, "rtol_order": self.order,
-                "rtol_probe_steps": self.probe_steps}
+                "rtol_probe_steps": self.probe_steps,
+                "rtol_maxima": "" if self.maxima is None else self.maxima}
 
 
 def default_dt(chain: Chain, u=None, v=None, wall_left: float = 0.0, wall_right: float = 0.0,

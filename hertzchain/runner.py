@@ -28,9 +28,12 @@ Summary invariants (``tests/test_reliability_property.py``): ``steps``, ``t``, `
 given) and ``rtol_estimate`` (the estimated relative error of an rtol run, NaN
 otherwise; :mod:`discrete.timestep`; for the total-energy ratios ``Et_*`` of a chain
 with an interface an absolute error in units of the incident energy) say how the step
-was chosen; ``split_estimate`` is the estimated error of the phase-averaged
-kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN unless they are measured;
-:func:`discrete.diagnostics.phase_averaged_ratios`, docs/physics.md §6) and
+was chosen, and ``rtol_maxima`` which running maxima the estimate is about
+(``"refined"``: between the steps, ``"sampled"``: at the step ends, a dissipative run;
+None without rtol: :attr:`discrete.TimeStep.maxima`); ``split_estimate`` is the
+estimated error of the phase-averaged kinetic/potential split ``Ek_*``, ``Ep_*`` (NaN
+unless they are measured; :func:`discrete.diagnostics.phase_averaged_ratios`,
+docs/physics.md §6) and
 ``split_meets_rtol`` whether it is within ``rtol``, ``front_speed_meets_rtol`` whether
 the front speeds are converged to it in the grid's rows (None without rtol or unless
 measured; False: not verified — ``hertzchain run`` then exits 4, docs/guide/exit_status.md).
@@ -61,8 +64,8 @@ from .cache import canonical_json
 from .measure import interfaces
 from .scenario import ChainSpec, Scenario, ScenarioError, SectionSpec, schema_key
 
-__all__ = ["build_chain", "build_law", "build_section", "build_initial",
-           "build_initial_checked",
+__all__ = ["build_chain", "chain_inputs", "choose_time_step", "build_law", "build_section",
+           "build_initial", "build_initial_checked",
            "build_simulation", "check_run", "check_stop", "run_outcome", "run_scenario",
            "run_simulation", "summarise", "partial_path", "STOPPED_BY",
            "GRID_ROWS_PER_GRAIN", "GRID_ROWS_PER_GRAIN_RTOL", "GRID_ROWS_DISSIPATIVE",
@@ -203,23 +206,35 @@ def _wall(kind: str):
     return theory.get_material(kind)
 
 
-def build_chain(spec: ChainSpec) -> discrete.Chain:
-    """The :class:`discrete.Chain` of a chain spec: the one mapping of ``[chain]``.
+def chain_inputs(spec: ChainSpec) -> tuple[list[discrete.Section], dict]:
+    """The sections and keywords of :meth:`discrete.Chain.from_sections` for a chain spec.
 
     Sections (:func:`build_section`: profiles, disorder, own diameters), walls, the
-    static overlaps from force equilibrium for the law's exponent n: δ0 of section 0
-    (``delta0_over_d`` × its diameter) or, with ``gravity``, the weight of the grains
-    above each contact plus ``top_force`` (:meth:`discrete.Chain.from_sections`).  The
-    law and drag are :func:`build_law`'s; :func:`build_simulation` uses both.
+    exponent n of the law's static forces (:func:`build_law`) and the static overlaps:
+    δ0 of section 0 (``delta0_over_d`` × its diameter) or, with ``gravity``, the weight
+    of the grains above each contact plus ``top_force``.  :func:`build_chain` builds
+    one chain from them; an ensemble many seeds at once
+    (:meth:`discrete.Chain.from_sections_seeds`, bit for bit the same chains).
     """
     base = _material(spec.material)
     sections = [build_section(s, base, spec.diameter) for s in spec.sections]
     law, _ = build_law(spec)
     kwargs = ({"gravity": spec.gravity, "wall_force": spec.top_force} if spec.gravity > 0
               else {"delta0": spec.delta0_over_d * float(sections[0].diameter)})
-    chain = discrete.Chain.from_sections(
-        sections, left_wall=_wall(spec.left_wall), right_wall=_wall(spec.right_wall),
-        exponent=law.exponent, **kwargs)
+    kwargs.update(left_wall=_wall(spec.left_wall), right_wall=_wall(spec.right_wall),
+                  exponent=law.exponent)
+    return sections, kwargs
+
+
+def build_chain(spec: ChainSpec) -> discrete.Chain:
+    """The :class:`discrete.Chain` of a chain spec: the one mapping of ``[chain]``.
+
+    :meth:`discrete.Chain.from_sections` of :func:`chain_inputs` (sections, walls,
+    static overlaps from force equilibrium for the law's exponent n).  The law and drag
+    are :func:`build_law`'s; :func:`build_simulation` uses both.
+    """
+    sections, kwargs = chain_inputs(spec)
+    chain = discrete.Chain.from_sections(sections, **kwargs)
     return chain.with_params(scenario_chain=json.loads(canonical_json(
         {"sections": [vars(s) for s in spec.sections], "diameter": spec.diameter,
          "delta0_over_d": spec.delta0_over_d, "material": spec.material}, )))
@@ -470,27 +485,22 @@ def build_simulation(scenario: Scenario, *, energy_grid: bool = True,
         raise _too_large(scenario, "building the chain and its recording") from None
 
 
-def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | None,
-                      check: bool, cache_dir, init=None):
-    try:
-        chain = build_chain(scenario.chain)
-    except ValueError as exc:
-        raise ScenarioError(
-            f"[chain] non-physical chain: {exc} (each section's static overlap is "
-            "delta0_over_d·d·alpha_kn^(-2/3), from force equilibrium)") from None
-    if init is not None:
-        _check_given_initial(chain, init)
-    elif check:
-        init = build_initial_checked(scenario, chain, cache_dir=cache_dir)
-    else:
-        init = build_initial(scenario, chain, cache_dir=cache_dir)
-    if check:
-        check_run(scenario, init)
+def choose_time_step(scenario: Scenario, init, horizon: float) -> discrete.TimeStep:
+    """The time step of a scenario's run from its initial state (:meth:`~discrete.TimeStep.choose`).
+
+    ``[run]`` dt, dt_fraction, integrator and rtol; the law and drag of ``[chain]``
+    (:func:`build_law`); ``horizon`` the run's expected length, s (the rtol rule's
+    drift budget; ``t_end`` for a run to ``t_end``).
+
+    Raises
+    ------
+    ScenarioError
+        If no step can be chosen (names the key), or the step is not a positive finite
+        number (a contact's k/m overflows a double).
+    """
     rec, run = scenario.record, scenario.run
-    ifaces = interfaces(init.chain)
     law, drag = build_law(scenario.chain)
-    speed = _wave_speed_estimate(init.chain, init.v)
-    horizon = _run_length_estimate(scenario, init.chain, init.v, speed)
+    ifaces = interfaces(init.chain)
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
             # k/m may overflow (alpha_rho = 1e-300): dt = 0, refused below by name
@@ -517,6 +527,32 @@ def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | N
             f"frequency sqrt(k/m) overflows a double, so the time step is {dt!r} s; "
             "allowed: ratios (and diameter, material) for which every contact's k/m is a "
             "finite double")
+    return step
+
+
+def _build_simulation(scenario: Scenario, *, energy_grid: bool, threads: int | None,
+                      check: bool, cache_dir, init=None):
+    try:
+        chain = build_chain(scenario.chain)
+    except ValueError as exc:
+        raise ScenarioError(
+            f"[chain] non-physical chain: {exc} (each section's static overlap is "
+            "delta0_over_d·d·alpha_kn^(-2/3), from force equilibrium)") from None
+    if init is not None:
+        _check_given_initial(chain, init)
+    elif check:
+        init = build_initial_checked(scenario, chain, cache_dir=cache_dir)
+    else:
+        init = build_initial(scenario, chain, cache_dir=cache_dir)
+    if check:
+        check_run(scenario, init)
+    rec = scenario.record
+    ifaces = interfaces(init.chain)
+    law, drag = build_law(scenario.chain)
+    speed = _wave_speed_estimate(init.chain, init.v)
+    horizon = _run_length_estimate(scenario, init.chain, init.v, speed)
+    step = choose_time_step(scenario, init, horizon)
+    dt = step.dt
     d = float(np.mean(init.chain.diameter))
     every = rec.energy_every or None
     coarsen = 1
@@ -886,7 +922,8 @@ def _run_simulation(scenario: Scenario, *, out, progress, checkpoint_interval, r
         train, train_note = M.wave_train(chain, sim, summary["t_end_reached"])
         summary.update(M.train_summary(train, train_note))
         summary.update(integrator=sim.integrator, dt_source=ts.source,
-                       rtol=ts.rtol, rtol_estimate=ts.error_estimate)
+                       rtol=ts.rtol, rtol_estimate=ts.error_estimate,
+                       rtol_maxima=ts.maxima)
         # the split's own estimate against rtol (NaN: not verified, so not met)
         summary["split_meets_rtol"] = (None if ts.rtol is None
                                        or not math.isfinite(summary["Ek_tr"])

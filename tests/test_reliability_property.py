@@ -72,6 +72,7 @@ KEYS = {*RATIOS, "front_speed_tr", "front_speed_re", "front_speed_tr_over_c0L",
         "t", "dt", "n_grains", "wall_time",
         "stopped_by", "completed", "incomplete_reason",
         "integrator", "dt_source", "rtol", "rtol_estimate",  # how dt was chosen
+        "rtol_maxima",
         # the windows and notes of hertzchain.measure
         "front_speed_meets_rtol", "t_incident", "t_separated", "t_end_reached",
         "end_reached", "Ed", "dissipated", "ratios_normalised_to", "ratios_note",

@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -66,25 +67,86 @@ def fit_range(n: int) -> tuple[int, int]:
     return max(1, n // 10), n - 1
 
 
-def _build(scenario: Scenario):
-    """The scenario's simulation with running maxima only (the runner's chain, state, dt)."""
+def _unseeded(scenario: Scenario) -> Scenario:
+    """The scenario with every section's seed 0 and no name.
+
+    Equal for the realisations of one point of the other axes.
+    """
+    secs = tuple(replace(x, seed=0) for x in scenario.chain.sections)
+    return scenario.replace(chain=replace(scenario.chain, sections=secs), name="")
+
+
+def _chains(scenarios: Sequence[Scenario]) -> list:
+    """The chains of the scenarios, as :func:`hertzchain.runner.build_chain` builds them.
+
+    Scenarios that differ only in the seed of one disordered section are built together
+    by :meth:`discrete.Chain.from_sections_seeds` (bit for bit ``from_sections``'s
+    chains, the geometry built once); the others one by one.  The chains carry no
+    ``scenario_chain`` parameter (a realisation's summary does not read it).
+    """
     import discrete
 
-    from ..runner import build_simulation
+    from ..runner import build_chain, chain_inputs
 
-    if scenario.run.t_end is None or scenario.run.until_front_at is not None:
-        raise ScenarioError("[run] an ensemble realisation runs to t_end (s): give t_end "
-                            "and no until_front_at")
-    _, _, sim = build_simulation(scenario, energy_grid=False)
-    rec = sim.recording
-    if (rec.events() or len(rec.series_grains) or rec.energy_every or len(rec.sensors)
-            or rec.wall_forces or rec.strain_maxima or sim.kernels.refined_maxima
-            or not rec.maxima):  # a [record] table that asks for more: maxima only
-        sim = discrete.Simulation(sim.chain, sim.u, sim.v, dt=sim.time_step,
-                                  wall_left=sim.wall_left, wall_right=sim.wall_right,
-                                  law=sim.law, drag=sim.drag, record=discrete.Recording(
-                                      maxima=True, refined_maxima=False))
-    return sim
+    out: list = [None] * len(scenarios)
+    groups: list[tuple[Scenario, list[int]]] = []
+    for q, s in enumerate(scenarios):
+        key = _unseeded(s)
+        for k, idx in groups:
+            if k == key:
+                idx.append(q)
+                break
+        else:
+            groups.append((key, [q]))
+    try:
+        for _, idx in groups:
+            specs = [scenarios[q].chain for q in idx]
+            seeds = np.array([[x.seed for x in c.sections] for c in specs])
+            varying = np.flatnonzero(np.any(seeds != seeds[0], axis=0))
+            sections, kwargs = chain_inputs(specs[0])
+            disordered = [i for i, x in enumerate(sections) if x.disorder is not None]
+            section = (int(varying[0]) if varying.size == 1 else
+                       disordered[0] if varying.size == 0 and len(disordered) == 1 else None)
+            if section is None or section not in disordered:
+                for q in idx:
+                    out[q] = build_chain(scenarios[q].chain)
+                continue
+            chains = discrete.Chain.from_sections_seeds(
+                sections, [int(x) for x in seeds[:, section]], section=section, **kwargs)
+            for q, c in zip(idx, chains, strict=True):
+                out[q] = c
+    except ValueError as exc:
+        raise ScenarioError(f"[chain] non-physical chain: {exc}") from None
+    return out
+
+
+def _build(scenarios: Sequence[Scenario]) -> list:
+    """The scenarios' simulations with running maxima only (the runner's chain, state, dt).
+
+    Each realisation's chain (:func:`_chains`), initial state
+    (:func:`hertzchain.runner.build_initial_checked`, :func:`~hertzchain.runner.check_run`)
+    and time step (:func:`hertzchain.runner.choose_time_step`, the run's horizon its
+    ``t_end``) are those of :func:`hertzchain.runner.build_simulation`; the recording
+    keeps only the running maxima (all an ensemble reads).
+    """
+    import discrete
+
+    from .. import runner as R
+
+    for s in scenarios:
+        R.check_size(s)
+        if s.run.t_end is None or s.run.until_front_at is not None:
+            raise ScenarioError("[run] an ensemble realisation runs to t_end (s): give "
+                                "t_end and no until_front_at")
+    sims = []
+    for s, chain in zip(scenarios, _chains(scenarios), strict=True):
+        init = R.build_initial_checked(s, chain)
+        R.check_run(s, init)
+        law, drag = R.build_law(s.chain)
+        step = R.choose_time_step(s, init, float(s.run.t_end))
+        sims.append(init.simulation(dt=step, law=law, drag=drag, record=discrete.Recording(
+            maxima=True, refined_maxima=False)))
+    return sims
 
 
 def _summaries(sims, res, t_end: float, wall: float) -> list[dict[str, Any]]:
@@ -142,7 +204,7 @@ def realisations(scenarios: Sequence[Scenario]) -> list[dict[str, Any]]:
     from discrete.ensemble import run_ensemble
 
     t0 = time.perf_counter()
-    sims = [_build(s) for s in scenarios]
+    sims = _build(scenarios)
     sizes = {s.chain.n for s in sims}
     if len(sizes) != 1:
         raise ScenarioError(f"an ensemble batch needs one chain size, got {sorted(sizes)}")

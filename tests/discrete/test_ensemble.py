@@ -8,6 +8,8 @@ single runs do not record) must not depend on the batch, and agree with a plain 
 loop over ``discrete.integrators.step``; the statistics must be NumPy's.
 """
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -17,6 +19,7 @@ from discrete import Chain, Disorder, Recording, Section
 from discrete.ensemble import (
     amplitude_decay,
     ensemble_statistics,
+    nanquantiles,
     reference_ensemble,
     run_ensemble,
 )
@@ -181,3 +184,21 @@ def test_statistics_equal_numpy():
     assert 0.3 < st["q50_err"][0] / st["sem"][0] < 3
     with pytest.raises(ValueError, match="quantiles"):
         ensemble_statistics(x, quantiles=(1.5,))
+
+
+@pytest.mark.parametrize("shape", [(7,), (1,), (40, 6), (13, 5, 3)])
+def test_nanquantiles_bitwise_numpy(shape):
+    """nanquantiles is np.nanquantile(axis=0) bit for bit: NaNs anywhere, all-NaN
+    columns (NaN), ties, one value, quantiles at the ends and between the points."""
+    rng = np.random.default_rng(len(shape))
+    x = np.round(rng.normal(size=shape), 1)  # ties
+    x[rng.random(shape) < 0.2] = np.nan
+    if x.ndim > 1:
+        x[:, 0] = np.nan
+    qs = (0.0, 0.05, 0.25, 0.5, 0.75, 0.95, 1.0, 1 / 3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # NumPy's all-NaN slice warning
+        ref = np.nanquantile(x, qs, axis=0)
+    got = nanquantiles(x, qs)
+    assert got.shape == ref.shape
+    assert np.array_equal(got, ref, equal_nan=True)

@@ -100,3 +100,27 @@ def test_ensemble_sweep_equals_one_by_one(tmp_path):
     # a rerun finds every realisation done
     again = run_sweep(spec, out=tmp_path / "s", workers=1, processes=False, progress=False)
     assert again.n_run == 0 and again.n_skipped == 10
+
+
+def test_realisations_are_built_as_the_runner_builds_them():
+    """A batch's chains (one geometry, many seeds: Chain.from_sections_seeds), initial
+    states and steps are bit for bit build_simulation's, seed by seed; a batch mixing
+    other axes (two disorder strengths, a second disordered section) too."""
+    import dataclasses
+
+    from hertzchain.runner import build_simulation
+    from hertzchain.sweep.ensemble import _build
+
+    scen = [p.scenario for p in _spec().points()]
+    two = dataclasses.replace(scen[0].chain, sections=(
+        scen[0].chain.sections[0], dataclasses.replace(scen[0].chain.sections[0], seed=7)))
+    scen.append(scen[1].replace(chain=two))  # two disordered sections: built alone
+    sims = _build(scen)
+    for s, sim in zip(scen, sims, strict=True):
+        _, _, ref = build_simulation(s, energy_grid=False)
+        for name in ("mass", "k", "delta0", "diameter"):
+            assert np.array_equal(getattr(sim.chain, name), getattr(ref.chain, name)), name
+        assert np.array_equal(sim.u, ref.u) and np.array_equal(sim.v, ref.v)
+        assert (sim.dt, sim.wall_left, sim.wall_right, sim.integrator) == (
+            ref.dt, ref.wall_left, ref.wall_right, ref.integrator)
+    assert not np.array_equal(sims[0].chain.mass, sims[1].chain.mass)  # the seeds differ
