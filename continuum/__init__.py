@@ -44,6 +44,7 @@ from .initial import (
 from .kdv import KdVPDE
 from .medium import Discretisation, Medium, discretise
 from .nesterenko import NesterenkoPDE
+from .quasicontinuum import GrainAveragedPDE
 from .sampling import GrainSample, sample_grains, section_energies
 from .scattering import PAPER_VELOCITY_MAX, energy_ratios, section_lengths
 from .solver import InstabilityError, RK4Solver, RunResult, VerletSolver, run
@@ -52,6 +53,7 @@ __all__ = [
     "BoussinesqPDE",
     "ChainPDEBase",
     "Discretisation",
+    "GrainAveragedPDE",
     "GrainSample",
     "InstabilityError",
     "KdVPDE",
@@ -104,3 +106,4 @@ def register_model(cls: type[ChainPDEBase]) -> type[ChainPDEBase]:
 
 register_model(BoussinesqPDE)
 register_model(NesterenkoPDE)
+register_model(GrainAveragedPDE)
