@@ -1,15 +1,16 @@
 r"""Beyond the paper: the model-validity map — where the continuum and the theory hold.
 
-The continuum (``"auto"``: corrected Eq. 4 under precompression up to an incident
-strain/δ0 of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`, Eq. 7 above and at δ0 = 0)
-and the theory are measured against the discrete chain (paper Eq. 2) over the interface
-ratios (α_ρ, α_kn), the amplitude (incident strain / δ0 from 1e-3 to 100 and the sonic
-vacuum, :data:`AMPLITUDES`), the contact law's exponent n (:data:`EXPONENTS`) and an
-on-site drag (:data:`DAMPINGS`).  The error of a model: the largest of |ΔE_T|, |ΔE_R|
-(total energy over the incident energy) and the relative transmitted front speed
-(:mod:`hertzchain.compare`); NaN, with the reason, where a measurement window does not
-hold ("not compared") or where the model does not apply to the point ("does not
-apply", with the reason; the point is kept, not dropped).
+The continuum (:func:`continuum_choice`: corrected Eq. 4 under precompression up to an
+incident strain/δ0 of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`, above it and at
+δ0 = 0 the grain-averaged quasi-continuum :data:`STRONG_CONTINUUM` on lossless chains
+and Eq. 7 with drag) and the theory are measured against the discrete chain (paper
+Eq. 2) over the interface ratios (α_ρ, α_kn), the amplitude (incident strain / δ0 from
+1e-3 to 100 and the sonic vacuum, :data:`AMPLITUDES`), the contact law's exponent n
+(:data:`EXPONENTS`) and an on-site drag (:data:`DAMPINGS`).  The error of a model: the
+largest of |ΔE_T|, |ΔE_R| (total energy over the incident energy) and the relative
+transmitted front speed (:mod:`hertzchain.compare`); NaN, with the reason, where a
+measurement window does not hold ("not compared") or where the model does not apply to
+the point ("does not apply", with the reason; the point is kept, not dropped).
 
 **The theory** is regime-aware (docs/physics.md §16):
 :func:`theory.strong_interface.predict_strong` with ``theory="auto"`` — lattice acoustics
@@ -21,9 +22,10 @@ wave's speed, its energies are taken at face value.  It is lossless: on the damp
 axis the map measures how far a lossless prediction holds.
 
 **The continuum** runs wherever hertzchain admits it: the point's scenario with
-``[models] continuum = "auto"`` is validated by :func:`hertzchain.scenario.parse_scenario`,
-which refuses a model that does not apply to the chain with the reason of hertzchain's
-one applicability rule; that refusal is the point's "does not apply" reason.
+``[models] continuum`` = :func:`continuum_choice` is validated by
+:func:`hertzchain.scenario.parse_scenario`, which refuses a model that does not apply to
+the chain with the reason of hertzchain's one applicability rule; that refusal is the
+point's "does not apply" reason.
 
 Each point is the shipped sweep's scenario (``hertzchain/sweeps/model_validity.toml``,
 its linked rows :func:`law_rows`) run through the one run path
@@ -53,7 +55,8 @@ from .common import Context, run_point_cached, save_figure
 
 __all__ = ["QUICK", "FULL", "Block", "AMPLITUDES", "EXPONENTS", "DAMPINGS", "amplitude_row",
            "law_rows", "linked_axes_toml", "DoesNotApply", "TheoryPrediction",
-           "theory_prediction", "theory_errors", "with_models", "validity_point", "run",
+           "theory_prediction", "theory_errors", "with_models", "continuum_choice",
+           "STRONG_CONTINUUM", "validity_point", "run",
            "figures", "report", "to_json", "error_table"]
 
 
@@ -377,11 +380,33 @@ def theory_errors(cmp) -> dict:
             "note": "; ".join(why), "model": pred.model, "applies": True}
 
 
+STRONG_CONTINUUM = "qc"
+"""The map's continuum where ``"auto"`` would run Eq. 7 on a lossless chain: the
+grain-averaged quasi-continuum (:class:`continuum.GrainAveragedPDE`, docs/physics.md §23).
+Against the discrete chain on the map's strongly nonlinear rows (strain/δ0 = 9, 100, the
+sonic vacuum) it is within 3.6 % at every compared interface, Eq. 7 within 10.5–13 %;
+it has no dissipative terms, so with drag the map keeps Eq. 7."""
+
+
+def continuum_choice(scenario) -> str:
+    """``[models] continuum`` of a map point: :data:`STRONG_CONTINUUM` or ``"auto"``.
+
+    The quasi-continuum where ``"auto"`` would run Eq. 7 (δ0 = 0, or an incident
+    strain/δ0 of the exact wave above :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`) on
+    a chain without drag; ``"auto"`` elsewhere (Eq. 4 under weak precompressed waves,
+    Eq. 7 with drag).
+    """
+    d0 = float(scenario.chain.delta0_over_d)
+    strain = scenario.initial.strain_max
+    strong = not d0 > 0 or (strain is not None and strain / d0 > AUTO_EQ4_MAX_STRAIN)
+    return STRONG_CONTINUUM if strong and not scenario.chain.drag else "auto"
+
+
 def with_models(scenario):
     """The point's scenario with every model that applies, and why the continuum does not.
 
-    The continuum (``"auto"``) is switched on if hertzchain's rule admits it
-    (:func:`hertzchain.scenario.parse_scenario`, via
+    The continuum (:func:`continuum_choice`) is switched on if hertzchain's rule admits
+    it (:func:`hertzchain.scenario.parse_scenario`, via
     :meth:`hertzchain.scenario.Scenario.with_values`); its refusal is returned as the
     reason ("" when it runs).  The closed-form TheoryModel is off: the map's theory is
     :func:`theory_prediction`.
@@ -391,7 +416,8 @@ def with_models(scenario):
     (Scenario, str)
     """
     try:
-        return scenario.with_values({"models.continuum": "auto", "models.theory": False}), ""
+        return scenario.with_values({"models.continuum": continuum_choice(scenario),
+                                     "models.theory": False}), ""
     except ScenarioError as exc:
         return (scenario.with_values({"models.continuum": False, "models.theory": False}),
                 str(exc))

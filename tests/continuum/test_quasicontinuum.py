@@ -153,8 +153,8 @@ def test_compiled_stepper_equals_the_numpy_reference():
 
 def test_energy_is_conserved_and_the_wave_keeps_its_speed():
     """Sonic vacuum, the exact discrete wave continued by the model over 40 grains at the
-    default step: energy drift below 2e-5 (measured 2.6e-6, Yoshida-4 at ω_max Δt = 0.3;
-    1.8e-5 for a precompressed wave at strain/δ0 = 9),
+    step ω_max Δt = 0.3: energy drift below 2e-5 (measured 2.6e-6, Yoshida-4; 1.8e-5 for a
+    precompressed wave at strain/δ0 = 9; at ω_max Δt = 1 about 1e-3),
     momentum to 1e-9, and the peak speed within 1 % of the exact wave's (measured
     −0.66 %: the spline launch hands the model 2.7 % less energy than the chain's, i.e.
     0.27 % less speed, plus O(h²))."""
@@ -166,10 +166,10 @@ def test_energy_is_conserved_and_the_wave_keeps_its_speed():
                                          amplitude=1e-4 * theory.PAPER_DIAMETER)
     grains_per_s = wave.speed / theory.PAPER_DIAMETER
     t1, t2 = 10 / grains_per_s, 50 / grains_per_s
-    res = continuum.run(pde, state, t1, dt=pde.stable_dt(state), method=YOSHIDA)
+    dt = pde.stable_dt(state, 0.25)  # ω_max Δt = 0.3
+    res = continuum.run(pde, state, t1, dt=dt, method=YOSHIDA)
     x1 = continuum.sample_grains(pde, res["state"]).v
-    res2 = continuum.run(pde, res["state"], t2 - t1, dt=pde.stable_dt(state),
-                          method=YOSHIDA)
+    res2 = continuum.run(pde, res["state"], t2 - t1, dt=dt, method=YOSHIDA)
     x2 = continuum.sample_grains(pde, res2["state"]).v
     e1, p1 = pde.invariants(res2["state"])
     assert abs(e1 / e0 - 1) < 2e-5
@@ -207,4 +207,4 @@ def test_interface_transmits_like_the_chain():
     d, c = r["discrete"], r["continuum"]
     assert c["speed"] == pytest.approx(d["speed"], rel=1e-2)
     assert c["energy"] == pytest.approx(d["energy"], abs=3e-2)
-    assert r["drift"] < 1e-4
+    assert r["drift"] < 1e-3  # (ω_max Δt = 0.6)
