@@ -1,16 +1,17 @@
 r"""Beyond the paper: the model-validity map — where the continuum and the theory hold.
 
 The continuum (:func:`continuum_choice`: corrected Eq. 4 under precompression up to an
-incident strain/δ0 of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`, above it and at
-δ0 = 0 the grain-averaged quasi-continuum :data:`STRONG_CONTINUUM` on lossless chains
-and Eq. 7 with drag) and the theory are measured against the discrete chain (paper
-Eq. 2) over the interface ratios (α_ρ, α_kn), the amplitude (incident strain / δ0 from
-1e-3 to 100 and the sonic vacuum, :data:`AMPLITUDES`), the contact law's exponent n
-(:data:`EXPONENTS`) and an on-site drag (:data:`DAMPINGS`).  The error of a model: the
-largest of |ΔE_T|, |ΔE_R| (total energy over the incident energy) and the relative
-transmitted front speed (:mod:`hertzchain.compare`); NaN, with the reason, where a
-measurement window does not hold ("not compared") or where the model does not apply to
-the point ("does not apply", with the reason; the point is kept, not dropped).
+incident strain/δ0 of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`, Eq. 7 above it,
+and on lossless chains from strain/δ0 = 9 and at δ0 = 0 the grain-averaged
+quasi-continuum :data:`STRONG_CONTINUUM`) and the theory are measured against the
+discrete chain (paper Eq. 2) over the interface ratios (α_ρ, α_kn), the amplitude
+(incident strain / δ0 from 1e-3 to 100 and the sonic vacuum, :data:`AMPLITUDES`), the
+contact law's exponent n (:data:`EXPONENTS`) and an on-site drag (:data:`DAMPINGS`). The
+error of a model: the largest of |ΔE_T|, |ΔE_R| (total energy over the incident energy)
+and the relative transmitted front speed (:mod:`hertzchain.compare`); NaN, with the
+reason, where a measurement window does not hold ("not compared") or where the model
+does not apply to the point ("does not apply", with the reason; the point is kept, not
+dropped).
 
 **The theory** is regime-aware (docs/physics.md §16):
 :func:`theory.strong_interface.predict_strong` with ``theory="auto"`` — lattice acoustics
@@ -56,7 +57,7 @@ from .common import Context, run_point_cached, save_figure
 __all__ = ["QUICK", "FULL", "Block", "AMPLITUDES", "EXPONENTS", "DAMPINGS", "amplitude_row",
            "law_rows", "linked_axes_toml", "DoesNotApply", "TheoryPrediction",
            "theory_prediction", "theory_errors", "with_models", "continuum_choice",
-           "STRONG_CONTINUUM", "validity_point", "run",
+           "STRONG_CONTINUUM", "STRONG_CONTINUUM_MIN_STRAIN", "validity_point", "run",
            "figures", "report", "to_json", "error_table"]
 
 
@@ -381,24 +382,30 @@ def theory_errors(cmp) -> dict:
 
 
 STRONG_CONTINUUM = "qc"
-"""The map's continuum where ``"auto"`` would run Eq. 7 on a lossless chain: the
-grain-averaged quasi-continuum (:class:`continuum.GrainAveragedPDE`, docs/physics.md §23).
-Against the discrete chain on the map's strongly nonlinear rows (strain/δ0 = 9, 100, the
-sonic vacuum) it is within 3.6 % at every compared interface, Eq. 7 within 10.5–13 %;
-it has no dissipative terms, so with drag the map keeps Eq. 7."""
+"""The map's continuum in its strongly nonlinear rows (:func:`continuum_choice`): the
+grain-averaged quasi-continuum (:class:`continuum.GrainAveragedPDE`, docs/physics.md
+§23).  Against the discrete chain on the rows strain/δ0 = 9, 100 and the sonic vacuum it
+is within 3.6 % at every compared interface, where Eq. 7 is off by up to 10.5–13 %; it
+has no dissipative terms, so with drag the map keeps Eq. 7."""
+STRONG_CONTINUUM_MIN_STRAIN = 9.0
+"""Incident strain/δ0 from which the map runs :data:`STRONG_CONTINUUM` (and at δ0 = 0).
+At strain/δ0 = 1 Eq. 7 is the closer model (on five interfaces 0.1–1.7 % against
+0.1–6 %); between the map's rows 1 and 9 the switch is not measured, and the map's
+points do not depend on where in (1, 9] it lies."""
 
 
 def continuum_choice(scenario) -> str:
     """``[models] continuum`` of a map point: :data:`STRONG_CONTINUUM` or ``"auto"``.
 
-    The quasi-continuum where ``"auto"`` would run Eq. 7 (δ0 = 0, or an incident
-    strain/δ0 of the exact wave above :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`) on
-    a chain without drag; ``"auto"`` elsewhere (Eq. 4 under weak precompressed waves,
-    Eq. 7 with drag).
+    The quasi-continuum on a chain without drag at δ0 = 0 or where the exact incident
+    wave's strain/δ0 is at least :data:`STRONG_CONTINUUM_MIN_STRAIN`; ``"auto"``
+    elsewhere (Eq. 4 for weak precompressed waves, Eq. 7 above
+    :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN` and with drag).
     """
     d0 = float(scenario.chain.delta0_over_d)
     strain = scenario.initial.strain_max
-    strong = not d0 > 0 or (strain is not None and strain / d0 > AUTO_EQ4_MAX_STRAIN)
+    strong = not d0 > 0 or (strain is not None
+                            and strain / d0 >= STRONG_CONTINUUM_MIN_STRAIN * (1 - 1e-9))
     return STRONG_CONTINUUM if strong and not scenario.chain.drag else "auto"
 
 
