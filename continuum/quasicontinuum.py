@@ -100,20 +100,51 @@ MAX_TERMS = 6
 band matrix gains nothing on the wave's spectrum)."""
 
 
-def averaging_coefficients(terms: int) -> np.ndarray:
-    r"""Coefficients a_0 … a_M of P_M(K), the Taylor polynomial of 1/sinc(√K/2).
+def averaging_coefficients(terms: int, nodes: int | None = None) -> np.ndarray:
+    r"""Coefficients a_0 … a_M of the averaging polynomial P_M, in K (grains⁻²).
 
+    ``nodes`` None: the Taylor polynomial of 1/sinc(√K/2), from
     :math:`x/\sin x = \sum_j (-1)^{j+1}\,2(2^{2j-1}-1)\,B_{2j}\,x^{2j}/(2j)!` (Abramowitz &
-    Stegun 4.3.68), at x = √K/2: a_j = 2(2^{2j-1}-1)|B_{2j}|/((2j)! 4^j) (a_0 = 1,
-    a_1 = 1/24, a_2 = 7/5760, a_3 = 31/967680).  K in grains⁻².
+    Stegun 4.3.68) at x = √K/2: a_j = 2(2^{2j-1}-1)|B_{2j}|/((2j)! 4^j) (1, 1/24, 7/5760,
+    31/967680, …).  ``nodes`` = n: the grid's polynomial in the eigenvalue λ of L on
+    n nodes per grain (module docstring, "Discretisation"), the Taylor polynomial of
+    :math:`x/\sin(n\arcsin(x/n))`, x = √λ/2, so that the semi-discrete linear dispersion
+    λ/P(λ)² is the lattice's 4 sin²(k/2) to O(λ^{M+1}) (n = 1: P = 1, the chain itself;
+    n → ∞: the continuum's coefficients).
     """
     m = int(terms)
     if m != terms or not 1 <= m <= MAX_TERMS:
         raise ValueError(f"terms must be an integer in [1, {MAX_TERMS}] (got {terms!r})")
-    b = bernoulli(2 * m)
-    a = [1.0] + [2.0 * (2.0 ** (2 * j - 1) - 1.0) * abs(b[2 * j]) / math.factorial(2 * j)
-                 / 4.0**j for j in range(1, m + 1)]
-    return np.array(a)
+    if nodes is None:
+        b = bernoulli(2 * m)
+        return np.array([1.0] + [2.0 * (2.0 ** (2 * j - 1) - 1.0) * abs(b[2 * j])
+                                 / math.factorial(2 * j) / 4.0**j for j in range(1, m + 1)])
+    n = int(nodes)
+    if n != nodes or n < 1 or n % 2 == 0:
+        raise ValueError(f"nodes must be an odd integer >= 1 (got {nodes!r})")
+    deg = 2 * m + 2  # truncated power series in x, degree < deg
+
+    def mul(p, q):
+        return np.convolve(p, q)[:deg]
+
+    # z = n arcsin(x/n) = Σ_k (2k)!/(4^k k!² (2k+1)) x^{2k+1} / n^{2k}
+    z = np.zeros(deg)
+    for k in range(0, m + 1):
+        if 2 * k + 1 < deg:
+            z[2 * k + 1] = (math.factorial(2 * k) / (4.0**k * math.factorial(k) ** 2
+                                                    * (2 * k + 1)) / n ** (2 * k))
+    # sin z / x
+    sz, power = np.zeros(deg), z.copy()
+    for j in range(0, m + 1):
+        sz += (-1) ** j * power / math.factorial(2 * j + 1)
+        power = mul(mul(power, z), z)
+    q = sz[1:]  # (sin z)/x, even in x: q[2j] the coefficient of x^{2j}
+    # 1/q as a series (q[0] = 1)
+    inv = np.zeros(deg - 1)
+    inv[0] = 1.0
+    for i in range(1, deg - 1):
+        inv[i] = -sum(q[t] * inv[i - t] for t in range(1, i + 1))
+    return np.array([inv[2 * j] / 4.0**j for j in range(m + 1)])
 
 
 def averaging_multiplier(k: np.ndarray, terms: int) -> np.ndarray:
@@ -288,7 +319,7 @@ class GrainAveragedPDE(ChainPDEBase):
             raise ValueError("the quasi-continuum needs a chain without periodic cells "
                              "(homogenised dimers and trimers take 'eq4' or 'eq7')")
         self.terms = int(terms)
-        self.coefficients = averaging_coefficients(terms)
+        self.coefficients = averaging_coefficients(terms, n)
         self._grad = kern.staggered_gradient(d.x_nodes.size, d.h, self._bc_code, 2)
         nf = d.x_faces.size
         self._band = self._factor(nf, d.h)
