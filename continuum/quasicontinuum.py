@@ -12,7 +12,7 @@ where S is the average over one grain, :math:`(Sf)(X) = \int_{X-1/2}^{X+1/2} f`,
 Fourier multiplier :math:`\mathrm{sinc}(k/2) = \sin(k/2)/(k/2)` (k per grain): the
 overlap of a contact is the strain averaged over the grain between two centres,
 u(X − ½) − u(X + ½), and the net force on a grain is the face force averaged the same
-way, F(X − ½) − F(X + ½) (docs/physics.md, "The grain-averaged quasi-continuum").
+way, F(X − ½) − F(X + ½) (docs/physics.md §23).
 Sampled at the grains this *is* the chain; on a continuous X it is a family of
 uncoupled copies of the chain (S couples only points one grain apart), so it is no
 continuum.  Its travelling waves are the exact discrete solitary waves (§7):
@@ -31,12 +31,12 @@ P_M the Taylor polynomial of order M of :math:`1/\mathrm{sinc}(\sqrt K/2) =
 positive, :math:`a_j = 2(2^{2j-1}-1)|B_{2j}|/((2j)!\,4^j)`, B the Bernoulli numbers, and
 the series converges for |k| < 2π).  Then
 
-* :math:`\tilde S_M` equals S to O(k^{2M+2}) — the chain's dispersion
-  :math:`\omega^2 = (K_0/m)\,k^2\tilde S_M^2 = (4K_0/m)\sin^2(k/2)\,(1 + O(k^{2M+2}))`
-  (Eq. 4's long-wave expansion is M = 1 truncated once more);
+* :math:`\tilde S_M` (the [0/M] Padé approximant of sinc(k/2)) equals S to O(k^{2M+2}):
+  the chain's dispersion
+  :math:`\omega^2 = (K_0/m)\,k^2\tilde S_M^2 = (4K_0/m)\sin^2(k/2)\,(1 + O(k^{2M+2}))`;
 * :math:`\tilde S_M` couples every X (a smooth kernel decaying like
-  :math:`e^{-\kappa|X|}`, κ ≈ 2.4 per grain for M = 2): a continuum, whose limit as the
-  grid is refined is a PDE, not the chain;
+  :math:`e^{-\kappa|X|}`, κ ≈ 2.4 and 3.8 per grain for M = 2 and 3): a continuum,
+  whose limit as the grid is refined is a PDE, not the chain;
 * it is bounded, 0 < \tilde S_M ≤ 1: ω² ≤ (K_0/m) max_K K/P_M(K)², so the time step is
   the lattice's whatever the grid, and the problem is well-posed in every regime, with
   or without precompression;
@@ -51,23 +51,34 @@ the series converges for |k| < 2π).  Then
 Its sonic-vacuum solitary wave (Hertz, grain-sampled overlap amplitude A) against the
 exact discrete wave of the same A: speed −0.09 %, −0.03 %, −0.01 % and energy −1.6 %,
 −0.42 %, −0.13 % for M = 2, 3, 4 (the compacton of Eq. 7: speed −1.2 %; travelling
-waves by Petviashvili's iteration, docs/physics.md).  The default M = 3.
+waves by Petviashvili's iteration, docs/physics.md §23).  The default M = 3.
 
 Discretisation
 --------------
-The staggered grid of :mod:`continuum.medium` (u, v on nodes, δ and F on faces).  The
-strain s = Gu is the two-point staggered difference, -L = -DᵀD/h² the three-point
-second difference on the faces with even (Neumann) ends, so that P_M(L) is a symmetric
-positive definite band matrix of half-bandwidth M with P_M(L)·1 = 1 (a uniform strain
-is averaged to itself; sums are kept).  It is Cholesky-factored once; each force
-evaluation is two banded solves:
+The staggered grid of :mod:`continuum.medium` (u, v on nodes, δ and F on faces), h = 1/n
+grains.  The strain s = Gu is the two-point staggered difference, -L = -DᵀD/h² the
+three-point second difference on the faces with even (Neumann) ends, so that B = P(L)
+is a symmetric positive definite band matrix of half-bandwidth M with B·1 = 1 (a
+uniform strain is averaged to itself; sums are kept).  It is factored once (B = ŨᵀDŨ);
+each force evaluation is two banded solves:
 
 .. math:: \delta = \delta_0 + B^{-1}Gu,\qquad m\,\ddot u = -G^{\mathsf T}B^{-1}
-          \big[w\,(F(\delta) - F_0)\big],\qquad B = P_M(L),
+          \big[w\,(F(\delta) - F_0)\big],
 
 the exact gradient of :math:`h\sum_q w_q[W(\delta_q) - W(\delta_{0,q}) - F_{0,q}(\delta_q
 - \delta_{0,q})]` (w the face weights: ½ at a wall face, 0 at a free end face), so the
-semi-discrete system conserves its energy and momentum.  The grid error is O(h²).
+semi-discrete system conserves its energy and momentum.  Since GᵀG = L, the
+semi-discrete linear dispersion is a function of L's eigenvalue λ = (4/h²)sin²(kh/2)
+alone, (K_0/m) λ/P(λ)²; P is therefore taken as the Taylor polynomial in λ of
+x/sin(n arcsin(x/n)), x = √λ/2 (:func:`averaging_coefficients` with ``nodes`` = n),
+which makes it the lattice's 4 sin²(k/2) to O(λ^{M+1}) on every grid — one node per
+grain gives P = 1 and the chain itself, n → ∞ the continuum's P_M (as Eq. 7's
+``correct_h2``).  The remaining grid error, in the nonlinear terms, is O(h²).
+
+Grain sampling (:func:`continuum.sample_grains`) reads the model's own contact overlap δ
+(:meth:`GrainAveragedPDE.contact_overlaps`), not u_{j-1} − u_j: B⁻¹ ~ K^{-M} at high
+wavenumbers, so sub-grain displacement patterns carry almost no energy and u may wiggle
+on the grid scale where δ does not.
 
 Not covered: periodic ends, dissipative laws or drag, and homogenised periodic cells
 (a ValueError names them).

@@ -390,9 +390,10 @@ is within 3.6 % at every compared interface, where Eq. 7 is off by up to 10.5–
 has no dissipative terms, so with drag the map keeps Eq. 7."""
 STRONG_CONTINUUM_INTEGRATOR = "position_verlet"
 """The quasi-continuum's splitting method on the map (``[models] integrator``; its step is
-the scenario's default, ω_max Δt = 0.6): on ten strongly nonlinear points the errors
-against the chain are those of Yoshida-4 within 0.6 % of the incident energy (the
-model's own error, 0.6–3.4 %, dominates), at 0.55–0.65 of its CPU time."""
+the scenario's default, ω_max Δt = 0.6): on ten strongly nonlinear points its errors
+against the chain are Yoshida-4's within 0.2 % of the incident energy (the model's own
+error, 0.6–3.5 %, dominates), and over the map's rows Yoshida-4 takes 1.4–2.5 times its
+CPU time (docs/physics.md §23)."""
 STRONG_CONTINUUM_MIN_STRAIN = 9.0
 """Incident strain/δ0 from which the map runs :data:`STRONG_CONTINUUM` (and at δ0 = 0).
 At strain/δ0 = 1 Eq. 7 is the closer model (on five interfaces 0.1–1.7 % against
