@@ -386,8 +386,8 @@ STRONG_CONTINUUM = "qc"
 """The map's continuum in its strongly nonlinear rows (:func:`continuum_choice`): the
 grain-averaged quasi-continuum (:class:`continuum.GrainAveragedPDE`, docs/physics.md
 §23).  Against the discrete chain on the rows strain/δ0 = 9, 100 and the sonic vacuum it
-is within 3.6 % at every compared interface, where Eq. 7 is off by up to 10.5–13 %; it
-has no dissipative terms, so with drag the map keeps Eq. 7."""
+is within 3.4 % at every compared interface, where Eq. 7 is off by up to 8–12 %; it has
+no dissipative terms, so with drag the map keeps Eq. 7."""
 STRONG_CONTINUUM_INTEGRATOR = "position_verlet"
 """The quasi-continuum's splitting method on the map (``[models] integrator``; its step is
 the scenario's default, ω_max Δt = 0.6): on ten strongly nonlinear points its errors
