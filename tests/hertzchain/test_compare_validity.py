@@ -309,7 +309,7 @@ def test_reproduce_item_quick(tmp_path, monkeypatch):
     V.report(rep, table, figs)
     text = rep.to_markdown(tmp_path)
     assert "within 10 %" in text and "sonic vacuum" in text and "median" in text
-    assert "continuum (Eq. 4)" in text and "continuum (Eq. 7)" in text
+    assert "continuum (Eq. 4)" in text and f"continuum ({V.STRONG_CONTINUUM})" in text
     assert "theory (lattice acoustics)" in text and "theory (quasi-particle)" in text
     # one small file per point (scenario and row; the runs are compared in memory,
     # not written), and a second run reuses them: the same table, bit for bit
