@@ -6,7 +6,9 @@ else is then computed with the *discrete* chain's formulas (paper Eq. 1, 2), so 
 continuum run and a DEM run are compared with identical definitions:
 
 * overlap of contact j: δ_j = δ0_j + u_{j-1} - u_j (walls at rest; a free end keeps
-  δ0; periodic chains wrap), m;
+  δ0; periodic chains wrap), m — or the model's own overlap of that contact where the
+  model defines one (``contact_overlaps(u)``: the quasi-continuum's averaged strain,
+  :class:`continuum.GrainAveragedPDE`);
 * kinetic energy of grain i: ½ m_i v_i², J;
 * potential energy of contact j: the contact energy minus the static energy of the same
   contact, U(δ_j) - U(δ0_j) with U the law's elastic energy (Hertz: (2/5) k_j
