@@ -6,6 +6,9 @@
 * :class:`NesterenkoPDE` — Nesterenko's strongly nonlinear Eq. 7 (corrected,
   conservative) for any power law F = kδ^n, regularised by saturating its dispersion at
   the coercivity limit;
+* :class:`GrainAveragedPDE` — the grain-averaged quasi-continuum for the strongly
+  nonlinear regime: the chain's exact averages over a grain (overlap and force) replaced
+  by their [0/M] Padé approximant, for any elastic law (docs/physics.md §24);
 * :class:`KdVPDE` — the unidirectional KdV reduction of Eq. 4 with its sech² soliton.
 
 Both chain equations take a :class:`Medium` (:class:`theory.medium.Medium`: per-grain
@@ -25,7 +28,7 @@ py-pde's ``FileStorage``.  :func:`sample_grains` reads a state grain by grain wi
 discrete solver's energy definitions; :func:`energy_ratios` computes the paper's Table 2
 for one interface.
 
-Models are registered by name in :data:`MODELS` (``"eq4"``, ``"eq7"``): a new
+Models are registered by name in :data:`MODELS` (``"eq4"``, ``"eq7"``, ``"qc"``): a new
 continuum model is one file with a :class:`ChainPDEBase` subclass (``name``, ``label``,
 :meth:`~ChainPDEBase.for_chain`) and one :func:`register_model` call; scenario files
 then select it by its ``name`` (``[models] continuum``, validated against
@@ -46,6 +49,7 @@ from .initial import (
 from .kdv import KdVPDE
 from .medium import Discretisation, Medium, discretise
 from .nesterenko import NesterenkoPDE
+from .quasicontinuum import GrainAveragedPDE
 from .sampling import GrainSample, sample_grains, section_energies
 from .scattering import PAPER_VELOCITY_MAX, energy_ratios, section_lengths
 from .solver import InstabilityError, RK4Solver, RunResult, VerletSolver, run
@@ -54,6 +58,7 @@ __all__ = [
     "BoussinesqPDE",
     "ChainPDEBase",
     "Discretisation",
+    "GrainAveragedPDE",
     "GrainSample",
     "InstabilityError",
     "KdVPDE",
@@ -106,3 +111,4 @@ def register_model(cls: type[ChainPDEBase]) -> type[ChainPDEBase]:
 
 register_model(BoussinesqPDE)
 register_model(NesterenkoPDE)
+register_model(GrainAveragedPDE)

@@ -6,7 +6,9 @@ else is then computed with the *discrete* chain's formulas (paper Eq. 1, 2), so 
 continuum run and a DEM run are compared with identical definitions:
 
 * overlap of contact j: δ_j = δ0_j + u_{j-1} - u_j (walls at rest; a free end keeps
-  δ0; periodic chains wrap), m;
+  δ0; periodic chains wrap), m — or the model's own overlap of that contact where the
+  model defines one (``contact_overlaps(u)``: the quasi-continuum's averaged strain,
+  :class:`continuum.GrainAveragedPDE`);
 * kinetic energy of grain i: ½ m_i v_i², J;
 * potential energy of contact j: the contact energy minus the static energy of the same
   contact, U(δ_j) - U(δ0_j) with U the law's elastic energy (Hertz: (2/5) k_j
@@ -108,6 +110,9 @@ def sample_grains(pde, state) -> GrainSample:
         du[0] = du[-1] = u[-1] - u[0]
     law = med.law
     overlap = med.delta0 + du
+    own = getattr(pde, "contact_overlaps", None)
+    if own is not None:  # a model whose contact overlap is its own averaged strain
+        overlap = own(np.asarray(state[0].data))
     eff = pde.effective
     cells = eff.k != med.k
     if np.any(cells):

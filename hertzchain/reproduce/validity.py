@@ -1,15 +1,17 @@
 r"""Beyond the paper: the model-validity map — where the continuum and the theory hold.
 
-The continuum (``"auto"``: corrected Eq. 4 under precompression up to an incident
-strain/δ0 of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`, Eq. 7 above and at δ0 = 0)
-and the theory are measured against the discrete chain (paper Eq. 2) over the interface
-ratios (α_ρ, α_kn), the amplitude (incident strain / δ0 from 1e-3 to 100 and the sonic
-vacuum, :data:`AMPLITUDES`), the contact law's exponent n (:data:`EXPONENTS`) and an
-on-site drag (:data:`DAMPINGS`).  The error of a model: the largest of |ΔE_T|, |ΔE_R|
-(total energy over the incident energy) and the relative transmitted front speed
-(:mod:`hertzchain.compare`); NaN, with the reason, where a measurement window does not
-hold ("not compared") or where the model does not apply to the point ("does not
-apply", with the reason; the point is kept, not dropped).
+The continuum (:func:`continuum_choice`: corrected Eq. 4 under precompression up to an
+incident strain/δ0 of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`, Eq. 7 above it,
+and on lossless chains from strain/δ0 = 9 and at δ0 = 0 the grain-averaged
+quasi-continuum :data:`STRONG_CONTINUUM`) and the theory are measured against the
+discrete chain (paper Eq. 2) over the interface ratios (α_ρ, α_kn), the amplitude
+(incident strain / δ0 from 1e-3 to 100 and the sonic vacuum, :data:`AMPLITUDES`), the
+contact law's exponent n (:data:`EXPONENTS`) and an on-site drag (:data:`DAMPINGS`). The
+error of a model: the largest of |ΔE_T|, |ΔE_R| (total energy over the incident energy)
+and the relative transmitted front speed (:mod:`hertzchain.compare`); NaN, with the
+reason, where a measurement window does not hold ("not compared") or where the model
+does not apply to the point ("does not apply", with the reason; the point is kept, not
+dropped).
 
 **The theory** is regime-aware (docs/physics.md §16):
 :func:`theory.strong_interface.predict_strong` with ``theory="auto"`` — lattice acoustics
@@ -21,9 +23,10 @@ wave's speed, its energies are taken at face value.  It is lossless: on the damp
 axis the map measures how far a lossless prediction holds.
 
 **The continuum** runs wherever hertzchain admits it: the point's scenario with
-``[models] continuum = "auto"`` is validated by :func:`hertzchain.scenario.parse_scenario`,
-which refuses a model that does not apply to the chain with the reason of hertzchain's
-one applicability rule; that refusal is the point's "does not apply" reason.
+``[models] continuum`` = :func:`continuum_choice` is validated by
+:func:`hertzchain.scenario.parse_scenario`, which refuses a model that does not apply to
+the chain with the reason of hertzchain's one applicability rule; that refusal is the
+point's "does not apply" reason.
 
 Each point is the shipped sweep's scenario (``hertzchain/sweeps/model_validity.toml``,
 its linked rows :func:`law_rows`) run through the one run path
@@ -53,7 +56,9 @@ from .common import Context, run_point_cached, save_figure
 
 __all__ = ["QUICK", "FULL", "Block", "AMPLITUDES", "EXPONENTS", "DAMPINGS", "amplitude_row",
            "law_rows", "linked_axes_toml", "DoesNotApply", "TheoryPrediction",
-           "theory_prediction", "theory_errors", "with_models", "validity_point", "run",
+           "theory_prediction", "theory_errors", "with_models", "continuum_choice",
+           "STRONG_CONTINUUM", "STRONG_CONTINUUM_MIN_STRAIN",
+           "STRONG_CONTINUUM_INTEGRATOR", "validity_point", "run",
            "figures", "report", "to_json", "error_table"]
 
 
@@ -377,10 +382,45 @@ def theory_errors(cmp) -> dict:
             "note": "; ".join(why), "model": pred.model, "applies": True}
 
 
+STRONG_CONTINUUM = "qc"
+"""The map's continuum in its strongly nonlinear rows (:func:`continuum_choice`): the
+grain-averaged quasi-continuum (:class:`continuum.GrainAveragedPDE`, docs/physics.md
+§24).  Against the discrete chain on the rows strain/δ0 = 9, 100 and the sonic vacuum it
+is within 3.4 % at every compared interface, where Eq. 7 is off by up to 8–12 %; it has
+no dissipative terms, so with drag the map keeps Eq. 7."""
+STRONG_CONTINUUM_INTEGRATOR = "position_verlet"
+"""The quasi-continuum's splitting method on the map (``[models] integrator``; its step is
+the scenario's default, ω_max Δt = 0.6): on ten strongly nonlinear points its errors
+against the chain are Yoshida-4's within 0.2 % of the incident energy (the model's own
+error, 0.6–3.5 %, dominates), and over the map's rows Yoshida-4 takes 1.4–2.5 times its
+CPU time (docs/physics.md §24)."""
+STRONG_CONTINUUM_MIN_STRAIN = 9.0
+"""Incident strain/δ0 from which the map runs :data:`STRONG_CONTINUUM` (and at δ0 = 0).
+At strain/δ0 = 1 Eq. 7 is the closer model (on five interfaces 0.1–1.7 % against
+0.1–6 %); between the map's rows 1 and 9 the switch is not measured, and the map's
+points do not depend on where in (1, 9] it lies."""
+
+
+def continuum_choice(scenario) -> str:
+    """``[models] continuum`` of a map point: :data:`STRONG_CONTINUUM` or ``"auto"``.
+
+    The quasi-continuum on a chain without drag at δ0 = 0 or where the exact incident
+    wave's strain/δ0 is at least :data:`STRONG_CONTINUUM_MIN_STRAIN`; ``"auto"``
+    elsewhere (Eq. 4 for weak precompressed waves, Eq. 7 above
+    :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN` and with drag).
+    """
+    d0 = float(scenario.chain.delta0_over_d)
+    strain = scenario.initial.strain_max
+    strong = not d0 > 0 or (strain is not None
+                            and strain / d0 >= STRONG_CONTINUUM_MIN_STRAIN * (1 - 1e-9))
+    return STRONG_CONTINUUM if strong and not scenario.chain.drag else "auto"
+
+
 def with_models(scenario):
     """The point's scenario with every model that applies, and why the continuum does not.
 
-    The continuum (``"auto"``) is switched on if hertzchain's rule admits it
+    The continuum (:func:`continuum_choice`; the quasi-continuum with
+    :data:`STRONG_CONTINUUM_INTEGRATOR`) is switched on if hertzchain's rule admits it
     (:func:`hertzchain.scenario.parse_scenario`, via
     :meth:`hertzchain.scenario.Scenario.with_values`); its refusal is returned as the
     reason ("" when it runs).  The closed-form TheoryModel is off: the map's theory is
@@ -390,8 +430,12 @@ def with_models(scenario):
     -------
     (Scenario, str)
     """
+    model = continuum_choice(scenario)
+    extra = {"models.integrator": STRONG_CONTINUUM_INTEGRATOR} \
+        if model == STRONG_CONTINUUM else {}
     try:
-        return scenario.with_values({"models.continuum": "auto", "models.theory": False}), ""
+        return scenario.with_values({"models.continuum": model, "models.theory": False,
+                                     **extra}), ""
     except ScenarioError as exc:
         return (scenario.with_values({"models.continuum": False, "models.theory": False}),
                 str(exc))
