@@ -619,30 +619,41 @@ def _interface_style(results: SweepResults, sel: np.ndarray):
 def _regimes(ax, model: str, xs: np.ndarray, names: list[str], right: float) -> None:
     """Name, over the panel, the equation or theory that ran on each side of its switch.
 
-    The switch (dashed line, drawn where it falls within the finite amplitudes' decades)
-    is ``"auto"``'s Eq. 4 → Eq. 7 strain/δ0 (:data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`)
-    for the continuum and :data:`theory.strong_interface.STRONG_THRESHOLD` (lattice
-    acoustics → quasi-particle) for the theory; the names are those the points recorded
-    (``xs``: their positions, log10 of strain/δ0, ``names``: what ran there; ``right``:
-    the x where the finite amplitudes end, the sonic vacuum's column beyond it named
-    over that column).
+    The switches (dashed lines, drawn where they fall within the finite amplitudes'
+    decades) are ``"auto"``'s Eq. 4 → Eq. 7 strain/δ0
+    (:data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`) for the continuum and
+    :data:`theory.strong_interface.STRONG_THRESHOLD` (lattice acoustics → quasi-particle)
+    for the theory, and halfway between two neighbouring amplitudes where the recorded
+    model changes with no such switch between them (the map's Eq. 7 → quasi-continuum).
+    The names are those the points recorded (``xs``: their positions, log10 of
+    strain/δ0, ``names``: what ran there; ``right``: the x where the finite amplitudes
+    end, the sonic vacuum's column beyond it named over that column).
     """
     from theory.strong_interface import STRONG_THRESHOLD
 
     from .scenario import AUTO_EQ4_MAX_STRAIN
 
-    switch = math.log10(AUTO_EQ4_MAX_STRAIN if model == "continuum" else STRONG_THRESHOLD)
     lo, hi = ax.get_xlim()
-    inside = lo < switch < right - 0.2  # (not on the break)
-    if inside:
-        ax.axvline(switch, color="0.45", lw=0.8, ls="--")
+    known = (AUTO_EQ4_MAX_STRAIN,) if model == "continuum" else (STRONG_THRESHOLD,)
+    cuts = [c for c in map(math.log10, known) if lo < c < right - 0.2]  # (not on the break)
+    # a change of model between two neighbouring amplitudes with no known switch between
+    # them (e.g. the map's Eq. 7 -> quasi-continuum): a line halfway (in log10)
+    levels = np.unique(xs[xs < right])
+    ran = [{n for n, x in zip(names, xs, strict=True) if x == lev and n} for lev in levels]
+    for (a, na), (b, nb) in zip(zip(levels[:-1], ran[:-1], strict=True),
+                                zip(levels[1:], ran[1:], strict=True), strict=True):
+        if na != nb and not any(a < c < b for c in cuts):
+            cuts.append(0.5 * (a + b))
+    cuts.sort()
+    for c in cuts:
+        ax.axvline(c, color="0.45", lw=0.8, ls="--")
+    edges = [lo, *cuts, right]
     finite = xs < right
-    sides = ((("below", (lo, switch)), ("above", (switch, right))) if inside else
-             (("all", (lo, right)),))
     spans = []  # (label, from x, to x): one label over neighbouring spans of the same names
-    for side, (a, b) in sides + (("sonic", (right, hi)),):
-        here = {"below": finite & (xs < switch), "above": finite & (xs >= switch),
-                "all": finite, "sonic": ~finite}[side]
+    for a, b, here in [*((a, b, finite & (xs >= a) & (xs < b) if a > lo else
+                          finite & (xs < b)) for a, b in zip(edges[:-1], edges[1:],
+                                                             strict=True)),
+                       (right, hi, ~finite)]:
         found = " / ".join(sorted({n for n, h in zip(names, here, strict=True) if h and n}))
         if spans and found and spans[-1][0] == found and spans[-1][2] == a:
             spans[-1] = (found, spans[-1][1], b)
@@ -655,7 +666,15 @@ def _regimes(ax, model: str, xs: np.ndarray, names: list[str], right: float) -> 
 
 _MODEL_LABELS = {"continuum": "continuum", "theory": "theory"}
 _REGIME_COLUMN = {"continuum": "continuum_model", "theory": "theory_model"}
-_REGIME_NAMES = {"eq4": "Eq. 4", "eq7": "Eq. 7", "kdv": "KdV"}
+
+
+def _regime_name(name: str) -> str:
+    """The label of a recorded model name (:data:`continuum.MODELS`; KdV; theories as is)."""
+    import continuum
+
+    if name in continuum.MODELS:
+        return continuum.MODELS[name].label
+    return {"kdv": "KdV"}.get(name, name)
 
 
 def _median_line(ax, x: np.ndarray, y: np.ndarray, sonic: bool, **style) -> None:
@@ -735,7 +754,7 @@ def plot_validity_amplitude(ax, results: SweepResults, *, model: str = "theory",
         if (codes[here] == 4).all():
             ax.text(x, bottom * 1.6, _NA_LABEL, ha="center", va="bottom",
                     fontsize="small", color="0.35", style="italic")
-    names = [_REGIME_NAMES.get(n, n) for n in
+    names = [_regime_name(n) for n in
              _text(results, _REGIME_COLUMN[model], sel & (codes <= 2))]
     _regimes(ax, model, xs_all[sel & (codes <= 2)], names, right)
     law = "" if (exponent, damping) == (1.5, 0.0) else \
