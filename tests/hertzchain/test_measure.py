@@ -350,6 +350,34 @@ def test_the_verdict_weighs_the_velocity_profile():
     assert "off by 92 %" in text and "profile L2 0.92" in text
     e["profile_l2"] = 0.004
     assert "within 10 %" in _verdict_part("the continuum", e, True)
+    # a narrow pulse 1.3 grains behind: a position error (the front speed's), not a
+    # wrong wave; the shape error once shifted is weighed and the shift named
+    e = {"energy": 0.003, "speed": 0.004, "error": 0.004, "profile_l2": 0.62,
+         "profile_shape_l2": 0.002, "profile_lag": -1.3}
+    text = _verdict_part("the continuum", e, True)
+    assert "within 1 %" in text and "once shifted by +1.3 grains" in text, text
+
+
+def test_shifted_profile_error_finds_a_pure_shift_and_keeps_a_wrong_shape():
+    # a sech² pulse 2 grains wide shifted by 1.3 grains: L2 0.62 unshifted; the spline
+    # shift recovers it to its interpolation error (~2e-3 of the norm at this width)
+    from hertzchain.compare import shifted_profile_error
+
+    i = np.arange(400.0)
+    ref = np.cosh((i - 200.0) / 2.0) ** -2
+    moved = np.cosh((i - 201.3) / 2.0) ** -2
+    plain = np.linalg.norm(moved - ref) / np.linalg.norm(ref)
+    err, lag = shifted_profile_error(moved, ref)
+    assert plain > 0.5 and err < 5e-3 and lag == pytest.approx(1.3, abs=0.021)
+    # a wrong amplitude is no shift: the error stays (here exactly 0.5 at lag 0)
+    err, lag = shifted_profile_error(0.5 * ref, ref)
+    assert err == pytest.approx(0.5, rel=1e-12) and lag == 0.0
+    # never above the plain difference; a reference at rest has no shape error
+    rng = np.random.default_rng(1)
+    noise = rng.normal(size=i.size)
+    assert shifted_profile_error(noise, ref)[0] <= np.linalg.norm(noise - ref) / \
+        np.linalg.norm(ref) + 1e-15
+    assert all(map(np.isnan, shifted_profile_error(ref, 0 * ref)))
 
 
 # -- geometry: one interface position ------------------------------------------------------
