@@ -293,6 +293,49 @@ def _first_at_least(x, value):
     return lo
 
 
+@numba.njit(**_INNER)
+def _special_grains(watch, ts_idx):
+    """The special grains of a chunk and where each watched and series grain is among them.
+
+    Returns ``(sp_w, sp_ws, pos_w, pos_ws_w, pos_ws_s)``: the sorted distinct watched
+    grains ``sp_w`` and watched-or-series grains ``sp_ws``, and the index of each entry
+    of ``watch`` in ``sp_w`` and in ``sp_ws`` and of each entry of ``ts_idx`` in
+    ``sp_ws``: ``np.unique`` and ``np.searchsorted``, by insertion into a sorted array
+    (a few grains; numba's sort and search overloads took about a tenth of the first
+    compile of the stepping kernel).
+    """
+    sp_w = _sorted_union(watch, watch[:0])
+    sp_ws = _sorted_union(watch, ts_idx)
+    return (sp_w, sp_ws, _positions(sp_w, watch), _positions(sp_ws, watch),
+            _positions(sp_ws, ts_idx))
+
+
+@numba.njit(inline="always", **_INNER)
+def _sorted_union(a, b):
+    """The distinct entries of the int arrays ``a`` and ``b``, sorted (a new array)."""
+    out = np.empty(a.size + b.size, np.int64)
+    n = 0
+    for src in (a, b):
+        for x in src:
+            i = _first_at_least(out[:n], x)
+            if i < n and out[i] == x:
+                continue
+            for j in range(n, i, -1):
+                out[j] = out[j - 1]
+            out[i] = x
+            n += 1
+    return out[:n]
+
+
+@numba.njit(inline="always", **_INNER)
+def _positions(sorted_, x):
+    """Index in the sorted int array ``sorted_`` of each entry of ``x`` (all present)."""
+    out = np.empty(x.size, np.int64)
+    for q in range(x.size):
+        out[q] = _first_at_least(sorted_, x[q])
+    return out
+
+
 @numba.njit(inline="always", **_INNER)
 def _test_events(vals, pos, watch, wmax, wthr):
     """The per-step event test on the watched grains' synchronous velocities ``vals[pos[q]]``.
@@ -1013,13 +1056,6 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             lo, hi = lo_p, lo_p
         return 1, rows, hit_q, lo, hi
 
-    @jit(**_INLINE)
-    def no_block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
-                 track, events, series, rows, cfg, work, peak, h):
-        """Take every step one by one (status 0): the kernel without blocking."""
-        return 0, rows, -1, lo, hi
-
-
     # ------------------------------------------------------------ energy rows
     @jit(**_INNER)
     def energy_row(u, v, mass, k, d0, wl, wr, lo, hi, c, ek_out, ep_out):
@@ -1123,8 +1159,12 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         return lo, hi
 
     # -------------------------------------------------------- chunk (entry points)
-    def make_run_chunk(try_block, BLOCKS):
-        """``run_chunk`` with temporal blocking (``block``) or without (``no_block``)."""
+    def make_run_chunk(BLOCKS):
+        """``run_chunk`` with temporal blocking (``block``) or without.
+
+        Without, the blocking code and its work arrays are not compiled in: ``BLOCKS``
+        is a constant of the closure, and numba drops the branches on it before typing.
+        """
 
         def run_chunk(st, con, p, wl, wr, dt, drift, kick, nsteps, lo, hi, vmax, umax, rmax,
                       track, track_r, watch, wmax, wthr, ts_idx, ts_every, step0, ts_out, cfg,
@@ -1199,32 +1239,30 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             rows = 0
             fired = -1
             # special grains: watched (every step) and series (on sampling steps), sorted unique
-            sp_w = np.unique(watch)
-            sp_ws = np.unique(np.concatenate((watch, ts_idx)))
-            pos_w = np.searchsorted(sp_w, watch)
-            pos_ws_w = np.searchsorted(sp_ws, watch)
-            pos_ws_s = np.searchsorted(sp_ws, ts_idx)
+            sp_w, sp_ws, pos_w, pos_ws_w, pos_ws_s = _special_grains(watch, ts_idx)
             vsp = np.empty(sp_ws.size)
             vwork = np.empty(n if VD else 0)  # the velocity pass's maxima, discarded (step)
-            # temporal blocking work arrays (a state copy to roll back to if events can fire)
-            nt_max = max(1, nthreads)
-            nsub_max = max(block_steps, 1) * ns if BLOCKS else 1
-            keep = n if watch.size > 0 and BLOCKS else 0
-            keep_r = keep + 1 if keep and track_r else 0
-            keep_p = keep if keep and peak[0] else 0
-            ntile_max = (n // max(tile, 1)) + nt_max + 2
-            work = ((np.empty(nsub_max), np.empty(nsub_max), np.empty(nsub_max),
-                     np.zeros(nsub_max, np.bool_), np.zeros(nsub_max, np.bool_),
-                     np.zeros(nsub_max, np.bool_), np.zeros(nsub_max)),
-                    np.zeros((nsub_max, sp_w.size)),
-                    (np.empty(keep), np.empty(keep), np.empty(keep), np.empty(keep),
-                     np.empty(keep_r), np.empty((PEAK_ROWS, keep_p)), np.empty(keep_p),
-                     np.empty(keep_p)),
-                    np.empty(watch.size), np.empty(ntile_max + 1, np.int64),
-                    np.empty(ntile_max), np.empty(ntile_max))
-            events = (watch, wmax, wthr, sp_w, pos_w)
+            if BLOCKS:
+                # temporal blocking work arrays (a state copy to roll back to if events
+                # can fire)
+                nt_max = max(1, nthreads)
+                nsub_max = max(block_steps, 1) * ns
+                keep = n if watch.size > 0 else 0
+                keep_r = keep + 1 if keep and track_r else 0
+                keep_p = keep if keep and peak[0] else 0
+                ntile_max = (n // max(tile, 1)) + nt_max + 2
+                work = ((np.empty(nsub_max), np.empty(nsub_max), np.empty(nsub_max),
+                         np.zeros(nsub_max, np.bool_), np.zeros(nsub_max, np.bool_),
+                         np.zeros(nsub_max, np.bool_), np.zeros(nsub_max)),
+                        np.zeros((nsub_max, sp_w.size)),
+                        (np.empty(keep), np.empty(keep), np.empty(keep), np.empty(keep),
+                         np.empty(keep_r), np.empty((PEAK_ROWS, keep_p)), np.empty(keep_p),
+                         np.empty(keep_p)),
+                        np.empty(watch.size), np.empty(ntile_max + 1, np.int64),
+                        np.empty(ntile_max), np.empty(ntile_max))
+                events = (watch, wmax, wthr, sp_w, pos_w)
+                bcfg = (nt_max, min_parallel, tile, min_serial_block)
             mx = (vmax, rmax, track_r)
-            bcfg = (nt_max, min_parallel, tile, min_serial_block)
             no_block_before = 0
             e_every, e_coarsen, e_kin, e_pot, mass = erow
             erows = np.int64(0)  # (not a literal 0: one take_row signature for both calls)
@@ -1235,9 +1273,9 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 nb = min(block_steps, nsteps - s)
                 if e_every > 0:  # a block never spans an energy row
                     nb = min(nb, e_every - (step0 + s) % e_every)
-                if nb >= 4 and fired < 0 and s >= no_block_before:
+                if BLOCKS and nb >= 4 and fired < 0 and s >= no_block_before:
                     close = e_every > 0 and (step0 + s + nb) % e_every == 0
-                    status, rows, hit, lo_b, hi_b = try_block(
+                    status, rows, hit, lo_b, hi_b = block(
                         st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
                         track, events, (ts_idx, ts_every, step0, ts_out), rows, bcfg, work,
                         peak, dt)
@@ -1401,8 +1439,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         return _entry(func, ckey + suffix, **options)
 
     accelerations = entry(accelerations, inline="always")
-    run_steps = entry(make_run_chunk(no_block, False), "_steps")
-    run_blocked = None if VD else entry(make_run_chunk(block, True), "_blocked")
+    run_steps = entry(make_run_chunk(False), "_steps")
+    run_blocked = None if VD else entry(make_run_chunk(True), "_blocked")
     return Kernels(law, DRAG, RMAX, refined, VD, run_steps, run_blocked, accelerations,
                    entry(contact_energies), entry(grain_energies), entry(shadow_correction),
                    entry(static_forces), entry(dissipation_rate), entry(grid_row))
