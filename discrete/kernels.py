@@ -294,40 +294,31 @@ def _first_at_least(x, value):
 
 
 @numba.njit(**_INNER)
-def _special_grains(watch, ts_idx):
-    """The special grains of a chunk and where each watched and series grain is among them.
+def _sorted_distinct(a, b):
+    """The distinct entries of the int arrays ``a`` and ``b``, sorted (a new array).
 
-    Returns ``(sp_w, sp_ws, pos_w, pos_ws_w, pos_ws_s)``: the sorted distinct watched
-    grains ``sp_w`` and watched-or-series grains ``sp_ws``, and the index of each entry
-    of ``watch`` in ``sp_w`` and in ``sp_ws`` and of each entry of ``ts_idx`` in
-    ``sp_ws``: ``np.unique`` and ``np.searchsorted``, by insertion into a sorted array
-    (a few grains; numba's sort and search overloads took about a tenth of the first
-    compile of the stepping kernel).
+    ``np.unique`` by insertion into a sorted array: the special grains of a chunk are a
+    few, and numba's sort and search overloads took about a tenth of the first compile
+    of the stepping kernel.
     """
-    sp_w = _sorted_union(watch, watch[:0])
-    sp_ws = _sorted_union(watch, ts_idx)
-    return (sp_w, sp_ws, _positions(sp_w, watch), _positions(sp_ws, watch),
-            _positions(sp_ws, ts_idx))
-
-
-@numba.njit(inline="always", **_INNER)
-def _sorted_union(a, b):
-    """The distinct entries of the int arrays ``a`` and ``b``, sorted (a new array)."""
-    out = np.empty(a.size + b.size, np.int64)
+    m = a.size + b.size
+    out = np.empty(m, np.int64)
     n = 0
-    for src in (a, b):
-        for x in src:
-            i = _first_at_least(out[:n], x)
-            if i < n and out[i] == x:
-                continue
-            for j in range(n, i, -1):
-                out[j] = out[j - 1]
-            out[i] = x
-            n += 1
+    for q in range(m):
+        x = a[q] if q < a.size else b[q - a.size]
+        i = n
+        while i > 0 and out[i - 1] > x:
+            i -= 1
+        if i > 0 and out[i - 1] == x:
+            continue
+        for j in range(n, i, -1):
+            out[j] = out[j - 1]
+        out[i] = x
+        n += 1
     return out[:n]
 
 
-@numba.njit(inline="always", **_INNER)
+@numba.njit(**_INNER)
 def _positions(sorted_, x):
     """Index in the sorted int array ``sorted_`` of each entry of ``x`` (all present)."""
     out = np.empty(x.size, np.int64)
@@ -1239,7 +1230,11 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             rows = 0
             fired = -1
             # special grains: watched (every step) and series (on sampling steps), sorted unique
-            sp_w, sp_ws, pos_w, pos_ws_w, pos_ws_s = _special_grains(watch, ts_idx)
+            sp_w = _sorted_distinct(watch, watch)
+            sp_ws = _sorted_distinct(watch, ts_idx)
+            pos_w = _positions(sp_w, watch)
+            pos_ws_w = _positions(sp_ws, watch)
+            pos_ws_s = _positions(sp_ws, ts_idx)
             vsp = np.empty(sp_ws.size)
             vwork = np.empty(n if VD else 0)  # the velocity pass's maxima, discarded (step)
             if BLOCKS:
