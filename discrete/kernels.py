@@ -175,6 +175,8 @@ __all__ = ["Kernels", "make_kernels", "batch_kernel", "kernel_params", "chain_ru
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 _INNER = {"nogil": True, "error_model": "numpy"}
 _INLINE = {"inline": "always", **_INNER}
+_CALLEE = {"no_cpython_wrapper": True, "no_cfunc_wrapper": True, **_INNER}
+"""A function only compiled code calls: no wrappers for Python or C callers (compile time)."""
 
 UMAX_EVERY = 8
 """Steps between updates of the running maximum of u (see ``run_chunk``)."""
@@ -560,7 +562,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             v[i] = vn
             dis[i + 1] += 0.5 * ((vi - vn) * (vi + vn)) / inv_m[i]
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def dissipate(st, con, p, wl, wr, lo, hi, tau, adjoint):
         """The dissipative sub-step D_τ (``adjoint``: D*_τ) on the window; new (lo, hi).
 
@@ -676,7 +678,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 un = unr
         return un, phi_l
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def piece(st, con, p, mx, i0, i1, ul, ur, dc, c1, c2, track):
         """One substep of grains [i0, i1) given the drifted outer neighbours ``ul``, ``ur``.
 
@@ -899,7 +901,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     # block instead of one per substep, and a tile (u, v, max v: 24 bytes per grain)
     # stays in L2 during its nsub substeps.  Position-dependent laws only.
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp, none,
                   vsp2, nsub, peak, h):
         """Phase A on tile j (shrinking ranges) or phase B around boundary j (growing)."""
@@ -940,7 +942,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp,
                       none, vsp2, nsub, peak, h)
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax, track,
               events, series, rows, cfg, work, peak, h):
         """Try one temporal block of ``nb`` steps from step ``s`` (section above).
@@ -1054,7 +1056,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         return 1, rows, hit_q, lo, hi
 
     # ------------------------------------------------------------ energy rows
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def energy_row(u, v, mass, k, d0, wl, wr, lo, hi, c, ek_out, ep_out):
         """One row of the per-grain energy grid, summed over blocks of ``c`` grains, J.
 
@@ -1316,7 +1318,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
 
         return run_chunk
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def take_row(st, con, p, wl, wr, kick, dt, lo, hi, c, e_kin, e_pot, erows, mass):
         """An energy row inside a chunk (``run_chunk``'s ``erow``); returns (rows, lo, hi).
 
