@@ -270,7 +270,8 @@ def first_runs(a, load0: float) -> tuple[str, str]:
     table = markdown_table(["first run, empty kernel cache", "wall s", "CPU s",
                             "numba compiling, CPU s", "target"], rows)
     notes = (f"Medians over {a.rounds} round(s), each a fresh process on an empty cache"
-             + (", alternating with the baseline code" if a.baseline_tree else "")
+             + (f", alternating with the baseline code (DIR: a checkout of other code, "
+                f"here {a.baseline_tree.name})" if a.baseline_tree else "")
              + ".  Compiling: numba's outermost compile events (CPU) inside the run; for "
              "reproduce, the seconds it states (wall, summed over its worker processes).")
     return table, notes
@@ -298,8 +299,14 @@ def main(argv=None) -> int:
     first_table, first_notes = first_runs(a, load0)
     print(first_table)
     if a.write_docs:
-        write_section("first-run", section(first_table, load=(load0, os.getloadavg()[0]),
-                                           notes=first_notes))
+        argv, sys.argv = sys.argv, [  # the command as written down: no local paths
+            {"--baseline-tree": "DIR"}.get(prev, x)
+            for prev, x in zip([None, *sys.argv[:-1]], sys.argv, strict=True)]
+        try:
+            body = section(first_table, load=(load0, os.getloadavg()[0]), notes=first_notes)
+        finally:
+            sys.argv = argv
+        write_section("first-run", body)
     if a.first_run_only:
         return 0
     load0 = os.getloadavg()[0]
