@@ -232,6 +232,8 @@ def first_runs(a, load0: float) -> tuple[str, str]:
                 if a.reproduce:
                     rq[name].append(first_reproduce(Path(tmp), tree, f"{name[:4]}{k}"))
     load1 = os.getloadavg()[0]
+    # on a loaded machine the wall time includes waiting for a core: judge the CPU time
+    basis = "wall" if max(load0, load1) <= 1.5 else "cpu"
     med = {name: {q: statistics.median(r[q] for r in runs) for q in ("wall", "cpu", "compile")}
            for name, runs in res.items()}
     print(f"CPU: {cpu_name()}; load average {load0:.1f} → {load1:.1f}; {a.rounds} round(s)"
@@ -245,7 +247,8 @@ def first_runs(a, load0: float) -> tuple[str, str]:
         rows.append([f"first `hertzchain run`, 500 grains ({name})", f"{m['wall']:.1f}",
                      f"{m['cpu']:.1f}", f"{m['compile']:.1f}",
                      f"≤ {TARGET_FIRST_RUN_WALL:.0f} s wall: "
-                     f"{_verdict(m['wall'], TARGET_FIRST_RUN_WALL)} it"])
+                     f"{_verdict(m[basis], TARGET_FIRST_RUN_WALL)} it"
+                     + (" (by its CPU time: loaded machine)" if basis == "cpu" else "")])
     for name, runs in rq.items():
         if not runs:
             continue
