@@ -124,16 +124,16 @@ No ``fastmath``: the tests rely on bitwise determinism.
 
 Compile time: numba inlines an ``inline="always"`` function by copying its IR into
 every caller before typing (and runs its untyped passes again at every call site), so
-the first compile grows with the inlined code.  The one-per-substep or rarer pieces
-(``piece``, ``energy_row``, ``take_row``, ``block``, ``dissipate``, and the entry point
-``accelerations`` a chunk calls at its end and at an energy row, already compiled for
-the simulation's start) are separate compiled functions (LLVM may still inline them);
-the per-grain helpers stay inlined so that the fused loops vectorise.  This about halves
-the first compile (docs/benchmarks.md, "Design measurements").  The chunk's set-up uses
-no numba overloads of NumPy's sorting and searching (:func:`_sorted_distinct`), and the
-kernel without temporal blocking compiles none of the blocking code
-(``make_run_chunk``): a first run compiles about a fifth less (docs/benchmarks.md,
-"First-run compilation").
+the first compile grows with the inlined code.  The one-per-step or rarer pieces
+(``step``, ``piece``, ``energy_row``, ``take_row``, ``block``, ``dissipate``, and the
+entry point ``accelerations`` a chunk calls at its end and at an energy row, already
+compiled for the simulation's start) are separate compiled functions without wrappers
+for Python callers (LLVM may still inline them); the per-grain helpers stay inlined so
+that the fused loops vectorise.  This about halves the first compile (docs/benchmarks.md,
+"Design measurements").  The chunk's set-up uses no numba overloads of NumPy's sorting
+and searching (:func:`_sorted_distinct`), and the kernel without temporal blocking
+compiles none of the blocking code (``make_run_chunk``): a first run compiles about a
+third less (docs/benchmarks.md, "First-run compilation").
 
 Arguments are grouped in tuples (numba passes them at no cost): ``st = (u, v, a, dis)``
 the state (displacements m, velocities m/s, accelerations m/s², dissipated energy
@@ -1092,7 +1092,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             i = end + 1
 
     # ------------------------------------------------------------------ one step
-    @jit(**_INLINE)
+    @jit(**_CALLEE)
     def step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, mx, umax, track, do_umax,
              sp, vsp, vwork, peak, gstep):
         """All substeps of one step on the window, grown as needed; returns (lo, hi).
