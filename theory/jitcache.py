@@ -158,7 +158,7 @@ def cache_is_warm(dispatcher) -> bool:
 
 
 KERNEL_FAMILIES: dict[str, tuple[str, float]] = {
-    "discrete": ("the discrete solver's", 10.0),
+    "discrete": ("the discrete solver's", 8.0),
     "continuum": ("the continuum solver's", 5.0),
 }
 """Kernel families announced when they compile: top-level package → (whose kernels,
