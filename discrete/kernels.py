@@ -124,16 +124,18 @@ No ``fastmath``: the tests rely on bitwise determinism.
 
 Compile time: numba inlines an ``inline="always"`` function by copying its IR into
 every caller before typing (and runs its untyped passes again at every call site), so
-the first compile grows with the inlined code.  The one-per-step or rarer pieces
-(``step``, ``piece``, ``energy_row``, ``take_row``, ``block``, ``dissipate``, and the
-entry point ``accelerations`` a chunk calls at its end and at an energy row, already
+the first compile grows with the inlined code.  The one-per-substep or rarer pieces
+(``piece``, ``energy_row``, ``take_row``, ``block``, ``dissipate``, and the entry
+point ``accelerations`` a chunk calls at its end and at an energy row, already
 compiled for the simulation's start) are separate compiled functions without wrappers
 for Python callers (LLVM may still inline them); the per-grain helpers stay inlined so
-that the fused loops vectorise.  This about halves the first compile (docs/benchmarks.md,
-"Design measurements").  The chunk's set-up uses no numba overloads of NumPy's sorting
-and searching (:func:`_sorted_distinct`), and the kernel without temporal blocking
-compiles none of the blocking code (``make_run_chunk``): a first run compiles about a
-third less (docs/benchmarks.md, "First-run compilation").
+that the fused loops vectorise, and so does ``step`` (as a function of its own it
+compiled ~0.4 s faster but added ~0.2 µs to each ~0.45 µs step of a 140-grain window).
+This about halves the first compile (docs/benchmarks.md, "Design measurements").  The
+chunk's set-up uses no numba overloads of NumPy's sorting and searching
+(:func:`_sorted_distinct`), and the kernel without temporal blocking compiles none of
+the blocking code (``make_run_chunk``): a first run compiles about a third less
+(docs/benchmarks.md, "First-run compilation").
 
 Arguments are grouped in tuples (numba passes them at no cost): ``st = (u, v, a, dis)``
 the state (displacements m, velocities m/s, accelerations m/s², dissipated energy
@@ -1092,7 +1094,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             i = end + 1
 
     # ------------------------------------------------------------------ one step
-    @jit(**_CALLEE)
+    @jit(**_INLINE)
     def step(st, con, p, wl, wr, drift, kick, dt, last, lo, hi, mx, umax, track, do_umax,
              sp, vsp, vwork, peak, gstep):
         """All substeps of one step on the window, grown as needed; returns (lo, hi).
