@@ -123,11 +123,19 @@ after each step's final substep on the same range, per grain.
 No ``fastmath``: the tests rely on bitwise determinism.
 
 Compile time: numba inlines an ``inline="always"`` function by copying its IR into
-every caller before typing, so the first compile grows with the inlined code.  The
-one-per-substep or rarer pieces (``piece``, ``energy_row``, ``take_row``, ``block``,
-``dissipate``) are separate compiled functions (LLVM may still inline them); the
-per-grain helpers stay inlined so that the fused loops vectorise.  This about halves the
-first compile (docs/benchmarks.md, "Design measurements").
+every caller before typing (and runs its untyped passes again at every call site), so
+the first compile grows with the inlined code.  The one-per-substep or rarer pieces
+(``piece``, ``energy_row``, ``take_row``, ``block``, ``dissipate``, and the entry
+point ``accelerations`` a chunk calls at its end and at an energy row, already
+compiled for the simulation's start) are separate compiled functions without wrappers
+for Python callers (LLVM may still inline them); the per-grain helpers stay inlined so
+that the fused loops vectorise, and so does ``step`` (as a function of its own it
+compiled ~0.4 s faster but added ~0.2 µs to each ~0.45 µs step of a 140-grain window).
+This about halves the first compile (docs/benchmarks.md, "Design measurements").  The
+chunk's set-up uses no numba overloads of NumPy's sorting and searching
+(:func:`_sorted_distinct`), and the kernel without temporal blocking compiles none of
+the blocking code (``make_run_chunk``): a first run compiles about a third less
+(docs/benchmarks.md, "First-run compilation").
 
 Arguments are grouped in tuples (numba passes them at no cost): ``st = (u, v, a, dis)``
 the state (displacements m, velocities m/s, accelerations m/s², dissipated energy
@@ -169,6 +177,8 @@ __all__ = ["Kernels", "make_kernels", "batch_kernel", "kernel_params", "chain_ru
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 _INNER = {"nogil": True, "error_model": "numpy"}
 _INLINE = {"inline": "always", **_INNER}
+_CALLEE = {"no_cpython_wrapper": True, "no_cfunc_wrapper": True, **_INNER}
+"""A function only compiled code calls: no wrappers for Python or C callers (compile time)."""
 
 UMAX_EVERY = 8
 """Steps between updates of the running maximum of u (see ``run_chunk``)."""
@@ -291,6 +301,40 @@ def _first_at_least(x, value):
         else:
             hi = mid
     return lo
+
+
+@numba.njit(**_INNER)
+def _sorted_distinct(a, b):
+    """The distinct entries of the int arrays ``a`` and ``b``, sorted (a new array).
+
+    ``np.unique`` by insertion into a sorted array: the special grains of a chunk are a
+    few, and numba's sort and search overloads took about a tenth of the first compile
+    of the stepping kernel.
+    """
+    m = a.size + b.size
+    out = np.empty(m, np.int64)
+    n = 0
+    for q in range(m):
+        x = a[q] if q < a.size else b[q - a.size]
+        i = n
+        while i > 0 and out[i - 1] > x:
+            i -= 1
+        if i > 0 and out[i - 1] == x:
+            continue
+        for j in range(n, i, -1):
+            out[j] = out[j - 1]
+        out[i] = x
+        n += 1
+    return out[:n]
+
+
+@numba.njit(**_INNER)
+def _positions(sorted_, x):
+    """Index in the sorted int array ``sorted_`` of each entry of ``x`` (all present)."""
+    out = np.empty(x.size, np.int64)
+    for q in range(x.size):
+        out[q] = _first_at_least(sorted_, x[q])
+    return out
 
 
 @numba.njit(inline="always", **_INNER)
@@ -520,7 +564,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             v[i] = vn
             dis[i + 1] += 0.5 * ((vi - vn) * (vi + vn)) / inv_m[i]
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def dissipate(st, con, p, wl, wr, lo, hi, tau, adjoint):
         """The dissipative sub-step D_τ (``adjoint``: D*_τ) on the window; new (lo, hi).
 
@@ -636,7 +680,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 un = unr
         return un, phi_l
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def piece(st, con, p, mx, i0, i1, ul, ur, dc, c1, c2, track):
         """One substep of grains [i0, i1) given the drifted outer neighbours ``ul``, ``ur``.
 
@@ -859,7 +903,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
     # block instead of one per substep, and a tile (u, v, max v: 24 bytes per grain)
     # stays in L2 during its nsub substeps.  Position-dependent laws only.
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp, none,
                   vsp2, nsub, peak, h):
         """Phase A on tile j (shrinking ranges) or phase B around boundary j (growing)."""
@@ -900,7 +944,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             trapezoid(st, con, p, mx, umax, bounds, j, phase, ulb, urb, wl, wr, sub, sp,
                       none, vsp2, nsub, peak, h)
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax, track,
               events, series, rows, cfg, work, peak, h):
         """Try one temporal block of ``nb`` steps from step ``s`` (section above).
@@ -1013,15 +1057,8 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             lo, hi = lo_p, lo_p
         return 1, rows, hit_q, lo, hi
 
-    @jit(**_INLINE)
-    def no_block(st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
-                 track, events, series, rows, cfg, work, peak, h):
-        """Take every step one by one (status 0): the kernel without blocking."""
-        return 0, rows, -1, lo, hi
-
-
     # ------------------------------------------------------------ energy rows
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def energy_row(u, v, mass, k, d0, wl, wr, lo, hi, c, ek_out, ep_out):
         """One row of the per-grain energy grid, summed over blocks of ``c`` grains, J.
 
@@ -1123,8 +1160,12 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         return lo, hi
 
     # -------------------------------------------------------- chunk (entry points)
-    def make_run_chunk(try_block, BLOCKS):
-        """``run_chunk`` with temporal blocking (``block``) or without (``no_block``)."""
+    def make_run_chunk(BLOCKS):
+        """``run_chunk`` with temporal blocking (``block``) or without.
+
+        Without, the blocking code and its work arrays are not compiled in: ``BLOCKS``
+        is a constant of the closure, and numba drops the branches on it before typing.
+        """
 
         def run_chunk(st, con, p, wl, wr, dt, drift, kick, nsteps, lo, hi, vmax, umax, rmax,
                       track, track_r, watch, wmax, wthr, ts_idx, ts_every, step0, ts_out, cfg,
@@ -1199,32 +1240,34 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
             rows = 0
             fired = -1
             # special grains: watched (every step) and series (on sampling steps), sorted unique
-            sp_w = np.unique(watch)
-            sp_ws = np.unique(np.concatenate((watch, ts_idx)))
-            pos_w = np.searchsorted(sp_w, watch)
-            pos_ws_w = np.searchsorted(sp_ws, watch)
-            pos_ws_s = np.searchsorted(sp_ws, ts_idx)
+            sp_w = _sorted_distinct(watch, watch)
+            sp_ws = _sorted_distinct(watch, ts_idx)
+            pos_w = _positions(sp_w, watch)
+            pos_ws_w = _positions(sp_ws, watch)
+            pos_ws_s = _positions(sp_ws, ts_idx)
             vsp = np.empty(sp_ws.size)
             vwork = np.empty(n if VD else 0)  # the velocity pass's maxima, discarded (step)
-            # temporal blocking work arrays (a state copy to roll back to if events can fire)
-            nt_max = max(1, nthreads)
-            nsub_max = max(block_steps, 1) * ns if BLOCKS else 1
-            keep = n if watch.size > 0 and BLOCKS else 0
-            keep_r = keep + 1 if keep and track_r else 0
-            keep_p = keep if keep and peak[0] else 0
-            ntile_max = (n // max(tile, 1)) + nt_max + 2
-            work = ((np.empty(nsub_max), np.empty(nsub_max), np.empty(nsub_max),
-                     np.zeros(nsub_max, np.bool_), np.zeros(nsub_max, np.bool_),
-                     np.zeros(nsub_max, np.bool_), np.zeros(nsub_max)),
-                    np.zeros((nsub_max, sp_w.size)),
-                    (np.empty(keep), np.empty(keep), np.empty(keep), np.empty(keep),
-                     np.empty(keep_r), np.empty((PEAK_ROWS, keep_p)), np.empty(keep_p),
-                     np.empty(keep_p)),
-                    np.empty(watch.size), np.empty(ntile_max + 1, np.int64),
-                    np.empty(ntile_max), np.empty(ntile_max))
-            events = (watch, wmax, wthr, sp_w, pos_w)
+            if BLOCKS:
+                # temporal blocking work arrays (a state copy to roll back to if events
+                # can fire)
+                nt_max = max(1, nthreads)
+                nsub_max = max(block_steps, 1) * ns
+                keep = n if watch.size > 0 else 0
+                keep_r = keep + 1 if keep and track_r else 0
+                keep_p = keep if keep and peak[0] else 0
+                ntile_max = (n // max(tile, 1)) + nt_max + 2
+                work = ((np.empty(nsub_max), np.empty(nsub_max), np.empty(nsub_max),
+                         np.zeros(nsub_max, np.bool_), np.zeros(nsub_max, np.bool_),
+                         np.zeros(nsub_max, np.bool_), np.zeros(nsub_max)),
+                        np.zeros((nsub_max, sp_w.size)),
+                        (np.empty(keep), np.empty(keep), np.empty(keep), np.empty(keep),
+                         np.empty(keep_r), np.empty((PEAK_ROWS, keep_p)), np.empty(keep_p),
+                         np.empty(keep_p)),
+                        np.empty(watch.size), np.empty(ntile_max + 1, np.int64),
+                        np.empty(ntile_max), np.empty(ntile_max))
+                events = (watch, wmax, wthr, sp_w, pos_w)
+                bcfg = (nt_max, min_parallel, tile, min_serial_block)
             mx = (vmax, rmax, track_r)
-            bcfg = (nt_max, min_parallel, tile, min_serial_block)
             no_block_before = 0
             e_every, e_coarsen, e_kin, e_pot, mass = erow
             erows = np.int64(0)  # (not a literal 0: one take_row signature for both calls)
@@ -1235,9 +1278,9 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
                 nb = min(block_steps, nsteps - s)
                 if e_every > 0:  # a block never spans an energy row
                     nb = min(nb, e_every - (step0 + s) % e_every)
-                if nb >= 4 and fired < 0 and s >= no_block_before:
+                if BLOCKS and nb >= 4 and fired < 0 and s >= no_block_before:
                     close = e_every > 0 and (step0 + s + nb) % e_every == 0
-                    status, rows, hit, lo_b, hi_b = try_block(
+                    status, rows, hit, lo_b, hi_b = block(
                         st, con, p, wl, wr, drift, kick, nsteps, s, nb, close, lo, hi, mx, umax,
                         track, events, (ts_idx, ts_every, step0, ts_out), rows, bcfg, work,
                         peak, dt)
@@ -1277,7 +1320,7 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
 
         return run_chunk
 
-    @jit(**_INNER)
+    @jit(**_CALLEE)
     def take_row(st, con, p, wl, wr, kick, dt, lo, hi, c, e_kin, e_pot, erows, mass):
         """An energy row inside a chunk (``run_chunk``'s ``erow``); returns (rows, lo, hi).
 
@@ -1400,9 +1443,9 @@ def _build(law: ContactLaw, drag: bool, rmax: bool,  # noqa: C901
         func.__qualname__ = f"{func.__qualname__}{suffix}_{tag}"
         return _entry(func, ckey + suffix, **options)
 
-    accelerations = entry(accelerations, inline="always")
-    run_steps = entry(make_run_chunk(no_block, False), "_steps")
-    run_blocked = None if VD else entry(make_run_chunk(block, True), "_blocked")
+    accelerations = entry(accelerations)
+    run_steps = entry(make_run_chunk(False), "_steps")
+    run_blocked = None if VD else entry(make_run_chunk(True), "_blocked")
     return Kernels(law, DRAG, RMAX, refined, VD, run_steps, run_blocked, accelerations,
                    entry(contact_energies), entry(grain_energies), entry(shadow_correction),
                    entry(static_forces), entry(dissipation_rate), entry(grid_row))

@@ -35,6 +35,12 @@ compiles, and nothing when the cache is warm.  ``hertzchain``'s commands run ins
 so do :class:`discrete.progress.RunProgress` and :func:`hertzchain.reproduce.reproduce`
 when they show progress.
 
+Processes that start on the same cold cache (the worker processes of ``hertzchain
+reproduce``, a Dask sweep) would each compile the same kernels at the same time, on
+the same cores.  A :func:`keyed_njit` kernel therefore compiles under a lock file
+beside its cache entry (:func:`compile_lock`): the first process compiles and writes
+the cache, the others wait, without using the CPU, and then load what it wrote.
+
 This module lives in :mod:`theory` because it is the one package that both
 :mod:`discrete` and :mod:`continuum` may import; it imports numba only when called.
 """
@@ -49,13 +55,14 @@ import os
 import sys
 import tempfile
 import threading
+import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
 __all__ = ["configure", "default_cache_dir", "cache_is_warm", "KERNEL_FAMILIES",
            "compile_notice", "announce_compilation", "announce", "keyed_njit",
-           "source_digest"]
+           "source_digest", "compile_lock", "COMPILE_LOCK_TIMEOUT"]
 
 _ENV = "NUMBA_CACHE_DIR"
 
@@ -151,7 +158,7 @@ def cache_is_warm(dispatcher) -> bool:
 
 
 KERNEL_FAMILIES: dict[str, tuple[str, float]] = {
-    "discrete": ("the discrete solver's", 15.0),
+    "discrete": ("the discrete solver's", 8.0),
     "continuum": ("the continuum solver's", 5.0),
 }
 """Kernel families announced when they compile: top-level package → (whose kernels,
@@ -315,6 +322,84 @@ def source_digest(*objects) -> str:
     return h.hexdigest()
 
 
+COMPILE_LOCK_TIMEOUT = 900.0
+"""Longest wait for another process's compilation of the same kernel, s; then compile."""
+
+_lock_depth = threading.local()
+
+
+@contextmanager
+def compile_lock(path: str | os.PathLike, timeout: float = COMPILE_LOCK_TIMEOUT
+                 ) -> Iterator[bool]:
+    """Hold an exclusive lock on the file ``path`` (created) while compiling a kernel.
+
+    Another process holding it is compiling the same kernel into the same cache: the
+    block is entered when it has finished (numba then finds its result in the cache),
+    polling every 50 ms without using the CPU.  Only the outermost lock of a thread is
+    taken (a kernel compiled while compiling another one is not locked again: two
+    processes could otherwise each hold the lock the other waits for).  Where the lock
+    cannot be had (no ``fcntl``, an unwritable directory, or after ``timeout`` s) the
+    block runs unlocked: the lock saves CPU time, it is not needed for correctness
+    (numba writes its cache files atomically).
+
+    Yields
+    ------
+    bool
+        Whether the lock is held.
+    """
+    depth = getattr(_lock_depth, "n", 0)
+    fd = None
+    if depth == 0:
+        try:
+            import fcntl
+
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+            deadline = time.monotonic() + timeout
+            while True:
+                try:
+                    fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                    break
+                except BlockingIOError:
+                    if time.monotonic() > deadline:
+                        os.close(fd)
+                        fd = None
+                        break
+                    time.sleep(0.05)
+        except (ImportError, OSError):
+            if fd is not None:
+                os.close(fd)
+            fd = None
+    _lock_depth.n = depth + 1
+    try:
+        yield fd is not None
+    finally:
+        _lock_depth.n = depth
+        if fd is not None:
+            os.close(fd)  # (releases the lock)
+
+
+def _locked_compile(disp, lock_path: str) -> None:
+    """Make ``disp`` compile a new signature under :func:`compile_lock` (``lock_path``).
+
+    Taken inside numba's own compiler lock (re-entrant, process-wide), so that threads
+    of one process never wait on each other's file locks.
+    """
+    from numba.core import sigutils
+    from numba.core.compiler_lock import global_compiler_lock
+
+    compile_ = disp.compile
+    disp.compile_lock_path = lock_path
+
+    def compile(sig):
+        args, _ = sigutils.normalize_signature(sig)
+        if tuple(args) in disp.overloads:
+            return compile_(sig)
+        with global_compiler_lock, compile_lock(lock_path):
+            return compile_(sig)  # (loads from the cache what a waited-for process wrote)
+
+    disp.compile = compile
+
+
 def keyed_njit(py_func, key: str, *, cache: bool = True, **options):
     """``numba.njit(**options)(py_func)`` for a closure, with a disk cache keyed by ``key``.
 
@@ -326,6 +411,8 @@ def keyed_njit(py_func, key: str, *, cache: bool = True, **options):
     sources).  The function's name gets a suffix from ``key``, so that closures of the
     same name compiled for different keys (and loaded from the cache into one process)
     never share a symbol.  ``cache=False``: only the renaming (inner functions).
+    With the cache, a new signature compiles under :func:`compile_lock` on the file
+    ``disp.compile_lock_path`` (one process compiles, the others load its result).
     """
     import numba
 
@@ -346,4 +433,9 @@ def keyed_njit(py_func, key: str, *, cache: bool = True, **options):
             disp._cache = _KeyedCache(py_func)
         except Exception:  # pragma: no cover - numba internals changed: run uncached
             pass
+        else:
+            name = py_func.__qualname__.replace("<", "").replace(">", "")
+            stem = Path(py_func.__code__.co_filename).stem
+            _locked_compile(disp, os.path.join(disp._cache.cache_path,
+                                               f"{stem}.{name}.lock"))
     return disp

@@ -171,3 +171,24 @@ def test_overlap_maxima_blocked_and_threaded_bitwise(monkeypatch):
     assert np.array_equal(a.record.overlap_max, b.record.overlap_max)
     assert np.array_equal(a.record.vmax, b.record.vmax)
     assert np.any(a.record.overlap_max > a.overlaps())  # (the maxima moved)
+
+
+def test_special_grains_are_numpys_unique_and_searchsorted():
+    # The chunk's set-up finds its special grains without numba's sort and search
+    # overloads (compile time): the same integers as np.unique / np.searchsorted, with
+    # repeated, unsorted and empty inputs.
+    rng = np.random.default_rng(7)
+    cases = [(np.zeros(0, np.int64), np.zeros(0, np.int64)),
+             (np.array([5], np.int64), np.zeros(0, np.int64)),
+             (np.zeros(0, np.int64), np.array([3, 3, 1], np.int64))]
+    cases += [(rng.integers(0, 20, rng.integers(0, 6)), rng.integers(0, 20, rng.integers(0, 9)))
+              for _ in range(50)]
+    for watch, series in cases:
+        watch, series = watch.astype(np.int64), series.astype(np.int64)
+        sp_w = K._sorted_distinct(watch, watch)
+        sp_ws = K._sorted_distinct(watch, series)
+        np.testing.assert_array_equal(sp_w, np.unique(watch))
+        np.testing.assert_array_equal(sp_ws, np.unique(np.concatenate((watch, series))))
+        np.testing.assert_array_equal(K._positions(sp_ws, series),
+                                      np.searchsorted(sp_ws, series))
+        np.testing.assert_array_equal(K._positions(sp_w, watch), np.searchsorted(sp_w, watch))

@@ -82,3 +82,64 @@ def test_cache_is_warm_tracks_the_index(tmp_path):
     later = time.time() + 10                                # source edited after the index
     os.utime(src, (later, later))
     assert _run(code, env, cwd=tmp_path) == "False True"
+
+
+_KEYED = """\
+from theory.jitcache import keyed_njit
+
+
+def _make():
+    def f(x):
+        return x + 1.0
+
+    return keyed_njit(f, "test-compile-lock")
+
+
+f = _make()
+"""
+
+_HOLDER = """
+    import sys, time
+    import mykeyed
+    from theory import jitcache
+    with jitcache.compile_lock(mykeyed.f.compile_lock_path) as held:
+        print("locked" if held else "not locked", flush=True)
+        time.sleep(float(sys.argv[1]))  # the other process starts and must wait
+        mykeyed.f(1.0)  # compiled here (inside the lock: not locked again)
+    st = mykeyed.f.stats
+    print(sum(st.cache_misses.values()), sum(st.cache_hits.values()), flush=True)
+"""
+
+_WAITER = """
+    import time
+    import mykeyed
+    t = time.perf_counter()
+    mykeyed.f(1.0)
+    st = mykeyed.f.stats
+    print(sum(st.cache_misses.values()), sum(st.cache_hits.values()),
+          time.perf_counter() - t)
+"""
+
+
+def test_a_kernel_compiles_once_across_processes(tmp_path):
+    """A second process waits for the first one's compilation and loads its result."""
+    (tmp_path / "mykeyed.py").write_text(_KEYED)
+    env = {k: v for k, v in os.environ.items() if k != "XDG_CACHE_HOME"}
+    env.update(NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=os.pathsep.join(
+        [str(tmp_path), str(Path(discrete.__file__).parent.parent)]))
+    hold = 3.0
+    holder = subprocess.Popen([sys.executable, "-c", textwrap.dedent(_HOLDER), str(hold)],
+                              env=env, cwd=tmp_path, stdout=subprocess.PIPE, text=True)
+    try:
+        assert holder.stdout.readline().strip() == "locked"
+        waiter = subprocess.run([sys.executable, "-c", textwrap.dedent(_WAITER)], env=env,
+                                cwd=tmp_path, capture_output=True, text=True, timeout=300)
+        assert waiter.returncode == 0, waiter.stderr
+        out, _ = holder.communicate(timeout=300)
+    finally:
+        holder.kill()
+    assert holder.returncode == 0
+    assert out.split() == ["1", "0"]  # the holder compiled
+    misses, hits, waited = waiter.stdout.split()
+    assert (misses, hits) == ("0", "1")  # the waiter loaded the holder's result
+    assert float(waited) > 0.0
