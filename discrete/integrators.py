@@ -26,11 +26,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from theory.laws import ContactLaw
 from theory.splitting import SPLITTINGS, Splitting, get_splitting
 
-from .reference import accelerations
+from .reference import accelerations, hermite_max
 
-__all__ = ["Integrator", "INTEGRATORS", "get_integrator", "step", "run"]
+__all__ = ["Integrator", "INTEGRATORS", "get_integrator", "step", "run", "refined_maxima"]
 
 
 Integrator = Splitting
@@ -80,3 +81,38 @@ def run(chain, u, v, dt, nsteps, wall_left=0.0, wall_right=0.0,
     for _ in range(int(nsteps)):
         u, v, a = step(u, v, a, dt, *args, integrator=integrator, law=law)
     return u, v
+
+def refined_maxima(chain, u, v, dt, nsteps, wall_left=0.0, wall_right=0.0, *,
+                   integrator="verlet", law: ContactLaw | None = None):
+    r"""Sampled and refined running maxima of v over ``nsteps`` steps, in plain NumPy.
+
+    The reference of :class:`discrete.Simulation`'s ``record.vmax`` (the largest
+    synchronous v at the steps) and ``record.vmax_refined`` / ``vmax_time`` (the
+    largest value of the cubic Hermite interpolant of (v, a) between the steps,
+    :mod:`discrete.interpolation`): searched on *every* step of every grain
+    (:func:`hermite_max`), where the kernels search only the steps beside a grain's
+    largest samples (:mod:`discrete.kernels`, "Refined maxima").  Conservative laws;
+    steps of :func:`step`; the interpolant's maxima by
+    :func:`discrete.reference.hermite_max`.
+
+    Returns
+    -------
+    vmax, vmax_refined, vmax_time : (N,) arrays
+        m/s, m/s and s (time from the start; 0 where the maximum is the initial v).
+    """
+    args = (chain.mass, chain.k, chain.delta0, wall_left, wall_right)
+    u = np.array(u, dtype=float)
+    v = np.array(v, dtype=float)
+    a = accelerations(u, *args, law=law)
+    vmax = v.copy()
+    vref = v.copy()
+    tref = np.zeros_like(v)
+    for n in range(int(nsteps)):
+        u, v1, a1 = step(u, v, a, dt, *args, integrator=integrator, law=law)
+        s, y = hermite_max(dt, v, v1, a, a1)
+        better = y > vref
+        vref = np.where(better, y, vref)
+        tref = np.where(better, (n + s) * dt, tref)
+        vmax = np.maximum(vmax, v1)
+        v, a = v1, a1
+    return vmax, vref, tref
