@@ -638,8 +638,8 @@ class Simulation:
                 raise ValueError(
                     f"state/a is not the elastic acceleration of state/u (max difference "
                     f"{err:.3g} m/s^2 of {scale:.3g}; allowed {RESTORE_A_RTOL:g} of it): a "
-                    f"damped run saved before dissipation became a split step (hertzchain "
-                    f"0.1.0 development, 2026-11-27) cannot be continued; run it again")
+                    f"damped run saved by an earlier 0.1.0 development version (before "
+                    f"dissipation became a split step) cannot be continued; run it again")
         sim.a[:] = st["a"]
         if "dissipated" in st:
             sim._dis[:] = st["dissipated"]
