@@ -48,9 +48,9 @@ Threads and speed
 -----------------
 The kernel (:mod:`discrete.kernels`) runs one fused pass per force evaluation over the
 active window, temporally blocked and on several threads for large windows
-(``threads``; bitwise identical results).  Measured on the 2-core development machine
-(``benchmarks/kernel.py``, recording on): 2.4–2.5e9 grain-updates/s on one core at 1e4
-and 1e5 grains (10× the NumPy step), 4.0–4.7e9 on two cores at 5e4.
+(``threads``; bitwise identical results).  Its speed, in grain-updates per second against
+the NumPy step and against LAMMPS, is ``benchmarks/kernel.py``'s and
+``benchmarks/lammps.py``'s (docs/benchmarks.md).
 Writing and reading
 -------------------
 :meth:`Simulation.saved` returns everything that continues the run bit for bit (chain,
