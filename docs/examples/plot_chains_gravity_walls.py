@@ -28,15 +28,12 @@ import numpy as np
 
 from hertzchain.compare import compare
 from hertzchain.plotting import plot_forces
-from hertzchain.scenario import parse_scenario, read_toml, set_path, shipped_scenarios
+from hertzchain.scenario import load_scenario
 
 
 def shipped(name, **changes):
     """A shipped scenario with some keys changed (dotted paths, as in a sweep)."""
-    data = read_toml(shipped_scenarios()[name])
-    for path, value in changes.items():
-        set_path(data, path, value)
-    return parse_scenario(data)
+    return load_scenario(name).with_values(changes)
 
 
 # %%

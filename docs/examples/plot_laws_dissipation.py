@@ -27,17 +27,14 @@ import numpy as np
 
 import theory
 from hertzchain.compare import compare
-from hertzchain.scenario import parse_scenario, read_toml, set_path, shipped_scenarios
+from hertzchain.scenario import load_scenario
 from theory.dissipation import drag_wave_decay, kuwabara_kono_wave_decay
 from theory.laws import ViscoelasticHertz
 
 
 def shipped(name, **changes):
     """A shipped scenario with some keys changed (dotted paths, as in a sweep)."""
-    data = read_toml(shipped_scenarios()[name])
-    for path, value in changes.items():
-        set_path(data, path, value)
-    return parse_scenario(data)
+    return load_scenario(name).with_values(changes)
 
 
 # %%
