@@ -106,6 +106,8 @@ from theory.laws import ContactLaw, compile_piece  # noqa: E402
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 _INNER = {"nogil": True, "error_model": "numpy"}
+_CALLEE = {"no_cpython_wrapper": True, "no_cfunc_wrapper": True}
+"""A function only compiled code calls: no wrappers for Python or C callers (compile time)."""
 
 FREE, WALL, PERIODIC = 0, 1, 2
 
@@ -300,7 +302,7 @@ def fft_size(need):
         m += 8
 
 
-@nb.njit(**_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _rfft(x, out):
     """Real FFT of x into out (unscaled; DUCC through rocket-fft), out.size = x.size//2 + 1.
 
@@ -311,7 +313,7 @@ def _rfft(x, out):
     r2c(x, out, _AXES, True, 1.0, 1)
 
 
-@nb.njit(**_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _irfft(x, out):
     """Inverse real FFT of x into out, scaled by 1/out.size (the inverse of :func:`_rfft`)."""
     c2r(x, out, _AXES, False, 1.0 / out.size, 1)
@@ -323,7 +325,7 @@ def _direct_sum(ncomp, w):
     return ncomp * ncomp <= 40 * w + 2000
 
 
-@nb.njit(**_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate, periodic):
     """hy[q] = (H y)[q] for the faces that need it, y zero outside ``comp``/[qa, qb].
 
@@ -572,6 +574,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
     damping = law.make_damping()
 
     def inner(func, **options):
+        options = options or _CALLEE
         return jitcache.keyed_njit(func, key, cache=False, **_INNER, **options)
 
     def entry(func):
@@ -725,6 +728,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         win[0] = lo
         win[1] = hi
 
+    window_pass = nb.njit(**_INNER)(rosenau_pass)  # (for tests; compiled when called)
     rosenau_pass = inner(rosenau_pass)
 
     def rosenau_pass_periodic(u, v, y, alpha, beta, h, nl, kk, bb, kh, d0, f0,
@@ -985,7 +989,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
 
     return RosenauKernels(entry(rosenau_chunk), entry(rosenau_chunk_periodic),
                           entry(rosenau_chunk_dissipative), entry(rosenau_monitor),
-                          entry(static_forces), rosenau_pass)
+                          entry(static_forces), window_pass)
 
 
 
@@ -1033,6 +1037,7 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
     n1 = n_exp + 1.0
 
     def inner(func, **options):
+        options = options or _CALLEE
         return jitcache.keyed_njit(func, key, cache=False, **_INNER, **options)
 
     def entry(func):
