@@ -392,7 +392,7 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
         hw[i] = fft_re[i]
 
 
-@nb.njit(inline="always", **_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _table_overlap(u, q, gidx, gcoef, d0, dl):
     """dl[q] = [d0_q + Σ_j gcoef[q, j] u[gidx[q, j]]]_+ (the stencil table's row q)."""
     sq_ = 0.0
@@ -461,7 +461,7 @@ def _shrink_window(v, dl, lo, hi, tau_v, tau_d, win):
     win[1] = new_hi
 
 
-@nb.njit(inline="always", **_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m):
     """Kick of node i by the scatter -Gᵀ F of the stencil table (faces in [qa, qb])."""
     width = gidx.shape[1]
@@ -1159,7 +1159,7 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
             ep += w[q] * pot + (disp / n1) * y[q] * hy[q]
         return h * (0.5 * ek + ep), h * mom
 
-    nesterenko_energy = inner(nesterenko_energy, inline="always")
+    nesterenko_energy = inner(nesterenko_energy)
 
     def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
                          mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
