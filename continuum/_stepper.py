@@ -497,6 +497,27 @@ def _kernel_key(law: ContactLaw, kind: str) -> str:
 
 _DIGESTS: dict[type, str] = {}
 
+_STATIC: dict[str, object] = {}
+
+
+def _static_forces(law: ContactLaw):
+    """``static_forces(d0, k, out)``: F_el(δ0; k) into ``out`` (N), with the kernels' arithmetic.
+
+    The law's compiled elastic force (:meth:`~theory.laws.ContactLaw.make_elastic`), as
+    the passes evaluate it, so that the dynamic force F_el(δ0 + s) - f0 is exactly 0 at
+    s = 0.  One compiled kernel per law, shared by the Rosenau and Eq. 7 kernels.
+    """
+    key = _kernel_key(law, "static")
+    if key not in _STATIC:
+        elastic = law.make_elastic()
+
+        def static_forces(d0, k, out):
+            for i in range(d0.size):
+                out[i] = elastic(d0[i], k[i])
+
+        _STATIC[key] = jitcache.keyed_njit(static_forces, key, **_INNER)
+    return _STATIC[key]
+
 
 def power_piece(q: float):
     """Compiled x ↦ x^q for x >= 0: √√x, √x, √x·√√x, x, x√x for q = 1/4 … 3/2, else x**q.
@@ -982,14 +1003,9 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         win[1] = n - 1
         return work
 
-    def static_forces(d0, k, out):
-        """Static forces F_el(δ0; k) into ``out``, N, with the kernels' arithmetic (P(0) = 0)."""
-        for i in range(d0.size):
-            out[i] = elastic(d0[i], k[i])
-
     return RosenauKernels(entry(rosenau_chunk), entry(rosenau_chunk_periodic),
                           entry(rosenau_chunk_dissipative), entry(rosenau_monitor),
-                          entry(static_forces), window_pass)
+                          _static_forces(law), window_pass)
 
 
 
@@ -1347,11 +1363,6 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
                                  p, inv_m, mass, drag, False)
         return work
 
-    def static_forces(d0, k, out):
-        """Static forces F_el(δ0; k) into ``out``, N, with the kernels' arithmetic (F - f0 = 0)."""
-        for i in range(d0.size):
-            out[i] = elastic(d0[i], k[i])
-
     def zeta(x, eps, out):
         """ζ(x) into ``out`` with the kernels' arithmetic (``nesterenko_faces``)."""
         e4 = phi(eps)
@@ -1362,7 +1373,7 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
             out[i] = xi * phi(xi) if xi >= eps else e54 * (ca * r * r + cb)
 
     return NesterenkoKernels(entry(nesterenko_chunk), entry(nesterenko_chunk_dissipative),
-                             entry(static_forces), entry(zeta))
+                             _static_forces(law), entry(zeta))
 
 
 
