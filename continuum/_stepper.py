@@ -106,6 +106,8 @@ from theory.laws import ContactLaw, compile_piece  # noqa: E402
 
 _JIT = {"cache": True, "nogil": True, "error_model": "numpy"}
 _INNER = {"nogil": True, "error_model": "numpy"}
+_CALLEE = {"no_cpython_wrapper": True, "no_cfunc_wrapper": True}
+"""A function only compiled code calls: no wrappers for Python or C callers (compile time)."""
 
 FREE, WALL, PERIODIC = 0, 1, 2
 
@@ -300,7 +302,7 @@ def fft_size(need):
         m += 8
 
 
-@nb.njit(**_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _rfft(x, out):
     """Real FFT of x into out (unscaled; DUCC through rocket-fft), out.size = x.size//2 + 1.
 
@@ -311,7 +313,7 @@ def _rfft(x, out):
     r2c(x, out, _AXES, True, 1.0, 1)
 
 
-@nb.njit(**_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _irfft(x, out):
     """Inverse real FFT of x into out, scaled by 1/out.size (the inverse of :func:`_rfft`)."""
     c2r(x, out, _AXES, False, 1.0 / out.size, 1)
@@ -323,7 +325,7 @@ def _direct_sum(ncomp, w):
     return ncomp * ncomp <= 40 * w + 2000
 
 
-@nb.njit(**_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate, periodic):
     """hy[q] = (H y)[q] for the faces that need it, y zero outside ``comp``/[qa, qb].
 
@@ -390,7 +392,7 @@ def _saturated_apply(y, hy, qa, qb, comp, ncomp, c, spec, fft_re, fft_c, fstate,
         hw[i] = fft_re[i]
 
 
-@nb.njit(inline="always", **_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _table_overlap(u, q, gidx, gcoef, d0, dl):
     """dl[q] = [d0_q + Σ_j gcoef[q, j] u[gidx[q, j]]]_+ (the stencil table's row q)."""
     sq_ = 0.0
@@ -459,7 +461,7 @@ def _shrink_window(v, dl, lo, hi, tau_v, tau_d, win):
     win[1] = new_hi
 
 
-@nb.njit(inline="always", **_JIT)
+@nb.njit(**_JIT, **_CALLEE)
 def _table_kick(v, i, beta, bc, qa, qb, gidx, gcoef, fh, inv_m):
     """Kick of node i by the scatter -Gᵀ F of the stencil table (faces in [qa, qb])."""
     width = gidx.shape[1]
@@ -494,6 +496,27 @@ def _kernel_key(law: ContactLaw, kind: str) -> str:
 
 
 _DIGESTS: dict[type, str] = {}
+
+_STATIC: dict[str, object] = {}
+
+
+def _static_forces(law: ContactLaw):
+    """``static_forces(d0, k, out)``: F_el(δ0; k) into ``out`` (N), with the kernels' arithmetic.
+
+    The law's compiled elastic force (:meth:`~theory.laws.ContactLaw.make_elastic`), as
+    the passes evaluate it, so that the dynamic force F_el(δ0 + s) - f0 is exactly 0 at
+    s = 0.  One compiled kernel per law, shared by the Rosenau and Eq. 7 kernels.
+    """
+    key = _kernel_key(law, "static")
+    if key not in _STATIC:
+        elastic = law.make_elastic()
+
+        def static_forces(d0, k, out):
+            for i in range(d0.size):
+                out[i] = elastic(d0[i], k[i])
+
+        _STATIC[key] = jitcache.keyed_njit(static_forces, key, **_INNER)
+    return _STATIC[key]
 
 
 def power_piece(q: float):
@@ -572,6 +595,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
     damping = law.make_damping()
 
     def inner(func, **options):
+        options = options or _CALLEE
         return jitcache.keyed_njit(func, key, cache=False, **_INNER, **options)
 
     def entry(func):
@@ -725,6 +749,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         win[0] = lo
         win[1] = hi
 
+    window_pass = nb.njit(**_INNER)(rosenau_pass)  # (for tests; compiled when called)
     rosenau_pass = inner(rosenau_pass)
 
     def rosenau_pass_periodic(u, v, y, alpha, beta, h, nl, kk, bb, kh, d0, f0,
@@ -978,14 +1003,9 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         win[1] = n - 1
         return work
 
-    def static_forces(d0, k, out):
-        """Static forces F_el(δ0; k) into ``out``, N, with the kernels' arithmetic (P(0) = 0)."""
-        for i in range(d0.size):
-            out[i] = elastic(d0[i], k[i])
-
     return RosenauKernels(entry(rosenau_chunk), entry(rosenau_chunk_periodic),
                           entry(rosenau_chunk_dissipative), entry(rosenau_monitor),
-                          entry(static_forces), rosenau_pass)
+                          _static_forces(law), window_pass)
 
 
 
@@ -1033,6 +1053,7 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
     n1 = n_exp + 1.0
 
     def inner(func, **options):
+        options = options or _CALLEE
         return jitcache.keyed_njit(func, key, cache=False, **_INNER, **options)
 
     def entry(func):
@@ -1154,7 +1175,7 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
             ep += w[q] * pot + (disp / n1) * y[q] * hy[q]
         return h * (0.5 * ek + ep), h * mom
 
-    nesterenko_energy = inner(nesterenko_energy, inline="always")
+    nesterenko_energy = inner(nesterenko_energy)
 
     def nesterenko_chunk(u, v, nsteps, dt, alpha, beta, bc, h, gidx, gcoef, w, k, d0, f0, sk, z0,
                          mask, eps, disp, inv_m, c, spec, fft_re, fft_c, fstate, dl, fh, ph, y, hy,
@@ -1342,11 +1363,6 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
                                  p, inv_m, mass, drag, False)
         return work
 
-    def static_forces(d0, k, out):
-        """Static forces F_el(δ0; k) into ``out``, N, with the kernels' arithmetic (F - f0 = 0)."""
-        for i in range(d0.size):
-            out[i] = elastic(d0[i], k[i])
-
     def zeta(x, eps, out):
         """ζ(x) into ``out`` with the kernels' arithmetic (``nesterenko_faces``)."""
         e4 = phi(eps)
@@ -1357,7 +1373,7 @@ def _build_nesterenko(law: ContactLaw, key: str) -> NesterenkoKernels:  # noqa: 
             out[i] = xi * phi(xi) if xi >= eps else e54 * (ca * r * r + cb)
 
     return NesterenkoKernels(entry(nesterenko_chunk), entry(nesterenko_chunk_dissipative),
-                             entry(static_forces), entry(zeta))
+                             _static_forces(law), entry(zeta))
 
 
 

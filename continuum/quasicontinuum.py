@@ -257,8 +257,10 @@ def chunk_kernel(law: ContactLaw, terms: int) -> Callable:
                     acc -= rows[i, m + c] * x[qa + i + c]
                 x[qa + i] = acc
 
+        # one compiled copy for the chunk's two solves, without wrappers for Python callers
         solve_c = jitcache.keyed_njit(solve, key, cache=False, nogil=True,
-                                      error_model="numpy", inline="always")
+                                      error_model="numpy", no_cpython_wrapper=True,
+                                      no_cfunc_wrapper=True)
 
         def qc_chunk(u, v, nsteps, dt, alpha, beta, gidx, gcoef, w, k, d0, f0, rows, inv_m,
                      s, dl, trows, win, pad, tau_v, tau_d):

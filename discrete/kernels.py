@@ -227,6 +227,7 @@ def _active(u, v, a, k, wl, wr, i, use_a):
             or (k[i + 1] != 0.0 and ur != u[i]))
 
 
+@jitcache.compile_locked  # (called by every worker process of a run: compiled once)
 @numba.njit(**_JIT)
 def active_window(u, v, a, k, wl, wr, lo, hi, use_a):
     """Smallest [lo', hi'] ⊂ [lo, hi] outside which every grain is inert; (-1, -1) if none.

@@ -62,7 +62,7 @@ from pathlib import Path
 
 __all__ = ["configure", "default_cache_dir", "cache_is_warm", "KERNEL_FAMILIES",
            "compile_notice", "announce_compilation", "announce", "keyed_njit",
-           "source_digest", "compile_lock", "COMPILE_LOCK_TIMEOUT"]
+           "source_digest", "compile_lock", "compile_locked", "COMPILE_LOCK_TIMEOUT"]
 
 _ENV = "NUMBA_CACHE_DIR"
 
@@ -398,6 +398,33 @@ def _locked_compile(disp, lock_path: str) -> None:
             return compile_(sig)  # (loads from the cache what a waited-for process wrote)
 
     disp.compile = compile
+
+
+def compile_locked(disp):
+    """Make a module-level ``numba.njit(cache=True)`` kernel compile under :func:`compile_lock`.
+
+    For a kernel that processes starting on one cold cache call directly (not only
+    from inside a :func:`keyed_njit` kernel, whose lock covers what it calls): one
+    process compiles it, the others wait and load the cache entry it wrote.  A
+    dispatcher without a disk cache is returned unchanged.
+
+    Parameters
+    ----------
+    disp : numba.core.registry.CPUDispatcher
+        The kernel (``numba.njit(cache=True)(...)``).
+
+    Returns
+    -------
+    numba.core.registry.CPUDispatcher
+        ``disp`` itself (usable as a decorator above ``@numba.njit``).
+    """
+    path = getattr(getattr(disp, "_cache", None), "cache_path", None)
+    if path:
+        py = disp.py_func
+        name = py.__qualname__.replace("<", "").replace(">", "")
+        stem = Path(py.__code__.co_filename).stem
+        _locked_compile(disp, os.path.join(path, f"{stem}.{name}.lock"))
+    return disp
 
 
 def keyed_njit(py_func, key: str, *, cache: bool = True, **options):

@@ -13,6 +13,8 @@ import textwrap
 import time
 from pathlib import Path
 
+import pytest
+
 import discrete
 
 
@@ -98,6 +100,20 @@ def _make():
 f = _make()
 """
 
+_LOCKED = """\
+import numba
+
+from theory import jitcache
+
+jitcache.configure()
+
+
+@jitcache.compile_locked
+@numba.njit(cache=True)
+def f(x):
+    return x + 1.0
+"""
+
 _HOLDER = """
     import sys, time
     import mykeyed
@@ -121,9 +137,11 @@ _WAITER = """
 """
 
 
-def test_a_kernel_compiles_once_across_processes(tmp_path):
-    """A second process waits for the first one's compilation and loads its result."""
-    (tmp_path / "mykeyed.py").write_text(_KEYED)
+@pytest.mark.parametrize("source", [_KEYED, _LOCKED], ids=["keyed_njit", "compile_locked"])
+def test_a_kernel_compiles_once_across_processes(tmp_path, source):
+    """A second process waits for the first one's compilation and loads its result
+    (a keyed closure, and a module-level kernel under :func:`compile_locked`)."""
+    (tmp_path / "mykeyed.py").write_text(source)
     env = {k: v for k, v in os.environ.items() if k != "XDG_CACHE_HOME"}
     env.update(NUMBA_CACHE_DIR=str(tmp_path / "cache"), PYTHONPATH=os.pathsep.join(
         [str(tmp_path), str(Path(discrete.__file__).parent.parent)]))
@@ -143,3 +161,19 @@ def test_a_kernel_compiles_once_across_processes(tmp_path):
     misses, hits, waited = waiter.stdout.split()
     assert (misses, hits) == ("0", "1")  # the waiter loaded the holder's result
     assert float(waited) > 0.0
+
+
+def test_compile_locked_leaves_an_uncached_kernel_alone():
+    """Without a disk cache there is no cache entry to share: the dispatcher is unchanged."""
+    import numba
+
+    from theory.jitcache import compile_locked
+
+    def g(x):
+        return x - 1.0
+
+    disp = numba.njit(g)
+    compile_ = disp.compile
+    assert compile_locked(disp) is disp
+    assert disp.compile == compile_ and not hasattr(disp, "compile_lock_path")
+    assert disp(3.0) == 2.0
