@@ -350,6 +350,10 @@ class GrainAveragedPDE(ChainPDEBase):
 
     name = "qc"
     label = "quasi-continuum"
+    smooth_interpolation = "band_limited"
+    """A smooth grain state is launched band-limited (:func:`continuum.initial.band_limited`):
+    the chain's overlaps are then exactly the grain averages of its strain, which S̃_M
+    approximates; a cubic spline hands the sonic-vacuum wave ~2 % less energy."""
 
     def __init__(self, medium: Medium, n: int = 5, *, bc: str = "free", terms: int = 3
                  ) -> None:
