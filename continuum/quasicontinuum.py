@@ -107,7 +107,7 @@ from .medium import Medium
 __all__ = ["GrainAveragedPDE", "averaging_coefficients", "averaging_multiplier"]
 
 WINDOW_PAD = 10.0
-"""Grains of zero-strain faces added on either side of the sonic vacuum's active window
+"""Grains of zero-strain faces added on either side of the active window
 (:meth:`GrainAveragedPDE.make_chunk_stepper`)."""
 MAX_TERMS = 6
 """Largest order M accepted (the series of 1/sinc converges for |k| < 2π; at M = 4 the
@@ -309,12 +309,14 @@ def chunk_kernel(law: ContactLaw, terms: int) -> Callable:
                         # qa … qb were evaluated just now)
                         new_lo = -1
                         for i in range(qa, qb):
-                            if abs(v[i]) > tau_v or s[i] > tau_d or s[i + 1] > tau_d:
+                            if (abs(v[i]) > tau_v or abs(s[i]) > tau_d
+                                    or abs(s[i + 1]) > tau_d):
                                 new_lo = i
                                 break
                         new_hi = new_lo
                         for i in range(qb - 1, new_lo, -1):
-                            if abs(v[i]) > tau_v or s[i] > tau_d or s[i + 1] > tau_d:
+                            if (abs(v[i]) > tau_v or abs(s[i]) > tau_d
+                                    or abs(s[i + 1]) > tau_d):
                                 new_hi = i
                                 break
                         win[0] = new_lo
@@ -479,10 +481,11 @@ class GrainAveragedPDE(ChainPDEBase):
     def make_chunk_stepper(self, state, dt: float, alpha, beta) -> Callable:
         """Compiled ``chunk(state_data, nsteps) -> node_updates`` (:func:`chunk_kernel`).
 
-        Precompressed chains are swept whole.  In the sonic vacuum only the active
-        window is swept: the nodes that move (|v| above 2⁻⁵² of the state's largest) or
-        touch a face whose force exceeds 2⁻⁵² of the largest (the kernel tests the face
-        force w (F(δ) − F0) after each kick), padded by :data:`WINDOW_PAD` grains of
+        Only the active window is swept, with or without precompression (a chain at
+        rest ahead of and behind a wave has s = 0, so δ = δ0 and F(δ) − F0 = 0 there
+        exactly): the nodes that move (|v| above 2⁻⁵² of the state's largest) or
+        touch a face whose dynamic force |w (F(δ) − F0)| exceeds 2⁻⁵² of the largest
+        (the kernel tests it after each kick), padded by :data:`WINDOW_PAD` grains of
         faces on either side; B⁻¹ there is the leading block of the factor of the
         constant-coefficient (Toeplitz) band matrix (a leading principal submatrix's
         Cholesky factor is the leading block of the whole's), whose kernel decays as
@@ -505,15 +508,14 @@ class GrainAveragedPDE(ChainPDEBase):
         pad = int(math.ceil(WINDOW_PAD / d.h))
         win = np.array([-2, -2], dtype=np.int64)
         tau_v = tau_d = 0.0
-        if self.effective.sonic_vacuum:
-            tau_v = WINDOW_TOLERANCE * float(np.abs(data[1]).max(initial=0.0))
-            force = self._face_weight * (self.law.elastic(self.overlaps(data[0]), d.k)
-                                         - self._f0)
-            tau_d = WINDOW_TOLERANCE * float(np.abs(force).max(initial=0.0))
-            act = (np.abs(data[1]) > tau_v) | (force[:-1] > tau_d) | (force[1:] > tau_d)
-            idx = np.flatnonzero(act)
-            win[:] = [idx[0], idx[-1]] if idx.size else [-1, -1]
-        trows = self._toeplitz_rows(nf) if self.effective.sonic_vacuum else self._rows
+        tau_v = WINDOW_TOLERANCE * float(np.abs(data[1]).max(initial=0.0))
+        force = np.abs(self._face_weight * (self.law.elastic(self.overlaps(data[0]), d.k)
+                                            - self._f0))
+        tau_d = WINDOW_TOLERANCE * float(force.max(initial=0.0))
+        act = (np.abs(data[1]) > tau_v) | (force[:-1] > tau_d) | (force[1:] > tau_d)
+        idx = np.flatnonzero(act)
+        win[:] = [idx[0], idx[-1]] if idx.size else [-1, -1]
+        trows = self._toeplitz_rows(nf)
 
         def chunk(state_data: np.ndarray, nsteps: int) -> int:
             return kernel(state_data[0], state_data[1], int(nsteps), dt, alpha, beta,
