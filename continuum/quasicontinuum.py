@@ -377,7 +377,7 @@ class GrainAveragedPDE(ChainPDEBase):
         self._band = self._factor(nf, d.h)
         self._rows = band_rows(self._band)
         self._f0 = d.f0
-        self._last_overlaps: tuple[np.ndarray, np.ndarray] | None = None
+        self._last: tuple[np.ndarray, list] | None = None
 
     def _factor(self, nf: int, h: float) -> np.ndarray:
         """Upper banded Cholesky factor of B = P_M(L), L = DᵀD/h² on ``nf`` faces."""
@@ -427,27 +427,35 @@ class GrainAveragedPDE(ChainPDEBase):
         (grain sampling, the energy monitor, the energy densities), and each is a banded
         solve over the chain.
         """
-        u = np.asarray(u, float)
-        last = self._last_overlaps
-        if last is not None and last[0].shape == u.shape and np.array_equal(last[0], u):
-            return last[1].copy()
-        delta = self.disc.delta0 + self.average(self.strain(u))
-        self._last_overlaps = (u.copy(), delta.copy())
-        return delta
+        return self._kept(u)[0].copy()
 
-    def _potential(self, delta: np.ndarray) -> np.ndarray:
+    def _kept(self, u: np.ndarray) -> list:
+        """[δ, potential per face or None] of ``u``, recomputed when ``u`` changes."""
+        u = np.asarray(u, float)
+        last = self._last
+        if last is None or last[0].shape != u.shape or not np.array_equal(last[0], u):
+            last = self._last = (u.copy(), [self.disc.delta0 + self.average(self.strain(u)),
+                                            None])
+        return last[1]
+
+    def _potential(self, u: np.ndarray) -> np.ndarray:
         r"""Dynamic potential energy per face h w [W(δ) − W(δ0) − F0 (δ − δ0)], J.
 
         Evaluated only on the faces with δ ≠ δ0 (the rest is exactly 0): a sonic-vacuum
-        chain is mostly at rest.
+        chain is mostly at rest; kept with the overlaps of the last ``u``.
         """
+        kept = self._kept(u)
+        if kept[1] is not None:
+            return kept[1].copy()
         d = self.disc
+        delta = kept[0]
         out = np.zeros(delta.size)
         q = np.flatnonzero(delta != d.delta0)
         out[q] = d.h * self._face_weight[q] * (
             self.law.energy(delta[q], d.k[q], d.delta0[q])
             - self._f0[q] * (delta[q] - d.delta0[q]))
-        return out
+        kept[1] = out
+        return out.copy()
 
     def contact_overlaps(self, u: np.ndarray) -> np.ndarray:
         """The model's overlap δ of every contact (its face), m: what grain sampling reads.
@@ -574,7 +582,7 @@ class GrainAveragedPDE(ChainPDEBase):
         def monitor(state_data: np.ndarray) -> tuple[float, float]:
             u, v = np.asarray(state_data[0]), np.asarray(state_data[1])
             d = self.disc
-            ep = self._potential(self.overlaps(u))
+            ep = self._potential(u)
             return (float(0.5 * d.h * np.sum(d.mass * v * v) + ep.sum()),
                     float(d.h * np.sum(d.mass * v)))
 
@@ -589,7 +597,7 @@ class GrainAveragedPDE(ChainPDEBase):
         """
         d = self.disc
         u, v = np.asarray(state[0].data), np.asarray(state[1].data)
-        return 0.5 * d.h * d.mass * v * v, self._potential(self.overlaps(u))
+        return 0.5 * d.h * d.mass * v * v, self._potential(u)
 
     def max_frequency_factor(self) -> float:
         """Largest, over the grid's wavenumbers, of K/P_M(K)², K ∈ [0, 4/h²] (grains⁻²).
