@@ -58,7 +58,7 @@ __all__ = ["QUICK", "FULL", "Block", "AMPLITUDES", "EXPONENTS", "DAMPINGS", "amp
            "law_rows", "linked_axes_toml", "DoesNotApply", "TheoryPrediction",
            "theory_prediction", "theory_errors", "with_models", "continuum_choice",
            "STRONG_CONTINUUM", "STRONG_CONTINUUM_MIN_STRAIN",
-           "STRONG_CONTINUUM_INTEGRATOR", "validity_point", "run",
+           "STRONG_CONTINUUM_INTEGRATOR", "STRONG_CONTINUUM_DT_SAFETY", "validity_point", "run",
            "figures", "report", "to_json", "error_table"]
 
 
@@ -386,14 +386,21 @@ STRONG_CONTINUUM = "qc"
 """The map's continuum in its strongly nonlinear rows (:func:`continuum_choice`): the
 grain-averaged quasi-continuum (:class:`continuum.GrainAveragedPDE`, docs/physics.md
 §24).  Against the discrete chain on the rows strain/δ0 = 9, 100 and the sonic vacuum it
-is within 3.4 % at every compared interface, where Eq. 7 is off by up to 8–12 %; it has
-no dissipative terms, so with drag the map keeps Eq. 7."""
+is within 5 % at every compared interface (launched band-limited,
+:func:`continuum.from_grains`), where Eq. 7 is off by up to 8–12 %; it has no
+dissipative terms, so with drag the map keeps Eq. 7."""
 STRONG_CONTINUUM_INTEGRATOR = "position_verlet"
-"""The quasi-continuum's splitting method on the map (``[models] integrator``; its step is
-the scenario's default, ω_max Δt = 0.6): on ten strongly nonlinear points its errors
-against the chain are Yoshida-4's within 0.2 % of the incident energy (the model's own
-error, 0.6–3.5 %, dominates), and over the map's rows Yoshida-4 takes 1.4–2.5 times its
-CPU time (docs/physics.md §24)."""
+"""The quasi-continuum's splitting method on the map (``[models] integrator``): on ten
+strongly nonlinear points its errors against the chain are Yoshida-4's within 0.2 % of
+the incident energy (the model's own error dominates), and over the map's rows Yoshida-4
+takes 1.4–2.5 times its CPU time (docs/physics.md §24)."""
+STRONG_CONTINUUM_DT_SAFETY = 0.8
+"""The quasi-continuum's ``[models] dt_safety`` on the map: ω_max Δt = 0.96, half position
+Verlet's stability limit 2 (the scenario's default 0.5 is ω_max Δt = 0.6).  The wave's own
+frequencies lie far below ω_max (S̃_M damps the grid's wavenumbers as K^{-M}), so the
+step's error stays below the model's: on twelve strongly nonlinear points the errors
+against the chain moved by at most 0.7 % of the incident energy (largest 2.2 %), at
+0.6–0.75 times the CPU time (docs/physics.md §24)."""
 STRONG_CONTINUUM_MIN_STRAIN = 9.0
 """Incident strain/δ0 from which the map runs :data:`STRONG_CONTINUUM` (and at δ0 = 0).
 At strain/δ0 = 1 Eq. 7 is the closer model (on five interfaces 0.1–1.7 % against
@@ -420,8 +427,8 @@ def with_models(scenario):
     """The point's scenario with every model that applies, and why the continuum does not.
 
     The continuum (:func:`continuum_choice`; the quasi-continuum with
-    :data:`STRONG_CONTINUUM_INTEGRATOR`) is switched on if hertzchain's rule admits it
-    (:func:`hertzchain.scenario.parse_scenario`, via
+    :data:`STRONG_CONTINUUM_INTEGRATOR` at :data:`STRONG_CONTINUUM_DT_SAFETY`) is switched
+    on if hertzchain's rule admits it (:func:`hertzchain.scenario.parse_scenario`, via
     :meth:`hertzchain.scenario.Scenario.with_values`); its refusal is returned as the
     reason ("" when it runs).  The closed-form TheoryModel is off: the map's theory is
     :func:`theory_prediction`.
@@ -431,7 +438,8 @@ def with_models(scenario):
     (Scenario, str)
     """
     model = continuum_choice(scenario)
-    extra = {"models.integrator": STRONG_CONTINUUM_INTEGRATOR} \
+    extra = {"models.integrator": STRONG_CONTINUUM_INTEGRATOR,
+             "models.dt_safety": STRONG_CONTINUUM_DT_SAFETY} \
         if model == STRONG_CONTINUUM else {}
     try:
         return scenario.with_values({"models.continuum": model, "models.theory": False,
@@ -449,7 +457,7 @@ _TEXT = ("continuum_model", "continuum_stopped_by", "continuum_note", "theory_no
 _FLAGS = ("continuum_applies", "theory_applies")
 _KEYS = ("alpha_rho", "alpha_kn", "delta0_over_d", *_COLUMNS, *_TEXT, *_FLAGS)
 """The table's columns, in order (a reused row comes back with its keys sorted)."""
-ROW_KEPT = "validity-row/2"
+ROW_KEPT = "validity-row/3"
 """Names what :func:`_row` keeps (:func:`.common.run_point_cached`): bump the version
 whenever :func:`_row`, the columns or :func:`hertzchain.compare.analyse`'s measurements
 change, so that no row of the old kind is reused."""
