@@ -240,9 +240,10 @@ def test_small_map_records_every_model_that_applies(small):
     cont, th = res["continuum_error"], res["theory_error"]
     capp = np.asarray(res["continuum_applies"]).astype(bool)
     tapp = np.asarray(res["theory_applies"]).astype(bool)
-    # the lossless Hertz chain: both models, the quasi-continuum and the quasi-particle theory
+    # the lossless Hertz chain: both models, the quasi-continuum (launched band-limited:
+    # measured 0.15 %; 2.0 % from a cubic-spline launch) and the quasi-particle theory
     assert capp[hertz] and tapp[hertz] and res["continuum_model"][hertz] == V.STRONG_CONTINUUM
-    assert THRESHOLDS[0] < cont[hertz] <= THRESHOLDS[1] and th[hertz] < 0.03
+    assert cont[hertz] <= THRESHOLDS[0] and th[hertz] < 0.03
     # n = 2 in the sonic vacuum: the theory applies (measured 0.65 %)
     assert tapp[n2] and res["theory_model"][n2] == "quasi-particle" and th[n2] < THRESHOLDS[0]
     # the continuum runs exactly where hertzchain's rule admits it; elsewhere the point
@@ -298,7 +299,8 @@ def test_reproduce_item_quick(tmp_path, monkeypatch):
     data = V.to_json(table)
     pre, sv = data["points"]
     assert pre["delta0_over_d"] == pytest.approx(1e-3) and sv["delta0_over_d"] == 0.0
-    assert pre["continuum_error"] <= THRESHOLDS[0] < sv["continuum_error"] <= THRESHOLDS[1]
+    # (the sonic vacuum's quasi-continuum, launched band-limited: measured 0.15 %)
+    assert pre["continuum_error"] <= THRESHOLDS[0] and sv["continuum_error"] <= THRESHOLDS[0]
     assert (pre["theory_model"], sv["theory_model"]) == ("lattice acoustics", "quasi-particle")
     assert pre["theory_error"] <= THRESHOLDS[0] and sv["theory_error"] <= THRESHOLDS[1]
     assert sv["incident_strain_over_delta0"] is None  # inf in JSON: the sonic vacuum
