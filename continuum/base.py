@@ -64,6 +64,9 @@ class ChainPDEBase(PDEBase):
     """Key of the model in :data:`continuum.MODELS`."""
     label: ClassVar[str] = ""
     """Legend text of the model (e.g. ``"Eq. 4"``)."""
+    smooth_interpolation: ClassVar[str] = "spline"
+    """How :func:`continuum.from_grains` takes a smooth grain state (``"smooth"``) onto
+    this model's nodes: ``"spline"`` or ``"band_limited"``."""
 
     def __init__(self, medium: Medium, n: int = 5, *, bc: str = "free") -> None:
         super().__init__()

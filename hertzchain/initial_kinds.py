@@ -62,7 +62,8 @@ class InitialKind:
         kind); False: the wave forms on the way and is measured on the discrete run.
     interpolation : str
         How the continuum interpolates the state (:func:`continuum.from_grains`):
-        ``"spline"`` for a smooth wave, ``"grains"`` for a state that jumps from grain
+        ``"smooth"`` for a smooth wave (the model's own choice, cubic splines or the
+        band-limited interpolant), ``"grains"`` for a state that jumps from grain
         to grain (keeps the grains' momentum and energy).
     single_struck_grain : bool
         One grain moves, the rest is at rest (the linear chain's Bessel-function front,
@@ -73,7 +74,7 @@ class InitialKind:
     doc: ClassVar[str] = ""
     keys: ClassVar[tuple[Key, ...]] = ()
     placed: ClassVar[bool] = False
-    interpolation: ClassVar[str] = "spline"
+    interpolation: ClassVar[str] = "smooth"
     single_struck_grain: ClassVar[bool] = False
 
     # ---------------------------------------------------------------- scenario
@@ -305,8 +306,8 @@ def register_initial_kind(kind: InitialKind) -> InitialKind:
                          f"'kind' (got {names})")
     if kind.placed and "center" not in names:
         raise ValueError(f"{type(kind).__name__} is placed: it needs the key 'center'")
-    if kind.interpolation not in ("spline", "grains"):
-        raise ValueError(f"{type(kind).__name__}.interpolation must be 'spline' or 'grains'")
+    if kind.interpolation not in ("smooth", "grains"):
+        raise ValueError(f"{type(kind).__name__}.interpolation must be 'smooth' or 'grains'")
     known = {k.name: k for other in INITIAL_KINDS.values() if other.name != kind.name
              for k in other.keys}
     for k in kind.keys:

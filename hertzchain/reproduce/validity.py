@@ -58,7 +58,8 @@ __all__ = ["QUICK", "FULL", "Block", "AMPLITUDES", "EXPONENTS", "DAMPINGS", "amp
            "law_rows", "linked_axes_toml", "DoesNotApply", "TheoryPrediction",
            "theory_prediction", "theory_errors", "with_models", "continuum_choice",
            "STRONG_CONTINUUM", "STRONG_CONTINUUM_MIN_STRAIN",
-           "STRONG_CONTINUUM_INTEGRATOR", "validity_point", "run",
+           "STRONG_CONTINUUM_INTEGRATOR", "STRONG_CONTINUUM_DT_SAFETY", "longer_run",
+           "validity_point", "run",
            "figures", "report", "to_json", "error_table"]
 
 
@@ -386,14 +387,21 @@ STRONG_CONTINUUM = "qc"
 """The map's continuum in its strongly nonlinear rows (:func:`continuum_choice`): the
 grain-averaged quasi-continuum (:class:`continuum.GrainAveragedPDE`, docs/physics.md
 §24).  Against the discrete chain on the rows strain/δ0 = 9, 100 and the sonic vacuum it
-is within 3.4 % at every compared interface, where Eq. 7 is off by up to 8–12 %; it has
-no dissipative terms, so with drag the map keeps Eq. 7."""
+is within 5 % at every compared interface (launched band-limited,
+:func:`continuum.from_grains`), where Eq. 7 is off by up to 8–12 %; it has no
+dissipative terms, so with drag the map keeps Eq. 7."""
 STRONG_CONTINUUM_INTEGRATOR = "position_verlet"
-"""The quasi-continuum's splitting method on the map (``[models] integrator``; its step is
-the scenario's default, ω_max Δt = 0.6): on ten strongly nonlinear points its errors
-against the chain are Yoshida-4's within 0.2 % of the incident energy (the model's own
-error, 0.6–3.5 %, dominates), and over the map's rows Yoshida-4 takes 1.4–2.5 times its
-CPU time (docs/physics.md §24)."""
+"""The quasi-continuum's splitting method on the map (``[models] integrator``): on ten
+strongly nonlinear points its errors against the chain are Yoshida-4's within 0.2 % of
+the incident energy (the model's own error dominates), and over the map's rows Yoshida-4
+takes 1.4–2.5 times its CPU time (docs/physics.md §24)."""
+STRONG_CONTINUUM_DT_SAFETY = 0.8
+"""The quasi-continuum's ``[models] dt_safety`` on the map: ω_max Δt = 0.96, half position
+Verlet's stability limit 2 (the scenario's default 0.5 is ω_max Δt = 0.6).  The wave's own
+frequencies lie far below ω_max (S̃_M damps the grid's wavenumbers as K^{-M}), so the
+step's error stays below the model's: on twelve strongly nonlinear points the errors
+against the chain moved by at most 0.7 % of the incident energy (largest 2.2 %), at
+0.6–0.75 times the CPU time (docs/physics.md §24)."""
 STRONG_CONTINUUM_MIN_STRAIN = 9.0
 """Incident strain/δ0 from which the map runs :data:`STRONG_CONTINUUM` (and at δ0 = 0).
 At strain/δ0 = 1 Eq. 7 is the closer model (on five interfaces 0.1–1.7 % against
@@ -420,8 +428,8 @@ def with_models(scenario):
     """The point's scenario with every model that applies, and why the continuum does not.
 
     The continuum (:func:`continuum_choice`; the quasi-continuum with
-    :data:`STRONG_CONTINUUM_INTEGRATOR`) is switched on if hertzchain's rule admits it
-    (:func:`hertzchain.scenario.parse_scenario`, via
+    :data:`STRONG_CONTINUUM_INTEGRATOR` at :data:`STRONG_CONTINUUM_DT_SAFETY`) is switched
+    on if hertzchain's rule admits it (:func:`hertzchain.scenario.parse_scenario`, via
     :meth:`hertzchain.scenario.Scenario.with_values`); its refusal is returned as the
     reason ("" when it runs).  The closed-form TheoryModel is off: the map's theory is
     :func:`theory_prediction`.
@@ -431,7 +439,8 @@ def with_models(scenario):
     (Scenario, str)
     """
     model = continuum_choice(scenario)
-    extra = {"models.integrator": STRONG_CONTINUUM_INTEGRATOR} \
+    extra = {"models.integrator": STRONG_CONTINUUM_INTEGRATOR,
+             "models.dt_safety": STRONG_CONTINUUM_DT_SAFETY} \
         if model == STRONG_CONTINUUM else {}
     try:
         return scenario.with_values({"models.continuum": model, "models.theory": False,
@@ -449,7 +458,7 @@ _TEXT = ("continuum_model", "continuum_stopped_by", "continuum_note", "theory_no
 _FLAGS = ("continuum_applies", "theory_applies")
 _KEYS = ("alpha_rho", "alpha_kn", "delta0_over_d", *_COLUMNS, *_TEXT, *_FLAGS)
 """The table's columns, in order (a reused row comes back with its keys sorted)."""
-ROW_KEPT = "validity-row/2"
+ROW_KEPT = "validity-row/3"
 """Names what :func:`_row` keeps (:func:`.common.run_point_cached`): bump the version
 whenever :func:`_row`, the columns or :func:`hertzchain.compare.analyse`'s measurements
 change, so that no row of the old kind is reused."""
@@ -473,8 +482,53 @@ def _models_row(cmp, continuum_reason: str) -> dict:
     return out
 
 
+def longer_run(result, cmp) -> dict | None:
+    r"""A longer run for a point whose waves had not left the interface, or None.
+
+    The map's run length is set per amplitude row (:func:`amplitude_row`, at the incident
+    speed V); light → heavy onto a soft side the transmitted wave is much slower, and the
+    discrete run's waves may not have separated from the interface
+    (:func:`hertzchain.measure.separated_by`) by its end, so the energies are not
+    compared.  Only for such a point: the run is stretched by the slowest transmitted
+    speed, t_end → t_end V / V_T (V_T from :func:`theory_prediction`), so that the
+    transmitted wave covers the grains past the interface the row's run gives a wave at
+    V, and the left section (with the wave's placement) grows by V (t'_end − t_end) + 5
+    grains so that the reflected wave, at most as fast as V, still does not reach the
+    left end.  Every other point keeps its run; so do chains with drag (their damping
+    level β·t_end is the run's).
+
+    Returns
+    -------
+    dict or None
+        ``Scenario.with_values`` keys (``run.t_end``, ``chain.sections.0.n``,
+        ``initial.center``), or None: compared, or no prediction (the theory does not
+        apply) or no slower transmitted wave.
+    """
+    sc = result.scenario
+    if (result.interface is None or result.discrete is None or sc.chain.drag
+            or cmp.i_compare < cmp.i_cross or cmp.t_separated <= cmp.t_compare):
+        return None
+    try:
+        pred = theory_prediction(result)
+    except DoesNotApply:
+        return None
+    v_in = float((result.initial.params or {})["speed"])
+    if not 0 < pred.speed_transmitted < v_in:
+        return None
+    t_end = float(sc.run.t_end)
+    t_new = t_end * v_in / pred.speed_transmitted
+    digits = 10 ** (math.floor(math.log10(t_new)) - 2)
+    t_new = float(f"{math.ceil(t_new / digits) * digits:.3g}")
+    grains = math.ceil(v_in * (t_new - t_end) / float(result.chain.diameter[0])) + 5
+    return {"run.t_end": t_new, "chain.sections.0.n": int(sc.chain.sections[0].n) + grains,
+            "initial.center": int(sc.initial.center) + grains}
+
+
 def _row(result, continuum_reason: str = "") -> dict:
-    """One point's row of the table: the interface, the law, δ0 and the models' errors."""
+    """One point's row of the table: the interface, the law, δ0 and the models' errors.
+
+    Plus ``"longer"``: :func:`longer_run`'s keys (None: the run stands).
+    """
     cmp = analyse(result)
     sc = result.scenario
     row = {"alpha_rho": float(sc.chain.sections[1].alpha_rho),
@@ -484,7 +538,7 @@ def _row(result, continuum_reason: str = "") -> dict:
            "incident_strain_over_delta0": float(cmp.summary().get(
                "incident_strain_over_delta0", math.nan)),
            **_models_row(cmp, continuum_reason)}
-    return {k: row[k] for k in _KEYS}
+    return {**{k: row[k] for k in _KEYS}, "longer": longer_run(result, cmp)}
 
 
 def validity_point(scenario, *, out=None, progress: bool = False) -> dict:
@@ -496,7 +550,9 @@ def validity_point(scenario, *, out=None, progress: bool = False) -> dict:
     :func:`with_models`, run by :func:`hertzchain.models.run` (sampled), compared by
     :func:`hertzchain.compare.analyse`; the summary is the comparison's, with the map's
     columns (:func:`theory_errors`, ``damping``, ``continuum_applies``, ``theory_applies``,
-    ``theory_model``; the continuum's note says why it does not apply).
+    ``theory_model``; the continuum's note says why it does not apply).  A point whose
+    waves had not left the interface by the row's run length is run again, longer
+    (:func:`longer_run`).
     """
     from ..models import run as run_models
 
@@ -505,6 +561,13 @@ def validity_point(scenario, *, out=None, progress: bool = False) -> dict:
     if result.discrete is None or not result.discrete.completed:
         return result.summary()
     cmp = analyse(result)
+    longer = longer_run(result, cmp)
+    if longer:  # the waves had not left the interface: a longer run
+        result = run_models(sc.with_values(longer), out=out, progress=progress,
+                            samples=True)
+        if result.discrete is None or not result.discrete.completed:
+            return result.summary()
+        cmp = analyse(result)
     return {**cmp.summary(), **_models_row(cmp, reason)}
 
 
@@ -560,9 +623,13 @@ def run(ctx: Context) -> _Table:
     for p in tqdm_iter(ctx, points, desc="validity", total=len(points)):
         ctx.log(f"validity: {p.label()}")
         sc, reason = with_models(p.scenario)
-        rows.append(run_point_cached(ctx, "validity-point", sc,
-                                     functools.partial(_row, continuum_reason=reason),
-                                     kept=ROW_KEPT, samples=True)[0])
+        reduce = functools.partial(_row, continuum_reason=reason)
+        row = run_point_cached(ctx, "validity-point", sc, reduce, kept=ROW_KEPT,
+                               samples=True)[0]
+        if row.get("longer"):  # the waves had not left the interface: a longer run
+            row = run_point_cached(ctx, "validity-point", sc.with_values(row["longer"]),
+                                   reduce, kept=ROW_KEPT, samples=True)[0]
+        rows.append(row)
     table = _Table({k: np.array([r[k] for r in rows]) for k in _KEYS})
     table.attrs = {"name": f"model validity (--{ctx.mode})", "n_ok": len(rows),
                    "n_failed": 0}

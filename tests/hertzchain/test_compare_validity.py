@@ -240,9 +240,10 @@ def test_small_map_records_every_model_that_applies(small):
     cont, th = res["continuum_error"], res["theory_error"]
     capp = np.asarray(res["continuum_applies"]).astype(bool)
     tapp = np.asarray(res["theory_applies"]).astype(bool)
-    # the lossless Hertz chain: both models, the quasi-continuum and the quasi-particle theory
+    # the lossless Hertz chain: both models, the quasi-continuum (launched band-limited:
+    # measured 0.15 %; 2.0 % from a cubic-spline launch) and the quasi-particle theory
     assert capp[hertz] and tapp[hertz] and res["continuum_model"][hertz] == V.STRONG_CONTINUUM
-    assert THRESHOLDS[0] < cont[hertz] <= THRESHOLDS[1] and th[hertz] < 0.03
+    assert cont[hertz] <= THRESHOLDS[0] and th[hertz] < 0.03
     # n = 2 in the sonic vacuum: the theory applies (measured 0.65 %)
     assert tapp[n2] and res["theory_model"][n2] == "quasi-particle" and th[n2] < THRESHOLDS[0]
     # the continuum runs exactly where hertzchain's rule admits it; elsewhere the point
@@ -298,7 +299,8 @@ def test_reproduce_item_quick(tmp_path, monkeypatch):
     data = V.to_json(table)
     pre, sv = data["points"]
     assert pre["delta0_over_d"] == pytest.approx(1e-3) and sv["delta0_over_d"] == 0.0
-    assert pre["continuum_error"] <= THRESHOLDS[0] < sv["continuum_error"] <= THRESHOLDS[1]
+    # (the sonic vacuum's quasi-continuum, launched band-limited: measured 0.15 %)
+    assert pre["continuum_error"] <= THRESHOLDS[0] and sv["continuum_error"] <= THRESHOLDS[0]
     assert (pre["theory_model"], sv["theory_model"]) == ("lattice acoustics", "quasi-particle")
     assert pre["theory_error"] <= THRESHOLDS[0] and sv["theory_error"] <= THRESHOLDS[1]
     assert sv["incident_strain_over_delta0"] is None  # inf in JSON: the sonic vacuum
@@ -393,3 +395,30 @@ def test_figure_functions_draw_on_a_given_ax():
     # a law the table does not have: a note, nothing drawn
     cx = Figure().add_subplot()
     assert not plot_validity_amplitude(cx, t, exponent=2.5)
+
+
+def test_a_point_whose_waves_stay_at_the_interface_is_run_longer():
+    """Light → heavy onto a soft side, (α_ρ, α_kn) = (4, 1/4) in the sonic vacuum: with the
+    row's run length the discrete run's waves have not left the interface (energies not
+    compared); :func:`validity.longer_run` stretches the run by the incident over the
+    predicted transmitted speed (~1/0.27) and lengthens the left section, after which the
+    energies are compared and the quasi-continuum is within 5 % (measured 2.9 %).  A
+    compared point, (2, 1/2), is left as it is (None)."""
+    from hertzchain.compare import analyse
+    from hertzchain.models import run
+
+    [p] = _spec((4.0,), (0.25,), [(1.5, math.inf, 0.0)]).points()
+    sc, _ = V.with_models(p.scenario)
+    first = run(sc, samples=True)
+    cmp = analyse(first)
+    assert math.isnan(cmp.summary()["continuum_energy"])
+    longer = V.longer_run(first, cmp)
+    assert longer["run.t_end"] > 3.0 * float(sc.run.t_end)
+    grains = longer["chain.sections.0.n"] - sc.chain.sections[0].n
+    assert grains > 0 and longer["initial.center"] == sc.initial.center + grains
+    row = V.validity_point(p.scenario)
+    assert row["continuum_error"] <= THRESHOLDS[1] / 2
+    [q] = _spec((2.0,), (0.5,), [(1.5, math.inf, 0.0)]).points()
+    sc2, _ = V.with_models(q.scenario)
+    done = run(sc2, samples=True)
+    assert V.longer_run(done, analyse(done)) is None
