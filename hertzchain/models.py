@@ -1065,8 +1065,23 @@ def _continuum_key(scenario: Scenario, model: str, times: np.ndarray, t_final: f
             "nonlinearity": m.nonlinearity, "delta_floor": m.delta_floor,
             "dispersion_cap": m.dispersion_cap,
             "times": [float(t) for t in times], "t_final": float(t_final),
-            **({"interpolation": "grains"}
-               if scenario.initial.initial_kind.interpolation == "grains" else {})}
+            **({"interpolation": interp} if (interp := _launch(scenario, model)) != "spline"
+               else {})}
+
+
+def _launch(scenario: Scenario, model: str) -> str:
+    """How the grain state is put on the model's nodes (:func:`continuum.from_grains`).
+
+    The kind's choice, ``"smooth"`` resolved to the model's own: part of the cache key,
+    since a run launched another way is another run.
+    """
+    interp = scenario.initial.initial_kind.interpolation
+    if interp == "smooth":
+        import continuum
+
+        interp = continuum.MODELS[model].smooth_interpolation if model in continuum.MODELS \
+            else "spline"
+    return interp
 
 
 def _read_continuum(path: Path) -> ModelRun:
