@@ -485,19 +485,21 @@ def run_sweep(spec: SweepSpec | str | os.PathLike | Mapping, *,
         n_skipped = len(points) - len(todo)
         with atomic_path(directory / "spec.json") as tmp:
             tmp.write_text(spec.to_json() + "\n", encoding="utf-8")
-        write_table(table_path, spec, points, records)
         n_run, interrupted, n_lost = 0, False, 0
-        if todo:
-            if warmup == "auto":
-                tiny = tiny_scenario(spec.point_table(todo[0].values))
-                warmup = None if tiny is None else functools.partial(_warm, fn, tiny)
-            n_run, interrupted, n_lost = _execute(
-                spec, points, todo, records, store, fn, fname, directory, table_path,
-                client=client, scheduler=scheduler, workers=workers, processes=processes,
-                full_output=full_output, max_points=max_points, progress=progress,
-                warmup=warmup if callable(warmup) else None,
-                consolidate_every=consolidate_every, on_result=on_result,
-                n_skipped=n_skipped)
+        try:  # the table is written once, on the way out (and every consolidate_every s)
+            if todo:
+                if warmup == "auto":
+                    tiny = tiny_scenario(spec.point_table(todo[0].values))
+                    warmup = None if tiny is None else functools.partial(_warm, fn, tiny)
+                n_run, interrupted, n_lost = _execute(
+                    spec, points, todo, records, store, fn, fname, directory, table_path,
+                    client=client, scheduler=scheduler, workers=workers,
+                    processes=processes, full_output=full_output, max_points=max_points,
+                    progress=progress, warmup=warmup if callable(warmup) else None,
+                    consolidate_every=consolidate_every, on_result=on_result,
+                    n_skipped=n_skipped)
+        finally:
+            write_table(table_path, spec, points, records)
     statuses = [records[p.id]["status"] if p.id in records else "pending" for p in points]
     incomplete = sum(1 for p in points if p.id in records
                      and records[p.id]["status"] in ("ok", "unverified")
@@ -674,5 +676,4 @@ def _execute(spec: SweepSpec, points: list[Point], todo: list[Point],
             if pending:
                 c.cancel([f for f, _ in pending.values()])
                 pending.clear()
-            write_table(table_path, spec, points, records)
     return n_run, stopped or bool(lost), len(lost)

@@ -213,6 +213,31 @@ def test_max_points_stops_cleanly(tmp_path, client):
     assert (second.n_skipped, second.n_run, second.n_pending) == (2, 4, 0)
 
 
+def test_results_table_written_once_on_the_way_out(tmp_path, client, monkeypatch):
+    """One write of results.h5 a run (none before the points: it would hold only
+    pending rows), also when nothing is left to run and when the client cannot start."""
+    from hertzchain.sweep import engine
+
+    calls = []
+    real = engine.write_table
+    monkeypatch.setattr(engine, "write_table", lambda *a, **k: calls.append(1) or real(*a, **k))
+    spec = parse_sweep_spec(spec_dict(2, 1))
+    outcome = run(spec, tmp_path / "a", point_fn, client)
+    assert outcome.n_ok == 2 and len(calls) == 1
+    assert list(read_results(outcome.table)["status"]) == ["ok", "ok"]
+    run(spec, tmp_path / "a", point_fn, client)  # nothing to run: the table is rewritten
+    assert len(calls) == 2
+
+    def no_client(*args, **kwargs):
+        raise RuntimeError("no cluster")
+
+    monkeypatch.setattr(engine, "_dask_client", no_client)
+    with pytest.raises(RuntimeError, match="no cluster"):
+        run(spec, tmp_path / "b", point_fn, None)
+    assert len(calls) == 3
+    assert list(read_results(tmp_path / "b")["status"]) == ["pending", "pending"]
+
+
 def test_torn_record_line_is_skipped_and_repaired(tmp_path, client):
     spec = parse_sweep_spec(spec_dict(2, 1))
     out = tmp_path / "t"
