@@ -381,11 +381,16 @@ class GrainAveragedPDE(ChainPDEBase):
         self._f0 = d.f0
         self._last: tuple[np.ndarray, list] | None = None
 
-    def _factor(self, nf: int, h: float) -> np.ndarray:
-        """Upper banded Cholesky factor of B = P_M(L), L = DᵀD/h² on ``nf`` faces."""
+    def _pade_band(self, nf: int, h: float, even_ends: bool):
+        """B = P_M(L) on ``nf`` faces, as a sparse matrix and its upper band rows.
+
+        L = DᵀD/h² is the three-point Laplacian; ``even_ends``: even (Neumann) ends,
+        L·1 = 0 (the whole chain), else the plain stencil (a window of interior faces).
+        """
         m = self.terms
         diag = np.full(nf, 2.0)
-        diag[0] = diag[-1] = 1.0  # even (Neumann) ends: L·1 = 0
+        if even_ends:
+            diag[0] = diag[-1] = 1.0
         lap = diags([-np.ones(nf - 1), diag, -np.ones(nf - 1)], [-1, 0, 1],
                     format="csr") / (h * h)
         b = diags([np.full(nf, self.coefficients[0])], [0], format="csr")
@@ -396,7 +401,11 @@ class GrainAveragedPDE(ChainPDEBase):
         ab = np.zeros((m + 1, nf))
         for off in range(m + 1):
             ab[m - off, off:] = b.diagonal(off)
-        self._bmat = b
+        return b, ab
+
+    def _factor(self, nf: int, h: float) -> np.ndarray:
+        """Upper banded Cholesky factor of B = P_M(L), L = DᵀD/h² on ``nf`` faces."""
+        self._bmat, ab = self._pade_band(nf, h, even_ends=True)
         return np.ascontiguousarray(cholesky_banded(ab, lower=False))
 
     @classmethod
@@ -566,17 +575,7 @@ class GrainAveragedPDE(ChainPDEBase):
         L here is the plain three-point Laplacian (no even ends): the matrix a window of
         interior faces sees.
         """
-        m, h = self.terms, self.disc.h
-        lap = diags([-np.ones(nf - 1), np.full(nf, 2.0), -np.ones(nf - 1)], [-1, 0, 1],
-                    format="csr") / (h * h)
-        b = diags([np.full(nf, self.coefficients[0])], [0], format="csr")
-        power = diags([np.ones(nf)], [0], format="csr")
-        for j in range(1, m + 1):
-            power = power @ lap
-            b = b + self.coefficients[j] * power
-        ab = np.zeros((m + 1, nf))
-        for off in range(m + 1):
-            ab[m - off, off:] = b.diagonal(off)
+        _, ab = self._pade_band(nf, self.disc.h, even_ends=False)
         return band_rows(np.ascontiguousarray(cholesky_banded(ab, lower=False)))
 
     def make_monitor(self) -> Callable:
