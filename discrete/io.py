@@ -214,6 +214,15 @@ def _write_train(f: h5py.File, train: Train) -> None:
         _ds(g, name, arr, units=TRAIN_FIELDS)
 
 
+def _check_format(f: h5py.File, path: Path) -> None:
+    """Refuse a file whose ``format`` attribute is not :data:`FORMAT`, naming both."""
+    fmt = f.attrs.get("format")
+    if isinstance(fmt, bytes):
+        fmt = fmt.decode()
+    if fmt != FORMAT:
+        raise ValueError(f"{path} is not a {FORMAT} file (format {fmt!r})")
+
+
 def load_train(path: str | os.PathLike) -> Train | None:
     """The solitary waves stored with a run (the group ``train``), or None if it has none.
 
@@ -223,11 +232,7 @@ def load_train(path: str | os.PathLike) -> Train | None:
     """
     path = Path(path)
     with integrity.open_hdf5(path, what=f"result file ({FORMAT})") as f:
-        fmt = f.attrs.get("format")
-        if isinstance(fmt, bytes):
-            fmt = fmt.decode()
-        if fmt != FORMAT:
-            raise ValueError(f"{path} is not a {FORMAT} file (format {fmt!r})")
+        _check_format(f, path)
         if "train" not in f:
             return None
         r = _Reader(f)
@@ -307,11 +312,7 @@ def load(path: str | os.PathLike, *, threads: int | None = None) -> Simulation:
     """
     path = Path(path)
     with integrity.open_hdf5(path, what=f"result file ({FORMAT})") as f:
-        fmt = f.attrs.get("format")
-        if isinstance(fmt, bytes):
-            fmt = fmt.decode()
-        if fmt != FORMAT:
-            raise ValueError(f"{path} is not a {FORMAT} file (format {fmt!r})")
+        _check_format(f, path)
         r = _Reader(f)
         try:
             return _read(r, threads)
