@@ -128,8 +128,22 @@ def _escape_bars(app, what, name, obj, options, lines) -> None:
                            for k, p in enumerate(parts))
 
 
+def _scenario_reference(app, what, name, obj, options, lines) -> None:
+    """Append the scenario reference to ``hertzchain.scenario``'s page.
+
+    The example and key tables are made from the registries of laws, initial kinds and
+    continuum models (:func:`hertzchain.scenario.schema_reference`), so a registered law's
+    keys appear without editing a docstring.
+    """
+    if what == "module" and name == "hertzchain.scenario":
+        from hertzchain.scenario import schema_reference
+
+        lines.extend(["", *schema_reference().splitlines()])
+
+
 def setup(app) -> None:
-    """Sphinx hook: register the docstring filter after napoleon's (priority 500)."""
+    """Sphinx hooks: the scenario reference, then the docstring filter after napoleon's."""
+    app.connect("autodoc-process-docstring", _scenario_reference, priority=550)
     app.connect("autodoc-process-docstring", _escape_bars, priority=600)
 
 # --- gallery ----------------------------------------------------------------------------

@@ -13,7 +13,9 @@ Lengths are in m, times in s, velocities in m/s, densities in kg/m³, moduli in 
 Materials are named (:data:`theory.MATERIALS`, ``hertzchain materials``) or given as a
 table ``{density, youngs_modulus, poisson_ratio}`` (kg/m³, Pa, 1; an optional ``name``).
 
-{schema}
+The example with every key, and the tables of keys with their units and ranges, are
+:func:`schema_reference` (made from the registries of laws, initial kinds and continuum
+models; the documentation's page of this module shows them).
 
 Models
 ------
@@ -71,9 +73,7 @@ from __future__ import annotations
 
 import difflib
 import math
-import sys
 import tomllib
-import types
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
@@ -103,6 +103,7 @@ __all__ = [
     "read_key",
     "schema_key",
     "schema_markdown",
+    "schema_reference",
     "set_path",
     "shipped_scenarios",
 ]
@@ -1468,7 +1469,12 @@ def _example() -> str:
     return "\n".join(lines)
 
 
-def _schema_doc() -> str:
+def schema_reference() -> str:
+    """The scenario reference (reST): an example with every key, then :func:`schema_markdown`.
+
+    Made from the registries on each call; the documentation inserts it into this
+    module's page (``docs/conf.py``).
+    """
     return ("Example (every key shown; all are optional except ``[chain]`` with at least "
             "one section)::\n\n" + "\n".join("    " + ln if ln else ""
                                              for ln in _example().splitlines())
@@ -1490,19 +1496,3 @@ def _check_schema_matches_specs() -> None:
 
 
 _check_schema_matches_specs()
-_DOC_TEMPLATE = __doc__ or ""
-
-
-class _ScenarioModule(types.ModuleType):
-    """The module type of this module: its docstring's key tables are made when read.
-
-    They list the registered laws (and the other registries' keys), which import NumPy:
-    generated at import, they would cost ``hertzchain --help`` that import.
-    """
-
-    @property
-    def __doc__(self) -> str:  # type: ignore[override]
-        return _DOC_TEMPLATE.replace("{schema}", _schema_doc())
-
-
-sys.modules[__name__].__class__ = _ScenarioModule

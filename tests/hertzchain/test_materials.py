@@ -109,6 +109,6 @@ def test_material_table_names_units_when_incomplete():
 def test_scenario_docs_give_the_units():
     import hertzchain.scenario as S
 
-    doc = S.__doc__
+    doc = S.__doc__ + S.schema_reference()
     assert "kg/m³" in doc and "youngs_modulus (Pa)" in doc
     assert np.isclose(get_material("glass").density, 2500.0)

@@ -176,8 +176,9 @@ def test_schema_is_documented_and_complete():
             assert key.doc, key.name
     import hertzchain.scenario as S
 
-    assert "[models]" in S.__doc__ and "continuum = \"auto\"" in S.__doc__
-    example = S.__doc__.split("::\n\n", 1)[1].split("\n\nKeys", 1)[0]
+    ref = S.schema_reference()
+    assert "[models]" in ref and "continuum = \"auto\"" in ref
+    example = ref.split("::\n\n", 1)[1].split("\n\nKeys", 1)[0]
     import tomllib
 
     parsed = parse_scenario(tomllib.loads("\n".join(ln[4:] for ln in example.splitlines())))
