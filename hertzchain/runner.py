@@ -82,13 +82,12 @@ from the refined peak times, :func:`hertzchain.measure.front_speed_from_maxima`)
 There the summary reads only the transmitted front speed from the grid (arrival times
 refined by a parabola through three rows, a straight-line fit over the grains), and
 the rows, whose count does not shrink with the step, were most of the cost that did
-not (about 40 % of a small run).  Measured on
-impacts (δ0 = 0, until the front reaches 0.75 N, rows not coarsened), the front speed
-at 0.5, 1, 2 and 4 transits a row against 0.25: 2,000 grains, default dt: 8e-8,
-5.6e-7, 6.8e-7, 9.3e-6; 600 grains (fewer grains in the fit): 5e-7, 5.7e-6, 2.9e-5
-at the default dt and, at the rtol = 1e-4 step, 6.5e-7 and 3.8e-5 at 1 and 2.  One
-transit keeps that error ~20 times inside rtol = 1e-4 and halves the rows; the fewer
-rows also need less coarsening (coarsening by 8 moved it 1.3e-4).  Chains with an
+not (about 40 % of a small run).  On impacts
+(δ0 = 0, front to 0.75 N) the front speed's difference from a grid of 0.25 transits a
+row stays below 6e-6 at one transit (2,000 and 600 grains, default and rtol = 1e-4
+steps) and reaches 3e-5 at two on 600 grains: one transit keeps it ~20 times inside
+rtol = 1e-4 and halves the rows, which then also need less coarsening (coarsening by 8
+moved it 1.3e-4).  Chains with an
 interface keep :data:`GRID_ROWS_PER_GRAIN` or finer (:func:`split_row_spacing`, for the
 phase-averaged energy split): their reflected front speed is not
 converged in the row spacing (266, 294 and 279 m/s at 0.25, 0.5 and 2 transits a row

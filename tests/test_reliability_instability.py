@@ -11,11 +11,11 @@ chain (the earlier choice, at dt = 0.1 x the bound) does not: behind the impact,
 keep closing from zero overlap (where the Hertz force is only C^1) and the grains rattle
 chaotically, so the monitored drift is a random walk of ~5e-5 whose value at a given
 monitor sample depends on the last bits of the state.  Those bits differ between
-machines: NumPy dispatches its float64 ``power`` to SVML on AVX-512 CPUs and to libm on
-AVX2 ones, and the stable dt the test derives its dt from, the expected overlaps and the
-initial state all go through it.  On an AVX2 CPU, with dt and the velocities
-changed by 1-8 ulp (13 trials): the first sample beyond 1e-4 came at step 20,000 in 1,
-later in 11 and never in 1 (this machine's unperturbed run: exit 0, drift 7e-5).
+machines: NumPy's float64 ``power`` takes a different vectorised path depending on the
+CPU's instruction set, and the stable dt the test derives its dt from, the expected
+overlaps and the initial state all go through it.  With dt and the velocities changed
+by 1-8 ulp (13 trials) the first sample beyond 1e-4 came at step 20,000 in 1, later in
+11 and never in 1 (unperturbed: exit 0, drift 7e-5).
 
 :data:`DRIFT` separates a deterministic phase from a decisive one.  A cut wave runs
 1,250 grains along a heavy sonic-vacuum section, where dt = 0.5 x the chain's bound
