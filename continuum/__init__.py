@@ -43,6 +43,7 @@ from .initial import (
     compacton,
     compacton_parameters,
     from_grains,
+    launch_interpolation,
     solitary_wave,
     solitary_wave_parameters,
 )
@@ -74,6 +75,7 @@ __all__ = [
     "discretise",
     "energy_ratios",
     "from_grains",
+    "launch_interpolation",
     "homogenise",
     "register_model",
     "run",

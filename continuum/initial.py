@@ -24,7 +24,7 @@ from theory import compacton_motion, compacton_width
 from .boussinesq import law_curvature
 
 __all__ = ["solitary_wave", "solitary_wave_parameters", "compacton", "compacton_parameters",
-           "from_grains", "band_limited", "INTERPOLATIONS"]
+           "from_grains", "band_limited", "launch_interpolation", "INTERPOLATIONS"]
 
 BAND_LIMITED_PAD = 10
 """Grains of the flat state on either side of a wave that :func:`band_limited` takes into
@@ -179,6 +179,21 @@ def compacton(pde, center: float, *, amplitude: float | None = None,
     return pde.get_initial_condition(u, v)
 
 
+def launch_interpolation(model, interpolation: str = "smooth") -> str:
+    """The interpolation :func:`from_grains` uses for ``model`` (a PDE or its class).
+
+    ``"smooth"`` is the model's own :attr:`~continuum.ChainPDEBase.smooth_interpolation`
+    (``"spline"`` for a model without one, e.g. KdV or None); the others are returned as
+    given.  Raises ValueError naming :data:`INTERPOLATIONS` for any other value.
+    """
+    if interpolation not in INTERPOLATIONS:
+        raise ValueError(f"interpolation must be one of {', '.join(INTERPOLATIONS)} "
+                         f"(got {interpolation!r})")
+    if interpolation == "smooth":
+        return getattr(model, "smooth_interpolation", "spline")
+    return interpolation
+
+
 def from_grains(pde, u_grains, v_grains, *, interpolation: str = "smooth"
                 ) -> FieldCollection:
     """State interpolated from a discrete snapshot: u_i (m), v_i (m/s) of every grain.
@@ -208,11 +223,7 @@ def from_grains(pde, u_grains, v_grains, *, interpolation: str = "smooth"
       overshoot, extrapolated past the end grain) and hands the continuum up to ~1.8
       times the struck grain's kinetic energy.
     """
-    if interpolation not in INTERPOLATIONS:
-        raise ValueError(f"interpolation must be one of {', '.join(INTERPOLATIONS)} "
-                         f"(got {interpolation!r})")
-    if interpolation == "smooth":
-        interpolation = pde.smooth_interpolation
+    interpolation = launch_interpolation(pde, interpolation)
     u_g = np.asarray(u_grains, dtype=float)
     v_g = np.asarray(v_grains, dtype=float)
     ng = pde.medium.n_grains

@@ -1075,13 +1075,10 @@ def _launch(scenario: Scenario, model: str) -> str:
     The kind's choice, ``"smooth"`` resolved to the model's own: part of the cache key,
     since a run launched another way is another run.
     """
-    interp = scenario.initial.initial_kind.interpolation
-    if interp == "smooth":
-        import continuum
+    import continuum
 
-        interp = continuum.MODELS[model].smooth_interpolation if model in continuum.MODELS \
-            else "spline"
-    return interp
+    return continuum.launch_interpolation(continuum.MODELS.get(model),
+                                          scenario.initial.initial_kind.interpolation)
 
 
 def _read_continuum(path: Path) -> ModelRun:
