@@ -89,68 +89,58 @@ TARGET_FIRST_RUN_WALL = 10.0
 TARGET_REPRODUCE_COMPILE = 20.0
 """numba's compiling in the first ``reproduce --quick``, s summed over its processes."""
 
-FIRST_CHILD = textwrap.dedent("""
+_TIMER = textwrap.dedent("""
     import json, sys, threading, time
     from numba.core import event
     from hertzchain.cli import main
 
-    totals, local = {}, threading.local()
+    totals, local = {}, threading.local()  # (module, function): [wall s, CPU s]
 
     class Timer(event.Listener):
+        # numba's top-level compiles (a callee's compile is inside its caller's)
         def on_start(self, ev):
             depth = getattr(local, "depth", 0)
             if depth == 0:
                 py = ev.data["dispatcher"].py_func
                 name = py.__qualname__.split("<locals>.")[-1].split("_L")[0]
-                local.start = (f"{py.__module__}.{name}", time.process_time())
+                local.start = (py.__module__, name, time.perf_counter(), time.process_time())
             local.depth = depth + 1
 
         def on_end(self, ev):
             local.depth -= 1
             if local.depth == 0:
-                name, cpu = local.start
-                totals[name] = totals.get(name, 0.0) + time.process_time() - cpu
+                mod, name, wall, cpu = local.start
+                w, c = totals.get((mod, name), (0.0, 0.0))
+                totals[(mod, name)] = (w + time.perf_counter() - wall,
+                                       c + time.process_time() - cpu)
 
     event.register("numba:compile", Timer())
+""")
+"""A child's prelude: every top-level numba compile timed, by module and function."""
+
+FIRST_CHILD = _TIMER + textwrap.dedent("""
     if main(["run", sys.argv[1], "--json"]) != 0:
         raise SystemExit("hertzchain run failed")
-    print(json.dumps(totals), file=sys.stderr)
+    print(json.dumps({f"{m}.{n}": c for (m, n), (_, c) in totals.items()}), file=sys.stderr)
 """)
 
 CASES = (("precompressed, Eq. 4", dict(name="eq4", delta0=1e-3, v=0.05, eq="eq4")),
          ("δ0 = 0, Eq. 7", dict(name="eq7", delta0=0.0, v=0.5, eq="eq7")))
 
-CHILD = textwrap.dedent("""
-    import json, sys, threading, time
-    from numba.core import event
+CHILD = _TIMER + textwrap.dedent("""
     from theory.jitcache import KERNEL_FAMILIES
-    from hertzchain.cli import main
 
-    totals, local = {}, threading.local()
-
-    class Timer(event.Listener):
-        def on_start(self, ev):
-            depth = getattr(local, "depth", 0)
-            if depth == 0:
-                mod = ev.data["dispatcher"].py_func.__module__.split(".")[0]
-                local.start = (mod, time.perf_counter(), time.process_time())
-            local.depth = depth + 1
-
-        def on_end(self, ev):
-            local.depth -= 1
-            if local.depth == 0:
-                mod, wall, cpu = local.start
-                if mod in KERNEL_FAMILIES:
-                    w, c = totals.get((case, mod), (0.0, 0.0))
-                    totals[(case, mod)] = (w + time.perf_counter() - wall,
-                                           c + time.process_time() - cpu)
-
-    event.register("numba:compile", Timer())
+    out = {}
     for case, toml in json.loads(sys.argv[1]):
+        totals.clear()
         if main(["run", toml, "--json"]) != 0:
             raise SystemExit(f"hertzchain run {toml} failed")
-    print(json.dumps([[c, m, w, p] for (c, m), (w, p) in totals.items()]),
-          file=sys.stderr)
+        for (mod, _), (w, c) in totals.items():
+            fam = mod.split(".")[0]
+            if fam in KERNEL_FAMILIES:
+                w0, c0 = out.get((case, fam), (0.0, 0.0))
+                out[(case, fam)] = (w0 + w, c0 + c)
+    print(json.dumps([[c, m, w, p] for (c, m), (w, p) in out.items()]), file=sys.stderr)
 """)
 
 
