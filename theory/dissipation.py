@@ -53,10 +53,9 @@ closed-form decay law for the Kuwabara–Kono chain was found in the literature.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from math import gamma
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.special import gamma
 
 from ._validate import check_nonnegative, check_positive, check_range
 from .profiles import sonic_vacuum_wave_constants
@@ -154,6 +153,7 @@ def shock_from_piston(piston_velocity: float, k: float, mass: float, *, delta0: 
         hi = 1.0
         while f(hi) < 0:
             hi *= 2.0
+        from scipy.optimize import brentq  # lazy: importing scipy costs start-up
         df = d0 * (1.0 + brentq(f, 0.0, hi, xtol=1e-15, rtol=1e-14))
     return float(df), float(u / (df - d0))
 
@@ -230,6 +230,7 @@ def _tail_roots(nu: float, sigma: float) -> tuple[float, complex]:
         if nu * 600.0 < 1.0:
             real = 1.0 / nu
         else:
+            from scipy.optimize import brentq  # lazy: importing scipy costs start-up
             real = brentq(lambda x: sigma - (1.0 - nu * x) * _shape(x), 1e-12, 1.0 / nu,
                           xtol=1e-14, rtol=1e-13)
         # complex roots: Newton from a grid of starts, 0 < Re λ < min(λ_r, 20), 0 < Im < 4π
@@ -301,6 +302,7 @@ def critical_viscosity_lattice(k: float, mass: float, delta_f: float, *, delta0:
         lo, hi = hi, hi * 1.5
         if hi > 20 * nu_lw:
             raise RuntimeError("no crossover of the tail modes found")
+    from scipy.optimize import brentq  # lazy: importing scipy costs start-up
     return float(brentq(gap, lo, hi, xtol=1e-10) * k_lin / s)
 
 

@@ -42,8 +42,6 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.special import ai_zeros, binom
-from scipy.special import beta as beta_fn
 
 from ._numerics import power_remainder
 from ._validate import check_nonnegative, check_positive, check_range
@@ -65,9 +63,10 @@ __all__ = [
 EXPONENT_RANGE = (1.0, 10.0)
 """Allowed contact-law exponents n of F = k δ^n: (1, 10] (n = 1 has no solitary wave)."""
 
-AIRY_PEAK = float(-ai_zeros(1)[1][0])
+AIRY_PEAK = 1.0187929716474715
 """s = 1.01879…: Ai(-s) has its first maximum there (first zero of Ai′, Abramowitz & Stegun
-10.4.95)."""
+10.4.95; a literal, not ``scipy.special.ai_zeros`` at import, which would load SciPy on
+every start-up; tests check it against ``ai_zeros``)."""
 
 
 def _ret(x):
@@ -150,6 +149,8 @@ def _energy_integral(a: np.ndarray, n: float) -> np.ndarray:
     # q = g / (1 - x): direct for a >= 1/2, series Σ_j c_j a^j x² (1 - x^{j-2})/(1 - x)
     # (c_j = C(n+1, j)/(n+1), the Taylor coefficients of h) below
     j = np.arange(3, 64)
+    from scipy.special import binom  # lazy: importing scipy costs start-up
+
     cj = binom(n + 1, j) / (n + 1)
     geo = -np.expm1((j - 2) * np.log(x)[:, None]) / one_m_x[:, None]  # (nodes, terms)
     asmall = np.minimum(a, 0.5)
@@ -168,6 +169,8 @@ def _energy_sonic_vacuum(n: float) -> float:
     :func:`_energy_integral` becomes Beta functions (y = x^{n-1}):
     2√(n/(24(n+1))) [B((n+3)/(2n-2), 1/2) + B((3n+1)/(2n-2), 1/2)]/(n-1).
     """
+    from scipy.special import beta as beta_fn  # lazy: importing scipy costs start-up
+
     b = beta_fn((n + 3) / (2 * (n - 1)), 0.5) + beta_fn((3 * n + 1) / (2 * (n - 1)), 0.5)
     return float(2.0 * np.sqrt(n / (24.0 * (n + 1))) * b / (n - 1))
 

@@ -34,9 +34,9 @@ constants (energy, momentum, amplitude and speed per peak velocity:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from math import gamma
 
 import numpy as np
-from scipy.special import gamma
 
 from ._validate import check_positive, check_range
 from .profiles import sonic_vacuum_wave_constants
