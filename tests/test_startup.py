@@ -30,7 +30,8 @@ until_front_at = 40
 
 NOT_IMPORTED = ("h5py", "dask", "distributed", "matplotlib", "pde", "tqdm",
                 "hertzchain.sweep.engine", "hertzchain.sweep.store", "hertzchain.compare",
-                "hertzchain.reproduce.report", "continuum")
+                "hertzchain.reproduce.report", "continuum", "scipy.optimize",
+                "scipy.integrate", "scipy.interpolate", "scipy.linalg")
 
 
 def _modules_after(argv: list[str], tmp_path) -> set[str]:
