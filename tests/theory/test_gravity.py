@@ -140,6 +140,15 @@ def test_compacton_width_against_the_exact_lattice_wave():
         assert fwhm / w.width(0.5) - 1 == pytest.approx(excess, abs=0.005)
 
 
+def test_airy_constant_is_the_first_zero_of_ai_prime():
+    """AIRY_PEAK is a literal (no SciPy at import): it must be -a'_1, Ai'(-s) = 0 with
+    Ai(-s) the first maximum, to the double's last digits (A&S 10.4.95)."""
+    from scipy.special import ai_zeros, airy
+
+    assert G.AIRY_PEAK == pytest.approx(-ai_zeros(1)[1][0], rel=1e-15)
+    assert abs(airy(-G.AIRY_PEAK)[1]) < 1e-14
+
+
 def test_depth_laws():
     # Hong, Ji & Kim (1999): phase speed h^{1/6}, displacement h^{-1/12}, velocity h^{-1/4}
     # for Hertz; the local sound speed follows the first exactly without a top force.
