@@ -29,7 +29,7 @@ precompression while the incident strain amplitude stays within
 (:class:`continuum.GrainAveragedPDE`, docs/physics.md §24) at δ0 = 0 and from
 :data:`AUTO_QC_MIN_STRAIN` × δ0 on, where it fits the chain
 (:func:`quasicontinuum_applies`: no dissipative law, no drag, no periodic cells; and
-no tapered section, where Eq. 7 was measured closer); and
+no taper or gravity, where Eq. 7 was measured closer); and
 the corrected, regularised Eq. 7 (:class:`continuum.NesterenkoPDE`, which keeps the
 full Hertz force, with or without precompression, docs/physics.md §2–4) in between and
 wherever the quasi-continuum does not fit;
@@ -370,7 +370,8 @@ _TABLE_KEYS: dict[str, tuple[Key | _Registered, ...]] = {
         Key("continuum", "continuum", None, "long-wave continuum: \"auto\" (Eq. 4 if δ0 > 0 "
             f"and the incident strain / δ0 <= {AUTO_EQ4_MAX_STRAIN:g}; the quasi-continuum "
             f"\"qc\" at δ0 = 0 and from strain / δ0 >= {AUTO_QC_MIN_STRAIN:g} on a chain "
-            "without drag, dissipative law, periodic cells or taper; otherwise Eq. 7), "
+            "without drag, dissipative law, periodic cells, taper or gravity; otherwise "
+            "Eq. 7), "
             "a model of continuum.MODELS by name, "
             "\"kdv\" (one precompressed section) or false; not given: \"auto\" in "
             "`hertzchain compare` where it applies, off in run and sweep (its cost)",
@@ -891,8 +892,9 @@ class ModelsSpec:
 
         * ``"qc"``, the grain-averaged quasi-continuum, at δ0 = 0 and where s >=
           :data:`AUTO_QC_MIN_STRAIN` — on a chain it fits
-          (:func:`quasicontinuum_applies`) and without a tapered section, otherwise
-          ``"eq7"`` (on the shipped tapers Eq. 7 is the closer, docs/physics.md §25);
+          (:func:`quasicontinuum_applies`) and whose coefficients do not grade along
+          it (no tapered section, no gravity), otherwise ``"eq7"`` (on the shipped
+          tapers and the gravity example Eq. 7 is the closer, docs/physics.md §25);
         * ``"eq7"`` under precompression where :data:`AUTO_EQ4_MAX_STRAIN` < s <
           :data:`AUTO_QC_MIN_STRAIN`;
         * ``"eq4"`` under precompression where s <= :data:`AUTO_EQ4_MAX_STRAIN` or s is
@@ -922,8 +924,9 @@ class ModelsSpec:
         s = strain_over_delta0
         if not d0 > 0 or (s is not None
                           and s >= AUTO_QC_MIN_STRAIN * (1 - _AUTO_QC_TOLERANCE)):
-            tapered = any(sec.profile == "tapered" for sec in chain.sections)
-            return "eq7" if tapered or quasicontinuum_applies(chain) else "qc"
+            graded = chain.gravity > 0 or any(sec.profile == "tapered"
+                                              for sec in chain.sections)
+            return "eq7" if graded or quasicontinuum_applies(chain) else "qc"
         if s is not None and s > AUTO_EQ4_MAX_STRAIN:
             return "eq7"
         return "eq4"

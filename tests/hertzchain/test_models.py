@@ -118,7 +118,7 @@ def test_auto_picks_eq4_eq7_and_qc_by_the_strain_over_delta0():
         for s in (0.09, 8.6, 100.0):
             assert given.models.continuum_model(given.chain, s) == name
     doc = [k.doc for k in SCHEMA["models"] if k.name == "continuum"][0]
-    assert "<= 0.5" in doc and ">= 9" in doc and "taper; otherwise Eq. 7" in doc
+    assert "<= 0.5" in doc and ">= 9" in doc and "gravity; otherwise" in doc
 
 
 @pytest.mark.parametrize(("chain", "why"), [
@@ -144,11 +144,15 @@ def test_auto_keeps_eq7_where_the_quasi_continuum_does_not_fit(chain, why, d0, s
                                                  "sections": [{"n": 100}]}})
     assert quasicontinuum_applies(lossless.chain) == ""
     assert lossless.models.continuum_model(lossless.chain, strain) == "qc"
-    # a taper fits the quasi-continuum, but Eq. 7 was measured closer there: Eq. 7
-    taper = parse_scenario({**data, "chain": {"delta0_over_d": d0, "sections": [
-        {"n": 40}, {"n": 60, "profile": "tapered", "mass_ratio": 0.95}]}})
-    assert quasicontinuum_applies(taper.chain) == ""
-    assert taper.models.continuum_model(taper.chain, strain) == "eq7"
+    # a taper or gravity fits the quasi-continuum, but Eq. 7 was measured closer: Eq. 7
+    graded = [{"delta0_over_d": d0, "sections": [
+        {"n": 40}, {"n": 60, "profile": "tapered", "mass_ratio": 0.95}]}]
+    if d0 == 0:  # gravity grades δ0 from 0: a sonic-vacuum chain only
+        graded.append({"delta0_over_d": 0.0, "gravity": 9.81, "sections": [{"n": 100}]})
+    for ch in graded:
+        sc = parse_scenario({**data, "chain": ch})
+        assert quasicontinuum_applies(sc.chain) == ""
+        assert sc.models.continuum_model(sc.chain, strain) == "eq7"
 
 
 @pytest.mark.parametrize("chain", [
