@@ -17,10 +17,10 @@ scenario —, the validity map from the shipped sweep's points).  For a
    the one rule :meth:`hertzchain.scenario.ModelsSpec.continuum_model` from the chain
    and the incident strain amplitude / δ0 measured on the initial state: Eq. 4 for weak
    precompressed waves, the quasi-continuum at δ0 = 0 and for strong waves on lossless
-   chains without periodic cells, Eq. 7 otherwise) from the same grain state
-   interpolated onto its grid (:func:`continuum.from_grains`: cubic splines for a placed
-   wave, per grain for an impact, whose struck grain is a velocity jump a spline would
-   ring on), to the discrete run's end time — cached too;
+   chains without periodic cells, taper or gravity, Eq. 7 otherwise) from the same grain
+   state interpolated onto its grid (:func:`continuum.from_grains`: cubic splines for a
+   placed wave, per grain for an impact, whose struck grain is a velocity jump a spline
+   would ring on), to the discrete run's end time — cached too;
 4. evaluates the **theory** (:class:`TheoryModel`: Nesterenko's wave speeds for the law's
    exponent n — Eqs. 5 and 8 for Hertz —, the linear-acoustic interface of Eqs. 9–13
    and the strongly nonlinear one of docs/physics.md §16 where they apply, and the
