@@ -12,13 +12,15 @@ scenario —, the validity map from the shipped sweep's points).  For a
    :func:`~hertzchain.runner.build_initial_checked`);
 2. runs the **discrete** chain (paper Eq. 2, the reference) with
    :func:`hertzchain.runner.run_simulation` — cached by its parameters and checkpointed;
-3. runs the **continuum** (``[models] continuum``: corrected Eq. 4, Eq. 7 or KdV,
-   :mod:`continuum`; ``"auto"`` picks Eq. 4 under precompression up to an incident strain
-   amplitude of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN` × δ0 and Eq. 7 above it
-   and at δ0 = 0) from the same grain state interpolated onto its grid
-   (:func:`continuum.from_grains`: cubic splines for a placed wave, per grain for an
-   impact, whose struck grain is a velocity jump a spline would ring on), to the discrete
-   run's end time — cached too;
+3. runs the **continuum** (``[models] continuum``: corrected Eq. 4, Eq. 7, the
+   grain-averaged quasi-continuum or KdV, :mod:`continuum`; ``"auto"`` is resolved by
+   the one rule :meth:`hertzchain.scenario.ModelsSpec.continuum_model` from the chain
+   and the incident strain amplitude / δ0 measured on the initial state: Eq. 4 for weak
+   precompressed waves, the quasi-continuum at δ0 = 0 and for strong waves on lossless
+   chains without periodic cells, taper or gravity, Eq. 7 otherwise) from the same grain
+   state interpolated onto its grid (:func:`continuum.from_grains`: cubic splines for a
+   placed wave, per grain for an impact, whose struck grain is a velocity jump a spline
+   would ring on), to the discrete run's end time — cached too;
 4. evaluates the **theory** (:class:`TheoryModel`: Nesterenko's wave speeds for the law's
    exponent n — Eqs. 5 and 8 for Hertz —, the linear-acoustic interface of Eqs. 9–13
    and the strongly nonlinear one of docs/physics.md §16 where they apply, and the
@@ -1277,9 +1279,9 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
 
     models = scenario.models
     d0 = float(scenario.chain.delta0_over_d)
-    # "auto": Eq. 4 or Eq. 7 by the incident strain amplitude / δ0 (AUTO_EQ4_MAX_STRAIN)
+    # "auto": the one rule, from the chain and the incident strain amplitude / δ0
     amp = incident.amplitude / d0 if d0 > 0 and math.isfinite(incident.amplitude) else None
-    model = models.continuum_model(d0, amp)
+    model = models.continuum_model(scenario.chain, amp)
     label = continuum_label(model, models)
     times = np.asarray(times)
     times = times[times <= t_final * (1 + 1e-12)]

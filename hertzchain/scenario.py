@@ -21,11 +21,18 @@ Models
 ------
 ``[models]`` names the models run side by side from the *same* initial grain state:
 the discrete chain (paper Eq. 2, the reference), a long-wave continuum and the
-closed-form theory.  ``continuum = "auto"`` picks the corrected Eq. 4 (its Rosenau
-form, :class:`continuum.BoussinesqPDE`) under precompression while the incident strain
-amplitude stays below :data:`AUTO_EQ4_MAX_STRAIN` × δ0, and the corrected, regularised
-Eq. 7 (:class:`continuum.NesterenkoPDE`, which keeps the full Hertz force, with or
-without precompression) above it and at δ0 = 0 (docs/physics.md §2–4);
+closed-form theory.  ``continuum = "auto"`` picks, by one rule
+(:meth:`ModelsSpec.continuum_model`), the model that is the accurate one for the incident
+wave: the corrected Eq. 4 (its Rosenau form, :class:`continuum.BoussinesqPDE`) under
+precompression while the incident strain amplitude stays within
+:data:`AUTO_EQ4_MAX_STRAIN` × δ0; the grain-averaged quasi-continuum ``"qc"``
+(:class:`continuum.GrainAveragedPDE`, docs/physics.md §24) at δ0 = 0 and from
+:data:`AUTO_QC_MIN_STRAIN` × δ0 on, where it fits the chain
+(:func:`quasicontinuum_applies`: no dissipative law, no drag, no periodic cells; and
+no taper or gravity, where Eq. 7 was measured closer); and
+the corrected, regularised Eq. 7 (:class:`continuum.NesterenkoPDE`, which keeps the
+full Hertz force, with or without precompression, docs/physics.md §2–4) in between and
+wherever the quasi-continuum does not fit;
 a model that does not fit the regime (Eq. 4 or KdV at δ0 = 0; KdV, which is
 unidirectional, on more than one section) is an error naming ``[models] continuum``.
 Where each model applies is decided in one place, :func:`model_applies`: the continuum
@@ -86,6 +93,8 @@ __all__ = [
     "TABLE_DOCS",
     "continuum_models",
     "AUTO_EQ4_MAX_STRAIN",
+    "AUTO_QC_MIN_STRAIN",
+    "quasicontinuum_applies",
     "INTEGRATORS",
     "SectionSpec",
     "ChainSpec",
@@ -185,15 +194,35 @@ class _Registered:
 
 AUTO_EQ4_MAX_STRAIN = 0.5
 """``[models] continuum = "auto"`` runs Eq. 4 under precompression only up to this incident
-strain amplitude / δ0 (the peak dynamic overlap of the incident wave over the static one),
-Eq. 7 above it (:meth:`ModelsSpec.continuum_model`).  Eq. 4 keeps the Hertz force
-k δ0^{3/2}(1 + s)^{3/2} to second order in s = strain/δ0; the dropped terms are 0.03 % of
-the dynamic force at the paper's s = 0.09, 0.8 % at s = 0.5, 2.5 % at 1 and 7 % at 2, and
-past s ≈ 2 in tension its flux is ill-posed.  Measured against the discrete chain
-(model-validity points, 200 | 200 grains, (α_ρ, α_kn) = (0.5, 2), (2, 0.5), (0.25, 4),
-(4, 0.25); README): at s = 0.09 Eq. 4 is within 0.12 % (Eq. 7 0.005–0.15 %), at s = 0.74
-Eq. 4 0.8–5.3 % (Eq. 7 0.03–1.7 %), at s = 1.9 Eq. 4 3–12 % (Eq. 7 0.25–2.3 %), and at
-s = 8.6 19 of 25 Eq. 4 runs blow up (Eq. 7 1.2–9.8 %)."""
+strain amplitude / δ0 (the peak dynamic overlap of the incident wave over the static
+one), Eq. 7 above it up to :data:`AUTO_QC_MIN_STRAIN`
+(:meth:`ModelsSpec.continuum_model`).  Eq. 4 keeps the Hertz force k δ0^{3/2}(1 +
+s)^{3/2} to second order in s = strain/δ0; the dropped terms are 0.03 % of the dynamic
+force at the paper's s = 0.09, 0.8 % at s = 0.5, 2.5 % at 1 and 7 % at 2, and past s ≈ 2
+in tension its flux is ill-posed.  Measured against the discrete chain (model-validity
+points, 200 | 200 grains, (α_ρ, α_kn) = (0.5, 2), (2, 0.5), (0.25, 4), (4, 0.25);
+README): at s = 0.09 Eq. 4 is within 0.12 % (Eq. 7 0.005–0.15 %), at s = 0.74 Eq. 4
+0.8–5.3 % (Eq. 7 0.03–1.7 %), at s = 1.9 Eq. 4 3–12 % (Eq. 7 0.25–2.3 %), and at s = 8.6
+19 of 25 Eq. 4 runs blow up (Eq. 7 1.2–9.8 %)."""
+
+AUTO_QC_MIN_STRAIN = 9.0
+"""``[models] continuum = "auto"`` runs the grain-averaged quasi-continuum ``"qc"``
+(:class:`continuum.GrainAveragedPDE`, docs/physics.md §24) from this incident strain
+amplitude / δ0 on, and at δ0 = 0, on the chains it fits (:func:`quasicontinuum_applies`;
+:meth:`ModelsSpec.continuum_model`).  A wave this strong is a few grains wide, and
+Eq. 7's long-wave expansion of the grain average to O(d²) misses what the
+quasi-continuum's order-M Padé average keeps.  Measured against the discrete chain on
+the model-validity map (lossless Hertz chains, 5 × 5 interfaces; docs/physics.md §24):
+at strain/δ0 = 9, 100 and in the sonic vacuum Eq. 7 is off by up to 8–12 % of the
+incident energy (median 1.8–3.5 %) at 53–59 times the discrete chain's CPU time, the
+quasi-continuum within 2.2 % at 1.7–2.6 times; at strain/δ0 = 1 Eq. 7 is the closer
+model (0.1–1.7 % against 0.1–6 %).  Between 1 and 9 the crossover is not measured: 9
+is the lowest amplitude at which the quasi-continuum is known to be the better one."""
+
+_AUTO_QC_TOLERANCE = 1e-9
+"""Relative slack of the ``>=`` :data:`AUTO_QC_MIN_STRAIN` test: a wave set at exactly
+that strain/δ0 (``[initial] strain_max``) reads its peak back to round-off, and must
+fall on the quasi-continuum's side."""
 
 def continuum_models() -> tuple[str, ...]:
     """Values of ``[models] continuum`` besides ``false``.
@@ -339,7 +368,10 @@ _TABLE_KEYS: dict[str, tuple[Key | _Registered, ...]] = {
     "models": (
         Key("discrete", "bool", True, "the discrete chain (paper Eq. 2; the reference)"),
         Key("continuum", "continuum", None, "long-wave continuum: \"auto\" (Eq. 4 if δ0 > 0 "
-            f"and the incident strain / δ0 <= {AUTO_EQ4_MAX_STRAIN:g}, otherwise Eq. 7), "
+            f"and the incident strain / δ0 <= {AUTO_EQ4_MAX_STRAIN:g}; the quasi-continuum "
+            f"\"qc\" at δ0 = 0 and from strain / δ0 >= {AUTO_QC_MIN_STRAIN:g} on a chain "
+            "without drag, dissipative law, periodic cells, taper or gravity; otherwise "
+            "Eq. 7), "
             "a model of continuum.MODELS by name, "
             "\"kdv\" (one precompressed section) or false; not given: \"auto\" in "
             "`hertzchain compare` where it applies, off in run and sweep (its cost)",
@@ -849,24 +881,55 @@ class ModelsSpec:
     samples: int = 40
     compare_times: tuple[float, ...] = ()
 
-    def continuum_model(self, delta0_over_d: float,
+    def continuum_model(self, chain: ChainSpec,
                         strain_over_delta0: float | None = None) -> str | None:
-        """The continuum equation run: "eq4", "eq7", "kdv" or None.
+        """The continuum equation run on ``chain``: a model name or None (off).
 
-        ``"auto"`` is Eq. 7 at δ0 = 0 and under precompression when the incident wave's
-        strain amplitude / δ0 (``strain_over_delta0``, known once the initial state is
-        built) exceeds :data:`AUTO_EQ4_MAX_STRAIN`; otherwise (or if it is not given)
-        Eq. 4.
+        The one rule behind ``"auto"`` (every command, the model-validity map and the
+        summaries read it here); any other value is returned as given.  With δ0 =
+        ``chain.delta0_over_d`` and s = ``strain_over_delta0``, the incident wave's peak
+        dynamic strain / δ0 (known once the initial state is built; None: not known):
+
+        * ``"qc"``, the grain-averaged quasi-continuum, at δ0 = 0 and where s >=
+          :data:`AUTO_QC_MIN_STRAIN` — on a chain it fits
+          (:func:`quasicontinuum_applies`) and whose coefficients do not grade along
+          it (no tapered section, no gravity), otherwise ``"eq7"`` (on the shipped
+          tapers and the gravity example Eq. 7 is the closer, docs/physics.md §25);
+        * ``"eq7"`` under precompression where :data:`AUTO_EQ4_MAX_STRAIN` < s <
+          :data:`AUTO_QC_MIN_STRAIN`;
+        * ``"eq4"`` under precompression where s <= :data:`AUTO_EQ4_MAX_STRAIN` or s is
+          not known.
+
+        Parameters
+        ----------
+        chain : ChainSpec
+            The chain the continuum runs (its δ0, drag, law and section profiles).
+        strain_over_delta0 : float or None
+            Incident peak dynamic strain over δ0 (dimensionless, >= 0); ignored at δ0 = 0.
+
+        Returns
+        -------
+        str or None
+            ``"eq4"``, ``"eq7"``, ``"qc"`` for ``"auto"``; the given name otherwise;
+            None where the continuum is off.
         """
+        if not isinstance(chain, ChainSpec):
+            raise TypeError(f"chain must be a ChainSpec (the rule reads its δ0, drag, law "
+                            f"and profiles), got {type(chain).__name__}")
         if not self.continuum:
             return None
-        if self.continuum == "auto":
-            if not delta0_over_d > 0:
-                return "eq7"
-            if strain_over_delta0 is not None and strain_over_delta0 > AUTO_EQ4_MAX_STRAIN:
-                return "eq7"
-            return "eq4"
-        return str(self.continuum)
+        if self.continuum != "auto":
+            return str(self.continuum)
+        d0 = float(chain.delta0_over_d)
+        s = strain_over_delta0
+        if not d0 > 0 or (s is not None
+                          and s >= AUTO_QC_MIN_STRAIN * (1 - _AUTO_QC_TOLERANCE)):
+            graded = chain.gravity > 0 or any(sec.profile == "tapered"
+                                              for sec in chain.sections)
+            return "eq7" if graded or quasicontinuum_applies(chain) else "qc"
+        if s is not None and s > AUTO_EQ4_MAX_STRAIN:
+            return "eq7"
+        return "eq4"
 
     @property
     def continuum_method(self) -> str:
@@ -1216,6 +1279,31 @@ def theory_applies(chain: ChainSpec, initial: InitialSpec) -> str:
     return ""
 
 
+def quasicontinuum_applies(chain: ChainSpec) -> str:
+    """Why the grain-averaged quasi-continuum does not fit ``chain`` ("" where it does).
+
+    :class:`continuum.GrainAveragedPDE` (docs/physics.md §24) is conservative and
+    resolves every grain's own mass and contact: it refuses (``ValueError``) a
+    dissipative contact law or on-site drag (it has no viscous long-wave term: those
+    take Eq. 4 or Eq. 7), homogenised periodic cells (``profile = "periodic"``: their
+    dispersion factor is Eq. 4's and Eq. 7's) and periodic ends (which no scenario has:
+    the continuum's ends are free or walls).  This is its refusal read off the scenario,
+    without building the medium, for :meth:`ModelsSpec.continuum_model`: where it
+    names a reason, ``"auto"`` runs Eq. 7 instead.
+    """
+    if chain.drag:
+        return (f"[chain] drag = {chain.drag:g}: the quasi-continuum is conservative (no "
+                "viscous long-wave term)")
+    if chain.contact_law().dissipative:
+        return (f"[chain] law = {chain.law!r} is dissipative: the quasi-continuum is "
+                "conservative (no viscous long-wave term)")
+    for i, sec in enumerate(chain.sections):
+        if sec.profile == "periodic":
+            return (f"[chain.sections[{i}]] profile = 'periodic': the quasi-continuum "
+                    "resolves grains, it does not homogenise cells")
+    return ""
+
+
 _APPLIES = {"continuum": continuum_applies, "theory": theory_applies}
 
 
@@ -1274,7 +1362,7 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec, initial: InitialSpec) -> N
                             f"[chain] law = {chain.law!r} has exponent {chain.exponent:g}: "
                             "use 'full' (the chain's own law)")
     d0 = chain.delta0_over_d
-    model = spec.continuum_model(d0)
+    model = spec.continuum_model(chain)
     if model in ("eq4", "kdv") and d0 == 0:
         raise ScenarioError(
             f"[models] continuum = {spec.continuum!r} needs a precompressed chain "

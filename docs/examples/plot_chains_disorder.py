@@ -12,8 +12,9 @@ relative standard deviation σ; :class:`discrete.Disorder`, seeded and reproduci
 
 The shipped scenario ``chain_disorder`` (30 uniform grains, then 90 disordered ones,
 σ = 0.05) and the same with σ = 0 and 0.15, run by the three models through
-:func:`hertzchain.compare.compare`: the discrete chain, the continuum (Eq. 7 on the
-chain's own per-grain coefficients) and the theory, which describes the incident wave
+:func:`hertzchain.compare.compare`: the discrete chain, the continuum (``"auto"`` at
+δ0 = 0: the grain-averaged quasi-continuum, docs/physics.md §24–25, on the chain's own
+per-grain coefficients) and the theory, which describes the incident wave
 in the uniform first section (Nesterenko's speed) and says why it has nothing for the
 disordered one.  Grains are counted from 0, as everywhere in hertzchain.
 """

@@ -70,6 +70,7 @@ fig.tight_layout()
 # the model's tests measure (the first waves are larger than geometric, the later ones
 # smaller; docs/physics.md §14): at M = 4 m the train has the model's 5 waves above 5 %
 # of the leading one, at M = 8 m 8 of its 10 — the tail falls faster than ρ^j.  The
-# striker ends at rest to 0.3 %, as the model assumes.  The continuum (Eq. 7) forms
-# the train from the same impact at nearly the right speeds, each wave a little behind
+# striker ends at rest to 0.3 %, as the model assumes.  The continuum (``"auto"`` at
+# δ0 = 0: the grain-averaged quasi-continuum) forms the train from the same impact at
+# nearly the right speeds, each wave a little behind
 # and lower: a wave a few grains wide is not a long wave.

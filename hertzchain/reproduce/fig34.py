@@ -18,9 +18,11 @@ reaches the interface (the paper's ū_max, Section 2).  Grain numbers are the pa
 
 Each case is the paper scenario ``hertzchain/scenarios/paper/fig3.toml`` (``fig4.toml``)
 with the case's α and the mode's sizes (:func:`scenario`), run through the one run path
-(:func:`.common.run_models`).  Fig. 3's scenario also runs the continuum (regularised
-Eq. 7, ``[models] continuum = "auto"`` at δ0 = 0) from the same grains, drawn beside the
-discrete profile in panels a, b with its difference where it is large.
+(:func:`.common.run_models`).  Fig. 3's scenario also runs the continuum — the paper's
+own model, the regularised Eq. 7, pinned as ``[models] continuum = "eq7"`` (``"auto"``
+would pick the grain-averaged quasi-continuum at δ0 = 0,
+:meth:`hertzchain.scenario.ModelsSpec.continuum_model`) — from the same grains, drawn
+beside the discrete profile in panels a, b with its difference where it is large.
 """
 
 from __future__ import annotations

@@ -1,9 +1,11 @@
 r"""Beyond the paper: the model-validity map — where the continuum and the theory hold.
 
-The continuum (:func:`continuum_choice`: corrected Eq. 4 under precompression up to an
-incident strain/δ0 of :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`, Eq. 7 above it,
-and on lossless chains from strain/δ0 = 9 and at δ0 = 0 the grain-averaged
-quasi-continuum :data:`STRONG_CONTINUUM`) and the theory are measured against the
+The continuum (``"auto"``, hertzchain's one rule
+:meth:`hertzchain.scenario.ModelsSpec.continuum_model`: corrected Eq. 4 under
+precompression up to an incident strain/δ0 of
+:data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`, Eq. 7 above it, and on lossless chains
+from :data:`hertzchain.scenario.AUTO_QC_MIN_STRAIN` and at δ0 = 0 the grain-averaged
+quasi-continuum ``"qc"``) and the theory are measured against the
 discrete chain (paper Eq. 2) over the interface ratios (α_ρ, α_kn), the amplitude
 (incident strain / δ0 from 1e-3 to 100 and the sonic vacuum, :data:`AMPLITUDES`), the
 contact law's exponent n (:data:`EXPONENTS`) and an on-site drag (:data:`DAMPINGS`). The
@@ -23,7 +25,7 @@ wave's speed, its energies are taken at face value.  It is lossless: on the damp
 axis the map measures how far a lossless prediction holds.
 
 **The continuum** runs wherever hertzchain admits it: the point's scenario with
-``[models] continuum`` = :func:`continuum_choice` is validated by
+``[models] continuum`` as "auto" resolves it (:func:`with_models`) is validated by
 :func:`hertzchain.scenario.parse_scenario`, which refuses a model that does not apply to
 the chain with the reason of hertzchain's one applicability rule; that refusal is the
 point's "does not apply" reason.
@@ -50,14 +52,13 @@ from importlib.resources import files
 import numpy as np
 
 from ..compare import THRESHOLDS, analyse
-from ..scenario import AUTO_EQ4_MAX_STRAIN, ScenarioError
+from ..scenario import AUTO_EQ4_MAX_STRAIN, AUTO_QC_MIN_STRAIN, ModelsSpec, ScenarioError
 from ..sweep.spec import load_sweep_spec
 from .common import Context, run_point_cached, save_figure
 
 __all__ = ["QUICK", "FULL", "Block", "AMPLITUDES", "EXPONENTS", "DAMPINGS", "amplitude_row",
            "law_rows", "linked_axes_toml", "DoesNotApply", "TheoryPrediction",
-           "theory_prediction", "theory_errors", "with_models", "continuum_choice",
-           "STRONG_CONTINUUM", "STRONG_CONTINUUM_MIN_STRAIN",
+           "theory_prediction", "theory_errors", "with_models",
            "STRONG_CONTINUUM_INTEGRATOR", "STRONG_CONTINUUM_DT_SAFETY", "longer_run",
            "validity_point", "run",
            "figures", "report", "to_json", "error_table"]
@@ -383,13 +384,6 @@ def theory_errors(cmp) -> dict:
             "note": "; ".join(why), "model": pred.model, "applies": True}
 
 
-STRONG_CONTINUUM = "qc"
-"""The map's continuum in its strongly nonlinear rows (:func:`continuum_choice`): the
-grain-averaged quasi-continuum (:class:`continuum.GrainAveragedPDE`, docs/physics.md
-§24).  Against the discrete chain on the rows strain/δ0 = 9, 100 and the sonic vacuum it
-is within 5 % at every compared interface (launched band-limited,
-:func:`continuum.from_grains`), where Eq. 7 is off by up to 8–12 %; it has no
-dissipative terms, so with drag the map keeps Eq. 7."""
 STRONG_CONTINUUM_INTEGRATOR = "position_verlet"
 """The quasi-continuum's splitting method on the map (``[models] integrator``): on ten
 strongly nonlinear points its errors against the chain are Yoshida-4's within 0.2 % of
@@ -402,34 +396,18 @@ frequencies lie far below ω_max (S̃_M damps the grid's wavenumbers as K^{-M}),
 step's error stays below the model's: on twelve strongly nonlinear points the errors
 against the chain moved by at most 0.7 % of the incident energy (largest 2.2 %), at
 0.6–0.75 times the CPU time (docs/physics.md §24)."""
-STRONG_CONTINUUM_MIN_STRAIN = 9.0
-"""Incident strain/δ0 from which the map runs :data:`STRONG_CONTINUUM` (and at δ0 = 0).
-At strain/δ0 = 1 Eq. 7 is the closer model (on five interfaces 0.1–1.7 % against
-0.1–6 %); between the map's rows 1 and 9 the switch is not measured, and the map's
-points do not depend on where in (1, 9] it lies."""
-
-
-def continuum_choice(scenario) -> str:
-    """``[models] continuum`` of a map point: :data:`STRONG_CONTINUUM` or ``"auto"``.
-
-    The quasi-continuum on a chain without drag at δ0 = 0 or where the exact incident
-    wave's strain/δ0 is at least :data:`STRONG_CONTINUUM_MIN_STRAIN`; ``"auto"``
-    elsewhere (Eq. 4 for weak precompressed waves, Eq. 7 above
-    :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN` and with drag).
-    """
-    d0 = float(scenario.chain.delta0_over_d)
-    strain = scenario.initial.strain_max
-    strong = not d0 > 0 or (strain is not None
-                            and strain / d0 >= STRONG_CONTINUUM_MIN_STRAIN * (1 - 1e-9))
-    return STRONG_CONTINUUM if strong and not scenario.chain.drag else "auto"
 
 
 def with_models(scenario):
     """The point's scenario with every model that applies, and why the continuum does not.
 
-    The continuum (:func:`continuum_choice`; the quasi-continuum with
-    :data:`STRONG_CONTINUUM_INTEGRATOR` at :data:`STRONG_CONTINUUM_DT_SAFETY`) is switched
-    on if hertzchain's rule admits it (:func:`hertzchain.scenario.parse_scenario`, via
+    The continuum is ``"auto"``, resolved here by hertzchain's one rule
+    (:meth:`hertzchain.scenario.ModelsSpec.continuum_model`) at the exact incident
+    wave's strain/δ0 (``[initial] strain_max``; the run resolves it again at the
+    measured one, the same to round-off): where it picks the quasi-continuum the point
+    names ``"qc"`` with :data:`STRONG_CONTINUUM_INTEGRATOR` at
+    :data:`STRONG_CONTINUUM_DT_SAFETY`.  It is switched on if hertzchain's rule admits
+    it (:func:`hertzchain.scenario.parse_scenario`, via
     :meth:`hertzchain.scenario.Scenario.with_values`); its refusal is returned as the
     reason ("" when it runs).  The closed-form TheoryModel is off: the map's theory is
     :func:`theory_prediction`.
@@ -438,10 +416,13 @@ def with_models(scenario):
     -------
     (Scenario, str)
     """
-    model = continuum_choice(scenario)
-    extra = {"models.integrator": STRONG_CONTINUUM_INTEGRATOR,
-             "models.dt_safety": STRONG_CONTINUUM_DT_SAFETY} \
-        if model == STRONG_CONTINUUM else {}
+    d0 = float(scenario.chain.delta0_over_d)
+    strain = scenario.initial.strain_max
+    resolved = ModelsSpec(continuum="auto").continuum_model(
+        scenario.chain, strain / d0 if strain is not None and d0 > 0 else None)
+    model, extra = ("qc", {"models.integrator": STRONG_CONTINUUM_INTEGRATOR,
+                           "models.dt_safety": STRONG_CONTINUUM_DT_SAFETY}) \
+        if resolved == "qc" else ("auto", {})
     try:
         return scenario.with_values({"models.continuum": model, "models.theory": False,
                                      **extra}), ""
@@ -738,7 +719,9 @@ def report(rep, table: _Table, figs: list) -> None:
         "not compared, with the reason" + (f" ({'; '.join(why)})" if why else "")
         + ".  \"auto\" runs Eq. 4 only up to an incident strain/δ0 of "
         f"{AUTO_EQ4_MAX_STRAIN:g} (its quadratic Hertz force is 0.8 % off there, and its "
-        "flux is ill-posed once the strain passes −2δ0) and Eq. 7 above it."
+        "flux is ill-posed once the strain passes −2δ0) and Eq. 7 above it; from "
+        f"{AUTO_QC_MIN_STRAIN:g} and at δ0 = 0 it runs the grain-averaged quasi-continuum "
+        "on chains without drag (Eq. 7 with drag)."
         + (f"  Where a model does not apply the point is kept and says why: "
            f"{'; '.join(na)}." if na else ""))
     for path, caption in figs:

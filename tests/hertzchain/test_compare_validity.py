@@ -189,7 +189,13 @@ def test_does_not_apply_carries_the_rules_reason(runs):
         (p,) = _spec((2.0,), (0.5,), [case]).points()
         sc, reason = V.with_models(p.scenario)
         assert reason == _continuum_reason(case)
-        assert sc.models.continuum == (False if reason else V.continuum_choice(p.scenario))
+        # "auto"'s one rule picks the quasi-continuum from strain/δ0 = 9 and at δ0 = 0
+        # without drag: the point names it (with its map settings), else keeps "auto"
+        strong = case[1] >= 9.0 and case[2] == 0.0
+        assert sc.models.continuum == (False if reason else "qc" if strong else "auto")
+        if sc.models.continuum == "qc":
+            assert (sc.models.integrator, sc.models.dt_safety) == (
+                V.STRONG_CONTINUUM_INTEGRATOR, V.STRONG_CONTINUUM_DT_SAFETY)
         assert not sc.models.theory
     assert V.with_models(p.scenario)[1] == ""  # the lossless Hertz chain: it runs
 
@@ -242,7 +248,7 @@ def test_small_map_records_every_model_that_applies(small):
     tapp = np.asarray(res["theory_applies"]).astype(bool)
     # the lossless Hertz chain: both models, the quasi-continuum (launched band-limited:
     # measured 0.15 %; 2.0 % from a cubic-spline launch) and the quasi-particle theory
-    assert capp[hertz] and tapp[hertz] and res["continuum_model"][hertz] == V.STRONG_CONTINUUM
+    assert capp[hertz] and tapp[hertz] and res["continuum_model"][hertz] == "qc"
     assert cont[hertz] <= THRESHOLDS[0] and th[hertz] < 0.03
     # n = 2 in the sonic vacuum: the theory applies (measured 0.65 %)
     assert tapp[n2] and res["theory_model"][n2] == "quasi-particle" and th[n2] < THRESHOLDS[0]
@@ -254,7 +260,7 @@ def test_small_map_records_every_model_that_applies(small):
         if why:
             assert math.isnan(cont[j]) and res["continuum_note"][j] == f"does not apply: {why}"
         else:
-            assert res["continuum_model"][j] in ("eq4", "eq7", V.STRONG_CONTINUUM)
+            assert res["continuum_model"][j] in ("eq4", "eq7", "qc")
     # n = 2 under precompression: the theory does not apply; the point is kept, with why
     assert not tapp[n2_pre] and math.isnan(th[n2_pre])
     assert res["theory_note"][n2_pre].startswith("does not apply: exponent = 2 needs")
@@ -311,7 +317,7 @@ def test_reproduce_item_quick(tmp_path, monkeypatch):
     V.report(rep, table, figs)
     text = rep.to_markdown(tmp_path)
     assert "within 10 %" in text and "sonic vacuum" in text and "median" in text
-    assert "continuum (Eq. 4)" in text and f"continuum ({V.STRONG_CONTINUUM})" in text
+    assert "continuum (Eq. 4)" in text and "continuum (qc)" in text
     assert "theory (lattice acoustics)" in text and "theory (quasi-particle)" in text
     # one small file per point (scenario and row; the runs are compared in memory,
     # not written), and a second run reuses them: the same table, bit for bit

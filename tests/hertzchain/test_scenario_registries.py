@@ -316,7 +316,7 @@ def test_continuum_choices_and_label_come_from_the_registry():
     continuum.register_model(Eq7Copy)
     try:
         sc = parse_scenario({**base, "models": {"continuum": "eq7_copy_test"}})
-        assert sc.models.continuum_model(1e-3) == "eq7_copy_test"
+        assert sc.models.continuum_model(sc.chain) == "eq7_copy_test"
         assert continuum_label("eq7_copy_test", sc.models).startswith(
             "continuum (Eq. 7 (copy), 5 nodes/grain")
         assert "'eq7_copy_test'" in schema_markdown()
