@@ -620,29 +620,32 @@ def _regimes(ax, model: str, xs: np.ndarray, names: list[str], right: float) -> 
     """Name, over the panel, the equation or theory that ran on each side of its switch.
 
     The switches (dashed lines, drawn where they fall within the finite amplitudes'
-    decades) are ``"auto"``'s Eq. 4 → Eq. 7 strain/δ0
-    (:data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`) for the continuum and
+    decades) are ``"auto"``'s strain/δ0 thresholds for the continuum (Eq. 4 → Eq. 7,
+    :data:`hertzchain.scenario.AUTO_EQ4_MAX_STRAIN`; Eq. 7 → quasi-continuum,
+    :data:`hertzchain.scenario.AUTO_QC_MIN_STRAIN`) and
     :data:`theory.strong_interface.STRONG_THRESHOLD` (lattice acoustics → quasi-particle)
     for the theory, and halfway between two neighbouring amplitudes where the recorded
-    model changes with no such switch between them (the map's Eq. 7 → quasi-continuum).
+    model changes with no such switch between them (a table whose points named their
+    models otherwise).
     The names are those the points recorded (``xs``: their positions, log10 of
     strain/δ0, ``names``: what ran there; ``right``: the x where the finite amplitudes
     end, the sonic vacuum's column beyond it named over that column).
     """
     from theory.strong_interface import STRONG_THRESHOLD
 
-    from .scenario import AUTO_EQ4_MAX_STRAIN
+    from .scenario import AUTO_EQ4_MAX_STRAIN, AUTO_QC_MIN_STRAIN
 
     lo, hi = ax.get_xlim()
-    known = (AUTO_EQ4_MAX_STRAIN,) if model == "continuum" else (STRONG_THRESHOLD,)
+    known = ((AUTO_EQ4_MAX_STRAIN, AUTO_QC_MIN_STRAIN) if model == "continuum"
+             else (STRONG_THRESHOLD,))
     cuts = [c for c in map(math.log10, known) if lo < c < right - 0.2]  # (not on the break)
     # a change of model between two neighbouring amplitudes with no known switch between
-    # them (e.g. the map's Eq. 7 -> quasi-continuum): a line halfway (in log10)
+    # them: a line halfway (in log10)
     levels = np.unique(xs[xs < right])
     ran = [{n for n, x in zip(names, xs, strict=True) if x == lev and n} for lev in levels]
     for (a, na), (b, nb) in zip(zip(levels[:-1], ran[:-1], strict=True),
                                 zip(levels[1:], ran[1:], strict=True), strict=True):
-        if na != nb and not any(a < c < b for c in cuts):
+        if na != nb and not any(a < c <= b for c in cuts):  # (a point on a cut: right of it)
             cuts.append(0.5 * (a + b))
     cuts.sort()
     for c in cuts:

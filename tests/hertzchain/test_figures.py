@@ -291,3 +291,24 @@ def test_validity_sonic_vacuum_in_its_own_column():
     names = {t.get_text(): t.get_position()[0] for t in cont.texts}
     assert names["Eq. 7"] > cont.get_xticks()[-2] + 0.5 and names["Eq. 4"] < -0.5
     assert overlapping_texts(fig) == []
+
+
+def test_validity_switch_to_the_quasi_continuum_is_drawn_at_its_threshold():
+    """Rows at strain/δ0 = 1 (Eq. 7), 9 and 100 (qc): the continuum panel's only line between
+    the rows is the Eq. 7 → qc switch at log10(AUTO_QC_MIN_STRAIN) (a point on the threshold
+    is right of it), not a second one halfway between rows 1 and 9."""
+    from hertzchain.scenario import AUTO_QC_MIN_STRAIN
+
+    rows = [{"alpha_rho": 2.0, "alpha_kn": 0.5, "exponent": 1.5, "damping": 0.0,
+             "incident_strain_over_delta0": amp, "continuum_error": 0.01,
+             "theory_error": 0.02, "continuum_applies": True, "theory_applies": True,
+             "continuum_model": m, "theory_model": "quasi-particle", "continuum_note": "",
+             "theory_note": "", "continuum_stopped_by": "t_end"}
+            for amp, m in ((1.0, "eq7"), (9.0, "qc"), (100.0, "qc"))]
+    t = validity._Table({k: np.array([r[k] for r in rows]) for k in rows[0]})
+    t.attrs = {"name": "model validity", "n_ok": 3, "n_failed": 0}
+    fig = validity_figure(t)
+    cont = [ax for ax in fig.axes if ax.axison][0]
+    dashed = [ln.get_xdata()[0] for ln in cont.lines if ln.get_linestyle() == "--"]
+    between = [x for x in dashed if 0.0 < x < math.log10(100.0)]  # rows 1 and 100
+    assert between == [pytest.approx(math.log10(AUTO_QC_MIN_STRAIN))]
