@@ -35,7 +35,11 @@ until_front_at = 40
 NOT_IMPORTED = ("h5py", "dask", "distributed", "matplotlib", "pde", "tqdm",
                 "hertzchain.sweep.engine", "hertzchain.sweep.store", "hertzchain.compare",
                 "hertzchain.reproduce.report", "continuum", "scipy.optimize",
-                "scipy.integrate", "scipy.interpolate")
+                "scipy.integrate", "scipy.interpolate",
+                # numba's threading layers: a chain below PARALLEL_MIN_GRAINS runs the
+                # plain kernel, which has no parallel region (discrete.Simulation)
+                "numba.np.ufunc.omppool", "numba.np.ufunc.tbbpool",
+                "numba.np.ufunc.workqueue")
 
 
 def _modules_after(argv: list[str], tmp_path) -> set[str]:
