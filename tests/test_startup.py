@@ -111,3 +111,20 @@ def test_command_line_process_freezes_the_collector(tmp_path):
     # a caller passing argv keeps its collector as it was
     enabled, frozen, _, threshold = _gc_after(f"status = main({argv[1:]!r})", tmp_path)
     assert enabled and frozen == 0 and threshold == 700
+
+
+def test_parser_of_one_command_parses_as_the_whole():
+    # main() builds only the parser of the command given first (hertzchain.cli.COMMANDS);
+    # the list is every registered command, and one command's parser reads its own
+    # arguments as the whole parser does
+    from hertzchain.cli import COMMANDS, build_parser
+
+    def commands(parser):
+        return set(next(a for a in parser._actions if a.dest == "command").choices)
+
+    assert commands(build_parser()) == set(COMMANDS)
+    argv = ["run", "x.toml", "--json", "--threads", "2", "--rtol", "1e-4"]
+    whole, alone = build_parser().parse_args(argv), build_parser("run").parse_args(argv)
+    assert commands(build_parser("run")) == {"run"}
+    assert {k: v for k, v in vars(whole).items()} == {k: v for k, v in vars(alone).items()}
+    assert commands(build_parser("sweep")) == {"sweep", "plot-sweep"}
