@@ -897,12 +897,14 @@ class Simulation:
 
         The plain kernel (``Kernels.run_steps``) has no parallel region and reads no
         thread count; the blocked one is chosen only for chains of at least
-        ``min_parallel`` grains (on several threads) or :data:`SERIAL_BLOCK_MIN_GRAINS`
-        (:meth:`_kernel`).
+        ``min_parallel`` grains on several threads (``threads`` None or > 1), or of
+        :data:`SERIAL_BLOCK_MIN_GRAINS` (:meth:`_kernel`).
         """
         n = self.chain.n
+        several = self._threads is None or self._threads > 1
         return not (self.block_steps > 0 and self.kernels.run_blocked is not None
-                    and (n >= self.min_parallel or n >= SERIAL_BLOCK_MIN_GRAINS))
+                    and ((several and n >= self.min_parallel)
+                         or n >= SERIAL_BLOCK_MIN_GRAINS))
 
     @property
     def kernel(self):
