@@ -311,16 +311,15 @@ class Simulation:
         self._drift, self._kick = method.coefficients(self.dt)
         self._auto_threads = threads is None
         self._tune_count = 0
-        if threads is None:
-            self.threads = int(numba.get_num_threads())
-            self.min_parallel = PARALLEL_MIN_GRAINS
-        else:
+        self.min_parallel = PARALLEL_MIN_GRAINS
+        self._threads: int | None = None  # threads=None: numba's count, read when needed
+        if threads is not None:
             nmax = int(numba.config.NUMBA_NUM_THREADS)
             if int(threads) != threads or not 1 <= threads <= nmax:
                 raise ValueError(f"threads must be None or an integer in [1, {nmax}] "
                                  f"(got {threads!r})")
-            self.threads, self.min_parallel = int(threads), PARALLEL_MIN_GRAINS
-        self._rates = {1: None, self.threads: None}
+            self._threads = int(threads)
+        self._rates: dict[int, float | None] = {1: None}
         self.active_window = bool(active_window)
         # blocks shrink the window to the active grains, and carry the threads: not with
         # active_window=False, nor for velocity-dependent forces (discrete.kernels)
@@ -857,9 +856,13 @@ class Simulation:
         peak = ((refine, r.peak_state, r.vmax_refined, r.vmax_time, self.t0, k0) if refine
                 else (False, np.zeros((K.PEAK_ROWS, 0)), np.zeros(0), np.zeros(0), self.t0,
                       k0))
-        nthreads, nsteps = self._tune_choose(nsteps)
+        plain = self._plain_only()
+        if plain:  # no parallel region: numba's thread count is neither read nor set
+            nthreads = threads0 = 1
+        else:
+            nthreads, nsteps = self._tune_choose(nsteps)
+            threads0 = numba.get_num_threads()
         clock = time.perf_counter()
-        threads0 = numba.get_num_threads()
         if nthreads != threads0:  # (setting it costs ~15 µs per call)
             numba.set_num_threads(nthreads)
         try:
@@ -873,14 +876,40 @@ class Simulation:
         finally:
             if nthreads != threads0:
                 numba.set_num_threads(threads0)
-        self._tune_record(nthreads, nsteps, done, lo, hi, clock)
+        if not plain:
+            self._tune_record(nthreads, nsteps, done, lo, hi, clock)
         self._lo, self._hi = lo, hi
         return done, rows, fired, erows
 
     @property
+    def threads(self) -> int:
+        """Threads of the kernel (``threads`` of the constructor; None: numba's count).
+
+        numba's count is read when first needed (a chain large enough for the blocked
+        kernel, :meth:`_plain_only`): reading it starts numba's threading layer.
+        """
+        if self._threads is None:
+            self._threads = int(numba.get_num_threads())
+        return self._threads
+
+    def _plain_only(self) -> bool:
+        """Whether every chunk runs the plain kernel, whatever the threads.
+
+        The plain kernel (``Kernels.run_steps``) has no parallel region and reads no
+        thread count; the blocked one is chosen only for chains of at least
+        ``min_parallel`` grains on several threads (``threads`` None or > 1), or of
+        :data:`SERIAL_BLOCK_MIN_GRAINS` (:meth:`_kernel`).
+        """
+        n = self.chain.n
+        several = self._threads is None or self._threads > 1
+        return not (self.block_steps > 0 and self.kernels.run_blocked is not None
+                    and ((several and n >= self.min_parallel)
+                         or n >= SERIAL_BLOCK_MIN_GRAINS))
+
+    @property
     def kernel(self):
         """The compiled kernel (numba dispatcher) the next chunk will run on all threads."""
-        return self._kernel(self.threads)
+        return self.kernels.run_steps if self._plain_only() else self._kernel(self.threads)
 
     def _kernel(self, nthreads: int):
         """The blocked kernel if the chain is large enough to ever block, else the plain one.
@@ -909,7 +938,7 @@ class Simulation:
             return nt, nsteps
         rates = self._rates
         self._tune_count += 1
-        if rates[nt] is None:
+        if rates.get(nt) is None:
             return nt, nsteps
         if rates[1] is None:
             return 1, max(1, nsteps // 8)

@@ -55,7 +55,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from theory import DiscreteSolitaryWave, discrete_solitary_wave
+from theory import DiscreteSolitaryWave, discrete_solitary_wave, sonic_vacuum_wave_constants
 from theory.laws import ContactLaw, as_law
 
 from .diagnostics.waves import arrival_times as _arrival_times
@@ -286,16 +286,32 @@ def split_train(sim, *, threshold: float = 0.05, valley: float = 0.5, lo: int = 
 
 def _wave_of_energy(k: float, mass: float, d: float, delta0: float, exponent: float,
                     energy: float, guess: float) -> DiscreteSolitaryWave:
-    """The exact lattice wave of ``energy`` (J) on these grains, from a peak-velocity guess.
+    r"""The exact lattice wave of ``energy`` (J) on these grains.
 
-    E(v_max) increases monotonically; the root of ln E(v) - ln E is bracketed around
-    ``guess`` (m/s; the sampled peak is within ~25 % of the wave's) and refined by Brent's
-    method to 1e-10 in ln v.  ValueError if there is no exact wave or no root.
+    Without precompression (δ0 = 0) the exact waves of F = k r^n form one self-similar
+    family (Nesterenko 2001, *Dynamics of Heterogeneous Materials*, §1.1; English & Pego,
+    Proc. AMS 133, 1763 (2005); :func:`theory.discrete_solitary_wave`): scaling the peak
+    velocity v_max → μ v_max scales the overlaps by μ^{2/(n+1)}, the speed by
+    μ^{(n-1)/(n+1)} and the energy by μ², so
+
+    .. math:: E = \hat e\, m\, v_{max}^2, \qquad v_{max} = \sqrt{E/(\hat e\, m)}
+
+    with ê = :attr:`theory.SonicVacuumWave.energy` (1.0693 for Hertz), independent of k
+    and d: the wave is one rescaling of the cached unit solve, no root finding
+    (``guess`` is not needed).  With δ0 > 0 the family has a second scale (ε = A/δ0) and
+    the root of ln E(v) − ln E is bracketed around ``guess`` (m/s; the sampled peak is
+    within ~25 % of the wave's) and refined by Brent's method to 1e-10 in ln v (SciPy's
+    root finder is imported only then).  ValueError if there is no exact wave (an
+    exponent outside (1, 10]) or no root; zero energy or velocity has no wave.
     """
-    from scipy.optimize import brentq
-
     if not (energy > 0 and guess > 0):
         raise ValueError("no wave: zero energy or velocity")
+    if delta0 == 0.0:
+        e_hat = sonic_vacuum_wave_constants(exponent).energy
+        return discrete_solitary_wave(k, mass, d, 0.0,
+                                      velocity_max=math.sqrt(energy / (e_hat * mass)),
+                                      exponent=exponent)
+    from scipy.optimize import brentq
 
     def wave(lv):
         return discrete_solitary_wave(k, mass, d, delta0, velocity_max=math.exp(lv),

@@ -484,8 +484,20 @@ class _VersionAction(argparse.Action):
         parser.exit()
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """Build the argument parser with every sub-command (docs/guide/cli.md: the grammar)."""
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """Build the argument parser (docs/guide/cli.md: the grammar).
+
+    Parameters
+    ----------
+    command : str, optional
+        The sub-command about to be parsed: only its parser is built (a process runs
+        one command; the others' options, and the modules that define them, are not
+        needed).  None: every sub-command (``hertzchain --help``).
+    """
+
+    def wanted(name: str) -> bool:
+        return command is None or command == name
+
     parser = argparse.ArgumentParser(
         prog="hertzchain",
         description="Solitary waves in Hertzian granular chains: discrete (DEM), "
@@ -500,101 +512,109 @@ def build_parser() -> argparse.ArgumentParser:
                         help="show program's version number and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
 
-    p = sub.add_parser("theory", help="interface predictions for (alpha_rho, alpha_kn) or "
-                       "two materials")
-    p.add_argument("--alpha-rho", type=positive_float, default=None,
-                   help="density ratio rho_R/rho_L (> 0)")
-    p.add_argument("--alpha-kn", type=positive_float, default=None,
-                   help="contact-stiffness ratio k_n^R/k_n^L (> 0)")
-    p.add_argument("--left", metavar="MATERIAL", default=None,
-                   help="left section's material (default: the paper's steel; `hertzchain "
-                   "materials` lists the names)")
-    p.add_argument("--right", metavar="MATERIAL", default=None,
-                   help="right section's material: the ratios follow (equal diameters), "
-                   "instead of --alpha-rho/--alpha-kn")
-    d0_key = schema_key("chain", "delta0_over_d")
-    p.add_argument("--delta0-over-d", type=scenario_number("chain", "delta0_over_d"),
-                   default=None, metavar="D0",
-                   help="left-section precompression delta0/d (dimensionless, range "
-                   f"{d0_key.range_text()}: [chain] delta0_over_d of a scenario); adds the "
-                   "sound speeds c0")
-    p.add_argument("--delta0", type=scenario_number("chain", "delta0_over_d"),
-                   action=_DeprecatedAlias, new="--delta0-over-d", dest="delta0_over_d",
-                   help=argparse.SUPPRESS)
-    p.add_argument("--diameter", type=scenario_number("chain", "diameter"),
-                   default=5e-3, help="grain diameter in m (> 0; default 5e-3, the paper's)")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(func=cmd_theory)
+    if wanted("theory"):
+        p = sub.add_parser("theory", help="interface predictions for (alpha_rho, alpha_kn) or "
+                           "two materials")
+        p.add_argument("--alpha-rho", type=positive_float, default=None,
+                       help="density ratio rho_R/rho_L (> 0)")
+        p.add_argument("--alpha-kn", type=positive_float, default=None,
+                       help="contact-stiffness ratio k_n^R/k_n^L (> 0)")
+        p.add_argument("--left", metavar="MATERIAL", default=None,
+                       help="left section's material (default: the paper's steel; `hertzchain "
+                       "materials` lists the names)")
+        p.add_argument("--right", metavar="MATERIAL", default=None,
+                       help="right section's material: the ratios follow (equal diameters), "
+                       "instead of --alpha-rho/--alpha-kn")
+        d0_key = schema_key("chain", "delta0_over_d")
+        p.add_argument("--delta0-over-d", type=scenario_number("chain", "delta0_over_d"),
+                       default=None, metavar="D0",
+                       help="left-section precompression delta0/d (dimensionless, range "
+                       f"{d0_key.range_text()}: [chain] delta0_over_d of a scenario); adds the "
+                       "sound speeds c0")
+        p.add_argument("--delta0", type=scenario_number("chain", "delta0_over_d"),
+                       action=_DeprecatedAlias, new="--delta0-over-d", dest="delta0_over_d",
+                       help=argparse.SUPPRESS)
+        p.add_argument("--diameter", type=scenario_number("chain", "diameter"),
+                       default=5e-3, help="grain diameter in m (> 0; default 5e-3, the paper's)")
+        p.add_argument("--json", action="store_true", help="print one JSON object")
+        p.set_defaults(func=cmd_theory)
 
-    p = sub.add_parser("materials", help="the material library: density, Young's modulus, "
-                       "Poisson ratio and their sources")
-    p.add_argument("--json", action="store_true", help="print one JSON list")
-    p.set_defaults(func=cmd_materials)
+    if wanted("materials"):
+        p = sub.add_parser("materials", help="the material library: density, Young's modulus, "
+                           "Poisson ratio and their sources")
+        p.add_argument("--json", action="store_true", help="print one JSON list")
+        p.set_defaults(func=cmd_materials)
 
     scenario_help = ("scenario TOML file, or the name of a shipped one (e.g. fig2a, "
                      "chain_sections: hertzchain/scenarios/)")
-    p = sub.add_parser("run", help="run a scenario (the models of its [models] table)")
-    p.add_argument("scenario", help=scenario_help)
-    p.add_argument("--out", default=None, metavar="OUT",
-                   help="write the full run: a directory (OUT/<scenario>.h5) or a file "
-                   "name ending in .h5 (written atomically; checkpoints beside it, .ckpt)")
-    p.add_argument("--json", action="store_true", help="print the summary as JSON")
-    p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
-                   metavar="SECONDS", help="wall time between checkpoints with --out, s "
-                   "(>= 0; default 300). Rerunning the same command resumes from the last "
-                   "checkpoint, bit for bit; Ctrl-C stops with a checkpoint")
-    add_force_argument(p, "discard an existing checkpoint of --out and start over")
-    p.add_argument("--restart", action=_DeprecatedAlias, new="--force", dest="force",
-                   nargs=0, help=argparse.SUPPRESS)
-    add_rtol_argument(p)
-    p.add_argument("--threads", type=positive_int, default=None, metavar="N",
-                   help="kernel threads (>= 1; default: numba's; results are identical)")
-    add_progress_argument(p)
-    p.set_defaults(func=cmd_run)
+    if wanted("run"):
+        p = sub.add_parser("run", help="run a scenario (the models of its [models] table)")
+        p.add_argument("scenario", help=scenario_help)
+        p.add_argument("--out", default=None, metavar="OUT",
+                       help="write the full run: a directory (OUT/<scenario>.h5) or a file "
+                       "name ending in .h5 (written atomically; checkpoints beside it, .ckpt)")
+        p.add_argument("--json", action="store_true", help="print the summary as JSON")
+        p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
+                       metavar="SECONDS", help="wall time between checkpoints with --out, s "
+                       "(>= 0; default 300). Rerunning the same command resumes from the last "
+                       "checkpoint, bit for bit; Ctrl-C stops with a checkpoint")
+        add_force_argument(p, "discard an existing checkpoint of --out and start over")
+        p.add_argument("--restart", action=_DeprecatedAlias, new="--force", dest="force",
+                       nargs=0, help=argparse.SUPPRESS)
+        add_rtol_argument(p)
+        p.add_argument("--threads", type=positive_int, default=None, metavar="N",
+                       help="kernel threads (>= 1; default: numba's; results are identical)")
+        add_progress_argument(p)
+        p.set_defaults(func=cmd_run)
 
-    p = sub.add_parser("compare", help="run the discrete chain, the continuum and the "
-                       "theory of a scenario side by side and compare them")
-    p.add_argument("scenario", help=scenario_help)
-    p.add_argument("--out", default="hertzchain-compare", metavar="DIR",
-                   help="output directory (compare.h5, figures, report.md, runs/; default "
-                   "./hertzchain-compare)")
-    p.add_argument("--json", action="store_true", help="print every number as JSON")
-    p.add_argument("--continuum", default=None, metavar="MODEL",
-                   help="override [models] continuum: \"auto\", a model of continuum.MODELS "
-                   "(eq4, eq7, ...), kdv, or off (default: the scenario's; checked as the "
-                   "scenario key)")
-    add_force_argument(p, "recompute the runs even if cached in OUT/runs (discards "
-                       "checkpoints)")
-    p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
-                   metavar="SECONDS", help="wall time between checkpoints of the discrete "
-                   "run, s (>= 0; default 300); rerunning resumes from the last one")
-    add_rtol_argument(p)
-    p.add_argument("--threads", type=positive_int, default=None, metavar="N",
-                   help="kernel threads of the discrete solver (>= 1)")
-    add_progress_argument(p)
-    p.set_defaults(func=cmd_compare)
+    if wanted("compare"):
+        p = sub.add_parser("compare", help="run the discrete chain, the continuum and the "
+                           "theory of a scenario side by side and compare them")
+        p.add_argument("scenario", help=scenario_help)
+        p.add_argument("--out", default="hertzchain-compare", metavar="DIR",
+                       help="output directory (compare.h5, figures, report.md, runs/; default "
+                       "./hertzchain-compare)")
+        p.add_argument("--json", action="store_true", help="print every number as JSON")
+        p.add_argument("--continuum", default=None, metavar="MODEL",
+                       help="override [models] continuum: \"auto\", a model of continuum.MODELS "
+                       "(eq4, eq7, ...), kdv, or off (default: the scenario's; checked as the "
+                       "scenario key)")
+        add_force_argument(p, "recompute the runs even if cached in OUT/runs (discards "
+                           "checkpoints)")
+        p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
+                       metavar="SECONDS", help="wall time between checkpoints of the discrete "
+                       "run, s (>= 0; default 300); rerunning resumes from the last one")
+        add_rtol_argument(p)
+        p.add_argument("--threads", type=positive_int, default=None, metavar="N",
+                       help="kernel threads of the discrete solver (>= 1)")
+        add_progress_argument(p)
+        p.set_defaults(func=cmd_compare)
 
-    from .reproduce.command import add_arguments as reproduce_arguments
+    if wanted("reproduce"):
+        from .reproduce.command import add_arguments as reproduce_arguments
 
-    p = sub.add_parser("reproduce", help="reproduce the paper's Figs. 2-8 and Table 2")
-    reproduce_arguments(p)
-    p.set_defaults(func=cmd_reproduce)
+        p = sub.add_parser("reproduce", help="reproduce the paper's Figs. 2-8 and Table 2")
+        reproduce_arguments(p)
+        p.set_defaults(func=cmd_reproduce)
 
-    p = sub.add_parser("info", help="describe an HDF5 result file")
-    p.add_argument("file", help="an HDF5 file written by hertzchain")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(func=cmd_info)
+    if wanted("info"):
+        p = sub.add_parser("info", help="describe an HDF5 result file")
+        p.add_argument("file", help="an HDF5 file written by hertzchain")
+        p.add_argument("--json", action="store_true", help="print one JSON object")
+        p.set_defaults(func=cmd_info)
 
-    p = sub.add_parser("plot", help="plot an HDF5 result file to PNG")
-    p.add_argument("file", help="an HDF5 file written by hertzchain run")
-    p.add_argument("--out", default=None, metavar="OUT",
-                   help="a directory (OUT/<file>.png) or a file name ending in .png "
-                   "(default: beside the file)")
-    p.set_defaults(func=cmd_plot)
+    if wanted("plot"):
+        p = sub.add_parser("plot", help="plot an HDF5 result file to PNG")
+        p.add_argument("file", help="an HDF5 file written by hertzchain run")
+        p.add_argument("--out", default=None, metavar="OUT",
+                       help="a directory (OUT/<file>.png) or a file name ending in .png "
+                       "(default: beside the file)")
+        p.set_defaults(func=cmd_plot)
 
-    from .sweep import add_sweep_parsers
+    if wanted("sweep") or wanted("plot-sweep"):
+        from .sweep import add_sweep_parsers
 
-    add_sweep_parsers(sub)
+        add_sweep_parsers(sub)
     return parser
 
 
@@ -636,8 +656,15 @@ objects, over which young collections would pass again and again.  Cyclic garbag
 still freed, at most this many allocations later."""
 
 
+COMMANDS = ("theory", "materials", "run", "compare", "reproduce", "info", "plot", "sweep",
+            "plot-sweep")
+"""The sub-commands :func:`build_parser` registers."""
+
+
 def _main(argv: Sequence[str] | None, whole_process: bool) -> int:
-    parser = build_parser()
+    words = sys.argv[1:] if argv is None else list(argv)
+    # a command given first is all that is parsed: only its parser is built
+    parser = build_parser(words[0] if words and words[0] in COMMANDS else None)
     args = parser.parse_args(argv)
     if getattr(args, "func", None) is None:
         parser.print_help()

@@ -1190,8 +1190,6 @@ def wave_train(chain: Any, sim: Any, t_end_reached: float) -> tuple[Any, str]:
     note : str
         Why there is none ("" if there is).
     """
-    from discrete.waves import Train, split_train
-
     if interfaces(chain):
         return None, "an interface: the final state holds the scattered waves"
     if not len(sim.record.energy):
@@ -1212,6 +1210,8 @@ def wave_train(chain: Any, sim: Any, t_end_reached: float) -> tuple[Any, str]:
     if pulses > TRAIN_MAX_WAVES:
         return None, (f"{pulses} pulses above {TRAIN_FRACTION:g} of the largest |v| "
                       f"(more than {TRAIN_MAX_WAVES}): no train of solitary waves")
+    from discrete.waves import Train, split_train  # (only where there is a train to split)
+
     waves = split_train(sim, threshold=TRAIN_FRACTION, lo=lo, hi=hi)
     if not waves:  # pragma: no cover - a nonzero velocity always makes a pulse
         return None, "no pulse above the threshold"

@@ -4,8 +4,12 @@ not use.
 A small run without ``--out`` needs NumPy, numba (which itself imports SciPy and, through
 its extension hook, rocket-fft) and the solver; it must not import h5py (only when a
 file is written or read), Dask, matplotlib, py-pde, the sweep machinery or tqdm (the
-bar opens only once a run has lasted a second).  Checked in a fresh interpreter: the
-test's own process has imported everything already.
+bar opens only once a run has lasted a second), nor SciPy's optimize, integrate or
+interpolate (the wave train of a sonic vacuum is a closed form,
+``discrete.waves._wave_of_energy``).  ``scipy.linalg`` is not in the list: numba imports
+it itself when its CPU target loads the first kernel (``numba.np.arraymath`` checks for a
+BLAS with ``scipy.linalg.cython_blas``, whose import runs ``scipy/linalg/__init__``).
+Checked in a fresh interpreter: the test's own process has imported everything already.
 
 A process that is one ``hertzchain`` command (``main()`` reading ``sys.argv``) runs with
 the collector's young threshold raised and freezes it when ``main`` returns
@@ -31,7 +35,11 @@ until_front_at = 40
 NOT_IMPORTED = ("h5py", "dask", "distributed", "matplotlib", "pde", "tqdm",
                 "hertzchain.sweep.engine", "hertzchain.sweep.store", "hertzchain.compare",
                 "hertzchain.reproduce.report", "continuum", "scipy.optimize",
-                "scipy.integrate", "scipy.interpolate", "scipy.linalg")
+                "scipy.integrate", "scipy.interpolate",
+                # numba's threading layers: a chain below PARALLEL_MIN_GRAINS runs the
+                # plain kernel, which has no parallel region (discrete.Simulation)
+                "numba.np.ufunc.omppool", "numba.np.ufunc.tbbpool",
+                "numba.np.ufunc.workqueue")
 
 
 def _modules_after(argv: list[str], tmp_path) -> set[str]:
@@ -103,3 +111,20 @@ def test_command_line_process_freezes_the_collector(tmp_path):
     # a caller passing argv keeps its collector as it was
     enabled, frozen, _, threshold = _gc_after(f"status = main({argv[1:]!r})", tmp_path)
     assert enabled and frozen == 0 and threshold == 700
+
+
+def test_parser_of_one_command_parses_as_the_whole():
+    # main() builds only the parser of the command given first (hertzchain.cli.COMMANDS);
+    # the list is every registered command, and one command's parser reads its own
+    # arguments as the whole parser does
+    from hertzchain.cli import COMMANDS, build_parser
+
+    def commands(parser):
+        return set(next(a for a in parser._actions if a.dest == "command").choices)
+
+    assert commands(build_parser()) == set(COMMANDS)
+    argv = ["run", "x.toml", "--json", "--threads", "2", "--rtol", "1e-4"]
+    whole, alone = build_parser().parse_args(argv), build_parser("run").parse_args(argv)
+    assert commands(build_parser("run")) == {"run"}
+    assert {k: v for k, v in vars(whole).items()} == {k: v for k, v in vars(alone).items()}
+    assert commands(build_parser("sweep")) == {"sweep", "plot-sweep"}
