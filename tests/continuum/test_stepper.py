@@ -349,7 +349,7 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, nonlinearity, r
     h = pde.disc.h
     fac = _stepper.rosenau_factors(*pde._bands)[0]
     runs = _stepper.constant_runs(fac)
-    window_pass = _stepper.rosenau_kernels(pde.law).window_pass
+    window_pass = _stepper.rosenau_kernels(pde.law, pde._nl_code).window_pass
     assert runs[0].max() > 40 and runs[3].max() > 40  # long runs: the links are used
     kk, bb, kh, d0, f0 = pde._kernel_arrays()
     diag, off, _ = pde._bands
@@ -364,8 +364,8 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, nonlinearity, r
         v0 = v.copy()
         y = np.zeros(n)
         win = np.zeros(2, np.int64)
-        window_pass(u, v, y, lo, hi, 0.0, 0.7, h, code, pde._nl_code, kk, bb, kh, d0, f0,
-                    fac, runs, 0.0, np.inf, win)
+        window_pass(u, v, y, lo, hi, 0.0, 0.7, h, code, kk, bb, kh, d0, f0, fac, runs,
+                    0.0, np.inf, win)
         # flux divergence on the window: faces lo..hi+1 (outer ones from u beyond it)
         s = np.empty(hi - lo + 2)
         for j, q in enumerate(range(lo, hi + 2)):
