@@ -551,45 +551,52 @@ def power_piece(q: float):
 
 
 class RosenauKernels(NamedTuple):
-    """The compiled kernels of the Rosenau form for one contact law (:func:`rosenau_kernels`)."""
+    """The compiled kernels of the Rosenau form for one law and flux (:func:`rosenau_kernels`)."""
 
     chunk: object
-    """``chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
+    """``chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, kk, bb, kh, d0, f0, fac, runs,
     win, margin, tau_s, tau_v)``: free or wall ends, active window."""
     chunk_periodic: object
-    """``chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, nl, kk, bb, kh, d0, f0, fac,
+    """``chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, kk, bb, kh, d0, f0, fac,
     z, vfac)``: a periodic chain, swept whole."""
     chunk_dissipative: object
-    """``chunk_dissipative(u, v, wd, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0,
+    """``chunk_dissipative(u, v, wd, y, nsteps, dt, alpha, beta, h, bc, kk, bb, kh, d0,
     f0, fac, runs, win, mdiag, moff, wface, mass, drag, p, ad, ao, x, cp)``: Strang
     splitting with the dissipative Crank–Nicolson sub-steps, swept whole."""
     monitor: object
-    """``monitor(u, v, h, bc, nl, kk, bb, kh, d0, f0, mass, wgrad, w) -> (E, P)``."""
+    """``monitor(u, v, h, bc, kk, bb, kh, d0, f0, mass, wgrad, w) -> (E, P)``."""
     static_forces: object
     """``static_forces(d0, k, out)``: F_el(δ0; k) with the kernels' arithmetic."""
     window_pass: object
-    """``window_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
+    """``window_pass(u, v, y, L, R, alpha, beta, h, bc, kk, bb, kh, d0, f0, fac, runs,
     tau_s, tau_v, win)``: one drift and kick over nodes [L, R] (for tests)."""
 
 
 _ROSENAU: dict[str, RosenauKernels] = {}
 
 
-def rosenau_kernels(law: ContactLaw) -> RosenauKernels:
+def rosenau_kernels(law: ContactLaw, nl: int) -> RosenauKernels:
     """The kernels of the Rosenau form closed over ``law``'s compiled pieces; built once.
 
     Like the discrete solver's kernels (``discrete.kernels.make_kernels``): the law's
     elastic force, energy and damping coefficient (``make_elastic``, ``make_energy``,
     ``make_damping``, inlined) are fused into the passes below, which are compiled per
     law key with a keyed disk cache (:func:`theory.jitcache.keyed_njit`).
+
+    The flux's nonlinearity code ``nl`` (0 linear, 1 quadratic, 2 the full law: module
+    docstring) is a constant of the kernels, not an argument: numba drops the flux
+    branches of the other codes before typing them, so that a kernel compiles only the
+    flux it evaluates (the full law's force and energy only for ``nl`` = 2).
     """
-    key = _kernel_key(law, "rosenau")
+    if nl not in (0, 1, 2):
+        raise ValueError(f"nl must be 0 (linear), 1 (quadratic) or 2 (full law), got {nl!r}")
+    key = _kernel_key(law, f"rosenau{nl}")
     if key not in _ROSENAU:
-        _ROSENAU[key] = _build_rosenau(law, key)
+        _ROSENAU[key] = _build_rosenau(law, key, int(nl))
     return _ROSENAU[key]
 
 
-def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
+def _build_rosenau(law: ContactLaw, key: str, nl: int) -> RosenauKernels:  # noqa: C901
     elastic = law.make_elastic()
     energy = law.make_energy()
     damping = law.make_damping()
@@ -601,7 +608,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
     def entry(func):
         return jitcache.keyed_njit(func, key, **_INNER)
 
-    def flux(s, nl, kq, bq, khq, d0q, f0q):
+    def flux(s, kq, bq, khq, d0q, f0q):
         """Dynamic contact force P(s) at one face, N (see the nonlinearity codes)."""
         if nl == 0:
             return kq * s
@@ -611,7 +618,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
 
     flux = inner(flux, inline="always")
 
-    def rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
+    def rosenau_pass(u, v, y, L, R, alpha, beta, h, bc, kk, bb, kh, d0, f0, fac, runs,
                      tau_s, tau_v, win):
         """One drift (α Δt) and one kick (β Δt) over nodes [L, R], non-periodic ends.
 
@@ -640,7 +647,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
             s = -2.0 * u[0] * ih if bc == WALL else 0.0
         else:
             s = (u[L - 1] - u[L]) * ih
-        p_prev = flux(s, nl, kk[L], bb[L], kh[L], d0[L], f0[L])
+        p_prev = flux(s, kk[L], bb[L], kh[L], d0[L], f0[L])
         k1 = kk[L + 1:R + 2]
         b1 = bb[L + 1:R + 2]
         if nl == 1:
@@ -655,7 +662,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
             f1 = f0[L + 1:R + 2]
             for i in range(m_ - 1):
                 s = (uu[i] - uu[i + 1]) * ih
-                p = flux(s, nl, k1[i], b1[i], h1[i], z1[i], f1[i])
+                p = flux(s, k1[i], b1[i], h1[i], z1[i], f1[i])
                 yy[i] = (p_prev - p) * ih
                 p_prev = p
         if R == n - 1:
@@ -663,7 +670,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         else:
             s = (u[R] - u[R + 1]) * ih
         q = R + 1
-        y[R] = (p_prev - flux(s, nl, kk[q], bb[q], kh[q], d0[q], f0[q])) * ih
+        y[R] = (p_prev - flux(s, kk[q], bb[q], kh[q], d0[q], f0[q])) * ih
         # ---- sweep B: eliminate L -> k-1 (a) and R -> k+1 (b)
         k = (L + R) // 2
         nt = k - L
@@ -752,7 +759,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
     window_pass = nb.njit(**_INNER)(rosenau_pass)  # (for tests; compiled when called)
     rosenau_pass = inner(rosenau_pass)
 
-    def rosenau_pass_periodic(u, v, y, alpha, beta, h, nl, kk, bb, kh, d0, f0,
+    def rosenau_pass_periodic(u, v, y, alpha, beta, h, kk, bb, kh, d0, f0,
                               inv_den, g, cp, z, vfac):
         """One drift and one kick over a periodic chain (cyclic Thomas, Sherman–Morrison)."""
         n = u.size
@@ -760,12 +767,12 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         for i in range(n):
             u[i] += alpha * v[i]
         s = (u[n - 1] - u[0]) * ih
-        p0 = flux(s, nl, kk[0], bb[0], kh[0], d0[0], f0[0])
+        p0 = flux(s, kk[0], bb[0], kh[0], d0[0], f0[0])
         p_prev = p0
         yp = 0.0
         for i in range(1, n):
             s = (u[i - 1] - u[i]) * ih
-            p = flux(s, nl, kk[i], bb[i], kh[i], d0[i], f0[i])
+            p = flux(s, kk[i], bb[i], kh[i], d0[i], f0[i])
             yp = (p_prev - p) * ih * inv_den[i - 1] - g[i - 1] * yp
             y[i - 1] = yp
             p_prev = p
@@ -780,7 +787,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
 
     rosenau_pass_periodic = inner(rosenau_pass_periodic)
 
-    def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb, kh, d0, f0,
+    def rosenau_chunk(u, v, y, nsteps, dt, alpha, beta, h, bc, kk, bb, kh, d0, f0,
                       fac, runs, win, margin, tau_s, tau_v):
         """Advance the Rosenau form of Eq. 4 by ``nsteps`` steps of ``dt`` (s), in place.
 
@@ -795,8 +802,8 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
             Scratch.
         alpha, beta : float64[P+1], float64[P]
             Drift and kick coefficients of the splitting (module docstring).
-        h, bc, nl :
-            Node spacing (grains), boundary code, nonlinearity code.
+        h, bc :
+            Node spacing (grains), boundary code.
         kk, bb, kh, d0, f0 : float64[faces]
             Linear stiffness K = F'(δ0) (N/m), quadratic coefficient b = F''(δ0)/2 (N/m²;
             K/(4δ0) for Hertz), contact constant (N/m^n), static overlap (m) and static
@@ -831,7 +838,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
                     continue
                 lo = max(win[0] - margin, 0)
                 hi = min(win[1] + margin, n - 1)
-                rosenau_pass(u, v, y, lo, hi, a, b, h, bc, nl, kk, bb, kh, d0, f0, fac, runs,
+                rosenau_pass(u, v, y, lo, hi, a, b, h, bc, kk, bb, kh, d0, f0, fac, runs,
                               tau_s, tau_v, win)
                 work += hi - lo + 1
         # closing drift α_P
@@ -844,7 +851,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         return work
 
 
-    def rosenau_chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, nl, kk, bb, kh, d0, f0,
+    def rosenau_chunk_periodic(u, v, y, nsteps, dt, alpha, beta, h, kk, bb, kh, d0, f0,
                                fac, z, vfac):
         """``rosenau_chunk`` for a periodic chain, swept whole (cyclic solve).
 
@@ -860,7 +867,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
                 a, b, skip = _pass_coefficients(alpha, beta, dt, step, j, nsteps, fsal)
                 if skip:
                     continue
-                rosenau_pass_periodic(u, v, y, a, b, h, nl, kk, bb, kh, d0, f0,
+                rosenau_pass_periodic(u, v, y, a, b, h, kk, bb, kh, d0, f0,
                                        fac[0], fac[1], fac[2], z, vfac)
                 passes += 1
         if nsteps > 0:
@@ -870,7 +877,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
         return passes * n
 
 
-    def rosenau_monitor(u, v, h, bc, nl, kk, bb, kh, d0, f0, mass, wgrad, w):
+    def rosenau_monitor(u, v, h, bc, kk, bb, kh, d0, f0, mass, wgrad, w):
         """Energy functional (J) and momentum (kg m/s) of the Rosenau form of Eq. 4.
 
         E = h Σ_p ½ m_p v_p² + h Σ_q w_q [½ m_q ℓ² (v_X)_q² + W(s_q)] with ``wgrad`` =
@@ -973,7 +980,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
 
     rosenau_dissipate = inner(rosenau_dissipate)
 
-    def rosenau_chunk_dissipative(u, v, wd, y, nsteps, dt, alpha, beta, h, bc, nl, kk, bb,
+    def rosenau_chunk_dissipative(u, v, wd, y, nsteps, dt, alpha, beta, h, bc, kk, bb,
                                   kh, d0, f0, fac, runs, win, mdiag, moff, wface, mass,
                                   drag, p, ad, ao, x, cp):
         """Advance the dissipative Rosenau form by ``nsteps`` steps of ``dt`` (s), in place.
@@ -991,7 +998,7 @@ def _build_rosenau(law: ContactLaw, key: str) -> RosenauKernels:  # noqa: C901
             rosenau_dissipate(u, v, wd, 0.5 * dt, h, bc, kh, d0, mdiag, moff, wface, mass,
                               drag, p, ad, ao, x, cp)
             for j in range(nsub):
-                rosenau_pass(u, v, y, 0, n - 1, alpha[j] * dt, beta[j] * dt, h, bc, nl, kk,
+                rosenau_pass(u, v, y, 0, n - 1, alpha[j] * dt, beta[j] * dt, h, bc, kk,
                              bb, kh, d0, f0, fac, runs, 0.0, 0.0, win)
                 work += n
             a = alpha[nsub] * dt

@@ -247,7 +247,7 @@ class BoussinesqPDE(ChainPDEBase):
         kk, bb = self._K.copy(), self._b.copy()
         kh, d0 = d.k.copy(), d.delta0.copy()
         f0 = np.empty_like(d0)
-        _stepper.rosenau_kernels(self.law).static_forces(d0, kh, f0)
+        _stepper.rosenau_kernels(self.law, self._nl_code).static_forces(d0, kh, f0)
         den, cp, off, z, vfac = kern.tridiag_factor(*self._bands)
         n_faces = d.x_faces.size
         face_strain, flux_div, solve = kern.face_strain, kern.flux_divergence, kern.tridiag_solve
@@ -327,11 +327,11 @@ class BoussinesqPDE(ChainPDEBase):
         d = self.disc
         kh, d0 = d.k.copy(), d.delta0.copy()
         f0 = np.empty_like(d0)
-        _stepper.rosenau_kernels(self.law).static_forces(d0, kh, f0)
+        _stepper.rosenau_kernels(self.law, self._nl_code).static_forces(d0, kh, f0)
         return self._K.copy(), self._b.copy(), kh, d0, f0
 
     def make_chunk_stepper(self, state, dt: float, alpha, beta) -> Callable:
-        """Compiled chunk stepper (:func:`continuum._stepper.rosenau_kernels` of the law).
+        """Compiled chunk stepper (:func:`continuum._stepper.rosenau_kernels` of the law and flux).
 
         ``chunk(state_data, nsteps) -> node_updates`` advances the state array in place
         by ``nsteps`` splitting steps of ``dt`` (s) with drift/kick coefficients
@@ -339,7 +339,7 @@ class BoussinesqPDE(ChainPDEBase):
         ``window``).  Periodic chains: the cyclic kernel, swept whole; a dissipative
         medium: the Strang-split kernel with the Crank–Nicolson sub-steps, swept whole.
         """
-        kern_ = _stepper.rosenau_kernels(self.law)
+        kern_ = _stepper.rosenau_kernels(self.law, self._nl_code)
         if not self._factor_cache:
             fac, z, vfac = _stepper.rosenau_factors(*self._bands)
             # (periodic chains are swept whole by the cyclic solve: no runs needed)
@@ -347,7 +347,7 @@ class BoussinesqPDE(ChainPDEBase):
             self._factor_cache.extend((fac, z, vfac, runs))
         fac, z, vfac, runs = self._factor_cache
         kk, bb, kh, d0, f0 = self._kernel_arrays()
-        h, bc, nl = float(self.disc.h), int(self._bc_code), int(self._nl_code)
+        h, bc = float(self.disc.h), int(self._bc_code)
         margin = _stepper.window_margin(fac)
         data = np.asarray(state.data)
         tau_s, tau_v, win = self._initial_window(data[0], data[1])
@@ -367,18 +367,18 @@ class BoussinesqPDE(ChainPDEBase):
             def chunk(state_data: np.ndarray, nsteps: int) -> int:
                 return kern_.chunk_dissipative(
                     state_data[0], state_data[1], state_data[2], y, int(nsteps), dt, alpha,
-                    beta, h, bc, nl, kk, bb, kh, d0, f0, fac, runs, win, mdiag, moff, wface,
+                    beta, h, bc, kk, bb, kh, d0, f0, fac, runs, win, mdiag, moff, wface,
                     mass, drag, p, *scratch)
         elif self.bc == "periodic":
             def chunk(state_data: np.ndarray, nsteps: int) -> int:
                 return kern_.chunk_periodic(
-                    state_data[0], state_data[1], y, int(nsteps), dt, alpha, beta, h, nl,
-                    kk, bb, kh, d0, f0, fac, z, vfac)
+                    state_data[0], state_data[1], y, int(nsteps), dt, alpha, beta, h, kk,
+                    bb, kh, d0, f0, fac, z, vfac)
         else:
             def chunk(state_data: np.ndarray, nsteps: int) -> int:
                 return kern_.chunk(
                     state_data[0], state_data[1], y, int(nsteps), dt, alpha, beta, h, bc,
-                    nl, kk, bb, kh, d0, f0, fac, runs, win, margin, tau_s, tau_v)
+                    kk, bb, kh, d0, f0, fac, runs, win, margin, tau_s, tau_v)
 
         chunk.window = win  # type: ignore[attr-defined]
         chunk.margin = margin  # type: ignore[attr-defined]
@@ -392,16 +392,16 @@ class BoussinesqPDE(ChainPDEBase):
         """
         d = self.disc
         kk, bb, kh, d0, f0 = self._kernel_arrays()
-        h, bc, nl = float(d.h), int(self._bc_code), int(self._nl_code)
+        h, bc = float(d.h), int(self._bc_code)
         w = self._face_weight.copy()
         wgrad = w * self.ell2 * d.face_mass
         mass = d.mass.copy()
-        mon = _stepper.rosenau_kernels(self.law).monitor
+        mon = _stepper.rosenau_kernels(self.law, self._nl_code).monitor
         dissipative = self.dissipative
 
         def monitor(state_data: np.ndarray) -> tuple[float, float]:
-            e, p = mon(state_data[0], state_data[1], h, bc, nl, kk, bb, kh, d0, f0, mass,
-                       wgrad, w)
+            e, p = mon(state_data[0], state_data[1], h, bc, kk, bb, kh, d0, f0, mass, wgrad,
+                       w)
             if dissipative:
                 e += float(np.sum(state_data[2]))
             return e, p

@@ -18,6 +18,8 @@ coefficient, a missed face, a truncated window) changes the result by the size o
 term it affects, far above 1e-9.
 """
 
+import re
+
 import numpy as np
 import pytest
 
@@ -349,7 +351,7 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, nonlinearity, r
     h = pde.disc.h
     fac = _stepper.rosenau_factors(*pde._bands)[0]
     runs = _stepper.constant_runs(fac)
-    window_pass = _stepper.rosenau_kernels(pde.law).window_pass
+    window_pass = _stepper.rosenau_kernels(pde.law, pde._nl_code).window_pass
     assert runs[0].max() > 40 and runs[3].max() > 40  # long runs: the links are used
     kk, bb, kh, d0, f0 = pde._kernel_arrays()
     diag, off, _ = pde._bands
@@ -364,8 +366,8 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, nonlinearity, r
         v0 = v.copy()
         y = np.zeros(n)
         win = np.zeros(2, np.int64)
-        window_pass(u, v, y, lo, hi, 0.0, 0.7, h, code, pde._nl_code, kk, bb, kh, d0, f0,
-                    fac, runs, 0.0, np.inf, win)
+        window_pass(u, v, y, lo, hi, 0.0, 0.7, h, code, kk, bb, kh, d0, f0, fac, runs,
+                    0.0, np.inf, win)
         # flux divergence on the window: faces lo..hi+1 (outer ones from u beyond it)
         s = np.empty(hi - lo + 2)
         for j, q in enumerate(range(lo, hi + 2)):
@@ -386,3 +388,33 @@ def test_rosenau_pass_solves_the_mass_operator_on_any_window(bc, nonlinearity, r
         np.testing.assert_allclose(kick, 0.7 * x, rtol=0,
                                    atol=1e-12 * np.abs(0.7 * x).max() + 1e-300)
         assert np.array_equal(v[:lo], v0[:lo]) and np.array_equal(v[hi + 1:], v0[hi + 1:])
+
+
+def test_rosenau_kernels_compile_only_their_flux():
+    """The Rosenau kernels are built per flux code (``nl`` a constant of the closure):
+    numba drops the other codes' branches before typing, so the quadratic flux's
+    kernels (what every Eq. 4 run of ``reproduce --quick`` uses) contain no evaluation
+    of the Hertz law's force or energy — no square root, log1p or expm1 anywhere in the
+    compiled chunk and monitor — while the full law's kernels do (r√r; √r, log1p and
+    expm1 in its energy).  A code outside {0, 1, 2} is refused by name."""
+    import numba
+
+    from continuum import _stepper
+
+    med = Medium.uniform(30, DELTA0)
+    for nonlinearity, code in (("quadratic", 1), ("hertz", 2)):
+        pde = BoussinesqPDE(med, 3, nonlinearity=nonlinearity)
+        run(pde, solitary_wave(pde, 10.0, velocity_max=0.05), 2e-6)
+        kern = _stepper.rosenau_kernels(pde.law, code)
+        ir = ""
+        for f in (kern.chunk, kern.monitor):
+            # compiled afresh (not loaded from the disk cache): its LLVM module, callees
+            # linked in
+            (sig,) = f.signatures
+            fresh = numba.njit(f.py_func)
+            fresh.compile(sig)
+            ir += fresh.inspect_llvm(sig)
+        law_calls = re.findall(r"@(llvm\.sqrt\.f64|sqrt|log1p|expm1)\b", ir)
+        assert bool(law_calls) == (code == 2), (nonlinearity, sorted(set(law_calls)))
+    with pytest.raises(ValueError, match="nl must be"):
+        _stepper.rosenau_kernels(med.law, 3)
