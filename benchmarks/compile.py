@@ -11,7 +11,7 @@ of other code, e.g. ``git worktree add /tmp/old HEAD~3``) the same runs alternat
 round by round between that code and this one, so that load changes hit both alike,
 and the ratios are printed.  ``--reproduce`` also times the first
 ``hertzchain reproduce --quick`` on an empty cache and reads the compile time it
-states ("numba spent N s compiling kernels", summed over its worker processes).
+states ("numba spent N s of CPU compiling kernels", summed over its worker processes).
 
 **Per family**: a fresh interpreter with an empty ``NUMBA_CACHE_DIR`` runs two small
 scenarios through ``hertzchain run`` — a precompressed two-section chain with the
@@ -200,7 +200,7 @@ def first_reproduce(tmp: Path, tree: Path | None, tag: str) -> dict:
     r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     if p.returncode:
         raise SystemExit(f"reproduce failed ({p.returncode}):\n{p.stderr[-3000:]}")
-    m = re.search(r"numba spent (\d+(?:\.\d+)?) s compiling", p.stdout + p.stderr)
+    m = re.search(r"numba spent (\d+(?:\.\d+)?) s of CPU compiling", p.stdout + p.stderr)
     return {"wall": wall, "cpu": (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime),
             "compile": float(m.group(1)) if m else float("nan")}
 
@@ -266,7 +266,7 @@ def first_runs(a, load0: float) -> tuple[str, str]:
              + (f", alternating with the baseline code (DIR: a checkout of other code, "
                 f"here {a.baseline_tree.name})" if a.baseline_tree else "")
              + ".  Compiling: numba's outermost compile events (CPU) inside the run; for "
-             "reproduce, the seconds it states (wall, summed over its worker processes).")
+             "reproduce, the CPU seconds it states (summed over its worker processes).")
     return table, notes
 
 

@@ -62,7 +62,8 @@ from pathlib import Path
 
 __all__ = ["configure", "default_cache_dir", "cache_is_warm", "KERNEL_FAMILIES",
            "compile_notice", "announce_compilation", "announce", "keyed_njit",
-           "source_digest", "compile_lock", "compile_locked", "COMPILE_LOCK_TIMEOUT"]
+           "source_digest", "compile_lock", "compile_locked", "COMPILE_LOCK_TIMEOUT",
+           "compile_cpu_timer"]
 
 _ENV = "NUMBA_CACHE_DIR"
 
@@ -231,6 +232,37 @@ class _Announcer:
                 pass
 
         return _Listener()
+
+
+@contextmanager
+def compile_cpu_timer(add: Callable[[float], None]) -> Iterator[None]:
+    """Inside the block, pass the CPU seconds of each numba compilation to ``add``.
+
+    numba's ``"numba:compile"`` events fire only for a real compilation (a cache miss),
+    not for a kernel loaded from the disk cache.  The outermost event of a thread is
+    timed with that thread's CPU clock (:func:`time.thread_time`: numba compiles in the
+    calling thread), so nested compiles (a callee inside its caller) count once and a
+    loaded machine's waiting for a core does not count at all, as it would in
+    ``numba.core.event.install_timer``'s wall time.
+    """
+    from numba.core import event
+
+    local = threading.local()
+
+    class _Timer(event.Listener):
+        def on_start(self, ev) -> None:
+            depth = getattr(local, "depth", 0)
+            if depth == 0:
+                local.start = time.thread_time()
+            local.depth = depth + 1
+
+        def on_end(self, ev) -> None:
+            local.depth -= 1
+            if local.depth == 0:
+                add(time.thread_time() - local.start)
+
+    with event.install_listener("numba:compile", _Timer()):
+        yield
 
 
 _active: list[_Announcer] = []

@@ -216,18 +216,18 @@ def kernel_threads(threads: int | None):
 
 @contextmanager
 def _compile_timer(ctx):
-    """Add the seconds numba spends compiling to ``ctx.compile_seconds``.
+    """Add the CPU seconds numba spends compiling to ``ctx.compile_seconds``.
 
-    numba's ``"numba:compile"`` events (:mod:`numba.core.event`) fire only for a real
-    compilation, not for a kernel loaded from its on-disk cache; nested compiles are
-    counted once (the outermost event's duration).
+    :func:`theory.jitcache.compile_cpu_timer`: real compilations only (not kernels
+    loaded from the on-disk cache), nested compiles counted once, the compiling thread's
+    CPU time (not the wall time, which on a loaded machine includes waiting for a core).
     """
-    from numba.core import event
+    from theory.jitcache import compile_cpu_timer
 
     def add(seconds: float) -> None:
         ctx.compile_seconds += seconds
 
-    with event.install_timer("numba:compile", add):
+    with compile_cpu_timer(add):
         yield
 
 

@@ -76,7 +76,7 @@ def _text(result: dict) -> str:
     lines.append(f"{len(ctx.computed)} simulations computed, {len(ctx.reused)} reused; "
                  f"wall time {result['wall_time']:.0f} s")
     if result["compile_seconds"] >= 0.5:  # a cold kernel cache: say what it cost
-        lines.append(f"numba spent {result['compile_seconds']:.0f} s compiling kernels "
+        lines.append(f"numba spent {result['compile_seconds']:.0f} s of CPU compiling kernels "
                      "(the first run after installing or after a change of the code; "
                      "cached afterwards; with several workers the sum over them, "
                      "which compile at the same time)")

@@ -84,8 +84,8 @@ class Context:
     timings: dict[str, float] = field(default_factory=dict)
     notes: dict[str, str] = field(default_factory=dict)
     compile_seconds: float = 0.0
-    """Seconds numba spent compiling kernels during the items (a cold cache: the first run
-    after installing), summed over the worker processes."""
+    """CPU seconds numba spent compiling kernels during the items (a cold cache: the first
+    run after installing), summed over the worker processes."""
 
     def __post_init__(self) -> None:
         self.out = Path(self.out)
