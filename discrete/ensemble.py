@@ -5,11 +5,12 @@ Kevrekidis & Porter, Phys. Rev. E 93 (2016) 022902).  One :class:`~discrete.Simu
 per realisation pays its per-step bookkeeping (the active window, the event tests, the
 chunk calls) on a 200-grain chain as often as its arithmetic; :func:`run_ensemble`
 integrates the realisations together in the batch kernel
-(:func:`discrete.kernels.batch_kernel`: arrays grains × realisations, the realisations
-innermost and vectorised), each with its own chain, initial state and time step, and
-returns per realisation what :meth:`Simulation.run <discrete.Simulation.run>` would
-have left — bit for bit the same final state, running maxima of v and energies — plus
-the time each grain's maximum was reached.
+(:func:`discrete.kernels.batch_kernel`: arrays realisations × grains, each
+realisation's pass over its grains vectorised), each with its own chain, initial state
+and time step, and returns per realisation what :meth:`Simulation.run
+<discrete.Simulation.run>` would have left — bit for bit the same final state, running
+maxima of v and energies — plus, at chosen grains, the time each grain's maximum was
+reached (the arrival time of the wave's peak).
 
 Per-realisation reductions (:func:`amplitude_decay`) and ensemble statistics
 (:func:`ensemble_statistics`: mean, quantiles and their uncertainty) turn those into
@@ -39,8 +40,8 @@ __all__ = ["EnsembleResult", "run_ensemble", "reference_ensemble", "default_batc
 
 BATCH_GRAIN_SLOTS = 65536
 """Grains × realisations of one kernel call by default (:func:`default_batch`): the
-arrays of a call, 8 doubles per slot (u, v, the maximum of v and its time, 1/m, k, δ0,
-f0), are 4 MB."""
+arrays of a call, 8 doubles per slot (u, v, a, the maximum of v, 1/m, k, δ0, f0),
+are 4 MB."""
 
 
 @dataclass(frozen=True)
@@ -58,10 +59,12 @@ class EnsembleResult:
     vmax : (R, N) float array
         Running maximum of each grain's velocity over the steps, m/s (the transmitted
         amplitude at every grain, :attr:`discrete.Record.vmax`).
-    vmax_time : (R, N) float array or None
-        Time at which ``vmax`` was reached, s (the end of the step that raised it; the
-        start time where it never rose): the arrival time of the wave's peak.  None
-        unless asked for (``run_ensemble(..., times=True)``).
+    vmax_time : (R, K) float array or None
+        Time at which ``vmax`` of the grains ``time_grains`` was reached, s (the end
+        of the step that raised it; the start time where it never rose): the arrival
+        time of the wave's peak.  None unless asked for (``run_ensemble(..., times=)``).
+    time_grains : (K,) int array or None
+        The grains of the columns of ``vmax_time`` (increasing); None without times.
     energy0, energy : (R,) float arrays
         Total wave energy at the start and at the end, J
         (:meth:`discrete.Simulation.energy`).
@@ -77,6 +80,7 @@ class EnsembleResult:
     a: np.ndarray
     vmax: np.ndarray
     vmax_time: np.ndarray | None
+    time_grains: np.ndarray | None
     energy0: np.ndarray
     energy: np.ndarray
     integrator: str
@@ -160,8 +164,22 @@ def _energy(sim: Simulation, u: np.ndarray, v: np.ndarray) -> float:
     return tk + tp
 
 
+def _time_grains(times, n: int) -> np.ndarray | None:
+    """The grains whose arrival times ``run_ensemble(..., times=)`` keeps (None: none)."""
+    if times is None or times is False:
+        return None
+    if times is True:
+        return np.arange(n, dtype=np.int64)
+    g = np.asarray(times)
+    if g.ndim != 1 or g.size == 0 or g.dtype.kind not in "iu" or g.min() < 0 or g.max() >= n:
+        raise ValueError(f"times must be a bool or a non-empty sequence of grain indices in "
+                         f"[0, {n - 1}] (got {times!r})")
+    return np.unique(g).astype(np.int64)
+
+
 def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
-                 batch: int | None = None, times: bool = False) -> EnsembleResult:
+                 batch: int | None = None, times: bool | Sequence[int] = False
+                 ) -> EnsembleResult:
     """Integrate many realisations of one chain size together until ``t_end`` (s).
 
     Parameters
@@ -176,17 +194,20 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
         :meth:`Simulation.run` does.
     batch : int, optional
         Realisations per kernel call (>= 1); default :func:`default_batch`.
-    times : bool
-        Also record the time at which each grain's maximum was reached
-        (``vmax_time``: the arrival time of the peak).  Off by default: it is a kernel
-        variant of its own and costs a fifth to a half of the integration.
+    times : bool or sequence of int
+        Also record the time at which a grain's maximum was reached (``vmax_time``:
+        the arrival time of the peak, to one step): at every grain (True), at the
+        given grains (indices in [0, N)), or nowhere (False, the default).  The
+        kernel checks the watched grains after each step outside its vectorised pass
+        (:func:`discrete.kernels.batch_kernel`): a few grains cost a few per cent of
+        the integration, every grain much more.
 
     Returns
     -------
     EnsembleResult
         Per realisation the state, running maxima and energies that ``sim.run(t_end)``
         leaves (bit for bit: ``u``, ``v``, ``a``, ``record.vmax``, ``energy()``), and
-        with ``times`` the times of the maxima.
+        with ``times`` the times of the maxima at ``time_grains``.
     """
     sims = list(sims)
     _check(sims)
@@ -195,18 +216,28 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
     if batch is not None and (int(batch) != batch or batch < 1):
         raise ValueError(f"batch must be an integer >= 1 (got {batch!r})")
     n, nr = sims[0].chain.n, len(sims)
+    watch = _time_grains(times, n)
+    nw = 0 if watch is None else watch.size
     b = default_batch(n) if batch is None else int(batch)
     steps = np.array([s.step_of(float(t_end)) for s in sims], dtype=np.int64)
     for q, s in enumerate(sims):
         if float(t_end) < s.t - 0.5 * s.dt:
             raise ValueError(f"t_end = {t_end!r} s is before sims[{q}]'s time {s.t} s")
-    kern = K.batch_kernel(sims[0].law, times=bool(times))
+    kern = K.batch_kernel(sims[0].law)
     method = get_integrator(sims[0].integrator)
     p = K.kernel_params(sims[0].law)
-    names = ("u", "v", "a", "vmax", "vmax_time") if times else ("u", "v", "a", "vmax")
-    out = {name: np.empty((nr, n)) for name in names}
+    t0 = np.array([s.t0 for s in sims])
+    dt = np.array([s.dt for s in sims])
+    coefs = [method.coefficients(h) for h in dt]
+    drift = np.array([c[0] for c in coefs])
+    kick = np.array([c[1] for c in coefs])
+    wl = np.array([s.wall_left for s in sims])
+    wr = np.array([s.wall_right for s in sims])
+    out = {name: np.empty((nr, n)) for name in ("u", "v", "a", "vmax")}
+    tmax = np.repeat(t0[:, None], nw, axis=1)
     for lo in range(0, nr, b):
         group = sims[lo:lo + b]
+        hi = lo + len(group)
 
         def stack(get, group=group):
             return _aligned(np.stack([get(s) for s in group]))
@@ -214,25 +245,21 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
         u, v = stack(lambda s: s.u), stack(lambda s: s.v)
         a = _aligned(np.zeros_like(u))
         vmax = _aligned(v)
-        tmax = stack(lambda s: np.full(n, s.t0)) if times else np.empty((len(group), 0))
         k, d0 = stack(lambda s: s.chain.k), stack(lambda s: s.chain.delta0)
         f0 = stack(lambda s: s.kernels.static_forces(s.chain.k, s.chain.delta0, p))
         inv_m = stack(lambda s: 1.0 / s.chain.mass)
-        walls = (np.array([s.wall_left for s in group]), np.array([s.wall_right for s in group]))
-        coefs = [method.coefficients(s.dt) for s in group]
-        drift = np.ascontiguousarray(np.stack([c[0] for c in coefs]))
-        kick = np.ascontiguousarray(np.stack([c[1] for c in coefs]))
-        coef = (drift, kick, np.array([s.t0 for s in group]), np.array([s.dt for s in group]))
-        kern((u, v, a, vmax, tmax), (inv_m, k, d0, f0), p, walls, coef, steps[lo:lo + b])
-        for name, x in zip(names, (u, v, a, vmax, tmax), strict=False):
-            out[name][lo:lo + b] = x
-    out.setdefault("vmax_time", None)
-    dt = np.array([s.dt for s in sims])
-    t0 = np.array([s.t0 for s in sims])
+        tm = tmax[lo:hi]
+        coef = (drift[lo:hi], kick[lo:hi], t0[lo:hi], dt[lo:hi])
+        kern((u, v, a, vmax, tm), (inv_m, k, d0, f0), p, (wl[lo:hi], wr[lo:hi]), coef,
+             steps[lo:hi], np.zeros(0, np.int64) if watch is None else watch)
+        for name, x in (("u", u), ("v", v), ("a", a), ("vmax", vmax)):
+            out[name][lo:hi] = x
     energy0 = np.array([s.energy() for s in sims])
     energy = np.array([_energy(s, out["u"][q], out["v"][q]) for q, s in enumerate(sims)])
     return EnsembleResult(t=t0 + steps * dt, dt=dt, steps=steps, energy0=energy0,
-                          energy=energy, integrator=method.name, **out)
+                          energy=energy, integrator=method.name,
+                          vmax_time=None if watch is None else tmax, time_grains=watch,
+                          **out)
 
 
 def reference_ensemble(sims: Sequence[Simulation], t_end: float) -> EnsembleResult:
@@ -267,7 +294,8 @@ def reference_ensemble(sims: Sequence[Simulation], t_end: float) -> EnsembleResu
     return EnsembleResult(
         t=np.array([s.t0 for s in sims]) + st * dt, dt=dt, steps=st,
         energy0=np.array([s.energy() for s in sims]), energy=np.array(energy),
-        integrator=sims[0].integrator, **{k: np.array(x) for k, x in cols.items()})
+        integrator=sims[0].integrator, time_grains=np.arange(sims[0].chain.n),
+        **{k: np.array(x) for k, x in cols.items()})
 
 
 # ------------------------------------------------------------------ reductions

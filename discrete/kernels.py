@@ -1461,16 +1461,16 @@ BATCH_PAD = 8
 widest SIMD register): the resting grains it adds cost less than a scalar remainder."""
 
 
-def batch_kernel(law: ContactLaw | None = None, times: bool = True):
+def batch_kernel(law: ContactLaw | None = None):
     r"""The ensemble kernel of a conservative ``law``: R chains of N grains in one call.
 
     Many realisations of a small chain (a disorder ensemble) are integrated in one
     compiled loop over the realisations, each on its own rows of (R, N) arrays
-    (realisation first): a realisation's state and constants (u, v, the maxima and
-    their times, 1/m, k, δ0, f0: 64 bytes a grain) stay in the L1/L2 cache through all
-    its steps, and none of the per-step bookkeeping of :attr:`Kernels.run_steps` (the
-    event tests, the special grains, the chunk calls) that dominates a 200-grain
-    chain's step is done.
+    (realisation first): a realisation's state and constants (u, v, the maxima, 1/m,
+    k, δ0, f0: 56 bytes a grain) stay in the L1/L2 cache through all its steps, and
+    none of the per-step bookkeeping of :attr:`Kernels.run_steps` (the event tests,
+    the special grains, the chunk calls) that dominates a 200-grain chain's step is
+    done.
 
     Each realisation's arithmetic is the per-step pass of the single-chain kernels
     (module docstring, "Passes"): the drift ``u + a_s h v`` of grain i+1, the overlap
@@ -1491,31 +1491,32 @@ def batch_kernel(law: ContactLaw | None = None, times: bool = True):
     realisation has its own time step and step count.
 
     Besides the running maximum ``vmax`` of the synchronous velocity (the transmitted
-    amplitude at every grain, paper Fig. 2) the variant with ``times`` keeps the time
-    ``tmax`` at which that maximum was reached, ``t0 + s h`` at the end of the step s
-    that raised it (the arrival time of the wave's peak, resolved to one step); it is
-    a variant of its own because that second select per grain costs a fifth to a half
-    of the pass.
+    amplitude at every grain, paper Fig. 2) the kernel keeps, at the *watched* grains
+    only, the time ``tmax`` at which that maximum was reached, ``t0 + s h`` at the end
+    of the step s that raised it (the arrival time of the wave's peak, resolved to one
+    step).  The vectorised pass does not touch the times: after each step a scalar
+    loop compares the maximum of every watched grain the pass reached with its value
+    before the step (a maximum changes exactly when the step raised it, ``x > g``),
+    so a few watched grains cost a few compares a step, not a second select at every
+    grain.  Watching every grain gives every arrival time, at a higher cost.
 
     Parameters
     ----------
     law : ContactLaw, optional
         A conservative contact law (default Hertz).
-    times : bool
-        Compile the variant that records the times of the maxima.
 
     Returns
     -------
     callable
-        ``run_batch(st, con, p, walls, coef, steps)``, compiled on its first call (or
-        loaded from the disk cache), apart from the single-chain kernels: a sweep of
-        small chains compiles only it.  Its arguments:
+        ``run_batch(st, con, p, walls, coef, steps, watch)``, compiled on its first
+        call (or loaded from the disk cache), apart from the single-chain kernels: a
+        sweep of small chains compiles only it.  Its arguments:
 
-        st : tuple of (R, N) float arrays
-            ``(u, v, a, vmax, tmax)``: displacements (m), velocities (m/s),
+        st : tuple of arrays
+            ``(u, v, a, vmax, tmax)``: (R, N) displacements (m), velocities (m/s),
             accelerations (m/s², overwritten: computed from u at the start and at the
-            end), running maxima of v (m/s) and their times (s; not read or written
-            without ``times``: any (R, N) or (R, 0) array); updated in place.
+            end), running maxima of v (m/s), and (R, K) the times (s) of the maxima
+            of the watched grains, updated in place (start them at t0).
         con : tuple of arrays
             ``(inv_m, k, d0, f0)``: 1/m (R, N) in 1/kg, and per contact (R, N+1) the
             constants k (N/m^n), the static overlaps δ0 (m) and the static forces
@@ -1530,24 +1531,25 @@ def batch_kernel(law: ContactLaw | None = None, times: bool = True):
             the step h (R,) in s.
         steps : (R,) int64 array
             Steps of each realisation.
+        watch : (K,) int64 array
+            The watched grains, strictly increasing in [0, N) (K = 0: no times).
     """
     law = as_law(law)
     if law.dissipative:
         raise ValueError(f"law must be conservative for the ensemble kernel (got the "
                          f"{law.describe()}): velocity-dependent forces need the split "
                          "dissipative step of the single-chain kernels")
-    key = (law.key(), bool(times))
+    key = law.key()
     if key not in _BATCH:
-        _BATCH[key] = _build_batch(law, bool(times))
+        _BATCH[key] = _build_batch(law)
     return _BATCH[key]
 
 
-def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
+def _build_batch(law: ContactLaw):  # noqa: C901
     """Close the ensemble pass over the law's compiled force (:func:`batch_kernel`)."""
     force = law.make_force()
-    TIMES = times
-    ckey = f"batch|{law.key()!r}|times={TIMES}|{_source_digest(law)}"
-    tag = "B" + hashlib.sha256(f"{law.key()!r}|times={TIMES}".encode()).hexdigest()[:12]
+    ckey = f"batch|{law.key()!r}|watch|{_source_digest(law)}"
+    tag = "B" + hashlib.sha256(f"{law.key()!r}|watch".encode()).hexdigest()[:12]
 
     @numba.njit(**_INLINE)
     def contact(r, kj, f0j, p):
@@ -1566,15 +1568,19 @@ def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
             phl = phr
 
     @numba.njit(**_INLINE)
-    def substep(u, v, vm, tm, inv_m, k, d0, f0, p, wl, wr, dc, c1, c2, tn, track, w):
+    def pass_end(n, w):
+        """Last grain m of a pass with front w (w up to a multiple of :data:`BATCH_PAD`, <= N-1)."""
+        return min(n - 1, -(-w // BATCH_PAD) * BATCH_PAD)
+
+    @numba.njit(**_INLINE)
+    def substep(u, v, vm, inv_m, k, d0, f0, p, wl, wr, dc, c1, c2, track, w):
         """One fused pass (drift, force, kick) over grains 0 … w of one chain ("Passes").
 
         The loops are those of the single-chain kernels' ``loop_arrays``: one base
         pointer for u[i] and u[i+1] (LLVM sees the distance-1 dependence and
         vectorises), the running maximum stored at every grain (:func:`_raised`).
-        The pass ends at grain m >= w, w rounded up to a multiple of
-        :data:`BATCH_PAD` (at most N-1): the grains w+1 … m are at rest in
-        equilibrium and stay so bit for bit (u = 0 + h·0, φ = F(δ0) - f0 = 0,
+        The pass ends at grain m = ``pass_end(n, w)`` >= w: the grains w+1 … m are at
+        rest in equilibrium and stay so bit for bit (u = 0 + h·0, φ = F(δ0) - f0 = 0,
         v = 0 + c·0), and the vectorised loop then needs no scalar remainder.
         Grain m+1 (at rest when m < N-1) is drifted in the arithmetic but not stored.
         """
@@ -1582,24 +1588,9 @@ def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
         un = u[0] + dc * v[0]
         u[0] = un
         phl = contact(d0[0] + (wl - un), k[0], f0[0], p)
-        m = min(n - 1, -(-w // BATCH_PAD) * BATCH_PAD)
+        m = pass_end(n, w)
         k1, d1, f1 = k[1:], d0[1:], f0[1:]
-        if track and TIMES:
-            for i in range(m):
-                unr = u[i + 1] + dc * v[i + 1]
-                u[i + 1] = unr
-                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
-                ai = (phl - phr) * inv_m[i]
-                x = v[i] + c1 * ai
-                g = _opaque(vm[i])
-                tt = _opaque(tm[i])
-                up = x > g
-                vm[i] = x if up else g
-                tm[i] = tn if up else tt
-                v[i] = x + c2 * ai
-                phl = phr
-                un = unr
-        elif track:
+        if track:
             for i in range(m):
                 unr = u[i + 1] + dc * v[i + 1]
                 u[i + 1] = unr
@@ -1625,11 +1616,9 @@ def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
         x = v[m] + c1 * ai
         if track and x > vm[m]:
             vm[m] = x
-            if TIMES:
-                tm[m] = tn
         v[m] = x + c2 * ai
 
-    def run_batch(st, con, p, walls, coef, steps):
+    def run_batch(st, con, p, walls, coef, steps, watch):
         """Advance every realisation by its ``steps`` (see :func:`batch_kernel`)."""
         u, v, a, vmax, tmax = st
         inv_m, k, d0, f0 = con
@@ -1637,15 +1626,18 @@ def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
         drift, kick, t0, dt = coef
         nr = u.shape[0]
         ns = drift.shape[1]
+        nw = watch.size
+        seen = np.empty(nw)  # the watched grains' maxima before the step
         for r in range(nr):
-            ur, vr, ar = u[r], v[r], a[r]
+            ur, vr, ar, vmr, tr = u[r], v[r], a[r], vmax[r], tmax[r]
             imr, kr, dr, fr = inv_m[r], k[r], d0[r], f0[r]
-            tr = tmax[r] if TIMES else tmax[0:0]
             accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
             nsteps = steps[r]
             if nsteps <= 0:
                 continue
             n = ur.size
+            for j in range(nw):
+                seen[j] = vmr[watch[j]]
             # the front: the last grain that moves, is accelerated, or feels a wall
             # out of its place (the right wall's contact is then not in equilibrium)
             w = n - 1 if wr[r] != 0.0 else 0
@@ -1653,19 +1645,33 @@ def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
                 if ur[i] != 0.0 or vr[i] != 0.0 or ar[i] != 0.0:
                     w = i
                     break
+            nr_w = 0
             for i in range(n):  # the opening kick of the first step
                 vr[i] = vr[i] + kick[r, 0] * ar[i]
             for s in range(nsteps):
                 # the closing kick and the next step's opening one; the last step stops
                 # at the synchronous velocity
                 c2 = kick[r, 0] if s + 1 < nsteps else 0.0
-                tn = t0[r] + (s + 1) * dt[r]
                 for q in range(ns):
                     while w < n - 1 and (ur[w] != 0.0 or vr[w] != 0.0):
                         w += 1
                     final = q == ns - 1
-                    substep(ur, vr, vmax[r], tr, imr, kr, dr, fr, p, wl[r], wr[r],
-                            drift[r, q], kick[r, q + 1], c2 if final else 0.0, tn, final, w)
+                    substep(ur, vr, vmr, imr, kr, dr, fr, p, wl[r], wr[r],
+                            drift[r, q], kick[r, q + 1], c2 if final else 0.0, final, w)
+                # the watched grains the pass reached (the first nr_w) whose maximum
+                # it raised: tested together, without branches, then found
+                m = pass_end(n, w)
+                while nr_w < nw and watch[nr_w] <= m:
+                    nr_w += 1
+                raised = False
+                for j in range(nr_w):
+                    raised |= vmr[watch[j]] != seen[j]
+                if raised:
+                    for j in range(nr_w):
+                        x = vmr[watch[j]]
+                        if x != seen[j]:
+                            seen[j] = x
+                            tr[j] = t0[r] + (s + 1) * dt[r]
             accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
 
     run_batch.__qualname__ = f"run_batch_{tag}"
