@@ -1659,17 +1659,18 @@ def _build_batch(law: ContactLaw):  # noqa: C901
                     substep(ur, vr, vmr, imr, kr, dr, fr, p, wl[r], wr[r],
                             drift[r, q], kick[r, q + 1], c2 if final else 0.0, final, w)
                 # the watched grains the pass reached (the first nr_w) whose maximum
-                # it raised: tested together, without branches, then found
+                # it raised (a maximum only rises: raised where max - seen > 0, exact
+                # for finite doubles), tested together without branches, then found
                 m = pass_end(n, w)
                 while nr_w < nw and watch[nr_w] <= m:
                     nr_w += 1
-                raised = False
+                rise = 0.0
                 for j in range(nr_w):
-                    raised |= vmr[watch[j]] != seen[j]
-                if raised:
+                    rise = max(rise, vmr[watch[j]] - seen[j])
+                if rise > 0.0:
                     for j in range(nr_w):
                         x = vmr[watch[j]]
-                        if x != seen[j]:
+                        if x > seen[j]:
                             seen[j] = x
                             tr[j] = t0[r] + (s + 1) * dt[r]
             accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
