@@ -32,7 +32,7 @@ import numpy as np
 from . import kernels as K
 from .integrators import get_integrator
 from .integrators import step as numpy_step
-from .simulation import Simulation
+from .simulation import InstabilityError, Simulation
 
 __all__ = ["EnsembleResult", "run_ensemble", "reference_ensemble", "default_batch",
            "amplitude_decay", "ensemble_statistics", "nanquantiles", "QUANTILES",
@@ -208,6 +208,12 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
         Per realisation the state, running maxima and energies that ``sim.run(t_end)``
         leaves (bit for bit: ``u``, ``v``, ``a``, ``record.vmax``, ``energy()``), and
         with ``times`` the times of the maxima at ``time_grains``.
+
+    Raises
+    ------
+    InstabilityError
+        A realisation's final state is not finite (its step too large), as
+        :meth:`Simulation.run` raises.
     """
     sims = list(sims)
     _check(sims)
@@ -252,6 +258,12 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
         coef = (drift[lo:hi], kick[lo:hi], t0[lo:hi], dt[lo:hi])
         kern((u, v, a, vmax, tm), (inv_m, k, d0, f0), p, (wl[lo:hi], wr[lo:hi]), coef,
              steps[lo:hi], np.zeros(0, np.int64) if watch is None else watch)
+        bad = ~np.all(np.isfinite(u) & np.isfinite(v), axis=1)
+        if bad.any():
+            q = lo + int(np.flatnonzero(bad)[0])
+            raise InstabilityError(
+                f"sims[{q}]: non-finite state (NaN/inf) by t = {t_end} s with dt = "
+                f"{sims[q].dt:.4g} s; likely cause: dt too large for the contact stiffness")
         for name, x in (("u", u), ("v", v), ("a", a), ("vmax", vmax)):
             out[name][lo:hi] = x
     energy0 = np.array([s.energy() for s in sims])

@@ -1658,21 +1658,16 @@ def _build_batch(law: ContactLaw):  # noqa: C901
                     final = q == ns - 1
                     substep(ur, vr, vmr, imr, kr, dr, fr, p, wl[r], wr[r],
                             drift[r, q], kick[r, q + 1], c2 if final else 0.0, final, w)
-                # the watched grains the pass reached (the first nr_w) whose maximum
-                # it raised (a maximum only rises: raised where max - seen > 0, exact
-                # for finite doubles), tested together without branches, then found
+                # the watched grains the pass reached (the first nr_w): the step's end
+                # time where it raised the maximum (without branches)
                 m = pass_end(n, w)
                 while nr_w < nw and watch[nr_w] <= m:
                     nr_w += 1
-                rise = 0.0
+                tn = t0[r] + (s + 1) * dt[r]
                 for j in range(nr_w):
-                    rise = max(rise, vmr[watch[j]] - seen[j])
-                if rise > 0.0:
-                    for j in range(nr_w):
-                        x = vmr[watch[j]]
-                        if x > seen[j]:
-                            seen[j] = x
-                            tr[j] = t0[r] + (s + 1) * dt[r]
+                    x = vmr[watch[j]]
+                    tr[j] = tn if x > seen[j] else tr[j]
+                    seen[j] = x
             accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
 
     run_batch.__qualname__ = f"run_batch_{tag}"

@@ -45,7 +45,7 @@ ENSEMBLE_POINT_FUNCTION = "hertzchain.sweep.ensemble:realisation"
 PROFILE_POINTS = 64
 """Grains at which a realisation's amplitude profile is kept (all grains of a shorter chain)."""
 
-ARRIVAL_POINTS = 24
+ARRIVAL_POINTS = 32
 """Grains of the fit range at which a realisation's arrival times are kept
 (:func:`arrival_grains`; all grains of the range where it has no more)."""
 
