@@ -77,11 +77,20 @@ def arrival_grains(n: int) -> np.ndarray:
     """The grains whose arrival times a realisation keeps: the front-speed fit's.
 
     :data:`ARRIVAL_POINTS` grains evenly spaced over the fit range (:func:`fit_range`),
-    both ends included (the last grain: ``arrival_time_last``); every grain of the
-    range if it has no more.  The batch kernel checks these grains' maxima after each
-    step (:func:`discrete.kernels.batch_kernel`), a cost per watched grain: a fixed
-    sample keeps the cost of the arrival times a few per cent of the integration,
-    where the times of every grain cost a fifth of it.
+    both ends included (the last grain gives ``arrival_time_last``, exact to one
+    step); every grain of the range if it has no more.  The batch kernel checks these
+    grains' maxima after each step (:func:`discrete.kernels.batch_kernel`), at a cost
+    per watched grain: a fixed sample keeps the arrival times at a few per cent of the
+    integration, where the times of every grain cost a fifth of it.
+
+    ``front_speed_tr`` (:func:`front_speeds`) is the least-squares slope of the peak's
+    arrival time against position over the fit range, as it was with every grain of
+    the range: the same quantity (the inverse of the pulse's mean travel speed over the
+    range, each realisation's own), estimated from an evenly spaced sample of its
+    points.  The sample estimates the same line with more scatter: a grain's maximum
+    is sometimes that of a later, scattered wave, and fewer points average fewer
+    such outliers, so a realisation's value is noisier than the every-grain fit's
+    (docs/benchmarks.md gives the difference on the benchmark's chains).
     """
     first, last = fit_range(n)
     if last - first + 1 <= ARRIVAL_POINTS:
@@ -258,7 +267,8 @@ def realisations(scenarios: Sequence[Scenario]) -> list[dict[str, Any]]:
 
     Every scenario is built as the runner builds it (:func:`hertzchain.runner.
     build_simulation`: chain, initial state, time step) and all run to their
-    ``[run] t_end`` in :func:`discrete.ensemble.run_ensemble`, grouped by end time.
+    ``[run] t_end`` in :func:`discrete.ensemble.run_ensemble`, grouped by end time,
+    keeping the arrival times at :func:`arrival_grains`.
     ``wall_time`` is the batch's wall time divided among its realisations.
     """
     from discrete.ensemble import run_ensemble
