@@ -1572,54 +1572,22 @@ def _build_batch(law: ContactLaw):  # noqa: C901
         """Last grain m of a pass with front w (w up to a multiple of :data:`BATCH_PAD`, <= N-1)."""
         return min(n - 1, -(-w // BATCH_PAD) * BATCH_PAD)
 
-    @numba.njit(**_INLINE)
-    def substep(u, v, vm, inv_m, k, d0, f0, p, wl, wr, dc, c1, c2, track, w):
-        """One fused pass (drift, force, kick) over grains 0 … w of one chain ("Passes").
+    def run_batch(st, con, p, walls, coef, steps, watch):
+        """Advance every realisation by its ``steps`` (see :func:`batch_kernel`).
 
+        A substep is one fused pass (drift, force, kick) over grains 0 … m of one
+        chain ("Passes"), written out in the step loop: a helper taking the rows as
+        arguments costs, at every step, the reference counts of the rows it is
+        handed (calls into the runtime), more than the pass itself on a short chain.
         The loops are those of the single-chain kernels' ``loop_arrays``: one base
         pointer for u[i] and u[i+1] (LLVM sees the distance-1 dependence and
-        vectorises), the running maximum stored at every grain (:func:`_raised`).
-        The pass ends at grain m = ``pass_end(n, w)`` >= w: the grains w+1 … m are at
-        rest in equilibrium and stay so bit for bit (u = 0 + h·0, φ = F(δ0) - f0 = 0,
-        v = 0 + c·0), and the vectorised loop then needs no scalar remainder.
-        Grain m+1 (at rest when m < N-1) is drifted in the arithmetic but not stored.
+        vectorises), the running maximum stored at every grain (:func:`_raised`) in
+        a method's last substep.  The pass ends at grain m = ``pass_end(n, w)`` >= w:
+        the grains w+1 … m are at rest in equilibrium and stay so bit for bit (u = 0 +
+        h·0, φ = F(δ0) - f0 = 0, v = 0 + c·0), and the vectorised loop then needs no
+        scalar remainder.  Grain m+1 (at rest when m < N-1) is drifted in the
+        arithmetic but not stored.
         """
-        n = u.size
-        un = u[0] + dc * v[0]
-        u[0] = un
-        phl = contact(d0[0] + (wl - un), k[0], f0[0], p)
-        m = pass_end(n, w)
-        k1, d1, f1 = k[1:], d0[1:], f0[1:]
-        if track:
-            for i in range(m):
-                unr = u[i + 1] + dc * v[i + 1]
-                u[i + 1] = unr
-                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
-                ai = (phl - phr) * inv_m[i]
-                x = v[i] + c1 * ai
-                vm[i] = _raised(vm[i], x)
-                v[i] = x + c2 * ai
-                phl = phr
-                un = unr
-        else:
-            for i in range(m):
-                unr = u[i + 1] + dc * v[i + 1]
-                u[i + 1] = unr
-                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
-                ai = (phl - phr) * inv_m[i]
-                v[i] = (v[i] + c1 * ai) + c2 * ai
-                phl = phr
-                un = unr
-        unr = wr if m == n - 1 else u[m + 1] + dc * v[m + 1]
-        phr = contact(d0[m + 1] + (un - unr), k[m + 1], f0[m + 1], p)
-        ai = (phl - phr) * inv_m[m]
-        x = v[m] + c1 * ai
-        if track and x > vm[m]:
-            vm[m] = x
-        v[m] = x + c2 * ai
-
-    def run_batch(st, con, p, walls, coef, steps, watch):
-        """Advance every realisation by its ``steps`` (see :func:`batch_kernel`)."""
         u, v, a, vmax, tmax = st
         inv_m, k, d0, f0 = con
         wl, wr = walls
@@ -1629,18 +1597,20 @@ def _build_batch(law: ContactLaw):  # noqa: C901
         nw = watch.size
         seen = np.empty(nw)  # the watched grains' maxima before the step
         for r in range(nr):
-            ur, vr, ar, vmr, tr = u[r], v[r], a[r], vmax[r], tmax[r]
-            imr, kr, dr, fr = inv_m[r], k[r], d0[r], f0[r]
-            accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
+            ur, vr, ar, vm, tr = u[r], v[r], a[r], vmax[r], tmax[r]
+            im, kr, dr, fr = inv_m[r], k[r], d0[r], f0[r]
+            k1, d1, f1 = kr[1:], dr[1:], fr[1:]
+            wlr, wrr = wl[r], wr[r]
+            accelerations(ur, ar, im, kr, dr, fr, p, wlr, wrr)
             nsteps = steps[r]
             if nsteps <= 0:
                 continue
             n = ur.size
             for j in range(nw):
-                seen[j] = vmr[watch[j]]
+                seen[j] = vm[watch[j]]
             # the front: the last grain that moves, is accelerated, or feels a wall
             # out of its place (the right wall's contact is then not in equilibrium)
-            w = n - 1 if wr[r] != 0.0 else 0
+            w = n - 1 if wrr != 0.0 else 0
             for i in range(n - 1, w - 1, -1):
                 if ur[i] != 0.0 or vr[i] != 0.0 or ar[i] != 0.0:
                     w = i
@@ -1651,13 +1621,44 @@ def _build_batch(law: ContactLaw):  # noqa: C901
             for s in range(nsteps):
                 # the closing kick and the next step's opening one; the last step stops
                 # at the synchronous velocity
-                c2 = kick[r, 0] if s + 1 < nsteps else 0.0
+                c2s = kick[r, 0] if s + 1 < nsteps else 0.0
                 for q in range(ns):
                     while w < n - 1 and (ur[w] != 0.0 or vr[w] != 0.0):
                         w += 1
-                    final = q == ns - 1
-                    substep(ur, vr, vmr, imr, kr, dr, fr, p, wl[r], wr[r],
-                            drift[r, q], kick[r, q + 1], c2 if final else 0.0, final, w)
+                    track = q == ns - 1
+                    dc, c1 = drift[r, q], kick[r, q + 1]
+                    c2 = c2s if track else 0.0
+                    un = ur[0] + dc * vr[0]
+                    ur[0] = un
+                    phl = contact(dr[0] + (wlr - un), kr[0], fr[0], p)
+                    m = pass_end(n, w)
+                    if track:
+                        for i in range(m):
+                            unr = ur[i + 1] + dc * vr[i + 1]
+                            ur[i + 1] = unr
+                            phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                            ai = (phl - phr) * im[i]
+                            x = vr[i] + c1 * ai
+                            vm[i] = _raised(vm[i], x)
+                            vr[i] = x + c2 * ai
+                            phl = phr
+                            un = unr
+                    else:
+                        for i in range(m):
+                            unr = ur[i + 1] + dc * vr[i + 1]
+                            ur[i + 1] = unr
+                            phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                            ai = (phl - phr) * im[i]
+                            vr[i] = (vr[i] + c1 * ai) + c2 * ai
+                            phl = phr
+                            un = unr
+                    unr = wrr if m == n - 1 else ur[m + 1] + dc * vr[m + 1]
+                    phr = contact(dr[m + 1] + (un - unr), kr[m + 1], fr[m + 1], p)
+                    ai = (phl - phr) * im[m]
+                    x = vr[m] + c1 * ai
+                    if track and x > vm[m]:
+                        vm[m] = x
+                    vr[m] = x + c2 * ai
                 # the watched grains the pass reached (the first nr_w): the step's end
                 # time where it raised the maximum (without branches)
                 m = pass_end(n, w)
@@ -1665,10 +1666,10 @@ def _build_batch(law: ContactLaw):  # noqa: C901
                     nr_w += 1
                 tn = t0[r] + (s + 1) * dt[r]
                 for j in range(nr_w):
-                    x = vmr[watch[j]]
+                    x = vm[watch[j]]
                     tr[j] = tn if x > seen[j] else tr[j]
                     seen[j] = x
-            accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
+            accelerations(ur, ar, im, kr, dr, fr, p, wlr, wrr)
 
     run_batch.__qualname__ = f"run_batch_{tag}"
     return _entry(run_batch, ckey)
