@@ -80,8 +80,8 @@ def arrival_grains(n: int) -> np.ndarray:
     both ends included (the last grain gives ``arrival_time_last``, exact to one
     step); every grain of the range if it has no more.  The batch kernel checks these
     grains' maxima after each step (:func:`discrete.kernels.batch_kernel`), at a cost
-    per watched grain: a fixed sample keeps the arrival times at a few per cent of the
-    integration, where the times of every grain cost a fifth of it.
+    per watched grain and step: a fixed sample bounds what the arrival times add to
+    the integration whatever the chain's length.
 
     ``front_speed_tr`` (:func:`front_speeds`) is the least-squares slope of the peak's
     arrival time against position over the fit range, as it was with every grain of
