@@ -9,8 +9,8 @@ integrates the realisations together in the batch kernel
 realisation's pass over its grains vectorised), each with its own chain, initial state
 and time step, and returns per realisation what :meth:`Simulation.run
 <discrete.Simulation.run>` would have left — bit for bit the same final state, running
-maxima of v and energies — plus, at chosen grains, the time each grain's maximum was
-reached (the arrival time of the wave's peak).
+maxima of v and energies — plus the time each grain's maximum was reached (the
+arrival time of the wave's peak).
 
 Per-realisation reductions (:func:`amplitude_decay`) and ensemble statistics
 (:func:`ensemble_statistics`: mean, quantiles and their uncertainty) turn those into
@@ -40,8 +40,8 @@ __all__ = ["EnsembleResult", "run_ensemble", "reference_ensemble", "default_batc
 
 BATCH_GRAIN_SLOTS = 65536
 """Grains × realisations of one kernel call by default (:func:`default_batch`): the
-arrays of a call, 8 doubles per slot (u, v, a, the maximum of v, 1/m, k, δ0, f0),
-are 4 MB."""
+arrays of a call, 8 or 9 doubles per slot (u, v, a, the maximum of v and with
+``times`` its time, 1/m, k, δ0, f0), are 4–4.5 MB."""
 
 
 @dataclass(frozen=True)
@@ -59,12 +59,10 @@ class EnsembleResult:
     vmax : (R, N) float array
         Running maximum of each grain's velocity over the steps, m/s (the transmitted
         amplitude at every grain, :attr:`discrete.Record.vmax`).
-    vmax_time : (R, K) float array or None
-        Time at which ``vmax`` of the grains ``time_grains`` was reached, s (the end
-        of the step that raised it; the start time where it never rose): the arrival
-        time of the wave's peak.  None unless asked for (``run_ensemble(..., times=)``).
-    time_grains : (K,) int array or None
-        The grains of the columns of ``vmax_time`` (increasing); None without times.
+    vmax_time : (R, N) float array or None
+        Time at which ``vmax`` was reached, s (the end of the step that raised it; the
+        start time where it never rose): the arrival time of the wave's peak.  None
+        unless asked for (``run_ensemble(..., times=True)``).
     energy0, energy : (R,) float arrays
         Total wave energy at the start and at the end, J
         (:meth:`discrete.Simulation.energy`).
@@ -80,7 +78,6 @@ class EnsembleResult:
     a: np.ndarray
     vmax: np.ndarray
     vmax_time: np.ndarray | None
-    time_grains: np.ndarray | None
     energy0: np.ndarray
     energy: np.ndarray
     integrator: str
@@ -164,22 +161,8 @@ def _energy(sim: Simulation, u: np.ndarray, v: np.ndarray) -> float:
     return tk + tp
 
 
-def _time_grains(times, n: int) -> np.ndarray | None:
-    """The grains whose arrival times ``run_ensemble(..., times=)`` keeps (None: none)."""
-    if times is None or times is False:
-        return None
-    if times is True:
-        return np.arange(n, dtype=np.int64)
-    g = np.asarray(times)
-    if g.ndim != 1 or g.size == 0 or g.dtype.kind not in "iu" or g.min() < 0 or g.max() >= n:
-        raise ValueError(f"times must be a bool or a non-empty sequence of grain indices in "
-                         f"[0, {n - 1}] (got {times!r})")
-    return np.unique(g).astype(np.int64)
-
-
 def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
-                 batch: int | None = None, times: bool | Sequence[int] = False
-                 ) -> EnsembleResult:
+                 batch: int | None = None, times: bool = False) -> EnsembleResult:
     """Integrate many realisations of one chain size together until ``t_end`` (s).
 
     Parameters
@@ -194,21 +177,17 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
         :meth:`Simulation.run` does.
     batch : int, optional
         Realisations per kernel call (>= 1); default :func:`default_batch`.
-    times : bool or sequence of int
-        Also record the time at which a grain's maximum was reached (``vmax_time``:
-        the arrival time of the peak, to one step): at every grain (True), at the
-        given grains (indices in [0, N)), or nowhere (False, the default).  The
-        kernel checks the watched grains after each step outside its vectorised pass
-        (:func:`discrete.kernels.batch_kernel`), a compare and a select per watched
-        grain and step: a few dozen grains of a chain of hundreds cost a fraction of
-        what every grain costs.
+    times : bool
+        Also record the time at which each grain's maximum was reached
+        (``vmax_time``: the arrival time of the peak, to one step): a second select
+        per grain in the kernel's pass.
 
     Returns
     -------
     EnsembleResult
         Per realisation the state, running maxima and energies that ``sim.run(t_end)``
         leaves (bit for bit: ``u``, ``v``, ``a``, ``record.vmax``, ``energy()``), and
-        with ``times`` the times of the maxima at ``time_grains``.
+        with ``times`` the times of the maxima.
 
     Raises
     ------
@@ -223,8 +202,7 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
     if batch is not None and (int(batch) != batch or batch < 1):
         raise ValueError(f"batch must be an integer >= 1 (got {batch!r})")
     n, nr = sims[0].chain.n, len(sims)
-    watch = _time_grains(times, n)
-    nw = 0 if watch is None else watch.size
+    nw = n if times else 0
     b = default_batch(n) if batch is None else int(batch)
     steps = np.array([s.step_of(float(t_end)) for s in sims], dtype=np.int64)
     for q, s in enumerate(sims):
@@ -241,7 +219,7 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
     wl = np.array([s.wall_left for s in sims])
     wr = np.array([s.wall_right for s in sims])
     out = {name: np.empty((nr, n)) for name in ("u", "v", "a", "vmax")}
-    tmax = np.repeat(t0[:, None], nw, axis=1)
+    tmax = _aligned(np.repeat(t0[:, None], nw, axis=1))
     for lo in range(0, nr, b):
         group = sims[lo:lo + b]
         hi = lo + len(group)
@@ -258,7 +236,7 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
         tm = tmax[lo:hi]
         coef = (drift[lo:hi], kick[lo:hi], t0[lo:hi], dt[lo:hi])
         kern((u, v, a, vmax, tm), (inv_m, k, d0, f0), p, (wl[lo:hi], wr[lo:hi]), coef,
-             steps[lo:hi], np.zeros(0, np.int64) if watch is None else watch)
+             steps[lo:hi])
         bad = ~np.all(np.isfinite(u) & np.isfinite(v), axis=1)
         if bad.any():
             q = lo + int(np.flatnonzero(bad)[0])
@@ -271,8 +249,7 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
     energy = np.array([_energy(s, out["u"][q], out["v"][q]) for q, s in enumerate(sims)])
     return EnsembleResult(t=t0 + steps * dt, dt=dt, steps=steps, energy0=energy0,
                           energy=energy, integrator=method.name,
-                          vmax_time=None if watch is None else tmax, time_grains=watch,
-                          **out)
+                          vmax_time=tmax if times else None, **out)
 
 
 def reference_ensemble(sims: Sequence[Simulation], t_end: float) -> EnsembleResult:
@@ -307,8 +284,7 @@ def reference_ensemble(sims: Sequence[Simulation], t_end: float) -> EnsembleResu
     return EnsembleResult(
         t=np.array([s.t0 for s in sims]) + st * dt, dt=dt, steps=st,
         energy0=np.array([s.energy() for s in sims]), energy=np.array(energy),
-        integrator=sims[0].integrator, time_grains=np.arange(sims[0].chain.n),
-        **{k: np.array(x) for k, x in cols.items()})
+        integrator=sims[0].integrator, **{k: np.array(x) for k, x in cols.items()})
 
 
 # ------------------------------------------------------------------ reductions

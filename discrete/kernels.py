@@ -1466,11 +1466,11 @@ def batch_kernel(law: ContactLaw | None = None):
 
     Many realisations of a small chain (a disorder ensemble) are integrated in one
     compiled loop over the realisations, each on its own rows of (R, N) arrays
-    (realisation first): a realisation's state and constants (u, v, the maxima, 1/m,
-    k, δ0, f0: 56 bytes a grain) stay in the L1/L2 cache through all its steps, and
-    none of the per-step bookkeeping of :attr:`Kernels.run_steps` (the event tests,
-    the special grains, the chunk calls) that dominates a 200-grain chain's step is
-    done.
+    (realisation first): a realisation's state and constants (u, v, the maxima and
+    their times, 1/m, k, δ0, f0: 64 bytes a grain) stay in the L1/L2 cache through
+    all its steps, and none of the per-step bookkeeping of :attr:`Kernels.run_steps`
+    (the event tests, the special grains, the chunk calls) that dominates a
+    200-grain chain's step is done.
 
     Each realisation's arithmetic is the per-step pass of the single-chain kernels
     (module docstring, "Passes"): the drift ``u + a_s h v`` of grain i+1, the overlap
@@ -1491,14 +1491,15 @@ def batch_kernel(law: ContactLaw | None = None):
     realisation has its own time step and step count.
 
     Besides the running maximum ``vmax`` of the synchronous velocity (the transmitted
-    amplitude at every grain, paper Fig. 2) the kernel keeps, at the *watched* grains
-    only, the time ``tmax`` at which that maximum was reached, ``t0 + s h`` at the end
-    of the step s that raised it (the arrival time of the wave's peak, resolved to one
-    step).  The vectorised pass does not touch the times: after each step a scalar
-    loop compares the maximum of every watched grain the pass reached with its value
-    before the step (a maximum changes exactly when the step raised it, ``x > g``),
-    so a few watched grains cost a few compares a step, not a second select at every
-    grain.  Watching every grain gives every arrival time, at a higher cost.
+    amplitude at every grain, paper Fig. 2) the kernel keeps, if ``tmax`` has a column
+    per grain, the time at which that maximum was reached, ``t0 + s h`` at the end of
+    the step s that raised it (the arrival time of the wave's peak, resolved to one
+    step): a second select per grain in the pass of the method's last substep, chosen
+    at run time (one compiled kernel; the pass without it is a loop of its own).
+
+    The passes are written out in the step loop (no helper taking the rows: its
+    arguments' reference counts are calls into numba's runtime at every step, on a
+    short chain as costly as the pass itself).
 
     Parameters
     ----------
@@ -1508,15 +1509,15 @@ def batch_kernel(law: ContactLaw | None = None):
     Returns
     -------
     callable
-        ``run_batch(st, con, p, walls, coef, steps, watch)``, compiled on its first
-        call (or loaded from the disk cache), apart from the single-chain kernels: a
-        sweep of small chains compiles only it.  Its arguments:
+        ``run_batch(st, con, p, walls, coef, steps)``, compiled on its first call (or
+        loaded from the disk cache), apart from the single-chain kernels: a sweep of
+        small chains compiles only it.  Its arguments:
 
         st : tuple of arrays
             ``(u, v, a, vmax, tmax)``: (R, N) displacements (m), velocities (m/s),
             accelerations (m/s², overwritten: computed from u at the start and at the
-            end), running maxima of v (m/s), and (R, K) the times (s) of the maxima
-            of the watched grains, updated in place (start them at t0).
+            end), running maxima of v (m/s) and their times (s; start them at t0; an
+            (R, 0) array: no times); updated in place.
         con : tuple of arrays
             ``(inv_m, k, d0, f0)``: 1/m (R, N) in 1/kg, and per contact (R, N+1) the
             constants k (N/m^n), the static overlaps δ0 (m) and the static forces
@@ -1531,8 +1532,6 @@ def batch_kernel(law: ContactLaw | None = None):
             the step h (R,) in s.
         steps : (R,) int64 array
             Steps of each realisation.
-        watch : (K,) int64 array
-            The watched grains, strictly increasing in [0, N) (K = 0: no times).
     """
     law = as_law(law)
     if law.dissipative:
@@ -1548,8 +1547,8 @@ def batch_kernel(law: ContactLaw | None = None):
 def _build_batch(law: ContactLaw):  # noqa: C901
     """Close the ensemble pass over the law's compiled force (:func:`batch_kernel`)."""
     force = law.make_force()
-    ckey = f"batch|{law.key()!r}|watch|{_source_digest(law)}"
-    tag = "B" + hashlib.sha256(f"{law.key()!r}|watch".encode()).hexdigest()[:12]
+    ckey = f"batch|{law.key()!r}|{_source_digest(law)}"
+    tag = "B" + hashlib.sha256(f"{law.key()!r}".encode()).hexdigest()[:12]
 
     @numba.njit(**_INLINE)
     def contact(r, kj, f0j, p):
@@ -1572,14 +1571,12 @@ def _build_batch(law: ContactLaw):  # noqa: C901
         """Last grain m of a pass with front w (w up to a multiple of :data:`BATCH_PAD`, <= N-1)."""
         return min(n - 1, -(-w // BATCH_PAD) * BATCH_PAD)
 
-    def run_batch(st, con, p, walls, coef, steps, watch):
+    def run_batch(st, con, p, walls, coef, steps):
         """Advance every realisation by its ``steps`` (see :func:`batch_kernel`).
 
         A substep is one fused pass (drift, force, kick) over grains 0 … m of one
-        chain ("Passes"), written out in the step loop: a helper taking the rows as
-        arguments costs, at every step, the reference counts of the rows it is
-        handed (calls into the runtime), more than the pass itself on a short chain.
-        The loops are those of the single-chain kernels' ``loop_arrays``: one base
+        chain ("Passes"), written out in the step loop (:func:`batch_kernel`).  The
+        loops are those of the single-chain kernels' ``loop_arrays``: one base
         pointer for u[i] and u[i+1] (LLVM sees the distance-1 dependence and
         vectorises), the running maximum stored at every grain (:func:`_raised`) in
         a method's last substep.  The pass ends at grain m = ``pass_end(n, w)`` >= w:
@@ -1594,8 +1591,7 @@ def _build_batch(law: ContactLaw):  # noqa: C901
         drift, kick, t0, dt = coef
         nr = u.shape[0]
         ns = drift.shape[1]
-        nw = watch.size
-        seen = np.empty(nw)  # the watched grains' maxima before the step
+        times = tmax.shape[1] > 0
         for r in range(nr):
             ur, vr, ar, vm, tr = u[r], v[r], a[r], vmax[r], tmax[r]
             im, kr, dr, fr = inv_m[r], k[r], d0[r], f0[r]
@@ -1606,8 +1602,6 @@ def _build_batch(law: ContactLaw):  # noqa: C901
             if nsteps <= 0:
                 continue
             n = ur.size
-            for j in range(nw):
-                seen[j] = vm[watch[j]]
             # the front: the last grain that moves, is accelerated, or feels a wall
             # out of its place (the right wall's contact is then not in equilibrium)
             w = n - 1 if wrr != 0.0 else 0
@@ -1615,7 +1609,6 @@ def _build_batch(law: ContactLaw):  # noqa: C901
                 if ur[i] != 0.0 or vr[i] != 0.0 or ar[i] != 0.0:
                     w = i
                     break
-            nr_w = 0
             for i in range(n):  # the opening kick of the first step
                 vr[i] = vr[i] + kick[r, 0] * ar[i]
             for s in range(nsteps):
@@ -1632,7 +1625,23 @@ def _build_batch(law: ContactLaw):  # noqa: C901
                     ur[0] = un
                     phl = contact(dr[0] + (wlr - un), kr[0], fr[0], p)
                     m = pass_end(n, w)
-                    if track:
+                    tn = t0[r] + (s + 1) * dt[r]
+                    if track and times:
+                        for i in range(m):
+                            unr = ur[i + 1] + dc * vr[i + 1]
+                            ur[i + 1] = unr
+                            phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                            ai = (phl - phr) * im[i]
+                            x = vr[i] + c1 * ai
+                            g = _opaque(vm[i])
+                            tt = _opaque(tr[i])
+                            up = x > g
+                            vm[i] = x if up else g
+                            tr[i] = tn if up else tt
+                            vr[i] = x + c2 * ai
+                            phl = phr
+                            un = unr
+                    elif track:
                         for i in range(m):
                             unr = ur[i + 1] + dc * vr[i + 1]
                             ur[i + 1] = unr
@@ -1658,17 +1667,9 @@ def _build_batch(law: ContactLaw):  # noqa: C901
                     x = vr[m] + c1 * ai
                     if track and x > vm[m]:
                         vm[m] = x
+                        if times:
+                            tr[m] = tn
                     vr[m] = x + c2 * ai
-                # the watched grains the pass reached (the first nr_w): the step's end
-                # time where it raised the maximum (without branches)
-                m = pass_end(n, w)
-                while nr_w < nw and watch[nr_w] <= m:
-                    nr_w += 1
-                tn = t0[r] + (s + 1) * dt[r]
-                for j in range(nr_w):
-                    x = vm[watch[j]]
-                    tr[j] = tn if x > seen[j] else tr[j]
-                    seen[j] = x
             accelerations(ur, ar, im, kr, dr, fr, p, wlr, wrr)
 
     run_batch.__qualname__ = f"run_batch_{tag}"

@@ -13,8 +13,8 @@ whether run alone or in a batch) the summary holds the transmitted amplitude —
 running maximum of the grain velocity, :math:`A_i = \max_t v_i(t)` — at the last grain
 and sampled along the chain (``amplitude_profile``, at :func:`profile_grains`), its
 exponential decay rate (:func:`discrete.ensemble.amplitude_decay`), the arrival time
-of the peak at the last grain and the front speed fitted to the arrival times at the
-grains :func:`arrival_grains`, the final energy and the energy error.  The ensemble
+of the peak at the last grain and the front speed fitted to the arrival times
+(:func:`front_speeds`), the final energy and the energy error.  The ensemble
 statistics over the realisations of each point of the other axes
 (:func:`ensemble_table`: mean, standard error, quantiles with bootstrap errors; the
 mean log-amplitude profile and the localisation length
@@ -36,18 +36,14 @@ import numpy as np
 from ..scenario import Scenario, ScenarioError
 
 __all__ = ["ENSEMBLE_POINT_FUNCTION", "SCALARS", "realisation", "realisations",
-           "profile_grains", "fit_range", "arrival_grains", "front_speeds",
-           "ensemble_table", "PROFILE_POINTS", "ARRIVAL_POINTS"]
+           "profile_grains", "fit_range", "front_speeds", "ensemble_table",
+           "PROFILE_POINTS"]
 
 ENSEMBLE_POINT_FUNCTION = "hertzchain.sweep.ensemble:realisation"
 """The point function of a sweep with an ``[ensemble]`` table."""
 
 PROFILE_POINTS = 64
 """Grains at which a realisation's amplitude profile is kept (all grains of a shorter chain)."""
-
-ARRIVAL_POINTS = 32
-"""Grains of the fit range at which a realisation's arrival times are kept
-(:func:`arrival_grains`; all grains of the range where it has no more)."""
 
 SCALARS = ("amplitude_last", "decay_rate", "amplitude_fit", "arrival_time_last",
            "front_speed_tr", "energy_final", "energy_drift")
@@ -73,38 +69,13 @@ def fit_range(n: int) -> tuple[int, int]:
     return max(1, n // 10), n - 1
 
 
-def arrival_grains(n: int) -> np.ndarray:
-    """The grains whose arrival times a realisation keeps: the front-speed fit's.
-
-    :data:`ARRIVAL_POINTS` grains evenly spaced over the fit range (:func:`fit_range`),
-    both ends included (the last grain gives ``arrival_time_last``, exact to one
-    step); every grain of the range if it has no more.  The batch kernel checks these
-    grains' maxima after each step (:func:`discrete.kernels.batch_kernel`), at a cost
-    per watched grain and step: a fixed sample bounds what the arrival times add to
-    the integration whatever the chain's length.
-
-    ``front_speed_tr`` (:func:`front_speeds`) is the least-squares slope of the peak's
-    arrival time against position over the fit range, as it was with every grain of
-    the range: the same quantity (the inverse of the pulse's mean travel speed over the
-    range, each realisation's own), estimated from an evenly spaced sample of its
-    points.  The sample estimates the same line with more scatter: a grain's maximum
-    is sometimes that of a later, scattered wave, and fewer points average fewer
-    such outliers, so a realisation's value is noisier than the every-grain fit's
-    (docs/benchmarks.md gives the difference on the benchmark's chains).
-    """
-    first, last = fit_range(n)
-    if last - first + 1 <= ARRIVAL_POINTS:
-        return np.arange(first, last + 1)
-    return np.unique(np.round(np.linspace(first, last, ARRIVAL_POINTS)).astype(np.int64))
-
-
 def front_speeds(x, t, reached) -> np.ndarray:
     r"""Front speed (m/s) of each row: 1 / the least-squares slope of t against x.
 
     The peak reaches grain i (centre :math:`x_i`, m) at :math:`t_i` (s); a pulse of
     speed c gives :math:`t_i = t_0 + x_i/c`, and the least-squares line through the
     points :math:`(x_i, t_i)` of the reached grains has the slope
-    :math:`\sum_i (x_i - ar x)(t_i - ar t) / \sum_i (x_i - ar x)^2 = 1/c`
+    :math:`\sum_i (x_i - \bar x)(t_i - \bar t) / \sum_i (x_i - \bar x)^2 = 1/c`
     (means over the reached grains of the row; the normal equations of the fit,
     ``np.polyfit(x, t, 1)``).  NaN where fewer than 5 grains were reached, the times do
     not vary or the slope is not positive.
@@ -218,7 +189,8 @@ def _build(scenarios: Sequence[Scenario]) -> list:
 def _summaries(sims, res, t_end: float, wall: float) -> list[dict[str, Any]]:
     """Each realisation's summary (the sweep's record) from the ensemble's results.
 
-    ``res`` holds the arrival times at :func:`arrival_grains` (``res.time_grains``).
+    ``front_speed_tr``: :func:`front_speeds` of the arrival times of the grains of the
+    fit range (:func:`fit_range`) that the pulse reached (``vmax > 0``).
     """
     from discrete.ensemble import amplitude_decay
 
@@ -226,11 +198,11 @@ def _summaries(sims, res, t_end: float, wall: float) -> list[dict[str, Any]]:
     first, last = fit_range(n)
     rate, a0 = amplitude_decay(res.vmax, first, last)
     grains = profile_grains(n)
-    tg = res.time_grains
+    fit = slice(first, last + 1)
     diam = np.array([sim.chain.diameter for sim in sims])
-    centres = (np.cumsum(diam, axis=1) - 0.5 * diam)[:, tg]  # grain centres, m
-    speed = front_speeds(centres, res.vmax_time, res.vmax[:, tg] > 0)
-    t_last = res.vmax_time[:, int(np.flatnonzero(tg == n - 1)[0])]
+    centres = np.cumsum(diam, axis=1) - 0.5 * diam  # grain centres, m
+    speed = front_speeds(centres[:, fit], res.vmax_time[:, fit], res.vmax[:, fit] > 0)
+    t_last = res.vmax_time[:, -1]
     nan_keys = dict.fromkeys(("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re",
                               "front_speed_re", "front_speed_tr_over_c0L"), math.nan)
     drift = res.energy_error
@@ -267,8 +239,7 @@ def realisations(scenarios: Sequence[Scenario]) -> list[dict[str, Any]]:
 
     Every scenario is built as the runner builds it (:func:`hertzchain.runner.
     build_simulation`: chain, initial state, time step) and all run to their
-    ``[run] t_end`` in :func:`discrete.ensemble.run_ensemble`, grouped by end time,
-    keeping the arrival times at :func:`arrival_grains`.
+    ``[run] t_end`` in :func:`discrete.ensemble.run_ensemble`, grouped by end time.
     ``wall_time`` is the batch's wall time divided among its realisations.
     """
     from discrete.ensemble import run_ensemble
@@ -284,8 +255,7 @@ def realisations(scenarios: Sequence[Scenario]) -> list[dict[str, Any]]:
     out: list[dict[str, Any]] = [{} for _ in scenarios]
     done = []
     for t_end, idx in by_end.items():
-        res = run_ensemble([sims[q] for q in idx], t_end,
-                           times=arrival_grains(sims[0].chain.n))
+        res = run_ensemble([sims[q] for q in idx], t_end, times=True)  # arrival times
         done.append((idx, [sims[q] for q in idx], res, t_end))
     wall = (time.perf_counter() - t0) / len(scenarios)
     for idx, group, res, t_end in done:

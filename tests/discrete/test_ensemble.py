@@ -4,9 +4,8 @@
 kernel (grains × realisations).  Every realisation must end exactly where
 ``Simulation.run`` ends it (state, running maxima, energy: ``array_equal``, no
 tolerance), whatever the batch size and order; the times of the maxima (which the
-single runs do not record) must not depend on the batch or on which grains are kept,
-and agree with a plain NumPy loop over ``discrete.integrators.step``; the statistics
-must be NumPy's.
+single runs do not record) must not depend on the batch, and agree with a plain NumPy
+loop over ``discrete.integrators.step``; the statistics must be NumPy's.
 """
 
 import warnings
@@ -113,29 +112,6 @@ def test_batches_do_not_interact():
             assert np.array_equal(getattr(part, name), getattr(whole, name)), (b, name)
     one = run_ensemble(sims[4:5], t_end, times=True)
     assert np.array_equal(one.vmax_time[0], whole.vmax_time[4])
-
-
-def test_times_at_chosen_grains():
-    """Times kept at a few grains (checked after each step, outside the vectorised
-    pass) are bit for bit the every-grain times' columns, in any batch; the state and
-    the maxima do not change."""
-    sims = _moved_sims(range(5))  # the front starts inside the chain; a pushed wall
-    t_end = _t_end(sims, 600)
-    every = run_ensemble(sims, t_end, times=True)
-    assert np.array_equal(every.time_grains, np.arange(50))
-    for grains in ([49], [0, 7, 8, 21, 33, 48, 49], [22, 3, 22, 40]):
-        for b in (2, 5):
-            part = run_ensemble(sims, t_end, times=grains, batch=b)
-            g = np.unique(grains)
-            assert np.array_equal(part.time_grains, g)
-            assert np.array_equal(part.vmax_time, every.vmax_time[:, g]), (grains, b)
-            for name in ("u", "v", "a", "vmax", "energy"):
-                assert np.array_equal(getattr(part, name), getattr(every, name)), name
-    # the maxima did rise at the chosen grains (the comparison is not vacuous)
-    assert np.all(every.vmax_time[:, [21, 33]] > 0)
-    for bad in ([], [50], [-1], [1.5], "all"):
-        with pytest.raises(ValueError, match="times"):
-            run_ensemble(sims, t_end, times=bad)
 
 
 def test_against_numpy_reference():
