@@ -3,6 +3,7 @@
     python benchmarks/sweep.py                 # synthetic CPU-bound points (numba kernel)
     python benchmarks/sweep.py --real          # the real runner on the fig7_map.toml chain
     python benchmarks/sweep.py --ensemble      # random chains: ensemble vs one by one
+    python benchmarks/sweep.py --ensemble --baseline-commit 8d39a16   # ... and vs that code
 
 Each worker count gets its own LocalCluster (processes, 1 thread each), warmed up
 first, so the timing is the steady-state throughput of ``run_sweep`` (submission,
@@ -17,8 +18,11 @@ from __future__ import annotations
 import argparse
 import copy
 import functools
+import json
 import logging
 import os
+import shutil
+import subprocess
 import sys
 import tempfile
 import time
@@ -129,6 +133,10 @@ def measure(workers: int, spec, fn) -> tuple[float, float, float]:
     """(points per second, mean point wall time, CPU seconds a point) on a warmed-up
     cluster of ``workers``.
 
+    The workers are warmed up by the spec's tiny scenario (the sweep engine's warm-up)
+    and by its first point, so that no kernel the points need is compiled (or loaded
+    from the cache) while the sweep is timed.
+
     The CPU time is that of the workers and of this process (client and scheduler)
     during the run: what the command costs, whatever else the machine is running.
     """
@@ -137,9 +145,10 @@ def measure(workers: int, spec, fn) -> tuple[float, float, float]:
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                       dashboard_address=":0", silence_logs=logging.ERROR) as cluster, \
             Client(cluster) as client, tempfile.TemporaryDirectory() as tmp:
-        tiny = tiny_scenario(spec.point_table(spec.points()[0].values))
-        if tiny is not None:
-            client.run(functools.partial(_warm, fn, tiny))
+        first = spec.points()[0]
+        tiny = tiny_scenario(spec.point_table(first.values))
+        for warm in ([] if tiny is None else [tiny]) + [first.scenario]:
+            client.run(functools.partial(_warm, fn, warm))  # every kernel it needs compiled
         c0, m0 = sum(client.run(_cpu).values()), time.process_time()
         t0 = time.perf_counter()
         outcome = run_sweep(spec, out=Path(tmp), point_function=fn, client=client,
@@ -194,7 +203,16 @@ def main(argv=None) -> int:
                         help="repetitions; the best rate is reported (default 2)")
     parser.add_argument("--no-baseline", dest="baseline", action="store_false",
                         help="skip the same calls in bare processes (machine baseline)")
+    parser.add_argument("--baseline-commit", metavar="REV", default=None,
+                        help="--ensemble: also time the points one by one with the code of "
+                        "commit REV (its packages exported to a temporary directory, run in "
+                        "a child process), interleaved with the other rows")
+    parser.add_argument("--one-by-one-child", type=int, default=None, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
+    if args.one_by_one_child is not None:  # (a child of --baseline-commit: that code)
+        spec = ensemble_spec(args.points, args.one_by_one_child, args.grains, False)
+        print(json.dumps(measure(1, spec, resolve_point_function(DEFAULT_POINT_FUNCTION))))
+        return 0
     if args.ensemble:
         return ensemble_main(args)
     if args.real:
@@ -232,8 +250,47 @@ def main(argv=None) -> int:
     return 0
 
 
+def export_commit(rev: str) -> Path:
+    """The packages of commit ``rev`` of this repository in a new temporary directory
+    (``git archive``: no work tree or checkout of this repository is touched)."""
+    root = Path(__file__).resolve().parents[1]
+    sha = subprocess.run(["git", "-C", str(root), "rev-parse", "--verify", f"{rev}^{{commit}}"],
+                         capture_output=True, text=True)
+    if sha.returncode:
+        raise SystemExit(f"--baseline-commit: {rev!r} is not a commit of {root}: "
+                         f"{sha.stderr.strip()}")
+    tmp = Path(tempfile.mkdtemp(prefix=f"hertzchain-{sha.stdout.strip()[:9]}-"))
+    try:
+        archive = subprocess.run(["git", "-C", str(root), "archive", "--format=tar",
+                                  sha.stdout.strip()], capture_output=True, check=True)
+        subprocess.run(["tar", "-x", "-C", str(tmp)], input=archive.stdout, check=True)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return tmp
+
+
+def measure_at(code: Path, n: int, offset: int, grains: int) -> tuple[float, float, float]:
+    """:func:`measure` of the points one by one with the packages in ``code`` (a child
+    process, its Dask workers too, importing them first)."""
+    env = {**os.environ, "PYTHONPATH": str(code)}
+    out = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--one-by-one-child",
+                          str(offset), "--points", str(n), "--grains", str(grains)],
+                         env=env, cwd=tempfile.gettempdir(), capture_output=True, text=True)
+    if out.returncode:
+        raise RuntimeError(f"the one-by-one sweep with the code of {code} failed "
+                           f"(exit {out.returncode}):\n{out.stderr[-3000:]}")
+    return tuple(json.loads(out.stdout.strip().splitlines()[-1]))
+
+
 def ensemble_main(args) -> int:
-    """``--ensemble``: points/s of an ensemble sweep against one by one, and kernel rates."""
+    """``--ensemble``: points/s of an ensemble sweep against one by one, and kernel rates.
+
+    With ``--baseline-commit REV`` the points one by one are also timed with the code
+    of commit REV (:func:`export_commit`, :func:`measure_at`; the same spec, the same
+    chains), interleaved with the other rows, and the ensemble's ratio to that row is
+    printed beside the strict one (the same code one by one).
+    """
     from hertzchain.sweep.ensemble import ENSEMBLE_POINT_FUNCTION
 
     n = args.points or 256
@@ -242,21 +299,35 @@ def ensemble_main(args) -> int:
     one_fn = resolve_point_function(DEFAULT_POINT_FUNCTION)
     ens_fn = resolve_point_function(ENSEMBLE_POINT_FUNCTION)
     rates: dict[str, list] = {"one by one": [], "ensemble": []}
-    for r in range(args.repeat):  # interleaved: both see the same machine load
-        rates["one by one"].append(measure(1, ensemble_spec(n, 2 * r, args.grains, False),
-                                           one_fn))
-        rates["ensemble"].append(measure(1, ensemble_spec(n, 2 * r + 1, args.grains, True),
-                                         ens_fn))
+    old = None
+    if args.baseline_commit:
+        old = export_commit(args.baseline_commit)
+        base_row = f"one by one at {args.baseline_commit}"
+        rates[base_row] = []
+    try:
+        for r in range(args.repeat):  # interleaved: all rows see the same machine load
+            rates["one by one"].append(measure(1, ensemble_spec(n, 2 * r, args.grains, False),
+                                               one_fn))
+            rates["ensemble"].append(measure(1, ensemble_spec(n, 2 * r + 1, args.grains,
+                                                              True), ens_fn))
+            if old is not None:
+                rates[base_row].append(measure_at(old, n, 2 * r, args.grains))
+    finally:
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
     best = {k: max(v) for k, v in rates.items()}
     cpu = {k: min(x[2] for x in v) for k, v in rates.items()}
     for k, (rate, per_point, _) in best.items():
         print(f"  {k:10s}: {rate:8.1f} points/s ({1e3 / rate:6.1f} ms a point; mean "
               f"recorded point wall time {1e3 * per_point:.1f} ms; CPU {1e3 * cpu[k]:.1f} "
               "ms a point, workers + client + scheduler)")
-    ratio = best["ensemble"][0] / best["one by one"][0]
-    print(f"  ensemble / one by one: {ratio:.2f}x points/s (target >= {ENSEMBLE_TARGET:g}x: "
-          f"{'met' if ratio >= ENSEMBLE_TARGET else 'NOT met'}); in CPU time a point "
-          f"{cpu['one by one'] / cpu['ensemble']:.2f}x")
+    for k in rates:
+        if k == "ensemble":
+            continue
+        ratio = best["ensemble"][0] / best[k][0]
+        print(f"  ensemble / {k}: {ratio:.2f}x points/s (target >= {ENSEMBLE_TARGET:g}x: "
+              f"{'met' if ratio >= ENSEMBLE_TARGET else 'NOT met'}); in CPU time a point "
+              f"{cpu[k] / cpu['ensemble']:.2f}x")
     k = kernel_rates(args.grains)
     print(f"  kernel, grain-updates per CPU second: ensemble {k['ensemble']:.3g}; "
           f"single chain on the same chains {k['single']:.3g} "

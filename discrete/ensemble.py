@@ -5,11 +5,12 @@ Kevrekidis & Porter, Phys. Rev. E 93 (2016) 022902).  One :class:`~discrete.Simu
 per realisation pays its per-step bookkeeping (the active window, the event tests, the
 chunk calls) on a 200-grain chain as often as its arithmetic; :func:`run_ensemble`
 integrates the realisations together in the batch kernel
-(:func:`discrete.kernels.batch_kernel`: arrays grains × realisations, the realisations
-innermost and vectorised), each with its own chain, initial state and time step, and
-returns per realisation what :meth:`Simulation.run <discrete.Simulation.run>` would
-have left — bit for bit the same final state, running maxima of v and energies — plus
-the time each grain's maximum was reached.
+(:func:`discrete.kernels.batch_kernel`: arrays realisations × grains, each
+realisation's pass over its grains vectorised), each with its own chain, initial state
+and time step, and returns per realisation what :meth:`Simulation.run
+<discrete.Simulation.run>` would have left — bit for bit the same final state, running
+maxima of v and energies — plus the time each grain's maximum was reached (the
+arrival time of the wave's peak).
 
 Per-realisation reductions (:func:`amplitude_decay`) and ensemble statistics
 (:func:`ensemble_statistics`: mean, quantiles and their uncertainty) turn those into
@@ -31,7 +32,7 @@ import numpy as np
 from . import kernels as K
 from .integrators import get_integrator
 from .integrators import step as numpy_step
-from .simulation import Simulation
+from .simulation import InstabilityError, Simulation
 
 __all__ = ["EnsembleResult", "run_ensemble", "reference_ensemble", "default_batch",
            "amplitude_decay", "ensemble_statistics", "nanquantiles", "QUANTILES",
@@ -39,8 +40,8 @@ __all__ = ["EnsembleResult", "run_ensemble", "reference_ensemble", "default_batc
 
 BATCH_GRAIN_SLOTS = 65536
 """Grains × realisations of one kernel call by default (:func:`default_batch`): the
-arrays of a call, 8 doubles per slot (u, v, the maximum of v and its time, 1/m, k, δ0,
-f0), are 4 MB."""
+arrays of a call, 8 or 9 doubles per slot (u, v, a, the maximum of v and with
+``times`` its time, 1/m, k, δ0, f0), are 4–4.5 MB."""
 
 
 @dataclass(frozen=True)
@@ -178,8 +179,8 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
         Realisations per kernel call (>= 1); default :func:`default_batch`.
     times : bool
         Also record the time at which each grain's maximum was reached
-        (``vmax_time``: the arrival time of the peak).  Off by default: it is a kernel
-        variant of its own and costs a fifth to a half of the integration.
+        (``vmax_time``: the arrival time of the peak, to one step): a second select
+        per grain in the kernel's pass.
 
     Returns
     -------
@@ -187,6 +188,12 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
         Per realisation the state, running maxima and energies that ``sim.run(t_end)``
         leaves (bit for bit: ``u``, ``v``, ``a``, ``record.vmax``, ``energy()``), and
         with ``times`` the times of the maxima.
+
+    Raises
+    ------
+    InstabilityError
+        A realisation's final state is not finite (its step too large), as
+        :meth:`Simulation.run` raises.
     """
     sims = list(sims)
     _check(sims)
@@ -195,18 +202,27 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
     if batch is not None and (int(batch) != batch or batch < 1):
         raise ValueError(f"batch must be an integer >= 1 (got {batch!r})")
     n, nr = sims[0].chain.n, len(sims)
+    nw = n if times else 0
     b = default_batch(n) if batch is None else int(batch)
     steps = np.array([s.step_of(float(t_end)) for s in sims], dtype=np.int64)
     for q, s in enumerate(sims):
         if float(t_end) < s.t - 0.5 * s.dt:
             raise ValueError(f"t_end = {t_end!r} s is before sims[{q}]'s time {s.t} s")
-    kern = K.batch_kernel(sims[0].law, times=bool(times))
+    kern = K.batch_kernel(sims[0].law)
     method = get_integrator(sims[0].integrator)
     p = K.kernel_params(sims[0].law)
-    names = ("u", "v", "a", "vmax", "vmax_time") if times else ("u", "v", "a", "vmax")
-    out = {name: np.empty((nr, n)) for name in names}
+    t0 = np.array([s.t0 for s in sims])
+    dt = np.array([s.dt for s in sims])
+    coefs = [method.coefficients(h) for h in dt]
+    drift = np.array([c[0] for c in coefs])
+    kick = np.array([c[1] for c in coefs])
+    wl = np.array([s.wall_left for s in sims])
+    wr = np.array([s.wall_right for s in sims])
+    out = {name: np.empty((nr, n)) for name in ("u", "v", "a", "vmax")}
+    tmax = _aligned(np.repeat(t0[:, None], nw, axis=1))
     for lo in range(0, nr, b):
         group = sims[lo:lo + b]
+        hi = lo + len(group)
 
         def stack(get, group=group):
             return _aligned(np.stack([get(s) for s in group]))
@@ -214,25 +230,26 @@ def run_ensemble(sims: Sequence[Simulation], t_end: float, *,
         u, v = stack(lambda s: s.u), stack(lambda s: s.v)
         a = _aligned(np.zeros_like(u))
         vmax = _aligned(v)
-        tmax = stack(lambda s: np.full(n, s.t0)) if times else np.empty((len(group), 0))
         k, d0 = stack(lambda s: s.chain.k), stack(lambda s: s.chain.delta0)
         f0 = stack(lambda s: s.kernels.static_forces(s.chain.k, s.chain.delta0, p))
         inv_m = stack(lambda s: 1.0 / s.chain.mass)
-        walls = (np.array([s.wall_left for s in group]), np.array([s.wall_right for s in group]))
-        coefs = [method.coefficients(s.dt) for s in group]
-        drift = np.ascontiguousarray(np.stack([c[0] for c in coefs]))
-        kick = np.ascontiguousarray(np.stack([c[1] for c in coefs]))
-        coef = (drift, kick, np.array([s.t0 for s in group]), np.array([s.dt for s in group]))
-        kern((u, v, a, vmax, tmax), (inv_m, k, d0, f0), p, walls, coef, steps[lo:lo + b])
-        for name, x in zip(names, (u, v, a, vmax, tmax), strict=False):
-            out[name][lo:lo + b] = x
-    out.setdefault("vmax_time", None)
-    dt = np.array([s.dt for s in sims])
-    t0 = np.array([s.t0 for s in sims])
+        tm = tmax[lo:hi]
+        coef = (drift[lo:hi], kick[lo:hi], t0[lo:hi], dt[lo:hi])
+        kern((u, v, a, vmax, tm), (inv_m, k, d0, f0), p, (wl[lo:hi], wr[lo:hi]), coef,
+             steps[lo:hi])
+        bad = ~np.all(np.isfinite(u) & np.isfinite(v), axis=1)
+        if bad.any():
+            q = lo + int(np.flatnonzero(bad)[0])
+            raise InstabilityError(
+                f"sims[{q}]: non-finite state (NaN/inf) by t = {t_end} s with dt = "
+                f"{sims[q].dt:.4g} s; likely cause: dt too large for the contact stiffness")
+        for name, x in (("u", u), ("v", v), ("a", a), ("vmax", vmax)):
+            out[name][lo:hi] = x
     energy0 = np.array([s.energy() for s in sims])
     energy = np.array([_energy(s, out["u"][q], out["v"][q]) for q, s in enumerate(sims)])
     return EnsembleResult(t=t0 + steps * dt, dt=dt, steps=steps, energy0=energy0,
-                          energy=energy, integrator=method.name, **out)
+                          energy=energy, integrator=method.name,
+                          vmax_time=tmax if times else None, **out)
 
 
 def reference_ensemble(sims: Sequence[Simulation], t_end: float) -> EnsembleResult:

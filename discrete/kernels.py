@@ -1461,16 +1461,16 @@ BATCH_PAD = 8
 widest SIMD register): the resting grains it adds cost less than a scalar remainder."""
 
 
-def batch_kernel(law: ContactLaw | None = None, times: bool = True):
+def batch_kernel(law: ContactLaw | None = None):
     r"""The ensemble kernel of a conservative ``law``: R chains of N grains in one call.
 
     Many realisations of a small chain (a disorder ensemble) are integrated in one
     compiled loop over the realisations, each on its own rows of (R, N) arrays
     (realisation first): a realisation's state and constants (u, v, the maxima and
-    their times, 1/m, k, δ0, f0: 64 bytes a grain) stay in the L1/L2 cache through all
-    its steps, and none of the per-step bookkeeping of :attr:`Kernels.run_steps` (the
-    event tests, the special grains, the chunk calls) that dominates a 200-grain
-    chain's step is done.
+    their times, 1/m, k, δ0, f0: 64 bytes a grain) stay in the L1/L2 cache through
+    all its steps, and none of the per-step bookkeeping of :attr:`Kernels.run_steps`
+    (the event tests, the special grains, the chunk calls) that dominates a
+    200-grain chain's step is done.
 
     Each realisation's arithmetic is the per-step pass of the single-chain kernels
     (module docstring, "Passes"): the drift ``u + a_s h v`` of grain i+1, the overlap
@@ -1491,18 +1491,20 @@ def batch_kernel(law: ContactLaw | None = None, times: bool = True):
     realisation has its own time step and step count.
 
     Besides the running maximum ``vmax`` of the synchronous velocity (the transmitted
-    amplitude at every grain, paper Fig. 2) the variant with ``times`` keeps the time
-    ``tmax`` at which that maximum was reached, ``t0 + s h`` at the end of the step s
-    that raised it (the arrival time of the wave's peak, resolved to one step); it is
-    a variant of its own because that second select per grain costs a fifth to a half
-    of the pass.
+    amplitude at every grain, paper Fig. 2) the kernel keeps, if ``tmax`` has a column
+    per grain, the time at which that maximum was reached, ``t0 + s h`` at the end of
+    the step s that raised it (the arrival time of the wave's peak, resolved to one
+    step): a second select per grain in the pass of the method's last substep, chosen
+    at run time (one compiled kernel; the pass without it is a loop of its own).
+
+    The passes are written out in the step loop (no helper taking the rows: its
+    arguments' reference counts are calls into numba's runtime at every step, on a
+    short chain as costly as the pass itself).
 
     Parameters
     ----------
     law : ContactLaw, optional
         A conservative contact law (default Hertz).
-    times : bool
-        Compile the variant that records the times of the maxima.
 
     Returns
     -------
@@ -1511,11 +1513,11 @@ def batch_kernel(law: ContactLaw | None = None, times: bool = True):
         loaded from the disk cache), apart from the single-chain kernels: a sweep of
         small chains compiles only it.  Its arguments:
 
-        st : tuple of (R, N) float arrays
-            ``(u, v, a, vmax, tmax)``: displacements (m), velocities (m/s),
+        st : tuple of arrays
+            ``(u, v, a, vmax, tmax)``: (R, N) displacements (m), velocities (m/s),
             accelerations (m/s², overwritten: computed from u at the start and at the
-            end), running maxima of v (m/s) and their times (s; not read or written
-            without ``times``: any (R, N) or (R, 0) array); updated in place.
+            end), running maxima of v (m/s) and their times (s; start them at t0; an
+            (R, 0) array: no times); updated in place.
         con : tuple of arrays
             ``(inv_m, k, d0, f0)``: 1/m (R, N) in 1/kg, and per contact (R, N+1) the
             constants k (N/m^n), the static overlaps δ0 (m) and the static forces
@@ -1536,18 +1538,17 @@ def batch_kernel(law: ContactLaw | None = None, times: bool = True):
         raise ValueError(f"law must be conservative for the ensemble kernel (got the "
                          f"{law.describe()}): velocity-dependent forces need the split "
                          "dissipative step of the single-chain kernels")
-    key = (law.key(), bool(times))
+    key = law.key()
     if key not in _BATCH:
-        _BATCH[key] = _build_batch(law, bool(times))
+        _BATCH[key] = _build_batch(law)
     return _BATCH[key]
 
 
-def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
+def _build_batch(law: ContactLaw):  # noqa: C901
     """Close the ensemble pass over the law's compiled force (:func:`batch_kernel`)."""
     force = law.make_force()
-    TIMES = times
-    ckey = f"batch|{law.key()!r}|times={TIMES}|{_source_digest(law)}"
-    tag = "B" + hashlib.sha256(f"{law.key()!r}|times={TIMES}".encode()).hexdigest()[:12]
+    ckey = f"batch|{law.key()!r}|{_source_digest(law)}"
+    tag = "B" + hashlib.sha256(f"{law.key()!r}".encode()).hexdigest()[:12]
 
     @numba.njit(**_INLINE)
     def contact(r, kj, f0j, p):
@@ -1566,89 +1567,44 @@ def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
             phl = phr
 
     @numba.njit(**_INLINE)
-    def substep(u, v, vm, tm, inv_m, k, d0, f0, p, wl, wr, dc, c1, c2, tn, track, w):
-        """One fused pass (drift, force, kick) over grains 0 … w of one chain ("Passes").
-
-        The loops are those of the single-chain kernels' ``loop_arrays``: one base
-        pointer for u[i] and u[i+1] (LLVM sees the distance-1 dependence and
-        vectorises), the running maximum stored at every grain (:func:`_raised`).
-        The pass ends at grain m >= w, w rounded up to a multiple of
-        :data:`BATCH_PAD` (at most N-1): the grains w+1 … m are at rest in
-        equilibrium and stay so bit for bit (u = 0 + h·0, φ = F(δ0) - f0 = 0,
-        v = 0 + c·0), and the vectorised loop then needs no scalar remainder.
-        Grain m+1 (at rest when m < N-1) is drifted in the arithmetic but not stored.
-        """
-        n = u.size
-        un = u[0] + dc * v[0]
-        u[0] = un
-        phl = contact(d0[0] + (wl - un), k[0], f0[0], p)
-        m = min(n - 1, -(-w // BATCH_PAD) * BATCH_PAD)
-        k1, d1, f1 = k[1:], d0[1:], f0[1:]
-        if track and TIMES:
-            for i in range(m):
-                unr = u[i + 1] + dc * v[i + 1]
-                u[i + 1] = unr
-                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
-                ai = (phl - phr) * inv_m[i]
-                x = v[i] + c1 * ai
-                g = _opaque(vm[i])
-                tt = _opaque(tm[i])
-                up = x > g
-                vm[i] = x if up else g
-                tm[i] = tn if up else tt
-                v[i] = x + c2 * ai
-                phl = phr
-                un = unr
-        elif track:
-            for i in range(m):
-                unr = u[i + 1] + dc * v[i + 1]
-                u[i + 1] = unr
-                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
-                ai = (phl - phr) * inv_m[i]
-                x = v[i] + c1 * ai
-                vm[i] = _raised(vm[i], x)
-                v[i] = x + c2 * ai
-                phl = phr
-                un = unr
-        else:
-            for i in range(m):
-                unr = u[i + 1] + dc * v[i + 1]
-                u[i + 1] = unr
-                phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
-                ai = (phl - phr) * inv_m[i]
-                v[i] = (v[i] + c1 * ai) + c2 * ai
-                phl = phr
-                un = unr
-        unr = wr if m == n - 1 else u[m + 1] + dc * v[m + 1]
-        phr = contact(d0[m + 1] + (un - unr), k[m + 1], f0[m + 1], p)
-        ai = (phl - phr) * inv_m[m]
-        x = v[m] + c1 * ai
-        if track and x > vm[m]:
-            vm[m] = x
-            if TIMES:
-                tm[m] = tn
-        v[m] = x + c2 * ai
+    def pass_end(n, w):
+        """Last grain m of a pass with front w (w up to a multiple of :data:`BATCH_PAD`, <= N-1)."""
+        return min(n - 1, -(-w // BATCH_PAD) * BATCH_PAD)
 
     def run_batch(st, con, p, walls, coef, steps):
-        """Advance every realisation by its ``steps`` (see :func:`batch_kernel`)."""
+        """Advance every realisation by its ``steps`` (see :func:`batch_kernel`).
+
+        A substep is one fused pass (drift, force, kick) over grains 0 … m of one
+        chain ("Passes"), written out in the step loop (:func:`batch_kernel`).  The
+        loops are those of the single-chain kernels' ``loop_arrays``: one base
+        pointer for u[i] and u[i+1] (LLVM sees the distance-1 dependence and
+        vectorises), the running maximum stored at every grain (:func:`_raised`) in
+        a method's last substep.  The pass ends at grain m = ``pass_end(n, w)`` >= w:
+        the grains w+1 … m are at rest in equilibrium and stay so bit for bit (u = 0 +
+        h·0, φ = F(δ0) - f0 = 0, v = 0 + c·0), and the vectorised loop then needs no
+        scalar remainder.  Grain m+1 (at rest when m < N-1) is drifted in the
+        arithmetic but not stored.
+        """
         u, v, a, vmax, tmax = st
         inv_m, k, d0, f0 = con
         wl, wr = walls
         drift, kick, t0, dt = coef
         nr = u.shape[0]
         ns = drift.shape[1]
+        times = tmax.shape[1] > 0
         for r in range(nr):
-            ur, vr, ar = u[r], v[r], a[r]
-            imr, kr, dr, fr = inv_m[r], k[r], d0[r], f0[r]
-            tr = tmax[r] if TIMES else tmax[0:0]
-            accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
+            ur, vr, ar, vm, tr = u[r], v[r], a[r], vmax[r], tmax[r]
+            im, kr, dr, fr = inv_m[r], k[r], d0[r], f0[r]
+            k1, d1, f1 = kr[1:], dr[1:], fr[1:]
+            wlr, wrr = wl[r], wr[r]
+            accelerations(ur, ar, im, kr, dr, fr, p, wlr, wrr)
             nsteps = steps[r]
             if nsteps <= 0:
                 continue
             n = ur.size
             # the front: the last grain that moves, is accelerated, or feels a wall
             # out of its place (the right wall's contact is then not in equilibrium)
-            w = n - 1 if wr[r] != 0.0 else 0
+            w = n - 1 if wrr != 0.0 else 0
             for i in range(n - 1, w - 1, -1):
                 if ur[i] != 0.0 or vr[i] != 0.0 or ar[i] != 0.0:
                     w = i
@@ -1658,15 +1614,63 @@ def _build_batch(law: ContactLaw, times: bool):  # noqa: C901
             for s in range(nsteps):
                 # the closing kick and the next step's opening one; the last step stops
                 # at the synchronous velocity
-                c2 = kick[r, 0] if s + 1 < nsteps else 0.0
-                tn = t0[r] + (s + 1) * dt[r]
+                c2s = kick[r, 0] if s + 1 < nsteps else 0.0
                 for q in range(ns):
                     while w < n - 1 and (ur[w] != 0.0 or vr[w] != 0.0):
                         w += 1
-                    final = q == ns - 1
-                    substep(ur, vr, vmax[r], tr, imr, kr, dr, fr, p, wl[r], wr[r],
-                            drift[r, q], kick[r, q + 1], c2 if final else 0.0, tn, final, w)
-            accelerations(ur, ar, imr, kr, dr, fr, p, wl[r], wr[r])
+                    track = q == ns - 1
+                    dc, c1 = drift[r, q], kick[r, q + 1]
+                    c2 = c2s if track else 0.0
+                    un = ur[0] + dc * vr[0]
+                    ur[0] = un
+                    phl = contact(dr[0] + (wlr - un), kr[0], fr[0], p)
+                    m = pass_end(n, w)
+                    tn = t0[r] + (s + 1) * dt[r]
+                    if track and times:
+                        for i in range(m):
+                            unr = ur[i + 1] + dc * vr[i + 1]
+                            ur[i + 1] = unr
+                            phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                            ai = (phl - phr) * im[i]
+                            x = vr[i] + c1 * ai
+                            g = _opaque(vm[i])
+                            tt = _opaque(tr[i])
+                            up = x > g
+                            vm[i] = x if up else g
+                            tr[i] = tn if up else tt
+                            vr[i] = x + c2 * ai
+                            phl = phr
+                            un = unr
+                    elif track:
+                        for i in range(m):
+                            unr = ur[i + 1] + dc * vr[i + 1]
+                            ur[i + 1] = unr
+                            phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                            ai = (phl - phr) * im[i]
+                            x = vr[i] + c1 * ai
+                            vm[i] = _raised(vm[i], x)
+                            vr[i] = x + c2 * ai
+                            phl = phr
+                            un = unr
+                    else:
+                        for i in range(m):
+                            unr = ur[i + 1] + dc * vr[i + 1]
+                            ur[i + 1] = unr
+                            phr = contact(d1[i] + (un - unr), k1[i], f1[i], p)
+                            ai = (phl - phr) * im[i]
+                            vr[i] = (vr[i] + c1 * ai) + c2 * ai
+                            phl = phr
+                            un = unr
+                    unr = wrr if m == n - 1 else ur[m + 1] + dc * vr[m + 1]
+                    phr = contact(dr[m + 1] + (un - unr), kr[m + 1], fr[m + 1], p)
+                    ai = (phl - phr) * im[m]
+                    x = vr[m] + c1 * ai
+                    if track and x > vm[m]:
+                        vm[m] = x
+                        if times:
+                            tr[m] = tn
+                    vr[m] = x + c2 * ai
+            accelerations(ur, ar, im, kr, dr, fr, p, wlr, wrr)
 
     run_batch.__qualname__ = f"run_batch_{tag}"
     return _entry(run_batch, ckey)

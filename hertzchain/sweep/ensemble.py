@@ -13,10 +13,11 @@ whether run alone or in a batch) the summary holds the transmitted amplitude —
 running maximum of the grain velocity, :math:`A_i = \max_t v_i(t)` — at the last grain
 and sampled along the chain (``amplitude_profile``, at :func:`profile_grains`), its
 exponential decay rate (:func:`discrete.ensemble.amplitude_decay`), the arrival time
-of the peak at the last grain and the front speed fitted to the arrival times, the
-final energy and the energy error.  The ensemble statistics over the realisations of
-each point of the other axes (:func:`ensemble_table`: mean, standard error, quantiles
-with bootstrap errors; the mean log-amplitude profile and the localisation length
+of the peak at the last grain and the front speed fitted to the arrival times
+(:func:`front_speeds`), the final energy and the energy error.  The ensemble
+statistics over the realisations of each point of the other axes
+(:func:`ensemble_table`: mean, standard error, quantiles with bootstrap errors; the
+mean log-amplitude profile and the localisation length
 :math:`\xi = 1/\langle\gamma\rangle`) go to the ``/ensemble`` table of
 ``results.h5`` (:func:`hertzchain.sweep.store.write_table`), and
 :func:`hertzchain.sweep_plot.plot_ensemble` draws the amplitude decay.
@@ -35,7 +36,8 @@ import numpy as np
 from ..scenario import Scenario, ScenarioError
 
 __all__ = ["ENSEMBLE_POINT_FUNCTION", "SCALARS", "realisation", "realisations",
-           "profile_grains", "fit_range", "ensemble_table", "PROFILE_POINTS"]
+           "profile_grains", "fit_range", "front_speeds", "ensemble_table",
+           "PROFILE_POINTS"]
 
 ENSEMBLE_POINT_FUNCTION = "hertzchain.sweep.ensemble:realisation"
 """The point function of a sweep with an ``[ensemble]`` table."""
@@ -65,6 +67,41 @@ def fit_range(n: int) -> tuple[int, int]:
     forms) to the last grain.
     """
     return max(1, n // 10), n - 1
+
+
+def front_speeds(x, t, reached) -> np.ndarray:
+    r"""Front speed (m/s) of each row: 1 / the least-squares slope of t against x.
+
+    The peak reaches grain i (centre :math:`x_i`, m) at :math:`t_i` (s); a pulse of
+    speed c gives :math:`t_i = t_0 + x_i/c`, and the least-squares line through the
+    points :math:`(x_i, t_i)` of the reached grains has the slope
+    :math:`\sum_i (x_i - \bar x)(t_i - \bar t) / \sum_i (x_i - \bar x)^2 = 1/c`
+    (means over the reached grains of the row; the normal equations of the fit,
+    ``np.polyfit(x, t, 1)``).  NaN where fewer than 5 grains were reached, the times do
+    not vary or the slope is not positive.
+
+    Parameters
+    ----------
+    x, t : (R, K) arrays
+        Grain centres (m) and arrival times (s).
+    reached : (R, K) bool array
+        The grains of each row that the pulse reached.
+
+    Returns
+    -------
+    (R,) array
+    """
+    x, t = np.asarray(x, float), np.asarray(t, float)
+    w = np.asarray(reached, bool)
+    cnt = w.sum(axis=1)
+    out = np.full(x.shape[0], math.nan)
+    for q in np.flatnonzero(cnt >= 5):  # row by row: a row's result does not depend on R
+        xr, tr = x[q, w[q]], t[q, w[q]]
+        if np.ptp(tr) > 0:
+            xc = xr - xr.mean()
+            slope = float(np.dot(xc, tr - tr.mean()) / np.dot(xc, xc))  # s/m
+            out[q] = 1.0 / slope if slope > 0 else math.nan
+    return out
 
 
 def _unseeded(scenario: Scenario) -> Scenario:
@@ -150,35 +187,39 @@ def _build(scenarios: Sequence[Scenario]) -> list:
 
 
 def _summaries(sims, res, t_end: float, wall: float) -> list[dict[str, Any]]:
-    """Each realisation's summary (the sweep's record) from the ensemble's results."""
+    """Each realisation's summary (the sweep's record) from the ensemble's results.
+
+    ``front_speed_tr``: :func:`front_speeds` of the arrival times of the grains of the
+    fit range (:func:`fit_range`) that the pulse reached (``vmax > 0``).
+    """
     from discrete.ensemble import amplitude_decay
 
     n = res.vmax.shape[1]
     first, last = fit_range(n)
     rate, a0 = amplitude_decay(res.vmax, first, last)
     grains = profile_grains(n)
+    fit = slice(first, last + 1)
+    diam = np.array([sim.chain.diameter for sim in sims])
+    centres = np.cumsum(diam, axis=1) - 0.5 * diam  # grain centres, m
+    speed = front_speeds(centres[:, fit], res.vmax_time[:, fit], res.vmax[:, fit] > 0)
+    t_last = res.vmax_time[:, -1]
+    nan_keys = dict.fromkeys(("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re",
+                              "front_speed_re", "front_speed_tr_over_c0L"), math.nan)
+    drift = res.energy_error
     out = []
-    for q, sim in enumerate(sims):
-        x = np.cumsum(sim.chain.diameter) - 0.5 * sim.chain.diameter  # grain centres, m
-        t = res.vmax_time[q]
-        reached = np.flatnonzero(res.vmax[q, first:last + 1] > 0) + first
-        speed = math.nan
-        if reached.size >= 5 and np.ptp(t[reached]) > 0:
-            slope = np.polyfit(x[reached], t[reached], 1)[0]  # s/m
-            speed = 1.0 / slope if slope > 0 else math.nan
-        s = {k: math.nan for k in ("Ek_tr", "Ek_re", "Ep_tr", "Ep_re", "Et_tr", "Et_re",
-                                   "front_speed_re", "front_speed_tr_over_c0L")}
+    for q in range(len(sims)):
+        s = dict(nan_keys)
         s.update(transmitted=None, reflected=None, n_transmitted_pulses=None,
-                 front_speed_tr=float(speed),
-                 energy_drift=float(res.energy_error[q]), steps=int(res.steps[q]),
+                 front_speed_tr=float(speed[q]),
+                 energy_drift=float(drift[q]), steps=int(res.steps[q]),
                  dt=float(res.dt[q]), t=float(res.t[q]), wall_time=wall,
                  stopped_by="t_end", completed=True, n_grains=int(n),
                  integrator=res.integrator,
                  amplitude_last=float(res.vmax[q, -1]),
                  decay_rate=float(rate[q]), amplitude_fit=float(a0[q]),
-                 arrival_time_last=float(t[-1]) if res.vmax[q, -1] > 0 else math.nan,
+                 arrival_time_last=float(t_last[q]) if res.vmax[q, -1] > 0 else math.nan,
                  energy_initial=float(res.energy0[q]), energy_final=float(res.energy[q]),
-                 amplitude_profile=[float(v) for v in res.vmax[q, grains]])
+                 amplitude_profile=res.vmax[q, grains].tolist())
         out.append(s)
     return out
 

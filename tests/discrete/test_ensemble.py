@@ -150,6 +150,11 @@ def test_bad_input():
     rec.run(rec.dt, progress=False)
     with pytest.raises(ValueError, match="freshly built"):
         run_ensemble([rec], 1e-6)
+    # a state that is not finite at the end raises (never a silent NaN result)
+    blown = _sims(range(3))
+    blown[1].v[3] = np.inf  # (after the constructor's checks)
+    with pytest.raises(discrete.InstabilityError, match=r"sims\[1\]"):
+        run_ensemble(blown, _t_end(blown, 50))
 
 
 def test_amplitude_decay_exact():

@@ -124,3 +124,39 @@ def test_realisations_are_built_as_the_runner_builds_them():
         assert (sim.dt, sim.wall_left, sim.wall_right, sim.integrator) == (
             ref.dt, ref.wall_left, ref.wall_right, ref.integrator)
     assert not np.array_equal(sims[0].chain.mass, sims[1].chain.mass)  # the seeds differ
+
+
+def test_arrival_times_and_front_speed():
+    """``arrival_time_last`` is the kernel's time of the last grain's maximum, bit for
+    bit; ``front_speed_tr`` is 1/slope of NumPy's polyfit of the reached grains' times
+    of the fit range against their centres (to round-off: 1e-12, another arithmetic)."""
+    from discrete.ensemble import run_ensemble
+    from hertzchain.sweep.ensemble import _build, fit_range, front_speeds, realisations
+
+    spec = parse_sweep_spec({
+        "name": "ens", "base": {"chain": {"delta0_over_d": 1e-3,
+                                          "sections": [{"n": 60, "disorder_mass": 0.1}]},
+                                "initial": {"kind": "impact", "v0": 0.1},
+                                "run": {"t_end": 3e-4}, "models": {"theory": False}},
+        "sweep": {"axes": []}, "ensemble": {"seeds": 4}})
+    scen = [p.scenario for p in spec.points()]
+    recs = realisations(scen)
+    sims = _build(scen)
+    res = run_ensemble(sims, 3e-4, times=True)
+    first, last = fit_range(60)
+    for q, (rec, sim) in enumerate(zip(recs, sims, strict=True)):
+        assert rec["arrival_time_last"] == res.vmax_time[q, -1] > 0
+        x = (np.cumsum(sim.chain.diameter) - 0.5 * sim.chain.diameter)[first:last + 1]
+        t = res.vmax_time[q, first:last + 1]
+        ok = res.vmax[q, first:last + 1] > 0
+        assert ok.sum() >= 5
+        ref = 1.0 / np.polyfit(x[ok], t[ok], 1)[0]
+        assert rec["front_speed_tr"] == pytest.approx(ref, rel=1e-12)
+        # the pulse crosses the 60 grains in about t_end: a speed of that order
+        assert 0.3 < rec["front_speed_tr"] * 3e-4 / (x[-1] - x[0]) < 3
+    # fewer than 5 reached grains, or times that do not vary: NaN
+    x = np.arange(8.0)[None].repeat(2, axis=0)
+    t = np.array([2.0 * np.arange(8.0), np.ones(8)])
+    reached = np.array([[True] * 4 + [False] * 4, [True] * 8])
+    assert np.isnan(front_speeds(x, t, reached)).all()
+    assert front_speeds(x[:1], t[:1], np.ones((1, 8), bool))[0] == pytest.approx(0.5, rel=1e-14)
