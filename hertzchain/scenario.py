@@ -53,7 +53,8 @@ below the method's own limit.  Not given, each is the model's own
 Eq. 4 and Eq. 7, position Verlet at 0.8 for the quasi-continuum, whose frequencies lie
 far below ω_max (docs/physics.md §24); they are resolved where the model is known
 (:mod:`hertzchain.models`, after ``"auto"``'s rule) and checked when the scenario is
-read for every model the continuum may run (:meth:`ModelsSpec.possible_continuum_models`).
+read for every model the continuum may run (:meth:`ModelsSpec.possible_continuum_models`;
+:meth:`ModelsSpec.step_key` writes them into the scenario's dict).
 
 Chains beyond the paper
 -----------------------
@@ -100,7 +101,7 @@ __all__ = [
     "continuum_models",
     "AUTO_EQ4_MAX_STRAIN",
     "AUTO_QC_MIN_STRAIN",
-    "DT_SAFETY_KEY_OFF",
+    "STEP_KEY_DEFAULT",
     "quasicontinuum_applies",
     "INTEGRATORS",
     "SectionSpec",
@@ -226,12 +227,13 @@ quasi-continuum within 2.2 % at 1.7–2.6 times; at strain/δ0 = 1 Eq. 7 is the 
 model (0.1–1.7 % against 0.1–6 %).  Between 1 and 9 the crossover is not measured: 9
 is the lowest amplitude at which the quasi-continuum is known to be the better one."""
 
-DT_SAFETY_KEY_OFF = 0.5
-"""The ``[models] dt_safety`` that :meth:`Scenario.to_dict` writes for a scenario without
-a continuum and none given (:meth:`ModelsSpec.dt_safety_key`): the scenario-wide default
-before each continuum model declared its own (Eq. 4's and Eq. 7's, ``default_dt_safety``
-of :data:`continuum.MODELS`), so that such a scenario's dict, and the cache keys and
-sweep point ids made from it, stay those it always had."""
+STEP_KEY_DEFAULT = ("position_yoshida4", 0.5)
+"""The continuum step that :meth:`Scenario.to_dict` writes as a ``[models] integrator`` of
+None and, where no continuum is on, as the ``dt_safety`` (:meth:`ModelsSpec.step_key`):
+the scenario-wide default before each continuum model declared its own (Eq. 4's and
+Eq. 7's ``default_integrator`` and ``default_dt_safety`` of :data:`continuum.MODELS`),
+so that a scenario stepped as before keeps its dict, and the cache keys and sweep point
+ids made from it."""
 
 _AUTO_QC_TOLERANCE = 1e-9
 """Relative slack of the ``>=`` :data:`AUTO_QC_MIN_STRAIN` test: a wave set at exactly
@@ -952,43 +954,63 @@ class ModelsSpec:
             return "eq7"
         return "eq4"
 
-    def possible_continuum_models(self, chain: ChainSpec) -> tuple[str, ...]:
-        """The models the continuum may run on ``chain`` before the incident wave is known.
+    def possible_continuum_models(self, chain: ChainSpec,
+                                  strain_over_delta0: float | None = None
+                                  ) -> tuple[str, ...]:
+        """The models the continuum may run on ``chain``, before the wave is measured.
 
-        ``"auto"`` (:meth:`continuum_model`): the one model it picks at δ0 = 0; under
-        precompression ``"eq4"``, ``"eq7"`` and, where the chain fits it, ``"qc"`` (the
-        incident strain/δ0 decides among them).  Any other name: itself; off (False or
-        None): none.  The scenario's check of the step reads it
-        (:meth:`continuum_step` for each).
+        ``"auto"`` (:meth:`continuum_model`): the one model it picks at δ0 = 0 or at a
+        known incident strain/δ0 ``strain_over_delta0`` (a wave set by ``[initial]
+        strain_max``, which the run reads back to round-off, within the rule's slack);
+        else under precompression ``"eq4"``, ``"eq7"`` and, where the chain fits it,
+        ``"qc"`` (the measured strain decides among them).  Any other name: itself; off
+        (False or None): none.  The scenario's check of the step
+        (:meth:`continuum_step` for each) and its dict (:meth:`step_key`) read it.
         """
         if not self.continuum:
             return ()
         if self.continuum != "auto":
             return (str(self.continuum),)
-        if not float(chain.delta0_over_d) > 0:
-            return (str(self.continuum_model(chain)),)
+        if not float(chain.delta0_over_d) > 0 or strain_over_delta0 is not None:
+            return (str(self.continuum_model(chain, strain_over_delta0)),)
         strong = self.continuum_model(chain, math.inf)
         return ("eq4", "eq7") if strong == "eq7" else ("eq4", "eq7", str(strong))
 
-    def dt_safety_key(self, chain: ChainSpec) -> float | None:
-        """How :meth:`Scenario.to_dict` writes a ``dt_safety`` not given.
+    def step_key(self, chain: ChainSpec, strain_over_delta0: float | None = None
+                 ) -> dict[str, Any]:
+        """How :meth:`Scenario.to_dict` writes the step's keys that are not given.
 
-        The scenario's dict makes its cache keys and sweep point ids: a ``dt_safety`` not
-        given is written as the own value shared by every model of
-        :meth:`possible_continuum_models` (0.5 for Eq. 4, Eq. 7 and KdV, 0.8 for the
-        quasi-continuum), as None where they differ (``"auto"`` on a chain where the
-        incident wave decides between them: the dict then differs from one with a
-        ``dt_safety`` given, which steps every model alike), and as
-        :data:`DT_SAFETY_KEY_OFF` where no continuum is on.
+        The scenario's dict makes its cache keys and sweep point ids, so a value not
+        given is written as what it resolves to (:meth:`continuum_step`) where the
+        scenario decides that — for every model of :meth:`possible_continuum_models`
+        alike — and as None where the measured wave decides (``"auto"`` under
+        precompression on a chain the quasi-continuum fits, without ``strain_max``: the
+        dict then differs from any with the values given).  :data:`STEP_KEY_DEFAULT`
+        keeps the earlier dicts: Yoshida-4 is written as an ``integrator`` of None, and
+        a ``dt_safety`` where no continuum is on as its 0.5.
+
+        Returns
+        -------
+        dict
+            ``{"integrator": str or None, "dt_safety": float or None}``, the keys not
+            given only.
         """
-        models = self.possible_continuum_models(chain)
-        if not models:
-            return DT_SAFETY_KEY_OFF
-        import continuum
+        models = self.possible_continuum_models(chain, strain_over_delta0)
+        own: list = []
+        if models:
+            import continuum
 
-        own = {continuum.MODELS.get(m, continuum.BoussinesqPDE).default_dt_safety
-               for m in models}
-        return float(own.pop()) if len(own) == 1 else None
+            own = [continuum.MODELS.get(m, continuum.BoussinesqPDE) for m in models]
+        out: dict[str, Any] = {}
+        if self.integrator is None and self.order is None:
+            methods = {c.default_integrator for c in own}
+            one = methods.pop() if len(methods) == 1 else STEP_KEY_DEFAULT[0]
+            out["integrator"] = None if one == STEP_KEY_DEFAULT[0] else one
+        if self.dt_safety is None:
+            safeties = {float(c.default_dt_safety) for c in own}
+            out["dt_safety"] = (STEP_KEY_DEFAULT[1] if not own else
+                                safeties.pop() if len(safeties) == 1 else None)
+        return out
 
     def continuum_step(self, model: str) -> tuple[str, float]:
         """The splitting method and dt_safety the continuum ``model`` steps with.
@@ -1086,14 +1108,25 @@ class Scenario:
         every registered law, the other laws' at their defaults (so that a file that
         names ``exponent`` with another law reads back, and a chain's dict, its cache
         key and sweep point id do not depend on which law is chosen beyond the values).
-        A ``[models] dt_safety`` not given is written as
-        :meth:`ModelsSpec.dt_safety_key`: the number it resolves to where the scenario
-        alone decides it, None where the incident wave does.
+        A ``[models] integrator`` or ``dt_safety`` not given is written as
+        :meth:`ModelsSpec.step_key`: what it resolves to where the scenario decides it,
+        None where the measured incident wave does.
         """
         d = self._plain()
-        if self.models.dt_safety is None:
-            d["models"]["dt_safety"] = self.models.dt_safety_key(self.chain)
+        d["models"].update(self.models.step_key(self.chain, self.incident_strain_given()))
         return d
+
+    def incident_strain_given(self) -> float | None:
+        """The incident wave's strain/δ0 where the file sets it, else None.
+
+        ``[initial] strain_max`` (ξ_max/d of an exact wave) over ``[chain]
+        delta0_over_d``, under precompression; the run measures it on the built state
+        (the same to round-off) and ``"auto"`` picks its model there
+        (:meth:`ModelsSpec.continuum_model`).
+        """
+        d0 = float(self.chain.delta0_over_d)
+        strain = getattr(self.initial, "strain_max", None)
+        return float(strain) / d0 if strain is not None and d0 > 0 else None
 
     def _plain(self) -> dict:
         """:meth:`to_dict` with every value as given (None: not given)."""
@@ -1470,7 +1503,8 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec, initial: InitialSpec) -> N
     # given ("auto" under precompression: the incident wave decides later; off or not
     # given: as "auto", which `compare` or a sweep axis may turn on)
     stepped = spec if spec.continuum else replace(spec, continuum="auto")
-    for name in stepped.possible_continuum_models(chain):
+    strain = Scenario(chain=chain, initial=initial).incident_strain_given()
+    for name in stepped.possible_continuum_models(chain, strain):
         if name != "kdv":
             stepped.continuum_step(name)
     for name in ("continuum", "theory"):  # an explicit request must apply

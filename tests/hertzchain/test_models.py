@@ -67,13 +67,15 @@ def test_continuum_integrator_and_its_order_alias():
     assert again.models.order is None and again.models.dt_safety is None  # still not given
 
 
-def _step_scenario(models, *, d0=1e-3, drag=0.0, sections=2):
-    """A scenario for the step's checks: ``sections`` sections, optional drag."""
+def _step_scenario(models, *, d0=1e-3, drag=0.0, sections=2, strain=None):
+    """A scenario for the step's checks: ``sections`` sections, optional drag; the exact
+    wave set by its velocity or, with ``strain`` (strain/δ0), by ``strain_max``."""
     secs = [{"n": 150}, {"n": 250, "alpha_rho": 0.5, "alpha_kn": 2.0}][:sections]
+    amp = ({"strain_max": strain * d0} if strain is not None
+           else {"velocity_max": 0.0822 if d0 else 0.6})
     return parse_scenario({
         "chain": {"delta0_over_d": d0, "drag": drag, "sections": secs},
-        "initial": {"kind": "exact_wave", "center": 75,
-                    "velocity_max": 0.0822 if d0 else 0.6},
+        "initial": {"kind": "exact_wave", "center": 75, **amp},
         "run": {"t_end": 6e-4}, "models": models})
 
 
@@ -146,27 +148,42 @@ def test_an_explicit_step_wins_and_is_range_checked():
 
 
 def test_scenario_dict_of_a_step_not_given():
-    """Scenario.to_dict (cache keys, sweep point ids) writes a dt_safety not given as the
-    value it resolves to where the scenario alone decides it: 0.5 without a continuum and
-    for Eq. 4/Eq. 7 (their keys as before), 0.8 for qc, None for "auto" where the wave
-    picks between them (so it never shares a key with an explicit dt_safety)."""
-    from hertzchain.scenario import DT_SAFETY_KEY_OFF
+    """Scenario.to_dict (cache keys, sweep point ids) writes a step not given as what it
+    resolves to where the scenario decides it, and None where the measured wave does:
+    without a continuum and for Eq. 4/Eq. 7 (Yoshida-4, written None, at 0.5) their dicts
+    are the earlier ones; qc is (position Verlet, 0.8), the dict of the validity map's qc
+    points that named them; "auto" under precompression is (None, None) unless the
+    wave's strain_max decides the model (never the dict of an explicit step)."""
+    from hertzchain.scenario import STEP_KEY_DEFAULT
 
-    assert DT_SAFETY_KEY_OFF == 0.5
-    cases = [({}, {}, 0.5), ({"continuum": False}, {}, 0.5), ({"continuum": "eq4"}, {}, 0.5),
-             ({"continuum": "eq7"}, {}, 0.5), ({"continuum": "qc"}, {}, 0.8),
-             ({"continuum": "kdv"}, {"sections": 1}, 0.5),
-             ({"continuum": "auto"}, {"d0": 0.0}, 0.8), ({"continuum": "auto"}, {}, None),
-             ({"continuum": "auto"}, {"drag": 10.0}, 0.5),
-             ({"continuum": "auto", "dt_safety": 0.5}, {}, 0.5)]
+    assert STEP_KEY_DEFAULT == ("position_yoshida4", 0.5)
+    pv = ("position_verlet", 0.8)
+    cases = [({}, {}, (None, 0.5)), ({"continuum": False}, {}, (None, 0.5)),
+             ({"continuum": "eq4"}, {}, (None, 0.5)), ({"continuum": "eq7"}, {}, (None, 0.5)),
+             ({"continuum": "kdv"}, {"sections": 1}, (None, 0.5)),
+             ({"continuum": "qc"}, {}, pv), ({"continuum": "auto"}, {"d0": 0.0}, pv),
+             ({"continuum": "auto"}, {}, (None, None)),
+             ({"continuum": "auto"}, {"strain": 0.09}, (None, 0.5)),
+             ({"continuum": "auto"}, {"strain": 2.0}, (None, 0.5)),
+             ({"continuum": "auto"}, {"strain": 9.0}, pv),
+             ({"continuum": "auto"}, {"drag": 10.0}, (None, 0.5)),
+             ({"continuum": "auto", "dt_safety": 0.5}, {}, (None, 0.5)),
+             ({"continuum": "auto", "order": 2}, {}, (None, None)),
+             ({"continuum": "qc", "integrator": "verlet"}, {}, ("verlet", 0.8))]
     for models, extra, want in cases:
         sc = _step_scenario(models, **extra)
-        assert sc.to_dict()["models"]["dt_safety"] == want, (models, extra)
-        back = parse_scenario(sc.to_input())  # round trip keeps "not given"
-        assert back.models.dt_safety == models.get("dt_safety"), (models, extra)
-    # auto with and without an explicit 0.5 run differently when qc is picked: two keys
-    assert scenario(models={"continuum": "auto"}).to_dict() != scenario(
-        models={"continuum": "auto", "dt_safety": 0.5}).to_dict()
+        got = sc.to_dict()["models"]
+        assert (got["integrator"], got["dt_safety"]) == want, (models, extra)
+        back = parse_scenario(sc.to_input())  # the round trip keeps "not given"
+        for key in ("integrator", "order", "dt_safety"):
+            assert getattr(back.models, key) == models.get(key), (models, extra, key)
+    # "auto" with and without an explicit 0.5 step differently where qc is picked
+    assert _step_scenario({"continuum": "auto"}).to_dict() != _step_scenario(
+        {"continuum": "auto", "dt_safety": 0.5}).to_dict()
+    # a known strain narrows the check too: Yoshida-4 alone is fine for a weak wave
+    weak = _step_scenario({"continuum": "auto", "integrator": "position_yoshida4"},
+                          strain=0.09)
+    assert weak.models.possible_continuum_models(weak.chain, 0.09) == ("eq4",)
 
 
 def test_continuum_runs_with_blanes_moan():
