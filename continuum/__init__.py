@@ -30,11 +30,14 @@ for one interface.
 
 Models are registered by name in :data:`MODELS` (``"eq4"``, ``"eq7"``, ``"qc"``): a new
 continuum model is one file with a :class:`ChainPDEBase` subclass (``name``, ``label``,
-:meth:`~ChainPDEBase.for_chain`) and one :func:`register_model` call; scenario files
+:meth:`~ChainPDEBase.for_chain`, its own ``default_integrator`` and
+``default_dt_safety``) and one :func:`register_model` call; scenario files
 then select it by its ``name`` (``[models] continuum``, validated against
 :data:`MODELS`) and legends show its ``label``.  This package imports :mod:`theory`
 only.
 """
+
+from theory.splitting import SPLITTINGS, STABILITY_LIMITS
 
 from .base import ChainPDEBase
 from .boussinesq import BoussinesqPDE
@@ -94,7 +97,10 @@ def register_model(cls: type[ChainPDEBase]) -> type[ChainPDEBase]:
     """Register a continuum model class under its ``name`` (usable as a class decorator).
 
     ValueError unless ``cls`` is a :class:`ChainPDEBase` subclass with a non-empty
-    ``name`` and ``label`` and its own :meth:`~ChainPDEBase.for_chain`, or if another
+    ``name`` and ``label``, its own :meth:`~ChainPDEBase.for_chain` and its own time step
+    (``default_integrator`` a method of :data:`theory.splitting.SPLITTINGS`,
+    ``default_dt_safety`` in (0, half that method's stability limit): the step of a
+    scenario that gives neither ``[models] integrator`` nor ``dt_safety``), or if another
     class holds the name.
     """
     if not (isinstance(cls, type) and issubclass(cls, ChainPDEBase)):
@@ -104,6 +110,14 @@ def register_model(cls: type[ChainPDEBase]) -> type[ChainPDEBase]:
             raise ValueError(f"{cls.__name__}.{attr} must be a non-empty string")
     if cls.for_chain.__func__ is ChainPDEBase.for_chain.__func__:  # type: ignore[attr-defined]
         raise ValueError(f"{cls.__name__} must define the classmethod for_chain")
+    method = getattr(cls, "default_integrator", None)
+    if method not in SPLITTINGS:
+        raise ValueError(f"{cls.__name__}.default_integrator must name a splitting method of "
+                         f"theory.splitting.SPLITTINGS {sorted(SPLITTINGS)} (got {method!r})")
+    safety, limit = getattr(cls, "default_dt_safety", None), 0.5 * STABILITY_LIMITS[method]
+    if not (isinstance(safety, int | float) and 0 < safety < limit):
+        raise ValueError(f"{cls.__name__}.default_dt_safety must lie in (0, {limit:.4g}), "
+                         f"below half the stability limit of {method!r} (got {safety!r})")
     if MODELS.get(cls.name, cls) is not cls:
         raise ValueError(f"continuum model name {cls.name!r} is taken by "
                          f"{MODELS[cls.name].__qualname__}")

@@ -14,8 +14,9 @@ was dissipated; the energy functional plus Σ w is then the conserved quantity t
 solvers monitor.
 
 Models register themselves by name in :data:`continuum.MODELS`
-(:func:`continuum.register_model`): a model class gives ``name``, ``label`` and
-:meth:`ChainPDEBase.for_chain`, the constructor the scenario runner calls.
+(:func:`continuum.register_model`): a model class gives ``name``, ``label``,
+:meth:`ChainPDEBase.for_chain`, the constructor the scenario runner calls, and its own
+time step (``default_integrator``, ``default_dt_safety``).
 """
 
 from __future__ import annotations
@@ -67,6 +68,15 @@ class ChainPDEBase(PDEBase):
     smooth_interpolation: ClassVar[str] = "spline"
     """How :func:`continuum.from_grains` takes a smooth grain state (``"smooth"``) onto
     this model's nodes: ``"spline"`` or ``"band_limited"``."""
+    default_integrator: ClassVar[str]
+    """The model's own splitting method (a name of :data:`theory.splitting.SPLITTINGS`):
+    the step of a scenario whose ``[models] integrator`` is not given.  Each registered
+    model declares it (:func:`continuum.register_model` checks it)."""
+    default_dt_safety: ClassVar[float]
+    """The model's own ``safety`` of :meth:`stable_dt` (``[models] dt_safety`` not given):
+    ω_max Δt = 2 × safety against velocity Verlet's bound 2/ω_max, strictly below
+    half its :attr:`default_integrator`'s limit (:data:`theory.splitting.STABILITY_LIMITS`;
+    :func:`continuum.register_model` checks it)."""
 
     def __init__(self, medium: Medium, n: int = 5, *, bc: str = "free") -> None:
         super().__init__()

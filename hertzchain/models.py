@@ -20,7 +20,10 @@ scenario —, the validity map from the shipped sweep's points).  For a
    chains without periodic cells, taper or gravity, Eq. 7 otherwise) from the same grain
    state interpolated onto its grid (:func:`continuum.from_grains`: cubic splines for a
    placed wave, per grain for an impact, whose struck grain is a velocity jump a spline
-   would ring on), to the discrete run's end time — cached too;
+   would ring on), to the discrete run's end time, with the splitting method and
+   dt_safety of ``[models]`` or, not given, the model's own
+   (:meth:`hertzchain.scenario.ModelsSpec.continuum_step`, resolved once the model is) —
+   cached too, keyed by the resolved values;
 4. evaluates the **theory** (:class:`TheoryModel`: Nesterenko's wave speeds for the law's
    exponent n — Eqs. 5 and 8 for Hertz —, the linear-acoustic interface of Eqs. 9–13
    and the strongly nonlinear one of docs/physics.md §16 where they apply, and the
@@ -1062,8 +1065,9 @@ def _ends(scenario: Scenario, init) -> str:
 def _continuum_key(scenario: Scenario, model: str, times: np.ndarray, t_final: float,
                    discrete_key: dict) -> dict:
     m = scenario.models
+    method, safety = m.continuum_step(model)  # resolved: the model's own where not given
     return {"discrete": discrete_key, "model": model, "nodes_per_grain": m.nodes_per_grain,
-            "integrator": m.continuum_method, "dt_safety": m.dt_safety,
+            "integrator": method, "dt_safety": safety,
             "nonlinearity": m.nonlinearity, "delta_floor": m.delta_floor,
             "dispersion_cap": m.dispersion_cap,
             "times": [float(t) for t in times], "t_final": float(t_final),
@@ -1264,8 +1268,9 @@ def _dt_max(pde, state, strain_ref: float, safety: float = 0.5) -> float:
     starts with none (its limit would be infinite), a transmitted wave may be stronger
     than the incident one, so the limit is also taken at a uniform strain
     ``strain_ref`` (:func:`run`: 1.5 × the largest expected wave strain).  ``safety``:
-    ``pde.stable_dt``'s fraction of velocity Verlet's limit (``[models] dt_safety``;
-    the method's own limit is checked by the scenario).
+    ``pde.stable_dt``'s fraction of velocity Verlet's limit (``[models] dt_safety`` or
+    the model's own, :meth:`hertzchain.scenario.ModelsSpec.continuum_step`, which checks
+    it against the method's own limit).
     """
     x = pde.disc.x_nodes
     ref = pde.get_initial_condition(-strain_ref * (x - x[0]))
@@ -1326,8 +1331,8 @@ def _run_continuum(scenario: Scenario, chain, init, incident: IncidentWave, time
 
                 ts, (vs, ss, own), info = _stepped(pde, state, times, t_final, sample,
                                                    _dt_max(pde, state, strain_ref,
-                                                           models.dt_safety),
-                                                   method=models.continuum_method)
+                                                           key["dt_safety"]),
+                                                   method=key["integrator"])
         if not (np.all(np.isfinite(vs)) and np.all(np.isfinite(ss))):
             raise FloatingPointError("the continuum solution is not finite (unstable)")
         completed, stopped = True, "t_end"

@@ -45,9 +45,16 @@ off with the reason (:meth:`Scenario.skipped_models`); an explicit request for a
 that does not apply is an error naming why.  The discrete chain runs every chain
 (examples: ``hertzchain/scenarios/examples/``).
 The continuum steps with ``[models] integrator``, a splitting method of
-:mod:`theory.splitting` (default Yoshida-4 drift first, today's; ``order`` is its
-deprecated alias), at ``dt_safety`` × velocity Verlet's limit 2/ω_max (ω_max with the
-stiffening at 1.5 × the largest wave strain), below the method's own limit.
+:mod:`theory.splitting` (``order`` is its deprecated alias), at ``dt_safety`` × velocity
+Verlet's limit 2/ω_max (ω_max with the stiffening at 1.5 × the largest wave strain),
+below the method's own limit.  Not given, each is the model's own
+(:meth:`ModelsSpec.continuum_step`: the class attributes ``default_integrator`` and
+``default_dt_safety`` of :data:`continuum.MODELS`): Yoshida-4 drift first at 0.5 for
+Eq. 4 and Eq. 7, position Verlet at 0.8 for the quasi-continuum, whose frequencies lie
+far below ω_max (docs/physics.md §24); they are resolved where the model is known
+(:mod:`hertzchain.models`, after ``"auto"``'s rule) and checked when the scenario is
+read for every model the continuum may run (:meth:`ModelsSpec.possible_continuum_models`;
+:meth:`ModelsSpec.step_key` writes them into the scenario's dict).
 
 Chains beyond the paper
 -----------------------
@@ -94,6 +101,7 @@ __all__ = [
     "continuum_models",
     "AUTO_EQ4_MAX_STRAIN",
     "AUTO_QC_MIN_STRAIN",
+    "STEP_KEY_DEFAULT",
     "quasicontinuum_applies",
     "INTEGRATORS",
     "SectionSpec",
@@ -218,6 +226,14 @@ incident energy (median 1.8–3.5 %) at 53–59 times the discrete chain's CPU t
 quasi-continuum within 2.2 % at 1.7–2.6 times; at strain/δ0 = 1 Eq. 7 is the closer
 model (0.1–1.7 % against 0.1–6 %).  Between 1 and 9 the crossover is not measured: 9
 is the lowest amplitude at which the quasi-continuum is known to be the better one."""
+
+STEP_KEY_DEFAULT = ("position_yoshida4", 0.5)
+"""The continuum step that :meth:`Scenario.to_dict` writes as a ``[models] integrator`` of
+None and, where no continuum is on, as the ``dt_safety`` (:meth:`ModelsSpec.step_key`):
+the scenario-wide default before each continuum model declared its own (Eq. 4's and
+Eq. 7's ``default_integrator`` and ``default_dt_safety`` of :data:`continuum.MODELS`),
+so that a scenario stepped as before keeps its dict, and the cache keys and sweep point
+ids made from it."""
 
 _AUTO_QC_TOLERANCE = 1e-9
 """Relative slack of the ``>=`` :data:`AUTO_QC_MIN_STRAIN` test: a wave set at exactly
@@ -383,19 +399,25 @@ _TABLE_KEYS: dict[str, tuple[Key | _Registered, ...]] = {
         Key("nodes_per_grain", "integer", 5, "continuum grid nodes per grain (odd)", low=1,
             low_open=False),
         Key("integrator", "choice", None, "the continuum's splitting method "
-            "(theory.splitting; kick-first ones with merged FSAL kicks); default: "
-            "\"position_yoshida4\" (or the one of order)", choices=CONTINUUM_INTEGRATORS,
+            "(theory.splitting; kick-first ones with merged FSAL kicks); not given: the "
+            "one of order, else the model's own (continuum.MODELS[...].default_integrator: "
+            "\"position_yoshida4\" for Eq. 4 and Eq. 7, \"position_verlet\" for the "
+            "quasi-continuum \"qc\")", choices=CONTINUUM_INTEGRATORS,
             example="blanes_moan4"),
         Key("order", "integer", None, "deprecated alias of integrator: 2 = "
-            "\"position_verlet\", 4 = \"position_yoshida4\" (the default)", low=2,
+            "\"position_verlet\", 4 = \"position_yoshida4\"", low=2,
             low_open=False, high=4, high_open=False, example=4),
-        Key("dt_safety", "number", 0.5, "the safety of the continuum's pde.stable_dt, with "
+        Key("dt_safety", "number", None, "the safety of the continuum's pde.stable_dt, with "
             "the stiffening at 1.5 × the largest wave strain included: for Eq. 4 the step "
             "as a fraction of velocity Verlet's stability limit 2/ω_max, which must stay "
             "below the integrator's own (theory.splitting.STABILITY_LIMITS / 2: Yoshida-4 "
-            "0.79, Blanes–Moan-4 1.58); for Eq. 7 the factor of its step 0.4 × safety × "
-            "h/c (NesterenkoPDE.stable_dt, ω_max Δt ≈ 0.8 safety before dispersion: the "
-            "same check is more cautious there); not for KdV", low=0, high=2),
+            "0.79, Verlet 1, Blanes–Moan-4 1.58; checked for every model the continuum may "
+            "run); for Eq. 7 the factor of its step 0.4 × safety × h/c "
+            "(NesterenkoPDE.stable_dt, ω_max Δt ≈ 0.8 safety before dispersion) and for "
+            "the quasi-continuum of 1.2 × safety/ω_max (the same check is more cautious "
+            "there); not given: the model's own (continuum.MODELS[...].default_dt_safety: "
+            "0.5 for Eq. 4 and Eq. 7, 0.8 for \"qc\"); not for KdV", low=0, high=2,
+            example=0.5),
         Key("nonlinearity", "choice", "quadratic", "Eq. 4 flux: \"quadratic\" (Eq. 4's "
             "expansion about δ0) or \"full\" (the chain's own contact law, any law); "
             "\"hertz\" is the former name of \"full\", the same on a Hertz chain and "
@@ -865,7 +887,8 @@ class ModelsSpec:
     ``continuum`` is ``False``, one of :func:`continuum_models` or None (not given: the
     default of the command, :meth:`Scenario.with_default_models`); ``theory`` is a bool
     or None (not given: on where it applies).  :meth:`continuum_model` resolves
-    ``"auto"`` for a chain.
+    ``"auto"`` for a chain; ``integrator``/``order`` and ``dt_safety`` None (not given)
+    are the model's own, resolved by :meth:`continuum_step`.
     """
 
     discrete: bool = True
@@ -874,7 +897,7 @@ class ModelsSpec:
     nodes_per_grain: int = 5
     integrator: str | None = None
     order: int | None = None
-    dt_safety: float = 0.5
+    dt_safety: float | None = None
     nonlinearity: str = "quadratic"
     delta_floor: float = 1e-2
     dispersion_cap: float = 10.0
@@ -931,18 +954,129 @@ class ModelsSpec:
             return "eq7"
         return "eq4"
 
-    @property
-    def continuum_method(self) -> str:
-        """The continuum's splitting method: ``integrator``, else the one of ``order``.
+    def possible_continuum_models(self, chain: ChainSpec,
+                                  strain_over_delta0: float | None = None
+                                  ) -> tuple[str, ...]:
+        """The models the continuum may run on ``chain``, before the wave is measured.
 
-        ``order`` (deprecated): 2 = position Verlet, 4 (default) = Yoshida-4 drift first
-        (:data:`theory.splitting.ORDER_METHODS`, the methods it always named).
+        ``"auto"`` (:meth:`continuum_model`): the one model it picks at δ0 = 0 or at a
+        known incident strain/δ0 ``strain_over_delta0`` (a wave set by ``[initial]
+        strain_max``, which the run reads back to round-off, within the rule's slack);
+        else under precompression ``"eq4"``, ``"eq7"`` and, where the chain fits it,
+        ``"qc"`` (the measured strain decides among them).  Any other name: itself; off
+        (False or None): none.  The scenario's check of the step
+        (:meth:`continuum_step` for each) and its dict (:meth:`step_key`) read it.
         """
-        from theory.splitting import ORDER_METHODS
+        if not self.continuum:
+            return ()
+        if self.continuum != "auto":
+            return (str(self.continuum),)
+        if not float(chain.delta0_over_d) > 0 or strain_over_delta0 is not None:
+            return (str(self.continuum_model(chain, strain_over_delta0)),)
+        strong = self.continuum_model(chain, math.inf)
+        return ("eq4", "eq7") if strong == "eq7" else ("eq4", "eq7", str(strong))
 
-        if self.integrator is not None:
-            return self.integrator
-        return ORDER_METHODS[4 if self.order is None else self.order]
+    def step_key(self, chain: ChainSpec, strain_over_delta0: float | None = None
+                 ) -> dict[str, Any]:
+        """How :meth:`Scenario.to_dict` writes the step's keys that are not given.
+
+        The scenario's dict makes its cache keys and sweep point ids, so a value not
+        given is written as what it resolves to (:meth:`continuum_step`) where the
+        scenario decides that — for every model of :meth:`possible_continuum_models`
+        alike — and as None where the measured wave decides (``"auto"`` under
+        precompression on a chain the quasi-continuum fits, without ``strain_max``: the
+        dict then differs from any with the values given).  :data:`STEP_KEY_DEFAULT`
+        keeps the earlier dicts: Yoshida-4 is written as an ``integrator`` of None, and
+        a ``dt_safety`` where no continuum is on as its 0.5.
+
+        Returns
+        -------
+        dict
+            ``{"integrator": str or None, "dt_safety": float or None}``, the keys not
+            given only.
+        """
+        models = self.possible_continuum_models(chain, strain_over_delta0)
+        own: list = []
+        if models:
+            import continuum
+
+            own = [continuum.MODELS.get(m, continuum.BoussinesqPDE) for m in models]
+        out: dict[str, Any] = {}
+        if self.integrator is None and self.order is None:
+            methods = {c.default_integrator for c in own}
+            one = methods.pop() if len(methods) == 1 else STEP_KEY_DEFAULT[0]
+            out["integrator"] = None if one == STEP_KEY_DEFAULT[0] else one
+        if self.dt_safety is None:
+            safeties = {float(c.default_dt_safety) for c in own}
+            out["dt_safety"] = (STEP_KEY_DEFAULT[1] if not own else
+                                safeties.pop() if len(safeties) == 1 else None)
+        return out
+
+    def continuum_step(self, model: str) -> tuple[str, float]:
+        """The splitting method and dt_safety the continuum ``model`` steps with.
+
+        The one resolution rule: ``integrator`` if given, else the method of the
+        deprecated ``order`` (2 = position Verlet, 4 = Yoshida-4 drift first,
+        :data:`theory.splitting.ORDER_METHODS`), else the model's own
+        ``default_integrator``; ``dt_safety`` if given, else the model's own
+        ``default_dt_safety`` (class attributes of :data:`continuum.MODELS`: Yoshida-4 at
+        0.5 for Eq. 4 and Eq. 7, position Verlet at 0.8 for the quasi-continuum, whose
+        frequencies lie far below ω_max, docs/physics.md §24).  ``"kdv"`` (stepped by
+        py-pde's RK4 at its own stable_dt, not by these) gets Eq. 4's, the equation it
+        reduces, recorded in its cache key.  The step must satisfy ω_max Δt = 2 ×
+        dt_safety < the method's stability limit (:data:`theory.splitting.STABILITY_LIMITS`).
+
+        Parameters
+        ----------
+        model : str
+            A model of :data:`continuum.MODELS` or ``"kdv"`` (``"auto"`` resolved:
+            :meth:`continuum_model`).
+
+        Returns
+        -------
+        (str, float)
+            The method's name (:data:`theory.splitting.SPLITTINGS`) and dt_safety.
+
+        Raises
+        ------
+        ScenarioError
+            The step is beyond the method's stability limit, naming ``[models]
+            dt_safety`` (and ``integrator`` where the two come from different places)
+            with the allowed range.
+        """
+        import continuum
+        from theory.splitting import ORDER_METHODS, STABILITY_LIMITS
+
+        own = continuum.MODELS.get(model) or (continuum.BoussinesqPDE if model == "kdv"
+                                              else None)
+        if own is None:
+            raise ScenarioError(f"[models] continuum = {model!r} is not a model of "
+                                f"continuum.MODELS ({', '.join(map(repr, continuum.MODELS))})"
+                                " or 'kdv'")
+        method = (self.integrator if self.integrator is not None
+                  else ORDER_METHODS[self.order] if self.order is not None
+                  else own.default_integrator)
+        safety = float(self.dt_safety if self.dt_safety is not None
+                       else own.default_dt_safety)
+        limit = 0.5 * STABILITY_LIMITS[method]
+        if not safety < limit:
+            named = ("integrator" if self.integrator is not None
+                     else "order" if self.order is not None else "")
+            given = self.dt_safety is not None
+            runs = (", which continuum = 'auto' may run on this chain"
+                    if self.continuum == "auto" and model != "eq4" else "")
+            what = (f"[models] dt_safety = {safety:g}" if given else
+                    f"[models] dt_safety (not given: the own {safety:g} of continuum "
+                    f"{model!r}{runs})")
+            origin = (f"the method of [models] {named}" if named
+                      else f"the own method of continuum {model!r}{runs}")
+            fix = ("set [models] dt_safety in that range" if not given else
+                   f"lower dt_safety{' or change ' + named if named else ''}")
+            raise ScenarioError(f"{what} is beyond the stability limit of integrator "
+                                f"{method!r}: allowed (0, {limit:.4g}) (ω_max Δt = 2 "
+                                f"dt_safety < {STABILITY_LIMITS[method]:g}; {origin}): "
+                                f"{fix}")
+        return method, safety
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -974,7 +1108,28 @@ class Scenario:
         every registered law, the other laws' at their defaults (so that a file that
         names ``exponent`` with another law reads back, and a chain's dict, its cache
         key and sweep point id do not depend on which law is chosen beyond the values).
+        A ``[models] integrator`` or ``dt_safety`` not given is written as
+        :meth:`ModelsSpec.step_key`: what it resolves to where the scenario decides it,
+        None where the measured incident wave does.
         """
+        d = self._plain()
+        d["models"].update(self.models.step_key(self.chain, self.incident_strain_given()))
+        return d
+
+    def incident_strain_given(self) -> float | None:
+        """The incident wave's strain/δ0 where the file sets it, else None.
+
+        ``[initial] strain_max`` (ξ_max/d of an exact wave) over ``[chain]
+        delta0_over_d``, under precompression; the run measures it on the built state
+        (the same to round-off) and ``"auto"`` picks its model there
+        (:meth:`ModelsSpec.continuum_model`).
+        """
+        d0 = float(self.chain.delta0_over_d)
+        strain = getattr(self.initial, "strain_max", None)
+        return float(strain) / d0 if strain is not None and d0 > 0 else None
+
+    def _plain(self) -> dict:
+        """:meth:`to_dict` with every value as given (None: not given)."""
         d = asdict(self)
         d["chain"] = _flat_law_params(d["chain"])
         d["initial"] = _flat_initial_params(d["initial"])
@@ -1004,7 +1159,7 @@ class Scenario:
                 return [clean(v) for v in x]
             return x
 
-        out = clean(self.to_dict())
+        out = clean(self._plain())
         for sec in out["chain"]["sections"]:
             if "material" in sec:
                 sec.pop("alpha_rho", None)
@@ -1323,7 +1478,7 @@ def model_applies(model: str, chain: ChainSpec, initial: InitialSpec) -> str:
 
 
 def _check_models(spec: ModelsSpec, chain: ChainSpec, initial: InitialSpec) -> None:
-    from theory.splitting import ORDER_METHODS, STABILITY_LIMITS, get_splitting
+    from theory.splitting import ORDER_METHODS, get_splitting
 
     theory_on = spec.theory if spec.theory is not None else not model_applies(
         "theory", chain, initial)
@@ -1336,20 +1491,22 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec, initial: InitialSpec) -> N
         raise ScenarioError(f"[models] order = {spec.order}; allowed: 2, 4 (deprecated: "
                             "use integrator)")
     if spec.continuum == "kdv" and (spec.integrator is not None or spec.order is not None
-                                    or spec.dt_safety != ModelsSpec.dt_safety):
+                                    or spec.dt_safety is not None):
         raise ScenarioError("[models] integrator, order and dt_safety do not apply to "
                             "continuum = \"kdv\" (KdV steps with py-pde's Runge-Kutta at its "
                             "own stable_dt): drop them")
-    method = get_splitting(spec.continuum_method)
-    if spec.order is not None and spec.integrator is not None and spec.order != method.order:
+    if spec.order is not None and spec.integrator is not None and (
+            spec.order != (order := get_splitting(spec.integrator).order)):
         raise ScenarioError(f"[models] order = {spec.order} contradicts integrator = "
-                            f"{spec.integrator!r} (order {method.order}): drop order")
-    limit = 0.5 * STABILITY_LIMITS[method.name]
-    if not spec.dt_safety < limit:
-        raise ScenarioError(f"[models] dt_safety = {spec.dt_safety:g} is beyond the "
-                            f"stability limit of integrator {method.name!r}: allowed (0, "
-                            f"{limit:.4g}) (ω_max Δt = 2 dt_safety < "
-                            f"{STABILITY_LIMITS[method.name]:g})")
+                            f"{spec.integrator!r} (order {order}): drop order")
+    # the step of every model the continuum may run, each at its own defaults where not
+    # given ("auto" under precompression: the incident wave decides later; off or not
+    # given: as "auto", which `compare` or a sweep axis may turn on)
+    stepped = spec if spec.continuum else replace(spec, continuum="auto")
+    strain = Scenario(chain=chain, initial=initial).incident_strain_given()
+    for name in stepped.possible_continuum_models(chain, strain):
+        if name != "kdv":
+            stepped.continuum_step(name)
     for name in ("continuum", "theory"):  # an explicit request must apply
         why = model_applies(name, chain, initial) if getattr(spec, name) else ""
         if why:

@@ -59,7 +59,7 @@ from .common import Context, run_point_cached, save_figure
 __all__ = ["QUICK", "FULL", "Block", "AMPLITUDES", "EXPONENTS", "DAMPINGS", "amplitude_row",
            "law_rows", "linked_axes_toml", "DoesNotApply", "TheoryPrediction",
            "theory_prediction", "theory_errors", "with_models",
-           "STRONG_CONTINUUM_INTEGRATOR", "STRONG_CONTINUUM_DT_SAFETY", "longer_run",
+           "longer_run",
            "validity_point", "run",
            "figures", "report", "to_json", "error_table"]
 
@@ -384,20 +384,6 @@ def theory_errors(cmp) -> dict:
             "note": "; ".join(why), "model": pred.model, "applies": True}
 
 
-STRONG_CONTINUUM_INTEGRATOR = "position_verlet"
-"""The quasi-continuum's splitting method on the map (``[models] integrator``): on ten
-strongly nonlinear points its errors against the chain are Yoshida-4's within 0.2 % of
-the incident energy (the model's own error dominates), and over the map's rows Yoshida-4
-takes 1.4–2.5 times its CPU time (docs/physics.md §24)."""
-STRONG_CONTINUUM_DT_SAFETY = 0.8
-"""The quasi-continuum's ``[models] dt_safety`` on the map: ω_max Δt = 0.96, half position
-Verlet's stability limit 2 (the scenario's default 0.5 is ω_max Δt = 0.6).  The wave's own
-frequencies lie far below ω_max (S̃_M damps the grid's wavenumbers as K^{-M}), so the
-step's error stays below the model's: on twelve strongly nonlinear points the errors
-against the chain moved by at most 0.7 % of the incident energy (largest 2.2 %), at
-0.6–0.75 times the CPU time (docs/physics.md §24)."""
-
-
 def with_models(scenario):
     """The point's scenario with every model that applies, and why the continuum does not.
 
@@ -405,9 +391,10 @@ def with_models(scenario):
     (:meth:`hertzchain.scenario.ModelsSpec.continuum_model`) at the exact incident
     wave's strain/δ0 (``[initial] strain_max``; the run resolves it again at the
     measured one, the same to round-off): where it picks the quasi-continuum the point
-    names ``"qc"`` with :data:`STRONG_CONTINUUM_INTEGRATOR` at
-    :data:`STRONG_CONTINUUM_DT_SAFETY`.  It is switched on if hertzchain's rule admits
-    it (:func:`hertzchain.scenario.parse_scenario`, via
+    names ``"qc"``.  Every model steps with its own method and dt_safety
+    (:meth:`hertzchain.scenario.ModelsSpec.continuum_step`; the quasi-continuum's
+    position Verlet at 0.8, docs/physics.md §24).  It is switched on if hertzchain's
+    rule admits it (:func:`hertzchain.scenario.parse_scenario`, via
     :meth:`hertzchain.scenario.Scenario.with_values`); its refusal is returned as the
     reason ("" when it runs).  The closed-form TheoryModel is off: the map's theory is
     :func:`theory_prediction`.
@@ -420,12 +407,9 @@ def with_models(scenario):
     strain = scenario.initial.strain_max
     resolved = ModelsSpec(continuum="auto").continuum_model(
         scenario.chain, strain / d0 if strain is not None and d0 > 0 else None)
-    model, extra = ("qc", {"models.integrator": STRONG_CONTINUUM_INTEGRATOR,
-                           "models.dt_safety": STRONG_CONTINUUM_DT_SAFETY}) \
-        if resolved == "qc" else ("auto", {})
+    model = "qc" if resolved == "qc" else "auto"
     try:
-        return scenario.with_values({"models.continuum": model, "models.theory": False,
-                                     **extra}), ""
+        return scenario.with_values({"models.continuum": model, "models.theory": False}), ""
     except ScenarioError as exc:
         return (scenario.with_values({"models.continuum": False, "models.theory": False}),
                 str(exc))

@@ -71,3 +71,37 @@ def test_bad_registrations_are_refused():
     with pytest.raises(ValueError, match="taken"):
         register_model(Thief)
     assert MODELS["eq4"] is BoussinesqPDE
+
+
+def test_a_model_declares_a_stable_default_step():
+    """A model's own step (``default_integrator``, ``default_dt_safety``: what a scenario
+    that gives neither runs) must name a splitting method and lie inside half its
+    stability limit (ω_max Δt = 2 safety < limit); register_model refuses it otherwise."""
+    from theory.splitting import SPLITTINGS, STABILITY_LIMITS
+
+    for cls in MODELS.values():
+        assert cls.default_integrator in SPLITTINGS
+        assert 0 < 2 * cls.default_dt_safety < STABILITY_LIMITS[cls.default_integrator]
+
+    class NoStep(ChainPDEBase):
+        name, label = "test-nostep", "no step"
+
+        @classmethod
+        def for_chain(cls, medium, *, nodes_per_grain, bc, options):
+            return cls(medium, nodes_per_grain, bc=bc)
+
+    with pytest.raises(ValueError, match=r"NoStep.default_integrator must name a splitting"):
+        register_model(NoStep)
+
+    class RungeKutta(LinearLongWaves):
+        name, default_integrator = "test-rk4", "rk4"
+
+    with pytest.raises(ValueError, match=r"default_integrator must name .* \(got 'rk4'\)"):
+        register_model(RungeKutta)
+
+    class TooLong(LinearLongWaves):  # qc's 0.8 is beyond Yoshida-4's (0, 0.7865)
+        name, default_dt_safety = "test-long", 0.8
+
+    with pytest.raises(ValueError, match=r"TooLong.default_dt_safety must lie in \(0, 0.7865\)"):
+        register_model(TooLong)
+    assert not {"test-nostep", "test-rk4", "test-long"} & set(MODELS)

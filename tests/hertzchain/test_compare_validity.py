@@ -190,12 +190,13 @@ def test_does_not_apply_carries_the_rules_reason(runs):
         sc, reason = V.with_models(p.scenario)
         assert reason == _continuum_reason(case)
         # "auto"'s one rule picks the quasi-continuum from strain/δ0 = 9 and at δ0 = 0
-        # without drag: the point names it (with its map settings), else keeps "auto"
+        # without drag: the point names it, else keeps "auto"; every model steps at its
+        # own method and dt_safety (the quasi-continuum's position Verlet at 0.8)
         strong = case[1] >= 9.0 and case[2] == 0.0
         assert sc.models.continuum == (False if reason else "qc" if strong else "auto")
+        assert (sc.models.integrator, sc.models.order, sc.models.dt_safety) == (None,) * 3
         if sc.models.continuum == "qc":
-            assert (sc.models.integrator, sc.models.dt_safety) == (
-                V.STRONG_CONTINUUM_INTEGRATOR, V.STRONG_CONTINUUM_DT_SAFETY)
+            assert sc.models.continuum_step("qc") == ("position_verlet", 0.8)
         assert not sc.models.theory
     assert V.with_models(p.scenario)[1] == ""  # the lossless Hertz chain: it runs
 

@@ -52,18 +52,138 @@ def test_models_defaults_and_auto():
 
 def test_continuum_integrator_and_its_order_alias():
     """[models] integrator names the continuum's splitting method (theory.splitting);
-    the deprecated order picks the drift-first method it always named; default
-    Yoshida-4 drift first at dt_safety 0.5 (today's stepping, bit for bit)."""
+    the deprecated order picks the drift-first method it always named; not given, both
+    integrator and dt_safety are the model's own (ModelsSpec.continuum_step)."""
     m = scenario(models={"continuum": "auto"}).models
-    assert (m.continuum_method, m.dt_safety) == ("position_yoshida4", 0.5)
-    assert scenario(models={"continuum": "auto", "order": 2}).models.continuum_method \
-        == "position_verlet"
+    assert (m.integrator, m.order, m.dt_safety) == (None, None, None)  # not given
+    assert scenario(models={"continuum": "auto", "order": 2}).models.continuum_step("eq4") \
+        == ("position_verlet", 0.5)
     m = scenario(models={"continuum": "auto", "integrator": "blanes_moan4", "order": 4,
                          "dt_safety": 1.45}).models
-    assert (m.continuum_method, m.dt_safety) == ("blanes_moan4", 1.45)
+    assert all(m.continuum_step(name) == ("blanes_moan4", 1.45) for name in ("eq4", "eq7", "qc"))
     again = parse_scenario(scenario(models={"continuum": "auto",
                                             "integrator": "verlet"}).to_input())
-    assert again.models.continuum_method == "verlet" and again.models.order is None
+    assert again.models.continuum_step("qc") == ("verlet", 0.8)
+    assert again.models.order is None and again.models.dt_safety is None  # still not given
+
+
+def _step_scenario(models, *, d0=1e-3, drag=0.0, sections=2, strain=None):
+    """A scenario for the step's checks: ``sections`` sections, optional drag; the exact
+    wave set by its velocity or, with ``strain`` (strain/δ0), by ``strain_max``."""
+    secs = [{"n": 150}, {"n": 250, "alpha_rho": 0.5, "alpha_kn": 2.0}][:sections]
+    amp = ({"strain_max": strain * d0} if strain is not None
+           else {"velocity_max": 0.0822 if d0 else 0.6})
+    return parse_scenario({
+        "chain": {"delta0_over_d": d0, "drag": drag, "sections": secs},
+        "initial": {"kind": "exact_wave", "center": 75, **amp},
+        "run": {"t_end": 6e-4}, "models": models})
+
+
+def test_each_model_owns_its_default_step():
+    """Not given, [models] integrator and dt_safety are the model's own class attributes:
+    Yoshida-4 drift first at 0.5 for Eq. 4 and Eq. 7 (the values every earlier version
+    stepped them with, so their runs and cache keys are unchanged), position Verlet at
+    0.8 for the quasi-continuum (docs/physics.md §24); KdV's key records Eq. 4's.  "auto"
+    resolves them once its model is known: both regimes."""
+    import continuum
+    from theory.splitting import STABILITY_LIMITS
+
+    own = {name: (cls.default_integrator, cls.default_dt_safety)
+           for name, cls in continuum.MODELS.items()}
+    assert own == {"eq4": ("position_yoshida4", 0.5), "eq7": ("position_yoshida4", 0.5),
+                   "qc": ("position_verlet", 0.8)}
+    for method, safety in own.values():  # each inside its method's stability limit
+        assert 0 < 2 * safety < STABILITY_LIMITS[method]
+    for name in ("eq4", "eq7", "qc"):
+        m = scenario(models={"continuum": name}).models
+        assert m.continuum_step(name) == own[name]
+    kdv = _step_scenario({"continuum": "kdv"}, sections=1)
+    assert kdv.models.continuum_step("kdv") == own["eq4"]
+    # "auto" under precompression: the incident wave decides; the step follows the model
+    sc = scenario(models={"continuum": "auto"})
+    for s, name in ((0.09, "eq4"), (2.0, "eq7"), (100.0, "qc")):
+        model = sc.models.continuum_model(sc.chain, s)
+        assert model == name and sc.models.continuum_step(model) == own[name]
+    assert sc.models.possible_continuum_models(sc.chain) == ("eq4", "eq7", "qc")
+    # ... and in the sonic vacuum: the quasi-continuum, stepped at its own
+    sonic = scenario(d0=0.0, models={"continuum": "auto"})
+    assert sonic.models.possible_continuum_models(sonic.chain) == ("qc",)
+    assert sonic.models.continuum_step("qc") == ("position_verlet", 0.8)
+    # a chain the quasi-continuum does not fit: auto can run Eq. 4 and Eq. 7 only
+    drag = _step_scenario({"continuum": "auto"}, drag=10.0)
+    assert drag.models.possible_continuum_models(drag.chain) == ("eq4", "eq7")
+
+
+def test_an_explicit_step_wins_and_is_range_checked():
+    """A user's integrator or dt_safety wins over the model's own, and the resolved step
+    is checked against the method's stability limit (ω_max Δt = 2 dt_safety < limit) for
+    every model the continuum may run, with an error naming the key and the range."""
+    m = scenario(models={"continuum": "qc", "dt_safety": 0.5,
+                         "integrator": "position_yoshida4"}).models
+    assert m.continuum_step("qc") == ("position_yoshida4", 0.5)
+    assert scenario(models={"continuum": "qc", "dt_safety": 0.9}).models.continuum_step(
+        "qc") == ("position_verlet", 0.9)  # position Verlet's limit: (0, 1)
+    with pytest.raises(ScenarioError, match=r"\[models\] dt_safety = 1 is beyond the "
+                       r"stability limit of integrator 'position_verlet': allowed \(0, 1\)"):
+        scenario(models={"continuum": "qc", "dt_safety": 1.0})
+    # qc's own 0.8 is beyond Yoshida-4's (0, 0.7865): named, with the key to set
+    own = (r"\[models\] dt_safety \(not given: the own 0.8 of continuum 'qc'.*\) is beyond "
+           r"the stability limit of integrator 'position_yoshida4': allowed \(0, 0.7865\)"
+           r".*set \[models\] dt_safety in that range")
+    with pytest.raises(ScenarioError, match=own):
+        scenario(models={"continuum": "qc", "integrator": "position_yoshida4"})
+    with pytest.raises(ScenarioError, match=own):
+        scenario(models={"continuum": "qc", "order": 4})
+    # "auto" under precompression may run qc (the strain is known only later): checked
+    with pytest.raises(ScenarioError, match=r"not given: the own 0.8 of continuum 'qc', "
+                       r"which continuum = 'auto' may run on this chain"):
+        scenario(models={"continuum": "auto", "integrator": "position_yoshida4"})
+    # ... also when the continuum is not given (compare turns "auto" on)
+    with pytest.raises(ScenarioError, match=r"not given: the own 0.8 of continuum 'qc'"):
+        scenario(models={"integrator": "position_yoshida4"})
+    # where auto cannot run qc (drag), Yoshida-4 at Eq. 4/7's own 0.5 is fine
+    drag = _step_scenario({"continuum": "auto", "integrator": "position_yoshida4"},
+                          drag=10.0)
+    assert drag.models.continuum_step("eq7") == ("position_yoshida4", 0.5)
+
+
+def test_scenario_dict_of_a_step_not_given():
+    """Scenario.to_dict (cache keys, sweep point ids) writes a step not given as what it
+    resolves to where the scenario decides it, and None where the measured wave does:
+    without a continuum and for Eq. 4/Eq. 7 (Yoshida-4, written None, at 0.5) their dicts
+    are the earlier ones; qc is (position Verlet, 0.8), the dict of the validity map's qc
+    points that named them; "auto" under precompression is (None, None) unless the
+    wave's strain_max decides the model (never the dict of an explicit step)."""
+    from hertzchain.scenario import STEP_KEY_DEFAULT
+
+    assert STEP_KEY_DEFAULT == ("position_yoshida4", 0.5)
+    pv = ("position_verlet", 0.8)
+    cases = [({}, {}, (None, 0.5)), ({"continuum": False}, {}, (None, 0.5)),
+             ({"continuum": "eq4"}, {}, (None, 0.5)), ({"continuum": "eq7"}, {}, (None, 0.5)),
+             ({"continuum": "kdv"}, {"sections": 1}, (None, 0.5)),
+             ({"continuum": "qc"}, {}, pv), ({"continuum": "auto"}, {"d0": 0.0}, pv),
+             ({"continuum": "auto"}, {}, (None, None)),
+             ({"continuum": "auto"}, {"strain": 0.09}, (None, 0.5)),
+             ({"continuum": "auto"}, {"strain": 2.0}, (None, 0.5)),
+             ({"continuum": "auto"}, {"strain": 9.0}, pv),
+             ({"continuum": "auto"}, {"drag": 10.0}, (None, 0.5)),
+             ({"continuum": "auto", "dt_safety": 0.5}, {}, (None, 0.5)),
+             ({"continuum": "auto", "order": 2}, {}, (None, None)),
+             ({"continuum": "qc", "integrator": "verlet"}, {}, ("verlet", 0.8))]
+    for models, extra, want in cases:
+        sc = _step_scenario(models, **extra)
+        got = sc.to_dict()["models"]
+        assert (got["integrator"], got["dt_safety"]) == want, (models, extra)
+        back = parse_scenario(sc.to_input())  # the round trip keeps "not given"
+        for key in ("integrator", "order", "dt_safety"):
+            assert getattr(back.models, key) == models.get(key), (models, extra, key)
+    # "auto" with and without an explicit 0.5 step differently where qc is picked
+    assert _step_scenario({"continuum": "auto"}).to_dict() != _step_scenario(
+        {"continuum": "auto", "dt_safety": 0.5}).to_dict()
+    # a known strain narrows the check too: Yoshida-4 alone is fine for a weak wave
+    weak = _step_scenario({"continuum": "auto", "integrator": "position_yoshida4"},
+                          strain=0.09)
+    assert weak.models.possible_continuum_models(weak.chain, 0.09) == ("eq4",)
 
 
 def test_continuum_runs_with_blanes_moan():
