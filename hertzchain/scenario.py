@@ -1500,13 +1500,15 @@ def _check_models(spec: ModelsSpec, chain: ChainSpec, initial: InitialSpec) -> N
         raise ScenarioError(f"[models] order = {spec.order} contradicts integrator = "
                             f"{spec.integrator!r} (order {order}): drop order")
     # the step of every model the continuum may run, each at its own defaults where not
-    # given ("auto" under precompression: the incident wave decides later; off or not
-    # given: as "auto", which `compare` or a sweep axis may turn on)
-    stepped = spec if spec.continuum else replace(spec, continuum="auto")
+    # given ("auto" under precompression: the incident wave decides later).  A continuum
+    # off or not given is not checked here: the defaults are the model classes' own, and
+    # importing the continuum (py-pde) would cost every discrete run's start-up; where
+    # `compare` or a sweep turns it on, the run resolves the step with the same check
+    # (ModelsSpec.continuum_step, a ScenarioError naming the key and the range)
     strain = Scenario(chain=chain, initial=initial).incident_strain_given()
-    for name in stepped.possible_continuum_models(chain, strain):
+    for name in spec.possible_continuum_models(chain, strain):
         if name != "kdv":
-            stepped.continuum_step(name)
+            spec.continuum_step(name)
     for name in ("continuum", "theory"):  # an explicit request must apply
         why = model_applies(name, chain, initial) if getattr(spec, name) else ""
         if why:

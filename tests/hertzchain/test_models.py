@@ -138,9 +138,11 @@ def test_an_explicit_step_wins_and_is_range_checked():
     with pytest.raises(ScenarioError, match=r"not given: the own 0.8 of continuum 'qc', "
                        r"which continuum = 'auto' may run on this chain"):
         scenario(models={"continuum": "auto", "integrator": "position_yoshida4"})
-    # ... also when the continuum is not given (compare turns "auto" on)
+    # ... when the continuum is not given, not at parsing (a discrete run must not import
+    # the continuum), but where compare turns it on and resolves qc's step
+    off = scenario(models={"integrator": "position_yoshida4"}).models
     with pytest.raises(ScenarioError, match=r"not given: the own 0.8 of continuum 'qc'"):
-        scenario(models={"integrator": "position_yoshida4"})
+        off.continuum_step("qc")
     # where auto cannot run qc (drag), Yoshida-4 at Eq. 4/7's own 0.5 is fine
     drag = _step_scenario({"continuum": "auto", "integrator": "position_yoshida4"},
                           drag=10.0)
