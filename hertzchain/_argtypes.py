@@ -12,7 +12,8 @@ import math
 import sys
 
 __all__ = ["positive_float", "nonnegative_float", "positive_int", "scenario_number",
-           "add_progress_argument", "progress_wanted", "jsonable", "print_json"]
+           "add_progress_argument", "add_checkpoint_argument", "add_threads_argument",
+           "progress_wanted", "jsonable", "print_json"]
 
 
 def _float(text: str) -> float:
@@ -73,6 +74,20 @@ def scenario_number(table: str, name: str):
 
     convert.__name__ = name  # argparse names the converter in some messages
     return convert
+
+
+def add_checkpoint_argument(p: argparse.ArgumentParser, what: str) -> None:
+    """``--checkpoint-interval``: wall time between checkpoints, s (>= 0, default 300).
+
+    ``what`` is the help text after the common part (where they go, how a rerun resumes).
+    """
+    p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
+                   metavar="SECONDS", help="wall time between checkpoints " + what)
+
+
+def add_threads_argument(p: argparse.ArgumentParser, what: str) -> None:
+    """``--threads``: kernel threads of the discrete solver (>= 1; results identical)."""
+    p.add_argument("--threads", type=positive_int, default=None, metavar="N", help=what)
 
 
 def add_progress_argument(p: argparse.ArgumentParser) -> None:

@@ -17,10 +17,10 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from ._argtypes import (
+    add_checkpoint_argument,
     add_progress_argument,
-    nonnegative_float,
+    add_threads_argument,
     positive_float,
-    positive_int,
     print_json,
     progress_wanted,
     scenario_number,
@@ -554,16 +554,15 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                        help="write the full run: a directory (OUT/<scenario>.h5) or a file "
                        "name ending in .h5 (written atomically; checkpoints beside it, .ckpt)")
         p.add_argument("--json", action="store_true", help="print the summary as JSON")
-        p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
-                       metavar="SECONDS", help="wall time between checkpoints with --out, s "
-                       "(>= 0; default 300). Rerunning the same command resumes from the last "
-                       "checkpoint, bit for bit; Ctrl-C stops with a checkpoint")
+        add_checkpoint_argument(p, "with --out, s (>= 0; default 300). Rerunning the same "
+                                "command resumes from the last checkpoint, bit for bit; "
+                                "Ctrl-C stops with a checkpoint")
         add_force_argument(p, "discard an existing checkpoint of --out and start over")
         p.add_argument("--restart", action=_DeprecatedAlias, new="--force", dest="force",
                        nargs=0, help=argparse.SUPPRESS)
         add_rtol_argument(p)
-        p.add_argument("--threads", type=positive_int, default=None, metavar="N",
-                       help="kernel threads (>= 1; default: numba's; results are identical)")
+        add_threads_argument(p, "kernel threads (>= 1; default: numba's; results are "
+                             "identical)")
         add_progress_argument(p)
         p.set_defaults(func=cmd_run)
 
@@ -581,12 +580,10 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                        "scenario key)")
         add_force_argument(p, "recompute the runs even if cached in OUT/runs (discards "
                            "checkpoints)")
-        p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
-                       metavar="SECONDS", help="wall time between checkpoints of the discrete "
-                       "run, s (>= 0; default 300); rerunning resumes from the last one")
+        add_checkpoint_argument(p, "of the discrete run, s (>= 0; default 300); rerunning "
+                                "resumes from the last one")
         add_rtol_argument(p)
-        p.add_argument("--threads", type=positive_int, default=None, metavar="N",
-                       help="kernel threads of the discrete solver (>= 1)")
+        add_threads_argument(p, "kernel threads of the discrete solver (>= 1)")
         add_progress_argument(p)
         p.set_defaults(func=cmd_compare)
 

@@ -9,8 +9,8 @@ import argparse
 import sys
 
 from .._argtypes import (
+    add_checkpoint_argument,
     add_progress_argument,
-    nonnegative_float,
     positive_int,
     print_json,
     progress_wanted,
@@ -44,13 +44,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "(the same numbers, bit for bit, for every N; default: the "
                         "machine's cores); 1 runs them one after the other in this "
                         "process")
-    p.add_argument("--checkpoint-interval", type=nonnegative_float, default=300.0,
-                   metavar="SECONDS",
-                   help="wall time between checkpoints of a simulation, s (>= 0; default "
-                        "300; beside its file in OUT/runs). Rerunning the same command "
-                        "reuses the finished simulations and resumes the interrupted one "
-                        "from its last checkpoint, bit for bit; Ctrl-C stops with a "
-                        "checkpoint")
+    add_checkpoint_argument(p, "of a simulation, s (>= 0; default 300; beside its file in "
+                            "OUT/runs). Rerunning the same command reuses the finished "
+                            "simulations and resumes the interrupted one from its last "
+                            "checkpoint, bit for bit; Ctrl-C stops with a checkpoint")
 
     add_progress_argument(p)
 
