@@ -358,15 +358,16 @@ class GrainAveragedPDE(ChainPDEBase):
     """Position (drift-first) Verlet, second order: S̃_M damps the grid's wavenumbers as
     K^{-M}, so the wave's own frequencies lie far below ω_max and the step's error stays
     below the model's own; on ten strongly nonlinear points of the model-validity map
-    its errors against the chain are Yoshida-4's within 0.2 % of the incident energy, at
-    1/2.5–1/1.4 of Yoshida-4's CPU time (docs/physics.md §24)."""
+    its errors against the chain are Yoshida-4's within 0.2 % of the incident energy, for
+    one force evaluation per step instead of Yoshida-4's three (docs/physics.md §24; the
+    CPU times in docs/benchmarks.md)."""
     default_dt_safety = 0.8
     """ω_max Δt = 0.96 (:meth:`stable_dt`: 1.2 × safety/ω_max), half position Verlet's
     limit 2 (the scenario's check, 2 × safety < 2, is the more cautious here): with the
     wave's frequencies far below ω_max (S̃_M damps the grid's wavenumbers as K^{-M},
     docs/physics.md §24) the step is not at its stability limit, and on twelve strongly
     nonlinear points the errors against the chain moved by at most 0.7 % of the incident
-    energy from those at safety 0.5, at 0.6–0.75 of its CPU time."""
+    energy from those at safety 0.5, for 1.6 times fewer steps."""
     smooth_interpolation = "band_limited"
     """A smooth grain state is launched band-limited (:func:`continuum.initial.band_limited`):
     the chain's overlaps are then exactly the grain averages of its strain, which S̃_M

@@ -130,8 +130,9 @@ point ``accelerations`` a chunk calls at its end and at an energy row, already
 compiled for the simulation's start) are separate compiled functions without wrappers
 for Python callers (LLVM may still inline them); the per-grain helpers stay inlined so
 that the fused loops vectorise, and so does ``step`` (as a function of its own it
-compiled ~0.4 s faster but added ~0.2 µs to each ~0.45 µs step of a 140-grain window).
-This about halves the first compile (docs/benchmarks.md, "Design measurements").  The
+compiles faster but adds a call with its argument handling to every step of a small
+window).  This about halves the first compile (docs/benchmarks.md, "Design
+measurements", has the timings).  The
 chunk's set-up uses no numba overloads of NumPy's sorting and searching
 (:func:`_sorted_distinct`), and the kernel without temporal blocking compiles none of
 the blocking code (``make_run_chunk``): a first run compiles about a third less

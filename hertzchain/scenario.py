@@ -222,9 +222,9 @@ Eq. 7's long-wave expansion of the grain average to O(d²) misses what the
 quasi-continuum's order-M Padé average keeps.  Measured against the discrete chain on
 the model-validity map (lossless Hertz chains, 5 × 5 interfaces; docs/physics.md §24):
 at strain/δ0 = 9, 100 and in the sonic vacuum Eq. 7 is off by up to 8–12 % of the
-incident energy (median 1.8–3.5 %) at 53–59 times the discrete chain's CPU time, the
-quasi-continuum within 2.2 % at 1.7–2.6 times; at strain/δ0 = 1 Eq. 7 is the closer
-model (0.1–1.7 % against 0.1–6 %).  Between 1 and 9 the crossover is not measured: 9
+incident energy (median 1.8–3.5 %), the quasi-continuum within 2.2 % and far cheaper
+(the CPU times are in docs/physics.md §24); at strain/δ0 = 1 Eq. 7 is the closer model
+(0.1–1.7 % against 0.1–6 %).  Between 1 and 9 the crossover is not measured: 9
 is the lowest amplitude at which the quasi-continuum is known to be the better one."""
 
 STEP_KEY_DEFAULT = ("position_yoshida4", 0.5)
