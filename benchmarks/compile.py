@@ -45,6 +45,7 @@ from pathlib import Path
 
 from _docs import markdown_table, section, write_section
 from _machine import cpu_name
+from _scenarios import impact_toml
 
 from theory.jitcache import KERNEL_FAMILIES
 
@@ -68,20 +69,7 @@ continuum = "{eq}"
 nodes_per_grain = 3
 """
 
-FIRST_RUN = """\
-name = "impact500"
-[chain]
-delta0_over_d = 0.0
-[[chain.sections]]
-n = 500
-[initial]
-kind = "impact"
-v0 = 1.0
-[run]
-until_front_at = 400
-[record]
-running_max = true
-"""
+FIRST_RUN = impact_toml(500, 400)
 
 TARGET_FIRST_RUN_WALL = 10.0
 """The first ``hertzchain run`` of a 500-grain scenario on an empty kernel cache, s wall."""

@@ -53,23 +53,11 @@ from pathlib import Path
 
 from _docs import markdown_table, section, write_section
 from _machine import cpu_name
+from _scenarios import impact_toml
 
 from hertzchain.cli import GC_THRESHOLD0
 
-SCENARIO = """\
-name = "impact100"
-[chain]
-delta0_over_d = 0.0
-[[chain.sections]]
-n = 100
-[initial]
-kind = "impact"
-v0 = 1.0
-[run]
-until_front_at = 80
-[record]
-running_max = true
-"""
+SCENARIO = impact_toml(100, 80)
 
 NJIT = """\
 import numba
