@@ -52,9 +52,11 @@ below the method's own limit.  Not given, each is the model's own
 ``default_dt_safety`` of :data:`continuum.MODELS`): Yoshida-4 drift first at 0.5 for
 Eq. 4 and Eq. 7, position Verlet at 0.8 for the quasi-continuum, whose frequencies lie
 far below ω_max (docs/physics.md §24); they are resolved where the model is known
-(:mod:`hertzchain.models`, after ``"auto"``'s rule) and checked when the scenario is
-read for every model the continuum may run (:meth:`ModelsSpec.possible_continuum_models`;
-:meth:`ModelsSpec.step_key` writes them into the scenario's dict).
+(:mod:`hertzchain.models`, after ``"auto"``'s rule) and checked against the method's
+stability limit where they are resolved, and already when the scenario is read if it
+turns the continuum on, for every model it may run
+(:meth:`ModelsSpec.possible_continuum_models`; :meth:`ModelsSpec.step_key` writes them
+into the scenario's dict).
 
 Chains beyond the paper
 -----------------------
