@@ -892,19 +892,24 @@ class Simulation:
             self._threads = int(numba.get_num_threads())
         return self._threads
 
+    def _can_block(self, several: bool) -> bool:
+        """Whether the blocked kernel is chosen, on several threads (``several``) or one.
+
+        Only for chains of at least ``min_parallel`` grains on several threads, or of
+        :data:`SERIAL_BLOCK_MIN_GRAINS` (and a law with a blocked kernel, blocking on).
+        """
+        n = self.chain.n
+        return self.block_steps > 0 and self.kernels.run_blocked is not None and (
+            (several and n >= self.min_parallel) or n >= SERIAL_BLOCK_MIN_GRAINS)
+
     def _plain_only(self) -> bool:
         """Whether every chunk runs the plain kernel, whatever the threads.
 
         The plain kernel (``Kernels.run_steps``) has no parallel region and reads no
-        thread count; the blocked one is chosen only for chains of at least
-        ``min_parallel`` grains on several threads (``threads`` None or > 1), or of
-        :data:`SERIAL_BLOCK_MIN_GRAINS` (:meth:`_kernel`).
+        thread count: :meth:`_can_block` with ``threads`` None (numba's count, not read)
+        or > 1 counted as several.
         """
-        n = self.chain.n
-        several = self._threads is None or self._threads > 1
-        return not (self.block_steps > 0 and self.kernels.run_blocked is not None
-                    and ((several and n >= self.min_parallel)
-                         or n >= SERIAL_BLOCK_MIN_GRAINS))
+        return not self._can_block(self._threads is None or self._threads > 1)
 
     @property
     def kernel(self):
@@ -917,10 +922,8 @@ class Simulation:
         (Bitwise the same results; the plain one compiles in a fraction of the time, so
         a small run never compiles the blocked kernel, :mod:`discrete.kernels`.)
         """
-        n = self.chain.n
-        can_block = self.block_steps > 0 and self.kernels.run_blocked is not None and (
-            (nthreads > 1 and n >= self.min_parallel) or n >= SERIAL_BLOCK_MIN_GRAINS)
-        return self.kernels.run_blocked if can_block else self.kernels.run_steps
+        return self.kernels.run_blocked if self._can_block(nthreads > 1) else \
+            self.kernels.run_steps
 
     # ------------------------------------------------------------------ threads
     def _tune_choose(self, nsteps: int) -> tuple[int, int]:
